@@ -1,0 +1,20 @@
+//! stridekit-core: sensor-fusion engines for running pace and pedestrian navigation.
+//!
+//! Pure Rust, no FFI types, no I/O. Conventions used everywhere:
+//! - time: f64 seconds on the app's monotonic clock (`t_s`);
+//! - SI units, named in fields (`_m`, `_mps`, `_rad`, `_deg` where degrees are the norm);
+//! - local frames are East-North-Up (ENU) unless a type says otherwise.
+//!
+//! Every engine checks its inputs at the door and returns typed errors; none panics
+//! on bad input. Every engine can be snapshotted to bytes and restored.
+
+pub mod geo;
+pub mod pace;
+pub mod signal;
+pub mod sim;
+pub mod snapshot;
+
+pub use pace::{
+    BatchOutcome, GnssFix, PaceConfig, PaceError, PaceEstimate, PaceMode, PaceSample, PaceSource,
+    PaceTracker, Rejection, StepSample,
+};

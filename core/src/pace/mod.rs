@@ -1,0 +1,338 @@
+//! Running pace from GNSS fixes and pedometer steps (method 1, seed 000).
+//!
+//! [`PaceTracker`] is the state machine apps feed. It checks every sample at the
+//! door (finite numbers, ranges, time order per stream), converts fixes into a local
+//! ENU frame anchored at the first fix, keeps the step stream, and runs one of two
+//! fusion filters chosen by [`PaceMode`]:
+//! - [`PaceMode::AsPublished`]: the paper's complementary filter ([`published`]);
+//! - [`PaceMode::Adaptive`] (default): an adaptive Kalman filter ([`adaptive`]).
+//!
+//! A rejected sample returns a [`PaceError`] and leaves the state exactly as it was.
+
+pub mod adaptive;
+pub mod baseline;
+pub mod config;
+pub mod error;
+pub mod published;
+pub mod steps;
+pub mod types;
+
+pub use config::{AdaptiveParams, PaceConfig, PaceMode, PublishedParams};
+pub use error::{PaceError, Stream};
+pub use types::{GnssFix, PaceEstimate, PaceSample, PaceSource, StepSample, MIN_PACE_SPEED_MPS};
+
+use crate::geo::LocalFrame;
+use crate::snapshot::{Reader, SnapshotError, Writer};
+use error::{finite, in_range};
+use steps::StepStream;
+
+/// Snapshot engine kind byte for the pace tracker.
+const SNAPSHOT_KIND: u8 = 1;
+/// Snapshot format version written by this build.
+const SNAPSHOT_VERSION: u16 = 1;
+
+/// A GNSS fix after validation, in the local frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LocalFix {
+    pub t_s: f64,
+    pub east_m: f64,
+    pub north_m: f64,
+    /// 68 % horizontal accuracy, metres, if reported.
+    pub accuracy_m: Option<f64>,
+    /// Receiver speed and its accuracy, m/s, if both reported.
+    pub speed: Option<(f64, f64)>,
+}
+
+/// Read-only context the filters get with each update.
+pub struct Context<'a> {
+    pub config: &'a PaceConfig,
+    pub steps: &'a StepStream,
+}
+
+/// The fusion filter behind a tracker.
+#[derive(Clone, Debug, PartialEq)]
+enum Filter {
+    Published(published::PublishedFilter),
+    Adaptive(adaptive::AdaptiveFilter),
+}
+
+/// Running-pace state machine. Feed it GNSS fixes and step data in time order (each
+/// stream on its own); read a [`PaceEstimate`] at every fix or at any time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PaceTracker {
+    config: PaceConfig,
+    frame: Option<LocalFrame>,
+    last_fix_t_s: Option<f64>,
+    steps: StepStream,
+    filter: Filter,
+}
+
+/// A sample a batch push rejected, with its index in the batch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rejection {
+    pub index: usize,
+    pub error: PaceError,
+}
+
+/// What a batch push produced.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BatchOutcome {
+    /// One estimate per accepted GNSS fix, in order.
+    pub estimates: Vec<PaceEstimate>,
+    /// Samples that were rejected (the rest of the batch was still processed).
+    pub rejected: Vec<Rejection>,
+}
+
+impl PaceTracker {
+    /// A tracker with a validated configuration.
+    pub fn new(config: PaceConfig) -> Result<Self, PaceError> {
+        config.validate()?;
+        Ok(Self {
+            filter: Self::make_filter(&config),
+            config,
+            frame: None,
+            last_fix_t_s: None,
+            steps: StepStream::new(),
+        })
+    }
+
+    fn make_filter(config: &PaceConfig) -> Filter {
+        match config.mode {
+            PaceMode::AsPublished => Filter::Published(published::PublishedFilter::new(config)),
+            PaceMode::Adaptive => Filter::Adaptive(adaptive::AdaptiveFilter::new(config)),
+        }
+    }
+
+    pub fn config(&self) -> &PaceConfig {
+        &self.config
+    }
+
+    /// The local ENU frame (anchored at the first fix), once a fix was seen.
+    pub fn frame(&self) -> Option<&LocalFrame> {
+        self.frame.as_ref()
+    }
+
+    /// Counter resets seen in the step stream.
+    pub fn step_counter_resets(&self) -> u64 {
+        self.steps.resets()
+    }
+
+    fn validate_fix(&self, fix: &GnssFix) -> Result<(), PaceError> {
+        let t = finite("t_s", fix.t_s)?;
+        in_range("lat_deg", fix.lat_deg, -90.0, 90.0, "−90..=90°")?;
+        in_range("lon_deg", fix.lon_deg, -180.0, 180.0, "−180..=180°")?;
+        if let Some(a) = fix.alt_m {
+            in_range("alt_m", a, -12_000.0, 100_000.0, "−12 km..=100 km")?;
+        }
+        if let Some(a) = fix.horizontal_accuracy_m {
+            in_range("horizontal_accuracy_m", a, 0.0, 1.0e5, "0..=100 km")?;
+        }
+        if let Some(s) = fix.speed_mps {
+            in_range("speed_mps", s, 0.0, 100.0, "0..=100 m/s")?;
+        }
+        if let Some(s) = fix.speed_accuracy_mps {
+            in_range("speed_accuracy_mps", s, 0.0, 100.0, "0..=100 m/s")?;
+        }
+        if let Some(last) = self.last_fix_t_s {
+            if t <= last {
+                return Err(PaceError::TimeNotIncreasing {
+                    stream: Stream::Gnss,
+                    t_s: t,
+                    last_t_s: last,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Push one GNSS fix; returns the estimate for this epoch.
+    pub fn push_fix(&mut self, fix: &GnssFix) -> Result<PaceEstimate, PaceError> {
+        self.validate_fix(fix)?;
+        let frame = *self
+            .frame
+            .get_or_insert_with(|| LocalFrame::new(fix.lat_deg, fix.lon_deg, 0.0));
+        let enu = frame.to_enu(fix.lat_deg, fix.lon_deg, 0.0);
+        let local = LocalFix {
+            t_s: fix.t_s,
+            east_m: enu[0],
+            north_m: enu[1],
+            accuracy_m: fix.horizontal_accuracy_m,
+            speed: fix.speed_mps.zip(fix.speed_accuracy_mps),
+        };
+        self.last_fix_t_s = Some(fix.t_s);
+        let ctx = Context {
+            config: &self.config,
+            steps: &self.steps,
+        };
+        Ok(match &mut self.filter {
+            Filter::Published(f) => f.on_fix(&local, &ctx),
+            Filter::Adaptive(f) => f.on_fix(&local, &ctx),
+        })
+    }
+
+    /// Push one step sample.
+    pub fn push_steps(&mut self, sample: &StepSample) -> Result<(), PaceError> {
+        self.steps.check(sample)?;
+        self.steps.push(sample);
+        let ctx = Context {
+            config: &self.config,
+            steps: &self.steps,
+        };
+        let t = sample.t_s();
+        match &mut self.filter {
+            Filter::Published(f) => f.on_steps(t, &ctx),
+            Filter::Adaptive(f) => f.on_steps(t, &ctx),
+        }
+        Ok(())
+    }
+
+    /// Push a sample of either stream; a fix returns its estimate.
+    pub fn push(&mut self, sample: &PaceSample) -> Result<Option<PaceEstimate>, PaceError> {
+        match sample {
+            PaceSample::Fix(f) => self.push_fix(f).map(Some),
+            PaceSample::Steps(s) => self.push_steps(s).map(|_| None),
+        }
+    }
+
+    /// Push many samples in order. Invalid samples are skipped and reported; the
+    /// others are processed as if pushed one by one.
+    pub fn push_batch(&mut self, samples: &[PaceSample]) -> BatchOutcome {
+        let mut out = BatchOutcome {
+            estimates: Vec::with_capacity(samples.len()),
+            rejected: Vec::new(),
+        };
+        for (index, s) in samples.iter().enumerate() {
+            match self.push(s) {
+                Ok(Some(e)) => out.estimates.push(e),
+                Ok(None) => {}
+                Err(error) => out.rejected.push(Rejection { index, error }),
+            }
+        }
+        out
+    }
+
+    /// The current estimate, at the time of the newest sample of either stream.
+    pub fn estimate(&self) -> PaceEstimate {
+        let ctx = Context {
+            config: &self.config,
+            steps: &self.steps,
+        };
+        match &self.filter {
+            Filter::Published(f) => f.estimate(&ctx),
+            Filter::Adaptive(f) => f.estimate(&ctx),
+        }
+    }
+
+    /// The whole state as bytes (versioned, checksummed), for an app killed by the OS.
+    pub fn snapshot(&self) -> Vec<u8> {
+        let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
+        write_config(&mut w, &self.config);
+        match &self.frame {
+            Some(f) => {
+                w.bool(true);
+                let (lat, lon, alt) = f.origin();
+                w.f64s(&[lat, lon, alt]);
+            }
+            None => w.bool(false),
+        }
+        w.opt_f64(self.last_fix_t_s);
+        self.steps.write(&mut w);
+        match &self.filter {
+            Filter::Published(f) => f.write(&mut w),
+            Filter::Adaptive(f) => f.write(&mut w),
+        }
+        w.finish()
+    }
+
+    /// A tracker continuing exactly where the snapshot was taken.
+    pub fn restore(bytes: &[u8]) -> Result<Self, PaceError> {
+        let (mut r, _version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let config = read_config(&mut r)?;
+        config
+            .validate()
+            .map_err(|_| SnapshotError::Invalid("configuration"))?;
+        let frame = if r.bool()? {
+            let (lat, lon, alt) = (r.f64()?, r.f64()?, r.f64()?);
+            if !(lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt.is_finite()) {
+                return Err(SnapshotError::Invalid("frame origin").into());
+            }
+            Some(LocalFrame::new(lat, lon, alt))
+        } else {
+            None
+        };
+        let last_fix_t_s = r.opt_f64()?;
+        let steps = StepStream::read(&mut r)?;
+        let filter = match config.mode {
+            PaceMode::AsPublished => Filter::Published(published::PublishedFilter::read(&mut r, &config)?),
+            PaceMode::Adaptive => Filter::Adaptive(adaptive::AdaptiveFilter::read(&mut r)?),
+        };
+        r.end()?;
+        Ok(Self {
+            config,
+            frame,
+            last_fix_t_s,
+            steps,
+            filter,
+        })
+    }
+}
+
+fn write_config(w: &mut Writer, c: &PaceConfig) {
+    w.u8(match c.mode {
+        PaceMode::AsPublished => 0,
+        PaceMode::Adaptive => 1,
+    });
+    w.opt_f64(c.initial_step_length_m);
+    w.f64(c.stationary_after_s);
+    let p = &c.published;
+    w.u64(p.window_n as u64);
+    w.u64(p.cadence_h as u64);
+    w.f64s(&[p.variance_threshold_m2, p.sigmoid_beta_per_m2, p.ema_alpha]);
+    let a = &c.adaptive;
+    w.f64s(&[
+        a.accel_noise_mps2,
+        a.default_gnss_sigma_m,
+        a.gnss_bias_sigma_m,
+        a.gnss_bias_tau_s,
+        a.pedometer_rel_sigma,
+        a.outage_reset_s,
+        a.learn_max_accuracy_m,
+    ]);
+}
+
+fn read_config(r: &mut Reader) -> Result<PaceConfig, SnapshotError> {
+    let mode = match r.u8()? {
+        0 => PaceMode::AsPublished,
+        1 => PaceMode::Adaptive,
+        _ => return Err(SnapshotError::Invalid("mode")),
+    };
+    let initial_step_length_m = r.opt_f64()?;
+    let stationary_after_s = r.f64()?;
+    let window_n = r.len(published::MAX_WINDOW)?;
+    let cadence_h = r.len(published::MAX_WINDOW)?;
+    let mut p = [0.0; 3];
+    r.f64s(&mut p)?;
+    let mut a = [0.0; 7];
+    r.f64s(&mut a)?;
+    Ok(PaceConfig {
+        mode,
+        initial_step_length_m,
+        stationary_after_s,
+        published: PublishedParams {
+            window_n,
+            cadence_h,
+            variance_threshold_m2: p[0],
+            sigmoid_beta_per_m2: p[1],
+            ema_alpha: p[2],
+        },
+        adaptive: AdaptiveParams {
+            accel_noise_mps2: a[0],
+            default_gnss_sigma_m: a[1],
+            gnss_bias_sigma_m: a[2],
+            gnss_bias_tau_s: a[3],
+            pedometer_rel_sigma: a[4],
+            outage_reset_s: a[5],
+            learn_max_accuracy_m: a[6],
+        },
+    })
+}

@@ -1,0 +1,312 @@
+//! The step stream: turns counts, events or cadence reports into one cumulative
+//! step total over time, and answers "how many steps at t" and "cadence at t".
+
+use super::error::{finite, in_range, PaceError, Stream};
+use super::types::StepSample;
+use crate::signal::Ring;
+use crate::snapshot::{Reader, SnapshotError, Writer};
+
+/// Samples kept for cadence and interpolation (covers ≥ 10 s at 6 steps/s of events).
+const HISTORY: usize = 96;
+/// Cadences above this are impossible for a human, steps/min (sprinters reach ~300).
+pub const MAX_CADENCE_SPM: f64 = 300.0;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Entry {
+    t_s: f64,
+    total: f64,
+}
+
+/// Cumulative step total with a short history.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepStream {
+    history: Ring<Entry, HISTORY>,
+    last_t_s: Option<f64>,
+    /// Last raw platform count (for `Count` samples), to take differences.
+    last_count: Option<u64>,
+    /// Last reported cadence (for `Cadence` samples), steps/min.
+    last_cadence_spm: Option<f64>,
+    total: f64,
+    /// Time of the last sample that added steps.
+    last_step_t_s: Option<f64>,
+    resets: u64,
+}
+
+impl Default for StepStream {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl StepStream {
+    pub fn new() -> Self {
+        Self {
+            history: Ring::new(),
+            last_t_s: None,
+            last_count: None,
+            last_cadence_spm: None,
+            total: 0.0,
+            last_step_t_s: None,
+            resets: 0,
+        }
+    }
+
+    /// Whether any step sample was seen.
+    pub fn has_data(&self) -> bool {
+        self.last_t_s.is_some()
+    }
+    /// Time of the newest step sample, seconds.
+    pub fn last_t_s(&self) -> Option<f64> {
+        self.last_t_s
+    }
+    /// Cumulative steps since the first sample.
+    pub fn total(&self) -> f64 {
+        self.total
+    }
+    /// Counter resets seen (step counts that went down).
+    pub fn resets(&self) -> u64 {
+        self.resets
+    }
+
+    /// Validate a sample without changing state.
+    pub fn check(&self, s: &StepSample) -> Result<(), PaceError> {
+        let t = finite("step t_s", s.t_s())?;
+        if let Some(last) = self.last_t_s {
+            if t <= last {
+                return Err(PaceError::TimeNotIncreasing {
+                    stream: Stream::Steps,
+                    t_s: t,
+                    last_t_s: last,
+                });
+            }
+        }
+        if let StepSample::Cadence { steps_per_min, .. } = *s {
+            in_range(
+                "steps_per_min",
+                steps_per_min,
+                0.0,
+                MAX_CADENCE_SPM,
+                "0..=300 steps/min",
+            )?;
+        }
+        Ok(())
+    }
+
+    /// Add a sample (call [`check`](Self::check) first). Returns steps added.
+    pub fn push(&mut self, s: &StepSample) -> f64 {
+        let t = s.t_s();
+        let added = match *s {
+            StepSample::Event { .. } => 1.0,
+            StepSample::Count { steps, .. } => {
+                let d = match self.last_count {
+                    None => 0.0,
+                    Some(prev) if steps >= prev => (steps - prev) as f64,
+                    Some(_) => {
+                        // Counter reset (reboot): continue from the new value.
+                        self.resets += 1;
+                        log::warn!("step counter went down at t = {t} s: taken as a reset");
+                        0.0
+                    }
+                };
+                self.last_count = Some(steps);
+                d
+            }
+            StepSample::Cadence { steps_per_min, .. } => {
+                let d = match (self.last_t_s, self.last_cadence_spm) {
+                    // Trapezoid between reports; gaps longer than 10 s count the
+                    // newer cadence over 10 s only (device paused).
+                    (Some(t0), Some(c0)) => 0.5 * (c0 + steps_per_min) / 60.0 * (t - t0).min(10.0),
+                    _ => 0.0,
+                };
+                self.last_cadence_spm = Some(steps_per_min);
+                d
+            }
+        };
+        self.total += added;
+        if added > 0.0 {
+            self.last_step_t_s = Some(t);
+        }
+        self.last_t_s = Some(t);
+        self.history.push(Entry { t_s: t, total: self.total });
+        added
+    }
+
+    /// Cumulative steps at time `t` by linear interpolation of the history; held
+    /// constant after the newest sample and before the oldest kept one.
+    pub fn total_at(&self, t: f64) -> Option<f64> {
+        let newest = self.history.newest()?;
+        if t >= newest.t_s {
+            return Some(newest.total);
+        }
+        let mut later = newest;
+        for e in self.history.iter().rev().skip(1) {
+            if e.t_s <= t {
+                let span = later.t_s - e.t_s;
+                let f = if span > 0.0 { (t - e.t_s) / span } else { 1.0 };
+                return Some(e.total + f * (later.total - e.total));
+            }
+            later = e;
+        }
+        Some(later.total)
+    }
+
+    /// Whether the runner is standing at `t`: step data flows but no step was added in
+    /// the last `after_s` seconds.
+    pub fn stationary_at(&self, t: f64, after_s: f64) -> bool {
+        match (self.last_t_s, self.last_step_t_s) {
+            (None, _) => false,
+            (Some(_), None) => true,
+            (Some(_), Some(ls)) => {
+                // Cadence reports of 0 mean standing even if they keep arriving.
+                if matches!(self.last_cadence_spm, Some(c) if c < 1.0) {
+                    return true;
+                }
+                t - ls > after_s
+            }
+        }
+    }
+
+    /// Cadence at `t`, steps/s: least-squares slope of the step total over the last
+    /// `window_s` seconds (at least two samples spanning ≥ 1 s). `None` without data.
+    pub fn cadence_at(&self, t: f64, window_s: f64, stationary_after_s: f64) -> Option<f64> {
+        if !self.has_data() {
+            return None;
+        }
+        if self.stationary_at(t, stationary_after_s) {
+            return Some(0.0);
+        }
+        if let Some(c) = self.last_cadence_spm {
+            // Devices that report cadence directly: use it as is.
+            return Some(c / 60.0);
+        }
+        let t0 = t - window_s;
+        // Include the newest sample at or before t0 so the window is fully covered.
+        let (mut n, mut st, mut sy, mut stt, mut sty) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        let mut first_t = f64::NAN;
+        let mut last_t = f64::NAN;
+        for e in self.history.iter().rev() {
+            if e.t_s > t {
+                continue;
+            }
+            let dt = e.t_s - t;
+            n += 1.0;
+            st += dt;
+            sy += e.total;
+            stt += dt * dt;
+            sty += dt * e.total;
+            if last_t.is_nan() {
+                last_t = e.t_s;
+            }
+            first_t = e.t_s;
+            if e.t_s <= t0 {
+                break;
+            }
+        }
+        if n < 2.0 || last_t - first_t < 1.0 {
+            return None;
+        }
+        let den = n * stt - st * st;
+        if den <= 0.0 {
+            return None;
+        }
+        let slope = (n * sty - st * sy) / den;
+        Some(slope.clamp(0.0, MAX_CADENCE_SPM / 60.0))
+    }
+
+    pub(crate) fn write(&self, w: &mut Writer) {
+        w.u64(self.history.len() as u64);
+        for e in self.history.iter() {
+            w.f64(e.t_s);
+            w.f64(e.total);
+        }
+        w.opt_f64(self.last_t_s);
+        w.bool(self.last_count.is_some());
+        w.u64(self.last_count.unwrap_or(0));
+        w.opt_f64(self.last_cadence_spm);
+        w.f64(self.total);
+        w.opt_f64(self.last_step_t_s);
+        w.u64(self.resets);
+    }
+
+    pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
+        let mut s = Self::new();
+        let n = r.len(HISTORY)?;
+        for _ in 0..n {
+            let t_s = r.f64()?;
+            let total = r.f64()?;
+            s.history.push(Entry { t_s, total });
+        }
+        s.last_t_s = r.opt_f64()?;
+        let has_count = r.bool()?;
+        let count = r.u64()?;
+        s.last_count = has_count.then_some(count);
+        s.last_cadence_spm = r.opt_f64()?;
+        s.total = r.f64()?;
+        s.last_step_t_s = r.opt_f64()?;
+        s.resets = r.u64()?;
+        Ok(s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn events_give_cadence() {
+        let mut s = StepStream::new();
+        for i in 0..30 {
+            let e = StepSample::Event {
+                t_s: i as f64 / 3.0,
+            };
+            s.check(&e).unwrap();
+            s.push(&e);
+        }
+        let c = s.cadence_at(29.0 / 3.0, 5.0, 2.0).unwrap();
+        assert!((c - 3.0).abs() < 1e-9, "{c}");
+        assert_eq!(s.total(), 30.0);
+    }
+
+    #[test]
+    fn counter_reset_keeps_total() {
+        let mut s = StepStream::new();
+        for (t, c) in [(0.0, 1000), (1.0, 1003), (2.0, 5), (3.0, 8)] {
+            s.push(&StepSample::Count { t_s: t, steps: c });
+        }
+        assert_eq!(s.total(), 6.0);
+        assert_eq!(s.resets(), 1);
+    }
+
+    #[test]
+    fn rejects_time_reversal() {
+        let mut s = StepStream::new();
+        s.push(&StepSample::Event { t_s: 5.0 });
+        assert!(s.check(&StepSample::Event { t_s: 5.0 }).is_err());
+        assert!(s.check(&StepSample::Event { t_s: f64::NAN }).is_err());
+        assert!(s
+            .check(&StepSample::Cadence {
+                t_s: 6.0,
+                steps_per_min: -1.0
+            })
+            .is_err());
+    }
+
+    #[test]
+    fn stationary_when_counts_stop() {
+        let mut s = StepStream::new();
+        for i in 0..10 {
+            s.push(&StepSample::Count {
+                t_s: i as f64,
+                steps: 3 * i,
+            });
+        }
+        for i in 10..15 {
+            s.push(&StepSample::Count {
+                t_s: i as f64,
+                steps: 27,
+            });
+        }
+        assert_eq!(s.cadence_at(14.0, 5.0, 2.0), Some(0.0));
+        assert!((s.cadence_at(8.0, 5.0, 2.0).unwrap() - 3.0).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,151 @@
+//! Samples going into the [`PaceTracker`](super::PaceTracker) and estimates coming out.
+//!
+//! Time is the app's monotonic clock in seconds (`t_s`, f64), e.g.
+//! `elapsedRealtimeNanos / 1e9` on Android or `ProcessInfo.systemUptime` on iOS.
+//! Never wall-clock time: it can jump. Each stream (GNSS, steps) must be
+//! strictly increasing in time on its own; the two streams may interleave freely.
+
+/// One GNSS position fix (WGS84).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GnssFix {
+    /// Time of the fix, seconds on the app's monotonic clock.
+    pub t_s: f64,
+    /// Latitude, degrees, −90..=90.
+    pub lat_deg: f64,
+    /// Longitude, degrees, −180..=180.
+    pub lon_deg: f64,
+    /// Altitude above the WGS84 ellipsoid (or MSL; only differences matter), metres.
+    pub alt_m: Option<f64>,
+    /// Horizontal accuracy as reported by the platform (68 % radius, metres,
+    /// Android `Location.getAccuracy()`, iOS `horizontalAccuracy`). `None` when unknown.
+    pub horizontal_accuracy_m: Option<f64>,
+    /// Speed reported by the receiver (Doppler), m/s. Used by the default filter only
+    /// when `speed_accuracy_mps` is also given.
+    pub speed_mps: Option<f64>,
+    /// 68 % accuracy of `speed_mps`, m/s (Android `getSpeedAccuracyMetersPerSecond`).
+    pub speed_accuracy_mps: Option<f64>,
+}
+
+impl GnssFix {
+    /// A fix with position only.
+    pub fn new(t_s: f64, lat_deg: f64, lon_deg: f64) -> Self {
+        Self {
+            t_s,
+            lat_deg,
+            lon_deg,
+            alt_m: None,
+            horizontal_accuracy_m: None,
+            speed_mps: None,
+            speed_accuracy_mps: None,
+        }
+    }
+
+    /// The same fix with a horizontal accuracy (68 % radius, metres).
+    pub fn with_accuracy(mut self, horizontal_accuracy_m: f64) -> Self {
+        self.horizontal_accuracy_m = Some(horizontal_accuracy_m);
+        self
+    }
+}
+
+/// Step data from a pedometer. Three shapes cover the platforms:
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StepSample {
+    /// Cumulative step count at `t_s` since any origin (Android `TYPE_STEP_COUNTER`,
+    /// iOS `CMPedometerData.numberOfSteps`). A count lower than the previous one is
+    /// taken as a counter reset (reboot): counting continues from the new value and no
+    /// steps are added or removed across the reset.
+    Count { t_s: f64, steps: u64 },
+    /// One detected step at `t_s` (Android `TYPE_STEP_DETECTOR`, a step detector).
+    Event { t_s: f64 },
+    /// Cadence reported by a watch or foot pod at `t_s`, steps per minute (both feet:
+    /// FIT `cadence` is strides per minute, i.e. half of this). Integrated over time.
+    Cadence { t_s: f64, steps_per_min: f64 },
+}
+
+impl StepSample {
+    /// Time of the sample, seconds.
+    pub fn t_s(&self) -> f64 {
+        match *self {
+            StepSample::Count { t_s, .. }
+            | StepSample::Event { t_s }
+            | StepSample::Cadence { t_s, .. } => t_s,
+        }
+    }
+}
+
+/// One input of either stream, for batch pushes in time order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PaceSample {
+    Fix(GnssFix),
+    Steps(StepSample),
+}
+
+impl PaceSample {
+    pub fn t_s(&self) -> f64 {
+        match self {
+            PaceSample::Fix(f) => f.t_s,
+            PaceSample::Steps(s) => s.t_s(),
+        }
+    }
+}
+
+/// Where the speed of an estimate comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PaceSource {
+    /// Not enough data yet for a speed (fewer than two fixes and no learned step length).
+    Initializing,
+    /// The runner stands still: speed 0, no distance added.
+    Stationary,
+    /// GNSS dominates (GNSS weight ≥ 0.8).
+    Gnss,
+    /// GNSS and pedometer both contribute.
+    Fused,
+    /// Pedometer dominates (GNSS weight ≤ 0.2, or GNSS lost): cadence × step length.
+    Pedometer,
+}
+
+impl PaceSource {
+    /// Classify a GNSS weight into a source (moving case).
+    pub fn from_gnss_weight(w: f64) -> Self {
+        if w >= 0.8 {
+            PaceSource::Gnss
+        } else if w <= 0.2 {
+            PaceSource::Pedometer
+        } else {
+            PaceSource::Fused
+        }
+    }
+}
+
+/// A pace estimate. Produced at every GNSS epoch and on demand.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PaceEstimate {
+    /// Time the estimate refers to, seconds (the latest sample time seen).
+    pub t_s: f64,
+    /// Horizontal speed over ground, m/s (0 when stationary).
+    pub speed_mps: f64,
+    /// Pace, seconds per kilometre; `None` below 0.5 m/s (33 min/km), where pace is meaningless.
+    pub pace_s_per_km: Option<f64>,
+    /// 1-σ uncertainty of `speed_mps`, m/s, when the filter knows it.
+    pub speed_std_mps: Option<f64>,
+    /// Cadence, steps per minute (both feet); `None` without step data.
+    pub cadence_spm: Option<f64>,
+    /// Current step length, metres, learned from trustworthy GNSS; `None` until learned.
+    pub step_length_m: Option<f64>,
+    /// Weight of GNSS in the fused speed, 0..=1 (1 − pedometer weight).
+    pub gnss_weight: f64,
+    /// Cumulative distance since start, metres (not increased while stationary).
+    pub distance_m: f64,
+    /// Where the speed comes from.
+    pub source: PaceSource,
+}
+
+/// Speed below which no pace is given, m/s.
+pub const MIN_PACE_SPEED_MPS: f64 = 0.5;
+
+impl PaceEstimate {
+    /// Pace (s/km) for a speed, `None` below [`MIN_PACE_SPEED_MPS`].
+    pub fn pace_for(speed_mps: f64) -> Option<f64> {
+        (speed_mps >= MIN_PACE_SPEED_MPS).then(|| 1000.0 / speed_mps)
+    }
+}

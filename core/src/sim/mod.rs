@@ -1,0 +1,7 @@
+//! Deterministic, seeded simulators. Same seed, same output, on every platform.
+
+pub mod rng;
+pub mod run;
+
+pub use rng::Rng;
+pub use run::{simulate_run, RunScenario, SimulatedRun, StepReport, TruthSample, Zone, ZoneKind};
