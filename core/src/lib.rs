@@ -8,6 +8,7 @@
 //! Every engine checks its inputs at the door and returns typed errors; none panics
 //! on bad input. Every engine can be snapshotted to bytes and restored.
 
+pub mod eval;
 pub mod geo;
 pub mod pace;
 pub mod signal;

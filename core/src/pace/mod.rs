@@ -264,7 +264,7 @@ impl PaceTracker {
         let steps = StepStream::read(&mut r)?;
         let filter = match config.mode {
             PaceMode::AsPublished => Filter::Published(published::PublishedFilter::read(&mut r, &config)?),
-            PaceMode::Adaptive => Filter::Adaptive(adaptive::AdaptiveFilter::read(&mut r)?),
+            PaceMode::Adaptive => Filter::Adaptive(adaptive::AdaptiveFilter::read(&mut r, &config)?),
         };
         r.end()?;
         Ok(Self {

@@ -161,7 +161,11 @@ impl StepStream {
                 if matches!(self.last_cadence_spm, Some(c) if c < 1.0) {
                     return true;
                 }
-                t - ls > after_s
+                // Judged on the step stream's own clock (tolerates a stream that lags
+                // the GNSS stream by a few seconds), or by silence: on-change counters
+                // send nothing while the runner stands.
+                let last = self.last_t_s.unwrap_or(ls);
+                last - ls > after_s || t - ls > after_s + 3.0
             }
         }
     }

@@ -42,6 +42,23 @@ impl<T: Copy + Default, const N: usize> Ring<T, N> {
             self.head = (self.head + 1) % N;
         }
     }
+    /// Remove and return the oldest element.
+    pub fn pop_front(&mut self) -> Option<T> {
+        if self.len == 0 {
+            return None;
+        }
+        let v = self.buf[self.head];
+        self.head = (self.head + 1) % N;
+        self.len -= 1;
+        Some(v)
+    }
+    /// Mutable access to the newest element.
+    pub fn newest_mut(&mut self) -> Option<&mut T> {
+        if self.len == 0 {
+            return None;
+        }
+        Some(&mut self.buf[(self.head + self.len - 1) % N])
+    }
     /// Element `i` counted from the oldest (0) to the newest (len − 1).
     pub fn get(&self, i: usize) -> Option<T> {
         (i < self.len).then(|| self.buf[(self.head + i) % N])
@@ -74,5 +91,8 @@ mod tests {
         assert_eq!(r.back(2), Some(3));
         assert_eq!(r.back(3), None);
         assert_eq!(r.get(0), Some(3));
+        assert_eq!(r.pop_front(), Some(3));
+        *r.newest_mut().unwrap() = 9;
+        assert_eq!(r.iter().collect::<Vec<_>>(), vec![4, 9]);
     }
 }
