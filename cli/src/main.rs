@@ -1,1 +1,97 @@
-fn main() {}
+//! `stridekit`: the command-line tool of the stridekit SDK.
+
+mod activity;
+mod demo;
+mod eval_pace;
+mod replay;
+mod report;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use stridekit_core::PaceConfig;
+
+const USAGE: &str = "stridekit — running pace and pedestrian navigation from phone and watch sensors
+
+USAGE:
+  stridekit demo [--out DIR] [--seed N]
+      Simulate a 40-minute run with GNSS disturbances, outages and stops; print a
+      summary and write a report with SVG plots (default DIR: report).
+  stridekit pace FILE.(fit|tcx|gpx|csv) [--mode default|published]
+      Replay a real activity file; print per-epoch estimates as CSV on stdout.
+  stridekit eval pace [--data DIR] [--seeds N] [--set NAME=VALUE ...]
+      Speed RMSE of raw GNSS, GNSS EMA, AsPublished and default on N simulated runs
+      (default 10) and on the real runs in DIR (default: ../shared/data/pace/original)
+      with injected GNSS degradation. Prints markdown tables. --set changes a
+      parameter of the default filter (see AdaptiveParams) for sensitivity checks.
+  stridekit help
+";
+
+fn flag(args: &[String], name: &str) -> Option<String> {
+    args.iter()
+        .position(|a| a == name)
+        .and_then(|i| args.get(i + 1).cloned())
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = match args.first().map(String::as_str) {
+        None | Some("demo") => {
+            let out = flag(&args, "--out").unwrap_or_else(|| "report".into());
+            let seed = flag(&args, "--seed").and_then(|s| s.parse().ok()).unwrap_or(1);
+            demo::run(&PathBuf::from(out), seed)
+        }
+        Some("pace") => match args.get(1) {
+            Some(file) => {
+                let config = match flag(&args, "--mode").as_deref() {
+                    None | Some("default") => Ok(PaceConfig::default()),
+                    Some("published") => Ok(PaceConfig::as_published()),
+                    Some(m) => Err(format!("unknown mode {m} (default|published)")),
+                };
+                config.and_then(|c| replay::run(&PathBuf::from(file), c))
+            }
+            None => Err("pace needs a FILE".into()),
+        },
+        Some("eval") if args.get(1).map(String::as_str) == Some("pace") => {
+            let seeds = flag(&args, "--seeds").and_then(|s| s.parse().ok()).unwrap_or(10);
+            let mut default = PaceConfig::default();
+            for kv in args.windows(2).filter(|w| w[0] == "--set").map(|w| &w[1]) {
+                let parsed = kv
+                    .split_once('=')
+                    .and_then(|(k, v)| v.parse::<f64>().ok().map(|v| (k, v)));
+                let Some((k, v)) = parsed else {
+                    eprintln!("error: --set takes NAME=NUMBER, got {kv}");
+                    return ExitCode::FAILURE;
+                };
+                if let Err(e) = default.adaptive.set(k, v).and_then(|_| default.validate()) {
+                    eprintln!("error: {e}");
+                    return ExitCode::FAILURE;
+                }
+            }
+            let (table, _) = eval_pace::simulator_table(seeds, default);
+            println!("{table}");
+            let dir = flag(&args, "--data")
+                .map(PathBuf::from)
+                .or_else(|| stridekit_formats::data_dir().map(|d| d.join("pace/original")));
+            match dir {
+                Some(d) if d.is_dir() => eval_pace::real_table(&d, default).map(|t| println!("{t}")),
+                _ => {
+                    println!("Real runs: skipped (../shared/data/pace/original not found; pass --data DIR or set STRIDEKIT_DATA)");
+                    Ok(())
+                }
+            }
+        }
+        Some("help" | "--help" | "-h") => {
+            print!("{USAGE}");
+            Ok(())
+        }
+        Some(other) => Err(format!("unknown command {other}\n\n{USAGE}")),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

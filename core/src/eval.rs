@@ -149,6 +149,21 @@ pub fn score(replay: &Replay, reference: &[f64], zones: &[Zone]) -> Scores {
     s
 }
 
+/// Distance by a reference speed and by a method, over the grid seconds where the
+/// reference is defined (apples to apples), metres: (reference, method).
+pub fn distance_against(replay: &Replay, reference: &[f64], method: usize) -> (f64, f64) {
+    let d = &replay.distance[method];
+    let (mut r, mut e) = (0.0, 0.0);
+    for i in 1..reference.len().min(d.len()) {
+        if reference[i].is_finite() && reference[i - 1].is_finite() {
+            let dt = replay.t_s[i] - replay.t_s[i - 1];
+            r += 0.5 * (reference[i] + reference[i - 1]) * dt;
+            e += d[i] - d[i - 1];
+        }
+    }
+    (r, e)
+}
+
 /// Truth speed of a simulated run on a replay's grid.
 pub fn sim_reference(run: &SimulatedRun, replay: &Replay) -> Vec<f64> {
     replay.t_s.iter().map(|&t| run.truth_at(t).speed_mps).collect()
@@ -157,9 +172,11 @@ pub fn sim_reference(run: &SimulatedRun, replay: &Replay) -> Vec<f64> {
 /// A clean GNSS track point: time and local east/north, metres.
 pub type TrackPoint = (f64, f64, f64);
 
-/// Reference speed from a clean track: slope of a centred local quadratic fit of
-/// position over ±`half_window_s`, evaluated at each grid time (non-causal smoothing;
-/// NaN where fewer than 3 fixes fall in the window or outside the track).
+/// Reference speed from a clean track: slope of a centred least-squares line through
+/// the positions within ±`half_window_s` of each grid time (non-causal smoothing).
+/// A line, not a quadratic: on tracks with fixes 2–7 s apart a quadratic's derivative
+/// amplifies position noise, and |v| turns that noise into an upward bias. NaN where
+/// fewer than 3 fixes, spanning less than `half_window_s`, fall in the window.
 pub fn smoothed_track_speed(track: &[TrackPoint], grid: &[f64], half_window_s: f64) -> Vec<f64> {
     let mut out = Vec::with_capacity(grid.len());
     let mut lo = 0;
@@ -176,42 +193,33 @@ pub fn smoothed_track_speed(track: &[TrackPoint], grid: &[f64], half_window_s: f
             out.push(f64::NAN);
             continue;
         }
-        let ve = local_slope(w.iter().map(|p| (p.0 - g, p.1)));
-        let vn = local_slope(w.iter().map(|p| (p.0 - g, p.2)));
+        if w[w.len() - 1].0 - w[0].0 < half_window_s {
+            out.push(f64::NAN);
+            continue;
+        }
+        let ve = linear_slope(w.iter().map(|p| (p.0 - g, p.1)));
+        let vn = linear_slope(w.iter().map(|p| (p.0 - g, p.2)));
         out.push(ve.hypot(vn));
     }
     out
 }
 
-/// Derivative at x = 0 of the least-squares quadratic through the points.
-fn local_slope(pts: impl Iterator<Item = (f64, f64)> + Clone) -> f64 {
-    let mut s = [0.0f64; 5];
-    let mut b = [0.0f64; 3];
+/// Slope of the least-squares line through the points.
+fn linear_slope(pts: impl Iterator<Item = (f64, f64)>) -> f64 {
+    let (mut n, mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
     for (x, y) in pts {
-        let mut p = 1.0;
-        for (k, sk) in s.iter_mut().enumerate() {
-            *sk += p;
-            if k < 3 {
-                b[k] += p * y;
-            }
-            p *= x;
-        }
+        n += 1.0;
+        sx += x;
+        sy += y;
+        sxx += x * x;
+        sxy += x * y;
     }
-    let m = [[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]];
-    let det3 = |m: &[[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let d = det3(&m);
+    let d = n * sxx - sx * sx;
     if d.abs() < 1e-12 {
-        return f64::NAN;
+        f64::NAN
+    } else {
+        (n * sxy - sx * sy) / d
     }
-    let mut m1 = m;
-    for r in 0..3 {
-        m1[r][1] = b[r];
-    }
-    det3(&m1) / d
 }
 
 /// GNSS degradation injected on a clean real track: disturbance bursts (correlated

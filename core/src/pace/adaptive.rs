@@ -20,9 +20,12 @@
 //!   and cadence error);
 //! - stationary (step data flows but no steps): zero velocity.
 //!
-//! Step length is learned only from trustworthy GNSS: the gains of `a`, `b` are zeroed
-//! (Schmidt "consider" update, Joseph form so the covariance stays right) unless the
-//! recent fixes are accurate and consistent (NIS average low, not just re-anchored).
+//! Step length is learned only from trustworthy GNSS (accurate, consistent fixes: NIS
+//! average low, not just re-anchored), two ways: through the position residuals (fast,
+//! follows interval changes, but reads turns between sparse fixes as shorter steps)
+//! and by an explicit measurement, GNSS path length over a 20 s window divided by the
+//! steps in it (unaffected by turns, slower). Otherwise the gains of `a`, `b` are
+//! zeroed (Schmidt "consider" update, Joseph form so the covariance stays right).
 //! During GNSS outages speed therefore comes from cadence × the held step length, and
 //! distance keeps growing. After an outage longer than `outage_reset_s`, the position
 //! is re-anchored on the first fix without touching velocity: no speed jump.
@@ -52,33 +55,54 @@ const LB: usize = 7;
 
 /// 99 % χ² gate with 2 degrees of freedom.
 const GATE_2DOF: f64 = 9.21;
+/// Gate violations in a row (and their minimum duration, s) after which the filter
+/// re-anchors on GNSS instead of treating fixes as outliers.
+const REANCHOR_AFTER_GATED: u32 = 3;
+const REANCHOR_AFTER_S: f64 = 5.0;
 /// 99 % χ² gate with 1 degree of freedom.
 const GATE_1DOF: f64 = 6.63;
 /// 68 % radius of a circular 2-D Gaussian is 1.515 σ per axis.
 const RADIUS68_TO_SIGMA: f64 = 1.0 / 1.515;
 /// Pedometer (and stationary) updates at most this often, seconds.
 const PED_UPDATE_INTERVAL_S: f64 = 1.0;
+/// Chords of the step-length path window join fixes at least this far apart, s.
+const CHORD_MIN_S: f64 = 4.0;
+/// Length of a step-length path window, s, and the fewest steps it needs.
+const PATH_WINDOW_S: f64 = 20.0;
+const PATH_MIN_STEPS: f64 = 20.0;
+/// Share of a fix's error that does not cancel between window ends.
+const PATH_SIGMA_SHARE: f64 = 0.7;
+/// Step data older than this is not used at a fix, seconds.
+const STEP_DATA_FRESH_S: f64 = 3.0;
 /// Window of the cadence estimate, seconds.
-const CADENCE_WINDOW_S: f64 = 5.0;
+const CADENCE_WINDOW_S: f64 = 4.0;
+/// Window of the slow cadence at which the step-length line is read, seconds.
+const SLOW_CADENCE_WINDOW_S: f64 = 20.0;
 /// Time constant of the reference cadence c̄, seconds.
 const CADENCE_REF_TAU_S: f64 = 60.0;
+/// ... and while the step length is still unknown, seconds.
+const CADENCE_REF_FAST_TAU_S: f64 = 3.0;
 /// Initial step length when none is configured, metres, and its 1-σ.
 const DEFAULT_STEP_LENGTH_M: f64 = 1.0;
 const STEP_LENGTH_PRIOR_SIGMA_M: f64 = 0.4;
 /// Prior slope of step length against cadence, m per (step/s), and its 1-σ.
 const SLOPE_PRIOR: f64 = 0.5;
-const SLOPE_PRIOR_SIGMA: f64 = 0.5;
-/// Random walk of the step-length line, per √s.
-const STEP_LENGTH_RW: f64 = 0.003;
-const SLOPE_RW: f64 = 0.01;
+const SLOPE_PRIOR_SIGMA: f64 = 0.3;
+/// Random walk of the slope of the step-length line, per √s.
+const SLOPE_RW: f64 = 0.003;
+/// The slope is learned only while the slow cadence is this far from c̄, steps/s
+/// (about 5× the noise of the slow cadence: real pace changes, not noise).
+const SLOPE_MIN_CADENCE_DEV: f64 = 0.15;
 /// Step length counts as learned once its 1-σ is below this, metres.
 const LEARNED_SIGMA_M: f64 = 0.08;
-/// Cadence error (1-σ), steps/s.
-const CADENCE_SIGMA: f64 = 0.04;
+/// Cadence error (1-σ), steps/s: ±1 step of quantisation over the window.
+const CADENCE_SIGMA: f64 = 0.35 / CADENCE_WINDOW_S;
 /// Zero-velocity measurement noise while stationary, m/s.
 const ZUPT_SIGMA_MPS: f64 = 0.05;
 /// Trust in GNSS for learning needs the NIS average below this (2 expected).
 const TRUST_NIS: f64 = 4.0;
+/// ... with the latest fix at most this old, seconds ...
+const TRUST_FIX_AGE_S: f64 = 5.0;
 /// ... and this long since the last re-anchor, seconds.
 const TRUST_AFTER_RESET_S: f64 = 10.0;
 /// Share of a fix's reported error variance taken as white noise (rest: correlated).
@@ -87,6 +111,37 @@ const WHITE_SHARE: f64 = 0.35;
 const INITIAL_SPEED_SIGMA: f64 = 3.0;
 /// Stationary contradicted by GNSS this many fixes in a row: step data is distrusted.
 const CONTRADICTIONS_TO_DISTRUST: u32 = 5;
+
+/// GNSS path length and steps accumulated over a window, to observe step length.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct PathWindow {
+    active: bool,
+    start_t_s: f64,
+    start_steps: f64,
+    /// Last fix used as a chord end: east, north, t.
+    anchor: (f64, f64, f64),
+    path_m: f64,
+}
+
+impl PathWindow {
+    const IDLE: Self = Self {
+        active: false,
+        start_t_s: 0.0,
+        start_steps: 0.0,
+        anchor: (0.0, 0.0, 0.0),
+        path_m: 0.0,
+    };
+
+    fn start(fix: &LocalFix, steps: f64) -> Self {
+        Self {
+            active: true,
+            start_t_s: fix.t_s,
+            start_steps: steps,
+            anchor: (fix.east_m, fix.north_m, fix.t_s),
+            path_m: 0.0,
+        }
+    }
+}
 
 /// State of the adaptive filter.
 #[derive(Clone, Debug, PartialEq)]
@@ -108,6 +163,17 @@ pub struct AdaptiveFilter {
     stationary: bool,
     contradictions: u32,
     steps_distrusted: bool,
+    /// Path window observing step length.
+    window: PathWindow,
+    /// Previous fix (east, north, t) for GNSS displacement checks.
+    prev_fix: (f64, f64, f64),
+    /// Consecutive fixes beyond the NIS gate, and since when.
+    gated_run: u32,
+    gated_since_t_s: f64,
+    /// Unit vector of the last direction of motion (east, north); NaN until moving.
+    last_dir: (f64, f64),
+    /// The cadence is far enough from c̄ for the slope b to be observable.
+    slope_observable: bool,
     /// Speed-information gained from GNSS and from the pedometer at the last epoch.
     info_gnss: f64,
     info_ped: f64,
@@ -136,6 +202,12 @@ impl AdaptiveFilter {
             stationary: false,
             contradictions: 0,
             steps_distrusted: false,
+            slope_observable: false,
+            last_dir: (f64::NAN, f64::NAN),
+            window: PathWindow::IDLE,
+            prev_fix: (f64::NAN, f64::NAN, f64::NAN),
+            gated_run: 0,
+            gated_since_t_s: f64::NAN,
             info_gnss: 0.0,
             info_ped: 0.0,
             out: PaceEstimate {
@@ -204,17 +276,38 @@ impl AdaptiveFilter {
         f[(BN, BN)] = phi;
         self.x = f * self.x;
         let mut q = M8::zeros();
+        // Acceleration noise is anisotropic: runners change speed gently but turn
+        // hard (cornering v²/r ≈ 2 m/s²). In the (along, cross) basis of the motion
+        // the spectral density is diag(q_along, q_cross); rotate it to east/north.
         let qa = prm.accel_noise_mps2 * prm.accel_noise_mps2;
-        for (p, v) in [(PE, VE), (PN, VN)] {
-            q[(p, p)] = qa * dt * dt * dt / 3.0;
-            q[(p, v)] = qa * dt * dt / 2.0;
-            q[(v, p)] = qa * dt * dt / 2.0;
-            q[(v, v)] = qa * dt;
+        let qc = prm.turn_accel_noise_mps2 * prm.turn_accel_noise_mps2;
+        let s = self.x[VE].hypot(self.x[VN]);
+        let (ue, un) = if s > 0.5 {
+            (self.x[VE] / s, self.x[VN] / s)
+        } else {
+            (1.0, 0.0)
+        };
+        let w = ((s - 0.5) / 1.0).clamp(0.0, 1.0); // isotropic when slow
+        let qmax = qa.max(qc);
+        let aniso = [
+            [qa * ue * ue + qc * un * un, (qa - qc) * ue * un],
+            [(qa - qc) * ue * un, qa * un * un + qc * ue * ue],
+        ];
+        let (t1, t2, t3) = (dt * dt * dt / 3.0, dt * dt / 2.0, dt);
+        for (a, (pa, va)) in [(PE, VE), (PN, VN)].into_iter().enumerate() {
+            for (b, (pb, vb)) in [(PE, VE), (PN, VN)].into_iter().enumerate() {
+                let iso = if a == b { qmax } else { 0.0 };
+                let g = w * aniso[a][b] + (1.0 - w) * iso;
+                q[(pa, pb)] = g * t1;
+                q[(pa, vb)] = g * t2;
+                q[(va, pb)] = g * t2;
+                q[(va, vb)] = g * t3;
+            }
         }
         let qb = prm.gnss_bias_sigma_m * prm.gnss_bias_sigma_m * (1.0 - phi * phi);
         q[(BE, BE)] = qb;
         q[(BN, BN)] = qb;
-        q[(LA, LA)] = STEP_LENGTH_RW * STEP_LENGTH_RW * dt;
+        q[(LA, LA)] = prm.step_length_rw_m_per_sqrt_s.powi(2) * dt;
         q[(LB, LB)] = SLOPE_RW * SLOPE_RW * dt;
         self.p = f * self.p * f.transpose() + q;
     }
@@ -230,9 +323,14 @@ impl AdaptiveFilter {
         learn: bool,
     ) {
         let mut k = self.p * h.transpose() * s_inv;
-        if !learn {
-            for c in 0..M {
+        // The slope is learned only once the level is known: start-up transients
+        // would otherwise be read as a cadence dependence.
+        let learn_slope = learn && self.step_length_learned() && self.slope_observable;
+        for c in 0..M {
+            if !learn {
                 k[(LA, c)] = 0.0;
+            }
+            if !learn_slope {
                 k[(LB, c)] = 0.0;
             }
         }
@@ -296,6 +394,27 @@ impl AdaptiveFilter {
         self.reset_t_s = fix.t_s;
     }
 
+    /// Whether GNSS may teach step length at `t`: the latest fix was trustworthy and
+    /// is recent (receivers and watches deliver fixes 1–5 s apart).
+    fn gnss_trusted_at(&self, t: f64) -> bool {
+        self.last_trusted_t_s == self.last_fix_t_s && t - self.last_fix_t_s <= TRUST_FIX_AGE_S
+    }
+
+    /// Keep the speed but make its direction unknown (cross-track velocity variance
+    /// as large as the speed), so the next fixes can turn it.
+    fn free_direction(&mut self) {
+        let s = 0.5 * self.speed().max(1.0);
+        for i in [VE, VN] {
+            for j in 0..8 {
+                if j != i {
+                    self.p[(i, j)] = 0.0;
+                    self.p[(j, i)] = 0.0;
+                }
+            }
+            self.p[(i, i)] = s * s;
+        }
+    }
+
     fn gnss_update(&mut self, fix: &LocalFix) -> (f64, bool) {
         let total = self.fix_sigma(fix);
         let white = (WHITE_SHARE * total * total).max(0.3 * 0.3);
@@ -322,6 +441,44 @@ impl AdaptiveFilter {
             return (f64::INFINITY, false);
         };
         let nis = (y.transpose() * s_inv * y)[(0, 0)];
+        if nis > GATE_2DOF {
+            self.gated_run += 1;
+            if self.gated_since_t_s.is_nan() {
+                self.gated_since_t_s = fix.t_s;
+            }
+            // GNSS velocity over the last interval: a direction reversal at a plausible
+            // speed is a turn between sparse fixes, not an outlier.
+            let (pe, pn, pt) = self.prev_fix;
+            let dt = fix.t_s - pt;
+            let (ue, un) = ((fix.east_m - pe) / dt, (fix.north_m - pn) / dt);
+            let u = ue.hypot(un);
+            let s = self.speed();
+            let reversal = dt > 0.0
+                && u > 1.0
+                && s > 1.0
+                && (ue * self.x[VE] + un * self.x[VN]) < 0.0
+                && (0.5..2.0).contains(&(u / s));
+            let persistent = self.gated_run >= REANCHOR_AFTER_GATED
+                && fix.t_s - self.gated_since_t_s >= REANCHOR_AFTER_S;
+            if reversal || persistent {
+                // Not a multipath jump but a track the filter lost (a sharp turn
+                // between fixes): start again from the fix, keeping the speed and
+                // taking the direction from the GNSS displacement.
+                log::debug!("GNSS inconsistent ({} gated fixes): re-anchoring", self.gated_run);
+                self.reanchor(fix);
+                if u > 0.5 {
+                    self.x[VE] = s * ue / u;
+                    self.x[VN] = s * un / u;
+                }
+                self.free_direction();
+                self.gated_run = 0;
+                self.gated_since_t_s = f64::NAN;
+                return (nis, false);
+            }
+        } else {
+            self.gated_run = 0;
+            self.gated_since_t_s = f64::NAN;
+        }
         if nis > GATE_2DOF {
             // Inflate the noise so the innovation sits on the gate (robust update).
             let scale = nis / GATE_2DOF;
@@ -378,6 +535,60 @@ impl AdaptiveFilter {
         }
     }
 
+    /// Observe step length from GNSS path length over steps (trusted fixes only).
+    ///
+    /// Chords between fixes at least `CHORD_MIN_S` apart are summed over a window of
+    /// `PATH_WINDOW_S`; path / steps measures the step-length line at the window's
+    /// mean cadence. Summing chords keeps turns from being read as shorter steps (a
+    /// position residual would be), and long chords keep position noise from
+    /// inflating the path: along-track errors telescope to the two window ends.
+    fn learn_from_path(&mut self, fix: &LocalFix, ctx: &Context, trusted: bool) {
+        let steps_now = ctx.steps.total_at(fix.t_s);
+        let usable = trusted && !self.stationary && !self.steps_distrusted;
+        let (Some(steps_now), true) = (steps_now, usable) else {
+            self.window = PathWindow::IDLE;
+            return;
+        };
+        if !self.window.active {
+            self.window = PathWindow::start(fix, steps_now);
+            return;
+        }
+        let (ae, an, at) = self.window.anchor;
+        if fix.t_s - at < CHORD_MIN_S {
+            return;
+        }
+        self.window.path_m += (fix.east_m - ae).hypot(fix.north_m - an);
+        self.window.anchor = (fix.east_m, fix.north_m, fix.t_s);
+        let span = fix.t_s - self.window.start_t_s;
+        let steps = steps_now - self.window.start_steps;
+        if span < PATH_WINDOW_S {
+            return;
+        }
+        let path = self.window.path_m;
+        self.window = PathWindow::start(fix, steps_now);
+        if steps < PATH_MIN_STEPS {
+            return;
+        }
+        let c_mean = steps / span;
+        let cref = if self.cadence_ref.is_finite() {
+            self.cadence_ref
+        } else {
+            c_mean
+        };
+        self.slope_observable = (c_mean - cref).abs() > SLOPE_MIN_CADENCE_DEV;
+        let mut h = SMatrix::<f64, 1, 8>::zeros();
+        h[(0, LA)] = 1.0;
+        h[(0, LB)] = c_mean - cref;
+        let y = SVector::<f64, 1>::new(path / steps - (self.x[LA] + self.x[LB] * (c_mean - cref)));
+        let sigma_path = std::f64::consts::SQRT_2 * PATH_SIGMA_SHARE * self.fix_sigma(fix);
+        let r = SMatrix::<f64, 1, 1>::new((sigma_path / steps).powi(2));
+        let sv = (h * self.p * h.transpose() + r)[(0, 0)];
+        if y[0] * y[0] / sv > GATE_1DOF {
+            return;
+        }
+        self.apply(&h, &y, &r, &SMatrix::<f64, 1, 1>::new(1.0 / sv), true);
+    }
+
     /// Move the reference cadence c̄ towards `c`, re-expressing `a` so that the
     /// step-length line itself does not change.
     fn track_cadence_ref(&mut self, c: f64, dt: f64) {
@@ -385,7 +596,14 @@ impl AdaptiveFilter {
             self.cadence_ref = c;
             return;
         }
-        let delta = (dt / CADENCE_REF_TAU_S).min(1.0) * (c - self.cadence_ref);
+        // Until the step length is learned the reference follows cadence closely, so
+        // start-up transients teach `a`, not the slope `b`.
+        let tau = if self.step_length_learned() {
+            CADENCE_REF_TAU_S
+        } else {
+            CADENCE_REF_FAST_TAU_S
+        };
+        let delta = (dt / tau).min(1.0) * (c - self.cadence_ref);
         self.cadence_ref += delta;
         // a' = a + b·Δ  →  T = I with T[LA][LB] = Δ.
         self.x[LA] += self.x[LB] * delta;
@@ -399,9 +617,6 @@ impl AdaptiveFilter {
             return;
         }
         let dt = t - self.last_ped_t_s;
-        if dt < PED_UPDATE_INTERVAL_S {
-            return;
-        }
         let Some(c) = ctx
             .steps
             .cadence_at(t, CADENCE_WINDOW_S, ctx.config.stationary_after_s)
@@ -409,23 +624,48 @@ impl AdaptiveFilter {
             return;
         };
         self.last_ped_t_s = t;
+        let was_stationary = self.stationary;
         self.stationary = c <= 0.0;
         if self.stationary {
             self.zupt();
             return;
         }
-        self.track_cadence_ref(c, dt.min(10.0));
-        let s = self.speed();
+        // The step-length line is read at a slow cadence: cadence noise in its
+        // regressor would otherwise teach b ≈ −a/c (the slope that hides the noise).
+        let c_slow = ctx
+            .steps
+            .cadence_at(t, SLOW_CADENCE_WINDOW_S, ctx.config.stationary_after_s)
+            .filter(|&v| v > 0.0)
+            .unwrap_or(c);
+        self.track_cadence_ref(c_slow, dt.min(10.0));
+        self.slope_observable = (c_slow - self.cadence_ref).abs() > SLOPE_MIN_CADENCE_DEV;
+        let mut s = self.speed();
         if s < 0.3 {
-            // No direction yet to put the pedometer speed on.
-            return;
+            if !(was_stationary && self.last_dir.0.is_finite()) {
+                // No direction to put the pedometer speed on (start, or a U-turn
+                // passing through zero): GNSS will give one.
+                return;
+            }
+            // Moving again after a stop: start from cadence × step length along the
+            // last direction of motion, uncertain enough for GNSS to correct quickly.
+            let v = c * self.step_length_at(c_slow);
+            self.x[VE] = v * self.last_dir.0;
+            self.x[VN] = v * self.last_dir.1;
+            for i in [VE, VN] {
+                for j in 0..8 {
+                    self.p[(i, j)] = 0.0;
+                    self.p[(j, i)] = 0.0;
+                }
+                self.p[(i, i)] = (0.5 * v).powi(2) + 0.25;
+            }
+            s = v;
         }
-        let l = self.step_length_at(c);
+        let l = self.step_length_at(c_slow);
         let mut h = SMatrix::<f64, 1, 8>::zeros();
         h[(0, VE)] = self.x[VE] / s;
         h[(0, VN)] = self.x[VN] / s;
         h[(0, LA)] = -c;
-        h[(0, LB)] = -c * (c - self.cadence_ref);
+        h[(0, LB)] = -c * (c_slow - self.cadence_ref);
         let v_ped = c * l;
         let rel = self.params.pedometer_rel_sigma;
         let r = SMatrix::<f64, 1, 1>::new((rel * v_ped).powi(2) + (CADENCE_SIGMA * l).powi(2));
@@ -447,6 +687,9 @@ impl AdaptiveFilter {
             self.stationary
         };
         let speed = if still { 0.0 } else { raw };
+        if raw > 1.0 {
+            self.last_dir = (self.x[VE] / raw, self.x[VN] / raw);
+        }
         let prev_t = self.out.t_s;
         if self.out.source != PaceSource::Initializing && t_out > prev_t {
             self.distance_m += 0.5 * (self.out.speed_mps + speed) * (t_out - prev_t);
@@ -463,7 +706,10 @@ impl AdaptiveFilter {
             .steps
             .cadence_at(t_out, CADENCE_WINDOW_S, ctx.config.stationary_after_s);
         let learned = self.step_length_learned();
-        let step_length = match cadence {
+        let slow = ctx
+            .steps
+            .cadence_at(t_out, SLOW_CADENCE_WINDOW_S, ctx.config.stationary_after_s);
+        let step_length = match slow {
             Some(c) if c > 0.0 && learned => Some(self.step_length_at(c)),
             _ if learned => Some(self.x[LA]),
             _ => ctx.config.initial_step_length_m,
@@ -491,6 +737,7 @@ impl AdaptiveFilter {
         if !self.initialized {
             self.init(fix);
             self.last_fix_t_s = fix.t_s;
+            self.prev_fix = (fix.east_m, fix.north_m, fix.t_s);
             self.publish(ctx, fix.t_s);
             self.out.source = PaceSource::Initializing;
             return self.out;
@@ -505,6 +752,7 @@ impl AdaptiveFilter {
             if trusted {
                 self.last_trusted_t_s = fix.t_s;
             }
+            self.learn_from_path(fix, ctx, trusted);
             // Step data that says "standing" while GNSS keeps moving far: distrust it.
             if self.stationary && nis > 4.0 * GATE_2DOF {
                 self.contradictions += 1;
@@ -517,8 +765,17 @@ impl AdaptiveFilter {
                 self.contradictions = 0;
             }
         }
-        let learn = fix.t_s - self.last_trusted_t_s <= 1.5;
-        self.pedometer_update(fix.t_s, ctx, learn);
+        self.prev_fix = (fix.east_m, fix.north_m, fix.t_s);
+        let learn = self.gnss_trusted_at(fix.t_s);
+        // The pedometer constrains speed after every GNSS update, when its data is fresh.
+        if ctx
+            .steps
+            .last_t_s()
+            .is_some_and(|ts| fix.t_s - ts <= STEP_DATA_FRESH_S)
+            || ctx.steps.stationary_at(fix.t_s, ctx.config.stationary_after_s)
+        {
+            self.pedometer_update(fix.t_s, ctx, learn);
+        }
         let t_out = self.t_s.max(self.out.t_s);
         self.publish(ctx, t_out);
         self.out
@@ -537,12 +794,15 @@ impl AdaptiveFilter {
         if !self.initialized || t_s <= self.t_s {
             return;
         }
-        // Between fixes the pedometer carries the state (at most once a second).
-        if t_s - self.last_ped_t_s < PED_UPDATE_INTERVAL_S {
+        // Between fixes the pedometer carries the state (at most once a second); at a
+        // fix it runs right after the GNSS update (see on_fix).
+        if t_s - self.last_ped_t_s < PED_UPDATE_INTERVAL_S
+            || t_s - self.last_fix_t_s < PED_UPDATE_INTERVAL_S
+        {
             return;
         }
         self.predict(t_s);
-        let learn = t_s - self.last_trusted_t_s <= 1.5;
+        let learn = self.gnss_trusted_at(t_s);
         self.pedometer_update(t_s, ctx, learn);
         self.publish(ctx, t_s);
     }
@@ -570,6 +830,14 @@ impl AdaptiveFilter {
         w.bool(self.stationary);
         w.u64(self.contradictions as u64);
         w.bool(self.steps_distrusted);
+        w.bool(self.slope_observable);
+        w.f64s(&[self.last_dir.0, self.last_dir.1]);
+        let pw = &self.window;
+        w.bool(pw.active);
+        w.f64s(&[pw.start_t_s, pw.start_steps, pw.anchor.0, pw.anchor.1, pw.anchor.2, pw.path_m]);
+        w.f64s(&[self.prev_fix.0, self.prev_fix.1, self.prev_fix.2]);
+        w.u64(self.gated_run as u64);
+        w.f64(self.gated_since_t_s);
         write_estimate(w, &self.out);
     }
 
@@ -595,6 +863,21 @@ impl AdaptiveFilter {
         f.stationary = r.bool()?;
         f.contradictions = r.len(u32::MAX as usize)? as u32;
         f.steps_distrusted = r.bool()?;
+        f.slope_observable = r.bool()?;
+        f.last_dir = (r.f64()?, r.f64()?);
+        let active = r.bool()?;
+        let mut pw = [0.0; 6];
+        r.f64s(&mut pw)?;
+        f.window = PathWindow {
+            active,
+            start_t_s: pw[0],
+            start_steps: pw[1],
+            anchor: (pw[2], pw[3], pw[4]),
+            path_m: pw[5],
+        };
+        f.prev_fix = (r.f64()?, r.f64()?, r.f64()?);
+        f.gated_run = r.len(u32::MAX as usize)? as u32;
+        f.gated_since_t_s = r.f64()?;
         f.out = read_estimate(r)?;
         if f.x.iter().chain(f.p.iter()).any(|v| !v.is_finite()) {
             return Err(SnapshotError::Invalid("filter state"));

@@ -43,8 +43,10 @@ impl Default for PublishedParams {
 /// Parameters of the default adaptive Kalman filter.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AdaptiveParams {
-    /// Horizontal acceleration noise of the runner, m/s² (1-σ, per axis).
+    /// Along-track acceleration noise of the runner, m/s² (1-σ): speed changes.
     pub accel_noise_mps2: f64,
+    /// Cross-track acceleration noise, m/s² (1-σ): turns and corners.
+    pub turn_accel_noise_mps2: f64,
     /// Per-axis 1-σ of GNSS white noise assumed when a fix has no accuracy, metres.
     pub default_gnss_sigma_m: f64,
     /// 1-σ of the slowly varying (correlated) GNSS error, metres.
@@ -57,18 +59,23 @@ pub struct AdaptiveParams {
     pub outage_reset_s: f64,
     /// Fixes with a worse horizontal accuracy are not used to learn step length, metres.
     pub learn_max_accuracy_m: f64,
+    /// Random walk of the learned step length, m/√s: how fast it may follow changes
+    /// of gait, terrain or fatigue while GNSS is good.
+    pub step_length_rw_m_per_sqrt_s: f64,
 }
 
 impl Default for AdaptiveParams {
     fn default() -> Self {
         Self {
             accel_noise_mps2: 0.7,
+            turn_accel_noise_mps2: 2.0,
             default_gnss_sigma_m: 3.0,
             gnss_bias_sigma_m: 2.0,
             gnss_bias_tau_s: 30.0,
             pedometer_rel_sigma: 0.03,
             outage_reset_s: 10.0,
             learn_max_accuracy_m: 12.0,
+            step_length_rw_m_per_sqrt_s: 0.003,
         }
     }
 }
@@ -95,6 +102,30 @@ impl Default for PaceConfig {
             published: PublishedParams::default(),
             adaptive: AdaptiveParams::default(),
         }
+    }
+}
+
+impl AdaptiveParams {
+    /// Set a parameter by name (for evaluation sweeps and the CLI's `--set`).
+    pub fn set(&mut self, name: &str, value: f64) -> Result<(), PaceError> {
+        let slot = match name {
+            "accel_noise_mps2" => &mut self.accel_noise_mps2,
+            "turn_accel_noise_mps2" => &mut self.turn_accel_noise_mps2,
+            "default_gnss_sigma_m" => &mut self.default_gnss_sigma_m,
+            "gnss_bias_sigma_m" => &mut self.gnss_bias_sigma_m,
+            "gnss_bias_tau_s" => &mut self.gnss_bias_tau_s,
+            "pedometer_rel_sigma" => &mut self.pedometer_rel_sigma,
+            "outage_reset_s" => &mut self.outage_reset_s,
+            "learn_max_accuracy_m" => &mut self.learn_max_accuracy_m,
+            "step_length_rw_m_per_sqrt_s" => &mut self.step_length_rw_m_per_sqrt_s,
+            _ => {
+                return Err(PaceError::InvalidConfig {
+                    reason: format!("unknown adaptive parameter {name}"),
+                })
+            }
+        };
+        *slot = value;
+        Ok(())
     }
 }
 
@@ -125,12 +156,17 @@ impl PaceConfig {
             ("published.variance_threshold_m2", p.variance_threshold_m2),
             ("published.sigmoid_beta_per_m2", p.sigmoid_beta_per_m2),
             ("adaptive.accel_noise_mps2", self.adaptive.accel_noise_mps2),
+            ("adaptive.turn_accel_noise_mps2", self.adaptive.turn_accel_noise_mps2),
             ("adaptive.default_gnss_sigma_m", self.adaptive.default_gnss_sigma_m),
             ("adaptive.gnss_bias_sigma_m", self.adaptive.gnss_bias_sigma_m),
             ("adaptive.gnss_bias_tau_s", self.adaptive.gnss_bias_tau_s),
             ("adaptive.pedometer_rel_sigma", self.adaptive.pedometer_rel_sigma),
             ("adaptive.outage_reset_s", self.adaptive.outage_reset_s),
             ("adaptive.learn_max_accuracy_m", self.adaptive.learn_max_accuracy_m),
+            (
+                "adaptive.step_length_rw_m_per_sqrt_s",
+                self.adaptive.step_length_rw_m_per_sqrt_s,
+            ),
             ("stationary_after_s", self.stationary_after_s),
         ];
         for (name, v) in positive {

@@ -291,12 +291,14 @@ fn write_config(w: &mut Writer, c: &PaceConfig) {
     let a = &c.adaptive;
     w.f64s(&[
         a.accel_noise_mps2,
+        a.turn_accel_noise_mps2,
         a.default_gnss_sigma_m,
         a.gnss_bias_sigma_m,
         a.gnss_bias_tau_s,
         a.pedometer_rel_sigma,
         a.outage_reset_s,
         a.learn_max_accuracy_m,
+        a.step_length_rw_m_per_sqrt_s,
     ]);
 }
 
@@ -312,7 +314,7 @@ fn read_config(r: &mut Reader) -> Result<PaceConfig, SnapshotError> {
     let cadence_h = r.len(published::MAX_WINDOW)?;
     let mut p = [0.0; 3];
     r.f64s(&mut p)?;
-    let mut a = [0.0; 7];
+    let mut a = [0.0; 9];
     r.f64s(&mut a)?;
     Ok(PaceConfig {
         mode,
@@ -327,12 +329,14 @@ fn read_config(r: &mut Reader) -> Result<PaceConfig, SnapshotError> {
         },
         adaptive: AdaptiveParams {
             accel_noise_mps2: a[0],
-            default_gnss_sigma_m: a[1],
-            gnss_bias_sigma_m: a[2],
-            gnss_bias_tau_s: a[3],
-            pedometer_rel_sigma: a[4],
-            outage_reset_s: a[5],
-            learn_max_accuracy_m: a[6],
+            turn_accel_noise_mps2: a[1],
+            default_gnss_sigma_m: a[2],
+            gnss_bias_sigma_m: a[3],
+            gnss_bias_tau_s: a[4],
+            pedometer_rel_sigma: a[5],
+            outage_reset_s: a[6],
+            learn_max_accuracy_m: a[7],
+            step_length_rw_m_per_sqrt_s: a[8],
         },
     })
 }

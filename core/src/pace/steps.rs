@@ -6,10 +6,12 @@ use super::types::StepSample;
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
-/// Samples kept for cadence and interpolation (covers ≥ 10 s at 6 steps/s of events).
-const HISTORY: usize = 96;
+/// Samples kept for cadence and interpolation (covers ≥ 25 s at 6 steps/s of events).
+const HISTORY: usize = 160;
 /// Cadences above this are impossible for a human, steps/min (sprinters reach ~300).
 pub const MAX_CADENCE_SPM: f64 = 300.0;
+/// A pause in steps longer than this starts a new bout, seconds.
+const BOUT_GAP_S: f64 = 2.0;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Entry {
@@ -29,6 +31,9 @@ pub struct StepStream {
     total: f64,
     /// Time of the last sample that added steps.
     last_step_t_s: Option<f64>,
+    /// Start of the current walking/running bout: cadence windows never reach back
+    /// across a stop.
+    moving_since_t_s: f64,
     resets: u64,
 }
 
@@ -47,6 +52,7 @@ impl StepStream {
             last_cadence_spm: None,
             total: 0.0,
             last_step_t_s: None,
+            moving_since_t_s: f64::NEG_INFINITY,
             resets: 0,
         }
     }
@@ -124,6 +130,11 @@ impl StepStream {
         };
         self.total += added;
         if added > 0.0 {
+            let resumed = self.last_step_t_s.is_none_or(|ls| t - ls > BOUT_GAP_S);
+            if resumed {
+                // The steps happened after the previous sample (or just before t).
+                self.moving_since_t_s = self.last_t_s.unwrap_or(t).max(t - 1.0);
+            }
             self.last_step_t_s = Some(t);
         }
         self.last_t_s = Some(t);
@@ -183,7 +194,7 @@ impl StepStream {
             // Devices that report cadence directly: use it as is.
             return Some(c / 60.0);
         }
-        let t0 = t - window_s;
+        let t0 = (t - window_s).max(self.moving_since_t_s);
         // Include the newest sample at or before t0 so the window is fully covered.
         let (mut n, mut st, mut sy, mut stt, mut sty) = (0.0, 0.0, 0.0, 0.0, 0.0);
         let mut first_t = f64::NAN;
@@ -191,6 +202,9 @@ impl StepStream {
         for e in self.history.iter().rev() {
             if e.t_s > t {
                 continue;
+            }
+            if e.t_s < self.moving_since_t_s {
+                break;
             }
             let dt = e.t_s - t;
             n += 1.0;
@@ -229,6 +243,7 @@ impl StepStream {
         w.opt_f64(self.last_cadence_spm);
         w.f64(self.total);
         w.opt_f64(self.last_step_t_s);
+        w.f64(self.moving_since_t_s);
         w.u64(self.resets);
     }
 
@@ -247,6 +262,7 @@ impl StepStream {
         s.last_cadence_spm = r.opt_f64()?;
         s.total = r.f64()?;
         s.last_step_t_s = r.opt_f64()?;
+        s.moving_since_t_s = r.f64()?;
         s.resets = r.u64()?;
         Ok(s)
     }
@@ -304,6 +320,7 @@ mod tests {
                 steps: 3 * i,
             });
         }
+        assert!((s.cadence_at(9.0, 5.0, 2.0).unwrap() - 3.0).abs() < 1e-9);
         for i in 10..15 {
             s.push(&StepSample::Count {
                 t_s: i as f64,
@@ -311,6 +328,13 @@ mod tests {
             });
         }
         assert_eq!(s.cadence_at(14.0, 5.0, 2.0), Some(0.0));
-        assert!((s.cadence_at(8.0, 5.0, 2.0).unwrap() - 3.0).abs() < 1e-9);
+        // Moving again: the window does not reach back into the stop.
+        for i in 15..18 {
+            s.push(&StepSample::Count {
+                t_s: i as f64,
+                steps: 27 + 3 * (i - 14),
+            });
+        }
+        assert!((s.cadence_at(17.0, 10.0, 2.0).unwrap() - 3.0).abs() < 1e-9);
     }
 }

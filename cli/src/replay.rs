@@ -1,0 +1,65 @@
+//! `stridekit pace FILE`: replay a real activity file and print one CSV line per
+//! GNSS epoch (and per pedometer-only update during outages).
+
+use std::io::Write as _;
+use std::path::Path;
+
+use stridekit_core::{PaceConfig, PaceSample, PaceTracker};
+
+use crate::activity::prepare;
+
+pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
+    let activity = stridekit_formats::read_activity(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let p = prepare(&activity);
+    let mut tracker = PaceTracker::new(config).map_err(|e| e.to_string())?;
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    let w = |out: &mut dyn std::io::Write, s: String| out.write_all(s.as_bytes()).map_err(|e| e.to_string());
+    w(&mut out, "t_s,t_unix_s,speed_mps,pace_s_per_km,speed_std_mps,cadence_spm,step_length_m,gnss_weight,distance_m,source\n".into())?;
+    let opt = |v: Option<f64>| v.map(|v| format!("{v:.3}")).unwrap_or_default();
+    let mut rejected = 0;
+    let mut last_t = f64::NEG_INFINITY;
+    for s in &p.samples {
+        match tracker.push(s) {
+            Ok(_) => {}
+            Err(e) => {
+                rejected += 1;
+                eprintln!("rejected sample at t = {:.1} s: {e}", s.t_s());
+                continue;
+            }
+        }
+        let e = tracker.estimate();
+        let emit = matches!(s, PaceSample::Fix(_)) || (e.t_s > last_t + 0.5 && e.gnss_weight == 0.0);
+        if emit && e.t_s > last_t {
+            last_t = e.t_s;
+            w(
+                &mut out,
+                format!(
+                    "{:.3},{:.3},{:.3},{},{},{},{},{:.3},{:.2},{:?}\n",
+                    e.t_s,
+                    e.t_s + p.t0_unix_s,
+                    e.speed_mps,
+                    opt(e.pace_s_per_km),
+                    opt(e.speed_std_mps),
+                    opt(e.cadence_spm),
+                    opt(e.step_length_m),
+                    e.gnss_weight,
+                    e.distance_m,
+                    e.source
+                ),
+            )?;
+        }
+    }
+    out.flush().map_err(|e| e.to_string())?;
+    let e = tracker.estimate();
+    eprintln!(
+        "{}: {} samples, {} rejected, distance {:.0} m, {} GNSS fixes, step data: {}",
+        p.name,
+        p.samples.len(),
+        rejected,
+        e.distance_m,
+        p.track.len(),
+        if p.has_steps { "yes" } else { "no" }
+    );
+    Ok(())
+}
