@@ -45,7 +45,13 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
     );
     let _ = writeln!(summary, "| method | speed RMSE where GNSS (m/s) | in disturbance zones | in outages | distance (m) |");
     let _ = writeln!(summary, "|---|---|---|---|---|");
-    let f = |v: f64| if v.is_finite() { format!("{v:.3}") } else { "—".into() };
+    let f = |v: f64| {
+        if v.is_finite() {
+            format!("{v:.3}")
+        } else {
+            "—".into()
+        }
+    };
     for (m, name) in METHODS.iter().enumerate() {
         let d = if m >= 2 {
             let d = s.distance_m[m - 2];
@@ -63,11 +69,19 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
     }
     let last_len = r.step_length.iter().rev().find(|v| v.is_finite()).copied();
     if let Some(l) = last_len {
-        let _ = writeln!(summary, "\nLearned step length at the end: {l:.2} m (true {:.2} m).", run.truth.last().map(|t| t.step_length_m).unwrap_or(f64::NAN));
+        let _ = writeln!(
+            summary,
+            "\nLearned step length at the end: {l:.2} m (true {:.2} m).",
+            run.truth
+                .last()
+                .map(|t| t.step_length_m)
+                .unwrap_or(f64::NAN)
+        );
     }
     print!("{summary}");
 
-    std::fs::create_dir_all(out_dir).map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
+    std::fs::create_dir_all(out_dir)
+        .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
     let bands: Vec<Band> = run
         .zones
         .iter()
@@ -90,7 +104,13 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
     let t = &r.t_s;
     let speed = [
         series("truth", t, &truth, (0, 0, 0), Style::Line),
-        series("raw GNSS diff", t, &r.speed[0], (200, 200, 200), Style::Points),
+        series(
+            "raw GNSS diff",
+            t,
+            &r.speed[0],
+            (200, 200, 200),
+            Style::Points,
+        ),
         series("GNSS EMA", t, &r.speed[1], (230, 140, 40), Style::Line),
         series("AsPublished", t, &r.speed[2], (60, 120, 220), Style::Line),
         series("default", t, &r.speed[3], (220, 30, 60), Style::Line),
@@ -130,10 +150,20 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             },
         ),
     )?;
-    let truth_len: Vec<f64> = r.t_s.iter().map(|&t| run.truth_at(t).step_length_m).collect();
+    let truth_len: Vec<f64> = r
+        .t_s
+        .iter()
+        .map(|&t| run.truth_at(t).step_length_m)
+        .collect();
     let steps = [
         series("truth", t, &truth_len, (0, 0, 0), Style::Line),
-        series("default (learned)", t, &r.step_length, (220, 30, 60), Style::Line),
+        series(
+            "default (learned)",
+            t,
+            &r.step_length,
+            (220, 30, 60),
+            Style::Line,
+        ),
     ];
     write(
         "step_length.svg",
@@ -172,7 +202,10 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             style: Style::Line,
         },
     ];
-    write("track.svg", track_chart(&out_dir.join("track.svg"), "Track (local ENU)", &track))?;
+    write(
+        "track.svg",
+        track_chart(&out_dir.join("track.svg"), "Track (local ENU)", &track),
+    )?;
     let mut md = summary.clone();
     md.push_str("\n![speed](speed.svg)\n\n![GNSS weight](gnss_weight.svg)\n\n![step length](step_length.svg)\n\n![track](track.svg)\n");
     std::fs::write(out_dir.join("summary.md"), md).map_err(|e| e.to_string())?;

@@ -55,8 +55,8 @@ pub fn simulator_table(seeds: u64, default: PaceConfig) -> (String, Vec<Scores>)
         let reference = sim_reference(&run, &r);
         let s = score(&r, &reference, &run.zones);
         let truth = run.truth.last().map(|t| t.distance_m).unwrap_or(f64::NAN);
-        for k in 0..2 {
-            dist_err[k].push(100.0 * (s.distance_m[k] - truth) / truth);
+        for (errs, d) in dist_err.iter_mut().zip(s.distance_m) {
+            errs.push(100.0 * (d - truth) / truth);
         }
         all.push(s);
     }
@@ -92,7 +92,10 @@ pub fn real_table(dir: &Path, default: PaceConfig) -> Result<String, String> {
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| {
             matches!(
-                p.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).as_deref(),
+                p.extension()
+                    .and_then(|e| e.to_str())
+                    .map(|e| e.to_ascii_lowercase())
+                    .as_deref(),
                 Some("fit" | "tcx" | "gpx")
             )
         })
@@ -118,11 +121,19 @@ pub fn real_table(dir: &Path, default: PaceConfig) -> Result<String, String> {
             }
         };
         let p = prepare(&activity);
-        let name = path.file_name().unwrap_or_default().to_string_lossy().to_string();
+        let name = path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .to_string();
         if p.track.len() < 30 || !p.has_steps {
             skipped.push(format!(
                 "{name}: {} (not scored)",
-                if p.track.len() < 30 { "too few GNSS fixes" } else { "no cadence" }
+                if p.track.len() < 30 {
+                    "too few GNSS fixes"
+                } else {
+                    "no cadence"
+                }
             ));
             continue;
         }
@@ -138,11 +149,20 @@ pub fn real_table(dir: &Path, default: PaceConfig) -> Result<String, String> {
             .records
             .iter()
             .filter_map(|r| r.device_distance_m)
-            .fold((f64::NAN, f64::NAN), |(a, _), d| (if a.is_nan() { d } else { a }, d));
+            .fold((f64::NAN, f64::NAN), |(a, _), d| {
+                (if a.is_nan() { d } else { a }, d)
+            });
         let device_m = device.1 - device.0;
         let dist = clean.distance[1].last().copied().unwrap_or(0.0);
         let minutes = p.track.last().map(|t| t.0).unwrap_or(0.0) / 60.0;
-        let cell = |m: usize| format!("{} / {} / {}", fmt(s.all[m]), fmt(s.disturbed[m]), fmt(s.outage[m]));
+        let cell = |m: usize| {
+            format!(
+                "{} / {} / {}",
+                fmt(s.all[m]),
+                fmt(s.disturbed[m]),
+                fmt(s.outage[m])
+            )
+        };
         let _ = writeln!(
             out,
             "| {name} | {minutes:.0} | {} | {} | {} | {} | {} | {dist:.0} / {chords:.0} / {} |",
@@ -151,7 +171,11 @@ pub fn real_table(dir: &Path, default: PaceConfig) -> Result<String, String> {
             cell(2),
             cell(3),
             pct(100.0 * (est_m - ref_m) / ref_m),
-            if device_m.is_finite() { format!("{device_m:.0}") } else { "—".into() },
+            if device_m.is_finite() {
+                format!("{device_m:.0}")
+            } else {
+                "—".into()
+            },
         );
         dist_errors.push(100.0 * (est_m - ref_m) / ref_m);
         pooled_rows.push(s);

@@ -11,7 +11,8 @@ use std::process::ExitCode;
 
 use stridekit_core::PaceConfig;
 
-const USAGE: &str = "stridekit — running pace and pedestrian navigation from phone and watch sensors
+const USAGE: &str =
+    "stridekit — running pace and pedestrian navigation from phone and watch sensors
 
 USAGE:
   stridekit demo [--out DIR] [--seed N]
@@ -38,7 +39,9 @@ fn main() -> ExitCode {
     let result = match args.first().map(String::as_str) {
         None | Some("demo") => {
             let out = flag(&args, "--out").unwrap_or_else(|| "report".into());
-            let seed = flag(&args, "--seed").and_then(|s| s.parse().ok()).unwrap_or(1);
+            let seed = flag(&args, "--seed")
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(1);
             demo::run(&PathBuf::from(out), seed)
         }
         Some("pace") => match args.get(1) {
@@ -53,7 +56,9 @@ fn main() -> ExitCode {
             None => Err("pace needs a FILE".into()),
         },
         Some("eval") if args.get(1).map(String::as_str) == Some("pace") => {
-            let seeds = flag(&args, "--seeds").and_then(|s| s.parse().ok()).unwrap_or(10);
+            let seeds = flag(&args, "--seeds")
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(10);
             let mut default = PaceConfig::default();
             for kv in args.windows(2).filter(|w| w[0] == "--set").map(|w| &w[1]) {
                 let parsed = kv
@@ -74,7 +79,9 @@ fn main() -> ExitCode {
                 .map(PathBuf::from)
                 .or_else(|| stridekit_formats::data_dir().map(|d| d.join("pace/original")));
             match dir {
-                Some(d) if d.is_dir() => eval_pace::real_table(&d, default).map(|t| println!("{t}")),
+                Some(d) if d.is_dir() => {
+                    eval_pace::real_table(&d, default).map(|t| println!("{t}"))
+                }
                 _ => {
                     println!("Real runs: skipped (../shared/data/pace/original not found; pass --data DIR or set STRIDEKIT_DATA)");
                     Ok(())

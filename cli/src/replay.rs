@@ -9,12 +9,15 @@ use stridekit_core::{PaceConfig, PaceSample, PaceTracker};
 use crate::activity::prepare;
 
 pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
-    let activity = stridekit_formats::read_activity(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let activity =
+        stridekit_formats::read_activity(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let p = prepare(&activity);
     let mut tracker = PaceTracker::new(config).map_err(|e| e.to_string())?;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
-    let w = |out: &mut dyn std::io::Write, s: String| out.write_all(s.as_bytes()).map_err(|e| e.to_string());
+    let w = |out: &mut dyn std::io::Write, s: String| {
+        out.write_all(s.as_bytes()).map_err(|e| e.to_string())
+    };
     w(&mut out, "t_s,t_unix_s,speed_mps,pace_s_per_km,speed_std_mps,cadence_spm,step_length_m,gnss_weight,distance_m,source\n".into())?;
     let opt = |v: Option<f64>| v.map(|v| format!("{v:.3}")).unwrap_or_default();
     let mut rejected = 0;
@@ -29,7 +32,8 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
             }
         }
         let e = tracker.estimate();
-        let emit = matches!(s, PaceSample::Fix(_)) || (e.t_s > last_t + 0.5 && e.gnss_weight == 0.0);
+        let emit =
+            matches!(s, PaceSample::Fix(_)) || (e.t_s > last_t + 0.5 && e.gnss_weight == 0.0);
         if emit && e.t_s > last_t {
             last_t = e.t_s;
             w(

@@ -73,8 +73,8 @@ pub fn replay(samples: &[PaceSample], published: PaceConfig, default: PaceConfig
             i += 1;
         }
         out.t_s.push(grid_t);
-        for m in 0..4 {
-            out.speed[m].push(latest[m]);
+        for (series, &v) in out.speed.iter_mut().zip(&latest) {
+            series.push(v);
         }
         for (k, tr) in trackers.iter().enumerate() {
             let e = tr.estimate();
@@ -166,7 +166,11 @@ pub fn distance_against(replay: &Replay, reference: &[f64], method: usize) -> (f
 
 /// Truth speed of a simulated run on a replay's grid.
 pub fn sim_reference(run: &SimulatedRun, replay: &Replay) -> Vec<f64> {
-    replay.t_s.iter().map(|&t| run.truth_at(t).speed_mps).collect()
+    replay
+        .t_s
+        .iter()
+        .map(|&t| run.truth_at(t).speed_mps)
+        .collect()
 }
 
 /// A clean GNSS track point: time and local east/north, metres.
@@ -279,8 +283,15 @@ pub fn degrade_track(track: &[TrackPoint], seed: u64) -> (Vec<Option<(f64, f64)>
                     let m = rng.range(5.0, 15.0);
                     jump = (m * a.cos(), m * a.sin(), t + rng.range(2.0, 6.0));
                 }
-                let (je, jn) = if t <= jump.2 { (jump.0, jump.1) } else { (0.0, 0.0) };
-                out.push(Some((be + je + 0.5 * rng.normal(), bn + jn + 0.5 * rng.normal())));
+                let (je, jn) = if t <= jump.2 {
+                    (jump.0, jump.1)
+                } else {
+                    (0.0, 0.0)
+                };
+                out.push(Some((
+                    be + je + 0.5 * rng.normal(),
+                    bn + jn + 0.5 * rng.normal(),
+                )));
             }
             _ => {
                 // Leave clean stretches as recorded; let the injected error decay.
@@ -300,7 +311,9 @@ mod tests {
 
     #[test]
     fn smoothed_speed_of_a_straight_line() {
-        let track: Vec<TrackPoint> = (0..60).map(|i| (i as f64, 3.0 * i as f64, 4.0 * i as f64)).collect();
+        let track: Vec<TrackPoint> = (0..60)
+            .map(|i| (i as f64, 3.0 * i as f64, 4.0 * i as f64))
+            .collect();
         let grid: Vec<f64> = (5..55).map(|i| i as f64).collect();
         for v in smoothed_track_speed(&track, &grid, 4.0) {
             assert!((v - 5.0).abs() < 1e-9, "{v}");
@@ -309,7 +322,10 @@ mod tests {
 
     #[test]
     fn rmse_basic() {
-        assert_eq!(rmse(&[1.0, 2.0, f64::NAN], &[1.0, 4.0, 3.0], |_| true), 2f64.sqrt());
+        assert_eq!(
+            rmse(&[1.0, 2.0, f64::NAN], &[1.0, 4.0, 3.0], |_| true),
+            2f64.sqrt()
+        );
         assert!(rmse(&[], &[], |_| true).is_nan());
     }
 

@@ -66,7 +66,8 @@ impl LocalFrame {
         let e = -self.sin_lon * d[0] + self.cos_lon * d[1];
         let n = -self.sin_lat * self.cos_lon * d[0] - self.sin_lat * self.sin_lon * d[1]
             + self.cos_lat * d[2];
-        let u = self.cos_lat * self.cos_lon * d[0] + self.cos_lat * self.sin_lon * d[1]
+        let u = self.cos_lat * self.cos_lon * d[0]
+            + self.cos_lat * self.sin_lon * d[1]
             + self.sin_lat * d[2];
         [e, n, u]
     }
@@ -116,6 +117,9 @@ mod tests {
         let f = LocalFrame::new(-8.045, -34.89, 10.0);
         let (lat, lon) = f.to_geodetic(1234.5, -987.6);
         let p = f.to_enu(lat, lon, 10.0);
-        assert!((p[0] - 1234.5).abs() < 1e-3 && (p[1] + 987.6).abs() < 1e-3, "{p:?}");
+        assert!(
+            (p[0] - 1234.5).abs() < 1e-3 && (p[1] + 987.6).abs() < 1e-3,
+            "{p:?}"
+        );
     }
 }

@@ -107,7 +107,10 @@ impl<'a> Reader<'a> {
     }
     fn take<const N: usize>(&mut self) -> Result<[u8; N], SnapshotError> {
         let end = self.pos + N;
-        let s = self.buf.get(self.pos..end).ok_or(SnapshotError::Truncated)?;
+        let s = self
+            .buf
+            .get(self.pos..end)
+            .ok_or(SnapshotError::Truncated)?;
         self.pos = end;
         let mut a = [0u8; N];
         a.copy_from_slice(s);
@@ -196,8 +199,17 @@ mod tests {
         let mut bad = bytes.clone();
         bad[9] ^= 1;
         assert_eq!(Reader::new(&bad, 7, 1).err(), Some(SnapshotError::Checksum));
-        assert!(matches!(Reader::new(&bytes, 8, 1).err(), Some(SnapshotError::WrongKind { .. })));
-        assert_eq!(Reader::new(&bytes[..3], 7, 1).err(), Some(SnapshotError::Truncated));
-        assert_eq!(Reader::new(b"hello world!", 7, 1).err(), Some(SnapshotError::BadMagic));
+        assert!(matches!(
+            Reader::new(&bytes, 8, 1).err(),
+            Some(SnapshotError::WrongKind { .. })
+        ));
+        assert_eq!(
+            Reader::new(&bytes[..3], 7, 1).err(),
+            Some(SnapshotError::Truncated)
+        );
+        assert_eq!(
+            Reader::new(b"hello world!", 7, 1).err(),
+            Some(SnapshotError::BadMagic)
+        );
     }
 }

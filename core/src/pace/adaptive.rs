@@ -70,6 +70,8 @@ const CHORD_MIN_S: f64 = 4.0;
 /// Length of a step-length path window, s, and the fewest steps it needs.
 const PATH_WINDOW_S: f64 = 20.0;
 const PATH_MIN_STEPS: f64 = 20.0;
+/// Path windows starting sooner than this after a bout start teach no slope, s.
+const SLOPE_SETTLE_S: f64 = 20.0;
 /// Share of a fix's error that does not cancel between window ends.
 const PATH_SIGMA_SHARE: f64 = 0.7;
 /// Step data older than this is not used at a fix, seconds.
@@ -95,8 +97,8 @@ const SLOPE_RW: f64 = 0.003;
 const SLOPE_MIN_CADENCE_DEV: f64 = 0.15;
 /// Step length counts as learned once its 1-σ is below this, metres.
 const LEARNED_SIGMA_M: f64 = 0.08;
-/// Cadence error (1-σ), steps/s: ±1 step of quantisation over the window.
-const CADENCE_SIGMA: f64 = 0.35 / CADENCE_WINDOW_S;
+/// Smallest cadence 1-σ used, steps/s (the smoothed cadence is correlated in time).
+const MIN_CADENCE_SIGMA: f64 = 0.03;
 /// Zero-velocity measurement noise while stationary, m/s.
 const ZUPT_SIGMA_MPS: f64 = 0.05;
 /// Trust in GNSS for learning needs the NIS average below this (2 expected).
@@ -111,6 +113,24 @@ const WHITE_SHARE: f64 = 0.35;
 const INITIAL_SPEED_SIGMA: f64 = 3.0;
 /// Stationary contradicted by GNSS this many fixes in a row: step data is distrusted.
 const CONTRADICTIONS_TO_DISTRUST: u32 = 5;
+
+/// What an update may teach the step-length line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Learn {
+    Nothing,
+    Level,
+    LevelAndSlope,
+}
+
+impl Learn {
+    fn level_if(trusted: bool) -> Self {
+        if trusted {
+            Learn::Level
+        } else {
+            Learn::Nothing
+        }
+    }
+}
 
 /// GNSS path length and steps accumulated over a window, to observe step length.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -263,7 +283,8 @@ impl AdaptiveFilter {
     /// Propagate the state to time `t` (no-op for t ≤ filter time).
     fn predict(&mut self, t: f64) {
         let dt = t - self.t_s;
-        if !(dt > 0.0) {
+        // NaN-safe: also returns for a NaN dt.
+        if dt.is_nan() || dt <= 0.0 {
             return;
         }
         self.t_s = t;
@@ -320,14 +341,17 @@ impl AdaptiveFilter {
         y: &SVector<f64, M>,
         r: &SMatrix<f64, M, M>,
         s_inv: &SMatrix<f64, M, M>,
-        learn: bool,
+        learn: Learn,
     ) {
         let mut k = self.p * h.transpose() * s_inv;
-        // The slope is learned only once the level is known: start-up transients
-        // would otherwise be read as a cadence dependence.
-        let learn_slope = learn && self.step_length_learned() && self.slope_observable;
+        // The slope is learned only from path windows (accurate mean cadence), once
+        // the level is known and the cadence differs from c̄: start-up transients and
+        // cadence noise would otherwise be read as a cadence dependence.
+        let learn_level = learn != Learn::Nothing;
+        let learn_slope =
+            learn == Learn::LevelAndSlope && self.step_length_learned() && self.slope_observable;
         for c in 0..M {
-            if !learn {
+            if !learn_level {
                 k[(LA, c)] = 0.0;
             }
             if !learn_slope {
@@ -464,7 +488,10 @@ impl AdaptiveFilter {
                 // Not a multipath jump but a track the filter lost (a sharp turn
                 // between fixes): start again from the fix, keeping the speed and
                 // taking the direction from the GNSS displacement.
-                log::debug!("GNSS inconsistent ({} gated fixes): re-anchoring", self.gated_run);
+                log::debug!(
+                    "GNSS inconsistent ({} gated fixes): re-anchoring",
+                    self.gated_run
+                );
                 self.reanchor(fix);
                 if u > 0.5 {
                     self.x[VE] = s * ue / u;
@@ -496,7 +523,7 @@ impl AdaptiveFilter {
             && self.nis_avg < TRUST_NIS
             && fix.t_s - self.reset_t_s > TRUST_AFTER_RESET_S;
         let before = self.speed_var();
-        self.apply(&h, &y, &r, &s_inv, trusted);
+        self.apply(&h, &y, &r, &s_inv, Learn::level_if(trusted));
         self.info_gnss += (1.0 / self.speed_var() - 1.0 / before).max(0.0);
         if let Some((v, acc)) = fix.speed {
             self.doppler_update(v, acc, trusted);
@@ -520,7 +547,13 @@ impl AdaptiveFilter {
             return;
         }
         let before = self.speed_var();
-        self.apply(&h, &y, &r, &SMatrix::<f64, 1, 1>::new(1.0 / sv), learn);
+        self.apply(
+            &h,
+            &y,
+            &r,
+            &SMatrix::<f64, 1, 1>::new(1.0 / sv),
+            Learn::level_if(learn),
+        );
         self.info_gnss += (1.0 / self.speed_var() - 1.0 / before).max(0.0);
     }
 
@@ -531,7 +564,7 @@ impl AdaptiveFilter {
         let r = SMatrix::<f64, 2, 2>::identity() * (ZUPT_SIGMA_MPS * ZUPT_SIGMA_MPS);
         let y = SVector::<f64, 2>::new(-self.x[VE], -self.x[VN]);
         if let Some(s_inv) = (h * self.p * h.transpose() + r).try_inverse() {
-            self.apply(&h, &y, &r, &s_inv, false);
+            self.apply(&h, &y, &r, &s_inv, Learn::Nothing);
         }
     }
 
@@ -565,6 +598,7 @@ impl AdaptiveFilter {
             return;
         }
         let path = self.window.path_m;
+        let start_t = self.window.start_t_s;
         self.window = PathWindow::start(fix, steps_now);
         if steps < PATH_MIN_STEPS {
             return;
@@ -575,7 +609,10 @@ impl AdaptiveFilter {
         } else {
             c_mean
         };
-        self.slope_observable = (c_mean - cref).abs() > SLOPE_MIN_CADENCE_DEV;
+        // Windows right after a start (acceleration from standing) say nothing about
+        // how step length grows with cadence.
+        let settled = start_t - ctx.steps.bout_start_t_s() >= SLOPE_SETTLE_S;
+        self.slope_observable = settled && (c_mean - cref).abs() > SLOPE_MIN_CADENCE_DEV;
         let mut h = SMatrix::<f64, 1, 8>::zeros();
         h[(0, LA)] = 1.0;
         h[(0, LB)] = c_mean - cref;
@@ -586,7 +623,13 @@ impl AdaptiveFilter {
         if y[0] * y[0] / sv > GATE_1DOF {
             return;
         }
-        self.apply(&h, &y, &r, &SMatrix::<f64, 1, 1>::new(1.0 / sv), true);
+        self.apply(
+            &h,
+            &y,
+            &r,
+            &SMatrix::<f64, 1, 1>::new(1.0 / sv),
+            Learn::LevelAndSlope,
+        );
     }
 
     /// Move the reference cadence c̄ towards `c`, re-expressing `a` so that the
@@ -617,9 +660,7 @@ impl AdaptiveFilter {
             return;
         }
         let dt = t - self.last_ped_t_s;
-        let Some(c) = ctx
-            .steps
-            .cadence_at(t, CADENCE_WINDOW_S, ctx.config.stationary_after_s)
+        let Some((c, c_sigma)) = ctx.steps.smoothed_cadence(t, ctx.config.stationary_after_s)
         else {
             return;
         };
@@ -638,7 +679,6 @@ impl AdaptiveFilter {
             .filter(|&v| v > 0.0)
             .unwrap_or(c);
         self.track_cadence_ref(c_slow, dt.min(10.0));
-        self.slope_observable = (c_slow - self.cadence_ref).abs() > SLOPE_MIN_CADENCE_DEV;
         let mut s = self.speed();
         if s < 0.3 {
             if !(was_stationary && self.last_dir.0.is_finite()) {
@@ -668,11 +708,18 @@ impl AdaptiveFilter {
         h[(0, LB)] = -c * (c_slow - self.cadence_ref);
         let v_ped = c * l;
         let rel = self.params.pedometer_rel_sigma;
-        let r = SMatrix::<f64, 1, 1>::new((rel * v_ped).powi(2) + (CADENCE_SIGMA * l).powi(2));
+        let c_sigma = c_sigma.max(MIN_CADENCE_SIGMA);
+        let r = SMatrix::<f64, 1, 1>::new((rel * v_ped).powi(2) + (c_sigma * l).powi(2));
         let y = SVector::<f64, 1>::new(v_ped - s);
         let sv = (h * self.p * h.transpose() + r)[(0, 0)];
         let before = self.speed_var();
-        self.apply(&h, &y, &r, &SMatrix::<f64, 1, 1>::new(1.0 / sv), learn);
+        self.apply(
+            &h,
+            &y,
+            &r,
+            &SMatrix::<f64, 1, 1>::new(1.0 / sv),
+            Learn::level_if(learn),
+        );
         self.info_ped += (1.0 / self.speed_var() - 1.0 / before).max(0.0);
     }
 
@@ -704,11 +751,12 @@ impl AdaptiveFilter {
         };
         let cadence = ctx
             .steps
-            .cadence_at(t_out, CADENCE_WINDOW_S, ctx.config.stationary_after_s);
+            .smoothed_cadence(t_out, ctx.config.stationary_after_s)
+            .map(|(c, _)| c);
         let learned = self.step_length_learned();
-        let slow = ctx
-            .steps
-            .cadence_at(t_out, SLOW_CADENCE_WINDOW_S, ctx.config.stationary_after_s);
+        let slow =
+            ctx.steps
+                .cadence_at(t_out, SLOW_CADENCE_WINDOW_S, ctx.config.stationary_after_s);
         let step_length = match slow {
             Some(c) if c > 0.0 && learned => Some(self.step_length_at(c)),
             _ if learned => Some(self.x[LA]),
@@ -772,7 +820,9 @@ impl AdaptiveFilter {
             .steps
             .last_t_s()
             .is_some_and(|ts| fix.t_s - ts <= STEP_DATA_FRESH_S)
-            || ctx.steps.stationary_at(fix.t_s, ctx.config.stationary_after_s)
+            || ctx
+                .steps
+                .stationary_at(fix.t_s, ctx.config.stationary_after_s)
         {
             self.pedometer_update(fix.t_s, ctx, learn);
         }
@@ -784,7 +834,9 @@ impl AdaptiveFilter {
     pub fn on_steps(&mut self, t_s: f64, ctx: &Context) {
         if self.steps_distrusted && ctx.steps.total() > 0.0 {
             // New steps arrived: trust the step stream again.
-            if ctx.steps.cadence_at(t_s, CADENCE_WINDOW_S, ctx.config.stationary_after_s)
+            if ctx
+                .steps
+                .cadence_at(t_s, CADENCE_WINDOW_S, ctx.config.stationary_after_s)
                 > Some(0.0)
             {
                 self.steps_distrusted = false;
@@ -834,7 +886,14 @@ impl AdaptiveFilter {
         w.f64s(&[self.last_dir.0, self.last_dir.1]);
         let pw = &self.window;
         w.bool(pw.active);
-        w.f64s(&[pw.start_t_s, pw.start_steps, pw.anchor.0, pw.anchor.1, pw.anchor.2, pw.path_m]);
+        w.f64s(&[
+            pw.start_t_s,
+            pw.start_steps,
+            pw.anchor.0,
+            pw.anchor.1,
+            pw.anchor.2,
+            pw.path_m,
+        ]);
         w.f64s(&[self.prev_fix.0, self.prev_fix.1, self.prev_fix.2]);
         w.u64(self.gated_run as u64);
         w.f64(self.gated_since_t_s);

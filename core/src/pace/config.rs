@@ -156,13 +156,28 @@ impl PaceConfig {
             ("published.variance_threshold_m2", p.variance_threshold_m2),
             ("published.sigmoid_beta_per_m2", p.sigmoid_beta_per_m2),
             ("adaptive.accel_noise_mps2", self.adaptive.accel_noise_mps2),
-            ("adaptive.turn_accel_noise_mps2", self.adaptive.turn_accel_noise_mps2),
-            ("adaptive.default_gnss_sigma_m", self.adaptive.default_gnss_sigma_m),
-            ("adaptive.gnss_bias_sigma_m", self.adaptive.gnss_bias_sigma_m),
+            (
+                "adaptive.turn_accel_noise_mps2",
+                self.adaptive.turn_accel_noise_mps2,
+            ),
+            (
+                "adaptive.default_gnss_sigma_m",
+                self.adaptive.default_gnss_sigma_m,
+            ),
+            (
+                "adaptive.gnss_bias_sigma_m",
+                self.adaptive.gnss_bias_sigma_m,
+            ),
             ("adaptive.gnss_bias_tau_s", self.adaptive.gnss_bias_tau_s),
-            ("adaptive.pedometer_rel_sigma", self.adaptive.pedometer_rel_sigma),
+            (
+                "adaptive.pedometer_rel_sigma",
+                self.adaptive.pedometer_rel_sigma,
+            ),
             ("adaptive.outage_reset_s", self.adaptive.outage_reset_s),
-            ("adaptive.learn_max_accuracy_m", self.adaptive.learn_max_accuracy_m),
+            (
+                "adaptive.learn_max_accuracy_m",
+                self.adaptive.learn_max_accuracy_m,
+            ),
             (
                 "adaptive.step_length_rw_m_per_sqrt_s",
                 self.adaptive.step_length_rw_m_per_sqrt_s,

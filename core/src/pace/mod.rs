@@ -11,6 +11,7 @@
 
 pub mod adaptive;
 pub mod baseline;
+pub mod cadence;
 pub mod config;
 pub mod error;
 pub mod published;
@@ -49,8 +50,10 @@ pub struct Context<'a> {
     pub steps: &'a StepStream,
 }
 
-/// The fusion filter behind a tracker.
+/// The fusion filter behind a tracker. Both variants live inline (no heap), so the
+/// size difference is accepted: a tracker is created once per activity.
 #[derive(Clone, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)]
 enum Filter {
     Published(published::PublishedFilter),
     Adaptive(adaptive::AdaptiveFilter),
@@ -263,8 +266,12 @@ impl PaceTracker {
         let last_fix_t_s = r.opt_f64()?;
         let steps = StepStream::read(&mut r)?;
         let filter = match config.mode {
-            PaceMode::AsPublished => Filter::Published(published::PublishedFilter::read(&mut r, &config)?),
-            PaceMode::Adaptive => Filter::Adaptive(adaptive::AdaptiveFilter::read(&mut r, &config)?),
+            PaceMode::AsPublished => {
+                Filter::Published(published::PublishedFilter::read(&mut r, &config)?)
+            }
+            PaceMode::Adaptive => {
+                Filter::Adaptive(adaptive::AdaptiveFilter::read(&mut r, &config)?)
+            }
         };
         r.end()?;
         Ok(Self {

@@ -95,7 +95,8 @@ fn fit_quadratic(ts: &[f64], ys: &[f64], out: &mut [f64]) {
     };
     let d = det(&m);
     let scale = s[0] * s[2] * s[4];
-    if n < 3 || !(d.abs() > 1e-12 * scale.max(1e-300)) {
+    let singular = d.is_nan() || d.abs() <= 1e-12 * scale.max(1e-300);
+    if n < 3 || singular {
         out[..n].copy_from_slice(&ys[..n]);
         return;
     }
@@ -244,7 +245,8 @@ impl PublishedFilter {
         let (speed, w) = match (v_gps.is_finite(), v_ped) {
             (true, Some(vp)) if !self.gnss_only => {
                 let w = if variance.is_finite() {
-                    1.0 / (1.0 + (p.sigmoid_beta_per_m2 * (variance - p.variance_threshold_m2)).exp())
+                    1.0 / (1.0
+                        + (p.sigmoid_beta_per_m2 * (variance - p.variance_threshold_m2)).exp())
                 } else {
                     1.0
                 };
@@ -285,7 +287,9 @@ impl PublishedFilter {
             return;
         }
         let window_s = self.params.cadence_h as f64;
-        let cadence = ctx.steps.cadence_at(t_s, window_s, ctx.config.stationary_after_s);
+        let cadence = ctx
+            .steps
+            .cadence_at(t_s, window_s, ctx.config.stationary_after_s);
         let Some(l) = self.step_length_m else {
             self.out.t_s = t_s;
             self.out.cadence_spm = cadence.map(|c| c * 60.0);

@@ -1,6 +1,7 @@
 //! The step stream: turns counts, events or cadence reports into one cumulative
 //! step total over time, and answers "how many steps at t" and "cadence at t".
 
+use super::cadence::CadenceFilter;
 use super::error::{finite, in_range, PaceError, Stream};
 use super::types::StepSample;
 use crate::signal::Ring;
@@ -10,6 +11,8 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 const HISTORY: usize = 160;
 /// Cadences above this are impossible for a human, steps/min (sprinters reach ~300).
 pub const MAX_CADENCE_SPM: f64 = 300.0;
+/// Step totals are extrapolated at most this far past the newest sample, seconds.
+const EXTRAPOLATE_MAX_S: f64 = 3.0;
 /// A pause in steps longer than this starts a new bout, seconds.
 const BOUT_GAP_S: f64 = 2.0;
 
@@ -34,6 +37,8 @@ pub struct StepStream {
     /// Start of the current walking/running bout: cadence windows never reach back
     /// across a stop.
     moving_since_t_s: f64,
+    /// Smoothed cadence of the current bout.
+    cadence: CadenceFilter,
     resets: u64,
 }
 
@@ -53,6 +58,7 @@ impl StepStream {
             total: 0.0,
             last_step_t_s: None,
             moving_since_t_s: f64::NEG_INFINITY,
+            cadence: CadenceFilter::IDLE,
             resets: 0,
         }
     }
@@ -128,26 +134,51 @@ impl StepStream {
                 d
             }
         };
+        let before = self.total;
         self.total += added;
         if added > 0.0 {
             let resumed = self.last_step_t_s.is_none_or(|ls| t - ls > BOUT_GAP_S);
             if resumed {
                 // The steps happened after the previous sample (or just before t).
-                self.moving_since_t_s = self.last_t_s.unwrap_or(t).max(t - 1.0);
+                let t0 = self.last_t_s.unwrap_or(t).max(t - 1.0);
+                self.moving_since_t_s = t0;
+                let guess = if t > t0 { added / (t - t0) } else { 2.5 };
+                self.cadence = CadenceFilter::start(t0, before, guess.min(MAX_CADENCE_SPM / 60.0));
             }
             self.last_step_t_s = Some(t);
         }
+        if self.cadence.is_active() {
+            match *s {
+                StepSample::Cadence { steps_per_min, .. } => {
+                    self.cadence.observe_cadence(t, steps_per_min / 60.0)
+                }
+                StepSample::Event { .. } => self.cadence.observe_total(t, self.total, true),
+                StepSample::Count { .. } => self.cadence.observe_total(t, self.total, false),
+            }
+        }
         self.last_t_s = Some(t);
-        self.history.push(Entry { t_s: t, total: self.total });
+        self.history.push(Entry {
+            t_s: t,
+            total: self.total,
+        });
         added
     }
 
-    /// Cumulative steps at time `t` by linear interpolation of the history; held
-    /// constant after the newest sample and before the oldest kept one.
+    /// Cumulative steps at time `t` by linear interpolation of the history. After the
+    /// newest sample the total is extrapolated with the smoothed cadence for up to
+    /// 3 s (step data often lags GNSS by a sample); before the oldest kept sample it
+    /// is held.
     pub fn total_at(&self, t: f64) -> Option<f64> {
         let newest = self.history.newest()?;
         if t >= newest.t_s {
-            return Some(newest.total);
+            let ahead = (t - newest.t_s).min(EXTRAPOLATE_MAX_S);
+            let moving = self.cadence.is_active() && !self.stationary_at(t, BOUT_GAP_S);
+            let c = if moving {
+                self.cadence.cadence().0
+            } else {
+                0.0
+            };
+            return Some(newest.total + c * ahead);
         }
         let mut later = newest;
         for e in self.history.iter().rev().skip(1) {
@@ -179,6 +210,23 @@ impl StepStream {
                 last - ls > after_s || t - ls > after_s + 3.0
             }
         }
+    }
+
+    /// Start of the current walking/running bout, seconds (−∞ before any step).
+    pub fn bout_start_t_s(&self) -> f64 {
+        self.moving_since_t_s
+    }
+
+    /// Smoothed cadence of the current bout at `t`, steps/s, with its 1-σ: 0 when
+    /// stationary, `None` without step data.
+    pub fn smoothed_cadence(&self, t: f64, stationary_after_s: f64) -> Option<(f64, f64)> {
+        if !self.has_data() {
+            return None;
+        }
+        if self.stationary_at(t, stationary_after_s) {
+            return Some((0.0, 0.0));
+        }
+        self.cadence.is_active().then(|| self.cadence.cadence())
     }
 
     /// Cadence at `t`, steps/s: least-squares slope of the step total over the last
@@ -244,6 +292,7 @@ impl StepStream {
         w.f64(self.total);
         w.opt_f64(self.last_step_t_s);
         w.f64(self.moving_since_t_s);
+        self.cadence.write(w);
         w.u64(self.resets);
     }
 
@@ -263,6 +312,7 @@ impl StepStream {
         s.total = r.f64()?;
         s.last_step_t_s = r.opt_f64()?;
         s.moving_since_t_s = r.f64()?;
+        s.cadence = CadenceFilter::read(r)?;
         s.resets = r.u64()?;
         Ok(s)
     }
