@@ -39,6 +39,7 @@ use nalgebra::{SMatrix, SVector};
 use super::config::AdaptiveParams;
 use super::published::{read_estimate, write_estimate};
 use super::{Context, LocalFix, PaceConfig, PaceEstimate, PaceSource};
+use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 type V8 = SVector<f64, 8>;
@@ -70,6 +71,13 @@ const CHORD_MIN_S: f64 = 4.0;
 /// Length of a step-length path window, s, and the fewest steps it needs.
 const PATH_WINDOW_S: f64 = 20.0;
 const PATH_MIN_STEPS: f64 = 20.0;
+/// Without step data, fixes moving slower than this over 15–30 s mean standing, m/s.
+const STILL_SPEED_MPS: f64 = 0.35;
+const STILL_LEAVE_SPEED_MPS: f64 = 0.6;
+const STILL_MIN_SPAN_S: f64 = 15.0;
+const STILL_MAX_SPAN_S: f64 = 30.0;
+/// Recent fixes kept for the displacement test.
+const RECENT_FIXES: usize = 32;
 /// Path windows starting sooner than this after a bout start teach no slope, s.
 const SLOPE_SETTLE_S: f64 = 20.0;
 /// Share of a fix's error that does not cancel between window ends.
@@ -185,6 +193,10 @@ pub struct AdaptiveFilter {
     steps_distrusted: bool,
     /// Path window observing step length.
     window: PathWindow,
+    /// Recent fixes (t, east, north) for GNSS-only stationarity.
+    recent_fixes: Ring<[f64; 3], RECENT_FIXES>,
+    /// GNSS-only stationarity verdict at the last fix.
+    gnss_still: bool,
     /// Previous fix (east, north, t) for GNSS displacement checks.
     prev_fix: (f64, f64, f64),
     /// Consecutive fixes beyond the NIS gate, and since when.
@@ -225,6 +237,8 @@ impl AdaptiveFilter {
             slope_observable: false,
             last_dir: (f64::NAN, f64::NAN),
             window: PathWindow::IDLE,
+            recent_fixes: Ring::new(),
+            gnss_still: false,
             prev_fix: (f64::NAN, f64::NAN, f64::NAN),
             gated_run: 0,
             gated_since_t_s: f64::NAN,
@@ -422,6 +436,29 @@ impl AdaptiveFilter {
     /// is recent (receivers and watches deliver fixes 1–5 s apart).
     fn gnss_trusted_at(&self, t: f64) -> bool {
         self.last_trusted_t_s == self.last_fix_t_s && t - self.last_fix_t_s <= TRUST_FIX_AGE_S
+    }
+
+    /// GNSS-only stationarity: over the last 15–30 s the fixes moved less than a
+    /// slow walk would (`STILL_SPEED_MPS` × span). Used without step data, where GNSS
+    /// jitter would otherwise read as motion.
+    fn displacement_says_still(&self, fix: &LocalFix) -> Option<bool> {
+        let old = self
+            .recent_fixes
+            .iter()
+            .rev()
+            .find(|p| fix.t_s - p[0] >= STILL_MIN_SPAN_S)?;
+        let span = fix.t_s - old[0];
+        if span > STILL_MAX_SPAN_S {
+            return None;
+        }
+        let disp = (fix.east_m - old[1]).hypot(fix.north_m - old[2]);
+        // Hysteresis: leaving "still" needs clearly more than entering it.
+        let limit = if self.gnss_still {
+            STILL_LEAVE_SPEED_MPS
+        } else {
+            STILL_SPEED_MPS
+        };
+        Some(disp < limit * span)
     }
 
     /// Keep the speed but make its direction unknown (cross-track velocity variance
@@ -729,7 +766,7 @@ impl AdaptiveFilter {
         let sd = self.speed_var().sqrt();
         let raw = self.speed();
         let still = if no_steps {
-            raw < 0.5 && raw < 2.0 * sd
+            self.gnss_still
         } else {
             self.stationary
         };
@@ -738,8 +775,12 @@ impl AdaptiveFilter {
             self.last_dir = (self.x[VE] / raw, self.x[VN] / raw);
         }
         let prev_t = self.out.t_s;
-        if self.out.source != PaceSource::Initializing && t_out > prev_t {
-            self.distance_m += 0.5 * (self.out.speed_mps + speed) * (t_out - prev_t);
+        let dt = t_out - prev_t;
+        if self.out.source != PaceSource::Initializing
+            && dt > 0.0
+            && dt <= super::MAX_INTEGRATION_GAP_S
+        {
+            self.distance_m += 0.5 * (self.out.speed_mps + speed) * dt;
         }
         let total = self.info_gnss + self.info_ped;
         let w = if total > 0.0 {
@@ -814,6 +855,15 @@ impl AdaptiveFilter {
             }
         }
         self.prev_fix = (fix.east_m, fix.north_m, fix.t_s);
+        let no_steps = !ctx.steps.has_data() || self.steps_distrusted;
+        self.gnss_still = no_steps
+            && self
+                .displacement_says_still(fix)
+                .unwrap_or(self.gnss_still && fix.t_s - self.last_fix_t_s < STILL_MAX_SPAN_S);
+        self.recent_fixes.push([fix.t_s, fix.east_m, fix.north_m]);
+        if self.gnss_still {
+            self.zupt();
+        }
         let learn = self.gnss_trusted_at(fix.t_s);
         // The pedometer constrains speed after every GNSS update, when its data is fresh.
         if ctx
@@ -884,6 +934,11 @@ impl AdaptiveFilter {
         w.bool(self.steps_distrusted);
         w.bool(self.slope_observable);
         w.f64s(&[self.last_dir.0, self.last_dir.1]);
+        w.u64(self.recent_fixes.len() as u64);
+        for p in self.recent_fixes.iter() {
+            w.f64s(&p);
+        }
+        w.bool(self.gnss_still);
         let pw = &self.window;
         w.bool(pw.active);
         w.f64s(&[
@@ -924,6 +979,12 @@ impl AdaptiveFilter {
         f.steps_distrusted = r.bool()?;
         f.slope_observable = r.bool()?;
         f.last_dir = (r.f64()?, r.f64()?);
+        for _ in 0..r.len(RECENT_FIXES)? {
+            let mut p = [0.0; 3];
+            r.f64s(&mut p)?;
+            f.recent_fixes.push(p);
+        }
+        f.gnss_still = r.bool()?;
         let active = r.bool()?;
         let mut pw = [0.0; 6];
         r.f64s(&mut pw)?;

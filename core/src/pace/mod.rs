@@ -27,6 +27,10 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 use error::{finite, in_range};
 use steps::StepStream;
 
+/// Without any sample for longer than this, no distance is added for the gap, seconds
+/// (the app was stopped or the device asleep: nothing is known about that time).
+pub const MAX_INTEGRATION_GAP_S: f64 = 30.0;
+
 /// Snapshot engine kind byte for the pace tracker.
 const SNAPSHOT_KIND: u8 = 1;
 /// Snapshot format version written by this build.

@@ -149,7 +149,10 @@ impl PublishedFilter {
 
     fn integrate(&mut self, t_s: f64, speed_mps: f64) {
         if let Some(t0) = self.last_update_t_s {
-            self.distance_m += speed_mps * (t_s - t0).max(0.0);
+            let dt = t_s - t0;
+            if dt > 0.0 && dt <= super::MAX_INTEGRATION_GAP_S {
+                self.distance_m += speed_mps * dt;
+            }
         }
         self.last_update_t_s = Some(t_s);
     }
@@ -218,7 +221,7 @@ impl PublishedFilter {
         let back = |k: usize| self.epochs.back(k.min(self.epochs.len() - 1));
         let cadence = back(p.cadence_h)
             .filter(|e| fix.t_s > e.t_s && e.steps.is_finite() && steps_now.is_finite())
-            .map(|e| (steps_now - e.steps) / (fix.t_s - e.t_s));
+            .map(|e| ((steps_now - e.steps) / (fix.t_s - e.t_s)).max(0.0));
         let good = variance <= p.variance_threshold_m2;
         if good && m >= 2 {
             if let Some(e) = back(m - 1) {
@@ -250,7 +253,7 @@ impl PublishedFilter {
                 } else {
                     1.0
                 };
-                (w * v_gps + (1.0 - w) * vp, w)
+                ((w * v_gps + (1.0 - w) * vp).max(0.0), w)
             }
             (true, _) => (v_gps, 1.0),
             (false, Some(vp)) if !self.gnss_only => (vp, 0.0),
@@ -295,7 +298,7 @@ impl PublishedFilter {
             self.out.cadence_spm = cadence.map(|c| c * 60.0);
             return;
         };
-        let speed = cadence.unwrap_or(0.0) * l;
+        let speed = (cadence.unwrap_or(0.0) * l).max(0.0);
         self.integrate(t_s, speed);
         self.out = PaceEstimate {
             t_s,
