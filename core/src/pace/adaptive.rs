@@ -303,13 +303,12 @@ impl AdaptiveFilter {
         }
         self.t_s = t;
         let prm = &self.params;
-        let mut f = M8::identity();
-        f[(PE, VE)] = dt;
-        f[(PN, VN)] = dt;
         let phi = (-dt / prm.gnss_bias_tau_s).exp();
-        f[(BE, BE)] = phi;
-        f[(BN, BN)] = phi;
-        self.x = f * self.x;
+        // x ← F x with F = I except F[p][v] = dt and F[b][b] = φ.
+        self.x[PE] += dt * self.x[VE];
+        self.x[PN] += dt * self.x[VN];
+        self.x[BE] *= phi;
+        self.x[BN] *= phi;
         let mut q = M8::zeros();
         // Acceleration noise is anisotropic: runners change speed gently but turn
         // hard (cornering v²/r ≈ 2 m/s²). In the (along, cross) basis of the motion
@@ -344,7 +343,21 @@ impl AdaptiveFilter {
         q[(BN, BN)] = qb;
         q[(LA, LA)] = prm.step_length_rw_m_per_sqrt_s.powi(2) * dt;
         q[(LB, LB)] = SLOPE_RW * SLOPE_RW * dt;
-        self.p = f * self.p * f.transpose() + q;
+        // P ← F P Fᵀ + Q, applying the sparse F to rows, then to columns.
+        let p = &mut self.p;
+        for c in 0..8 {
+            p[(PE, c)] += dt * p[(VE, c)];
+            p[(PN, c)] += dt * p[(VN, c)];
+            p[(BE, c)] *= phi;
+            p[(BN, c)] *= phi;
+        }
+        for r in 0..8 {
+            p[(r, PE)] += dt * p[(r, VE)];
+            p[(r, PN)] += dt * p[(r, VN)];
+            p[(r, BE)] *= phi;
+            p[(r, BN)] *= phi;
+        }
+        *p += q;
     }
 
     /// Joseph-form update with gain `k`; rows of the step-length line zeroed unless
@@ -373,8 +386,12 @@ impl AdaptiveFilter {
             }
         }
         self.x += k * y;
-        let ikh = M8::identity() - k * h;
-        let p = ikh * self.p * ikh.transpose() + k * r * k.transpose();
+        // Joseph form (I−KH)P(I−KH)ᵀ + KRKᵀ, valid for any gain (also the Schmidt
+        // one), expanded to avoid 8×8×8 products: P − K·HP − (K·HP)ᵀ + K·S·Kᵀ.
+        let hp = h * self.p;
+        let s = hp * h.transpose() + r;
+        let khp = k * hp;
+        let p = self.p - khp - khp.transpose() + k * s * k.transpose();
         self.p = 0.5 * (p + p.transpose());
     }
 
