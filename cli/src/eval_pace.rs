@@ -104,7 +104,7 @@ pub fn real_table(dir: &Path, default: PaceConfig) -> Result<String, String> {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "Real runs ({}): GNSS degraded by injected bursts and outages on the recorded track; reference = clean-track speed (centred quadratic fit, ±{REFERENCE_HALF_WINDOW_S} s). Speed RMSE in m/s where GNSS is available / inside the injected disturbance zones / inside the injected outages. Distance: the default filter on the clean file against the integral of the same clean-track reference speed over the same seconds; raw fix-to-fix chord sums are inflated by position noise and device distances come from the watch's own (sometimes foot-pod) fusion, shown for context.\n",
+        "Real runs ({}): GNSS degraded by injected bursts and outages on the recorded track; reference = clean-track speed (slope of a centred straight-line fit, ±{REFERENCE_HALF_WINDOW_S} s). Speed RMSE in m/s where GNSS is available / inside the injected disturbance zones / inside the injected outages. Distance: the default filter on the clean file against the integral of the same clean-track reference speed over the same seconds; raw fix-to-fix chord sums are inflated by position noise and device distances come from the watch's own (sometimes foot-pod) fusion, shown for context.\n",
         dir.display()
     );
     let _ = writeln!(out, "| file | min | raw GNSS diff | GNSS EMA | AsPublished | default | default distance vs clean-track reference | distance m: default / raw fix-to-fix chords / device |");
