@@ -92,7 +92,9 @@ const SLOW_CADENCE_WINDOW_S: f64 = 20.0;
 const CADENCE_REF_TAU_S: f64 = 60.0;
 /// ... and while the step length is still unknown, seconds.
 const CADENCE_REF_FAST_TAU_S: f64 = 3.0;
-/// Initial step length when none is configured, metres, and its 1-σ.
+/// Cadence at which the initial step length applies, steps/s (168 steps/min).
+const PRIOR_CADENCE: f64 = 2.8;
+/// Initial step length (at PRIOR_CADENCE) when none is configured, metres, and its 1-σ.
 const DEFAULT_STEP_LENGTH_M: f64 = 1.0;
 const STEP_LENGTH_PRIOR_SIGMA_M: f64 = 0.4;
 /// Prior slope of step length against cadence, m per (step/s), and its 1-σ.
@@ -690,7 +692,13 @@ impl AdaptiveFilter {
     /// step-length line itself does not change.
     fn track_cadence_ref(&mut self, c: f64, dt: f64) {
         if !self.cadence_ref.is_finite() {
+            // The prior step length is stated at PRIOR_CADENCE: read the prior line at
+            // the first cadence seen, so a start at low cadence is not taken as the
+            // runner's typical cadence.
             self.cadence_ref = c;
+            if !self.step_length_learned() {
+                self.x[LA] = (self.x[LA] + self.x[LB] * (c - PRIOR_CADENCE)).clamp(0.3, 2.0);
+            }
             return;
         }
         // Until the step length is learned the reference follows cadence closely, so

@@ -68,7 +68,7 @@ impl Default for AdaptiveParams {
     fn default() -> Self {
         Self {
             accel_noise_mps2: 0.7,
-            turn_accel_noise_mps2: 2.0,
+            turn_accel_noise_mps2: 1.0,
             default_gnss_sigma_m: 3.0,
             gnss_bias_sigma_m: 2.0,
             gnss_bias_tau_s: 30.0,
@@ -84,8 +84,8 @@ impl Default for AdaptiveParams {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PaceConfig {
     pub mode: PaceMode,
-    /// Step length used before any is learned, metres (`None`: no pedometer speed
-    /// until GNSS has taught one).
+    /// Step length at 168 steps/min used before any is learned, metres (`None`: a
+    /// population prior of 1.0 m with a wide uncertainty, learned from GNSS).
     pub initial_step_length_m: Option<f64>,
     /// Without a step for this long while step data flows, the runner is stationary, seconds.
     pub stationary_after_s: f64,
