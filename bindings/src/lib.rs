@@ -1,1 +1,34 @@
+//! stridekit: the uniffi (Kotlin, Swift) face of `stridekit-core`.
+//!
+//! This crate only adapts: records mirror the core types field by field, objects wrap
+//! the core engines behind a [`std::sync::Mutex`], and every call that can fail
+//! returns a [`PaceError`] (Kotlin `PaceException`, Swift `PaceError`). No panic
+//! crosses the FFI: calls returning `Result` catch panics into
+//! [`PaceError::Internal`]; batch pushes report a panicking sample as rejected; the
+//! rest are caught by uniffi's own scaffolding (Kotlin `InternalException`).
+//!
+//! Kotlin, as an app writes it:
+//!
+//! ```kotlin
+//! val tracker = PaceTracker(PaceConfig(mode = PaceMode.ADAPTIVE))
+//! tracker.pushStepSamples(listOf(StepSample.Count(tS = 0.5, steps = 1200uL)))
+//! val result = tracker.pushFixes(listOf(GnssFix(tS = 1.0, latDeg = 50.29, lonDeg = 18.67)))
+//! val pace = result.latest.paceSPerKm
+//! val saved: ByteArray = tracker.snapshot()        // later: PaceTracker.restore(saved)
+//! ```
+
 uniffi::setup_scaffolding!();
+
+mod error;
+pub mod packed;
+mod sim;
+mod tracker;
+mod types;
+
+pub use error::{PaceError, SensorStream};
+pub use sim::{simulate_run, SimulatedRun};
+pub use tracker::{BatchResult, PaceTracker, RejectedSample};
+pub use types::{
+    default_pace_config, GnssFix, PaceConfig, PaceEstimate, PaceMode, PaceSample, PaceSource,
+    StepSample,
+};

@@ -1,0 +1,241 @@
+//! `PaceTracker` at the FFI: the core tracker behind a mutex, single and batch pushes.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+
+use stridekit_core::pace as core;
+
+use crate::error::{guard, PaceError};
+use crate::packed;
+use crate::types::{GnssFix, PaceConfig, PaceEstimate, PaceSample, StepSample};
+
+/// A sample a batch push rejected; the rest of the batch was still processed.
+#[derive(Clone, Debug, PartialEq, uniffi::Record)]
+pub struct RejectedSample {
+    /// Position of the sample in the batch (or record in a packed buffer), from 0.
+    pub index: u32,
+    /// Why it was rejected.
+    pub error: PaceError,
+    /// The same as a sentence, for logs.
+    pub description: String,
+}
+
+/// What a batch push produced.
+#[derive(Clone, Debug, PartialEq, uniffi::Record)]
+pub struct BatchResult {
+    /// One estimate per accepted GNSS fix, in batch order (empty for step-only batches).
+    pub estimates: Vec<PaceEstimate>,
+    /// Samples that were rejected, in batch order.
+    pub rejected: Vec<RejectedSample>,
+    /// The tracker's estimate after the whole batch (what `estimate()` would return).
+    pub latest: PaceEstimate,
+}
+
+/// Running-pace tracker. Feed it GNSS fixes and step data, each stream in time order
+/// (the two streams may interleave freely); read a [`PaceEstimate`] at every fix or
+/// at any time. Safe to call from several threads: calls are serialised, and a batch
+/// is applied as a whole before any other call sees the tracker.
+#[derive(Debug, uniffi::Object)]
+pub struct PaceTracker {
+    inner: Mutex<core::PaceTracker>,
+}
+
+impl PaceTracker {
+    fn wrap(tracker: core::PaceTracker) -> Arc<Self> {
+        Arc::new(Self {
+            inner: Mutex::new(tracker),
+        })
+    }
+
+    /// The core tracker; a mutex poisoned by an earlier panic is recovered (the
+    /// panic was already reported as an error) instead of panicking again.
+    fn lock(&self) -> MutexGuard<'_, core::PaceTracker> {
+        self.inner.lock().unwrap_or_else(|poisoned| {
+            self.inner.clear_poison();
+            PoisonError::into_inner(poisoned)
+        })
+    }
+
+    /// Push every item with `push` under one lock, collecting estimates and rejections.
+    fn batch<T>(
+        &self,
+        items: impl Iterator<Item = T>,
+        capacity: usize,
+        mut push: impl FnMut(
+            &mut core::PaceTracker,
+            T,
+        ) -> Result<Option<core::PaceEstimate>, core::PaceError>,
+    ) -> BatchResult {
+        let mut tracker = self.lock();
+        let mut estimates = Vec::with_capacity(capacity);
+        let mut rejected = Vec::new();
+        for (index, item) in items.enumerate() {
+            let outcome = catch_unwind(AssertUnwindSafe(|| push(&mut tracker, item)));
+            let error = match outcome {
+                Ok(Ok(Some(e))) => {
+                    estimates.push(e.into());
+                    continue;
+                }
+                Ok(Ok(None)) => continue,
+                Ok(Err(e)) => PaceError::from(e),
+                Err(panic) => PaceError::from_panic(panic),
+            };
+            rejected.push(RejectedSample {
+                index: u32::try_from(index).unwrap_or(u32::MAX),
+                description: error.to_string(),
+                error,
+            });
+        }
+        // A panic here (a core bug) is caught by uniffi's scaffolding.
+        let latest = tracker.estimate().into();
+        BatchResult {
+            estimates,
+            rejected,
+            latest,
+        }
+    }
+}
+
+#[uniffi::export]
+impl PaceTracker {
+    /// A tracker with the given configuration (other parameters at their defaults).
+    #[uniffi::constructor]
+    pub fn new(config: PaceConfig) -> Result<Arc<Self>, PaceError> {
+        guard(|| Ok(Self::wrap(core::PaceTracker::new(config.into())?)))
+    }
+
+    /// A tracker with the default configuration (adaptive filter).
+    #[uniffi::constructor]
+    pub fn with_defaults() -> Arc<Self> {
+        Self::wrap(
+            core::PaceTracker::new(core::PaceConfig::default())
+                .expect("the core default configuration is valid"),
+        )
+    }
+
+    /// A tracker continuing exactly where `snapshot()` was taken (same configuration,
+    /// same state: it produces bit-identical estimates from there on).
+    #[uniffi::constructor]
+    pub fn restore(snapshot: Vec<u8>) -> Result<Arc<Self>, PaceError> {
+        guard(|| Ok(Self::wrap(core::PaceTracker::restore(&snapshot)?)))
+    }
+
+    /// The configuration the tracker runs with.
+    pub fn config(&self) -> PaceConfig {
+        (*self.lock().config()).into()
+    }
+
+    /// Push one GNSS fix; returns the estimate at this fix. A rejected fix leaves the
+    /// tracker unchanged.
+    pub fn push_fix(&self, fix: GnssFix) -> Result<PaceEstimate, PaceError> {
+        guard(|| Ok(self.lock().push_fix(&fix.into())?.into()))
+    }
+
+    /// Push one step sample. A rejected sample leaves the tracker unchanged.
+    pub fn push_steps(&self, sample: StepSample) -> Result<(), PaceError> {
+        guard(|| Ok(self.lock().push_steps(&sample.into())?))
+    }
+
+    /// Push GNSS fixes in time order; one estimate per accepted fix. Rejected fixes
+    /// are skipped and reported by index; the others are processed as if pushed one
+    /// by one.
+    pub fn push_fixes(&self, fixes: Vec<GnssFix>) -> BatchResult {
+        let n = fixes.len();
+        self.batch(fixes.into_iter(), n, |t, f| t.push_fix(&f.into()).map(Some))
+    }
+
+    /// Push step samples in time order (rejections reported by index).
+    pub fn push_step_samples(&self, samples: Vec<StepSample>) -> BatchResult {
+        self.batch(samples.into_iter(), 0, |t, s| {
+            t.push_steps(&s.into()).map(|_| None)
+        })
+    }
+
+    /// Push samples of both streams, merged in time order; one estimate per accepted
+    /// fix (rejections reported by index).
+    pub fn push_samples(&self, samples: Vec<PaceSample>) -> BatchResult {
+        let n = samples.len();
+        self.batch(samples.into_iter(), n, |t, s| t.push(&s.into()))
+    }
+
+    /// Fast path: push GNSS fixes packed as 56-byte little-endian records (layout in
+    /// the `packed` module docs). Fails as a whole only if the length is not a
+    /// multiple of 56; otherwise behaves like `push_fixes`.
+    pub fn push_fixes_packed(&self, data: Vec<u8>) -> Result<BatchResult, PaceError> {
+        guard(|| {
+            let fixes = packed::fixes(&data)?;
+            let n = data.len() / packed::FIX_RECORD_BYTES;
+            Ok(self.batch(fixes, n, |t, f| t.push_fix(&f).map(Some)))
+        })
+    }
+
+    /// Fast path: push cumulative step counts packed as 16-byte little-endian records
+    /// `(t_s: f64, steps: u64)`. Fails as a whole only if the length is not a multiple
+    /// of 16; otherwise behaves like `push_step_samples`.
+    pub fn push_step_counts_packed(&self, data: Vec<u8>) -> Result<BatchResult, PaceError> {
+        guard(|| {
+            let counts = packed::step_counts(&data)?;
+            Ok(self.batch(counts, 0, |t, s| t.push_steps(&s).map(|_| None)))
+        })
+    }
+
+    /// The current estimate, at the time of the newest sample of either stream.
+    pub fn estimate(&self) -> PaceEstimate {
+        self.lock().estimate().into()
+    }
+
+    /// The whole state as bytes (versioned, checksummed), to survive the app being
+    /// killed; give them to `PaceTracker.restore`.
+    pub fn snapshot(&self) -> Vec<u8> {
+        self.lock().snapshot()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fix(t_s: f64) -> core::GnssFix {
+        core::GnssFix::new(t_s, 50.0 + t_s * 1e-5, 18.0)
+    }
+
+    #[test]
+    fn a_poisoned_mutex_is_recovered() {
+        let t = PaceTracker::with_defaults();
+        t.push_fix(fix(1.0).into()).unwrap();
+        let t2 = Arc::clone(&t);
+        let poisoner = std::thread::spawn(move || {
+            let _guard = t2.inner.lock().unwrap();
+            panic!("poisoning the tracker's mutex on purpose");
+        });
+        assert!(poisoner.join().is_err());
+        assert!(t.inner.is_poisoned());
+        assert_eq!(t.estimate().t_s, 1.0);
+        assert!(!t.inner.is_poisoned());
+        t.push_fix(fix(2.0).into()).unwrap();
+    }
+
+    #[test]
+    fn panics_become_errors() {
+        let err = guard::<()>(|| panic!("boom {}", 42)).unwrap_err();
+        assert_eq!(
+            err,
+            PaceError::Internal {
+                reason: "boom 42".into()
+            }
+        );
+        let t = PaceTracker::with_defaults();
+        let r = t.batch([1.0, 2.0, 3.0].into_iter(), 3, |tr, x| {
+            if x == 2.0 {
+                panic!("bug at sample {x}");
+            }
+            tr.push_fix(&fix(x)).map(Some)
+        });
+        assert_eq!(r.estimates.len(), 2);
+        assert_eq!(r.rejected.len(), 1);
+        assert_eq!(r.rejected[0].index, 1);
+        assert!(matches!(r.rejected[0].error, PaceError::Internal { .. }));
+        assert!(!t.inner.is_poisoned());
+        assert_eq!(t.estimate().t_s, 3.0);
+    }
+}

@@ -1,0 +1,292 @@
+//! Records and enums mirroring `stridekit_core::pace`, with lossless conversions.
+//!
+//! Field names keep the core's SI-unit suffixes; uniffi turns them into camelCase
+//! (`t_s` → Kotlin `tS`, `lat_deg` → `latDeg`).
+
+use stridekit_core::pace as core;
+
+/// One GNSS position fix (WGS84). Time is the app's monotonic clock in seconds
+/// (e.g. `elapsedRealtimeNanos / 1e9`), never wall-clock time.
+#[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
+pub struct GnssFix {
+    /// Time of the fix, seconds on the app's monotonic clock.
+    pub t_s: f64,
+    /// Latitude, degrees, −90..=90.
+    pub lat_deg: f64,
+    /// Longitude, degrees, −180..=180.
+    pub lon_deg: f64,
+    /// Altitude, metres (only differences matter).
+    #[uniffi(default = None)]
+    pub alt_m: Option<f64>,
+    /// Horizontal accuracy, 68 % radius, metres (Android `getAccuracy()`, iOS `horizontalAccuracy`).
+    #[uniffi(default = None)]
+    pub horizontal_accuracy_m: Option<f64>,
+    /// Receiver (Doppler) speed, m/s; used only together with `speed_accuracy_mps`.
+    #[uniffi(default = None)]
+    pub speed_mps: Option<f64>,
+    /// 68 % accuracy of `speed_mps`, m/s.
+    #[uniffi(default = None)]
+    pub speed_accuracy_mps: Option<f64>,
+}
+
+impl From<GnssFix> for core::GnssFix {
+    fn from(f: GnssFix) -> Self {
+        Self {
+            t_s: f.t_s,
+            lat_deg: f.lat_deg,
+            lon_deg: f.lon_deg,
+            alt_m: f.alt_m,
+            horizontal_accuracy_m: f.horizontal_accuracy_m,
+            speed_mps: f.speed_mps,
+            speed_accuracy_mps: f.speed_accuracy_mps,
+        }
+    }
+}
+
+impl From<core::GnssFix> for GnssFix {
+    fn from(f: core::GnssFix) -> Self {
+        Self {
+            t_s: f.t_s,
+            lat_deg: f.lat_deg,
+            lon_deg: f.lon_deg,
+            alt_m: f.alt_m,
+            horizontal_accuracy_m: f.horizontal_accuracy_m,
+            speed_mps: f.speed_mps,
+            speed_accuracy_mps: f.speed_accuracy_mps,
+        }
+    }
+}
+
+/// Step data from a pedometer, in one of the three shapes platforms report.
+#[derive(Clone, Copy, Debug, PartialEq, uniffi::Enum)]
+pub enum StepSample {
+    /// Cumulative step count since any origin (Android `TYPE_STEP_COUNTER`, iOS
+    /// `CMPedometerData.numberOfSteps`). A lower count than the previous one is a
+    /// counter reset (reboot) and adds no steps.
+    Count { t_s: f64, steps: u64 },
+    /// One detected step (Android `TYPE_STEP_DETECTOR`).
+    Event { t_s: f64 },
+    /// Cadence of both feet, steps per minute (a watch or foot pod; FIT strides/min × 2).
+    Cadence { t_s: f64, steps_per_min: f64 },
+}
+
+impl From<StepSample> for core::StepSample {
+    fn from(s: StepSample) -> Self {
+        match s {
+            StepSample::Count { t_s, steps } => Self::Count { t_s, steps },
+            StepSample::Event { t_s } => Self::Event { t_s },
+            StepSample::Cadence { t_s, steps_per_min } => Self::Cadence { t_s, steps_per_min },
+        }
+    }
+}
+
+impl From<core::StepSample> for StepSample {
+    fn from(s: core::StepSample) -> Self {
+        match s {
+            core::StepSample::Count { t_s, steps } => Self::Count { t_s, steps },
+            core::StepSample::Event { t_s } => Self::Event { t_s },
+            core::StepSample::Cadence { t_s, steps_per_min } => {
+                Self::Cadence { t_s, steps_per_min }
+            }
+        }
+    }
+}
+
+/// One input of either stream, for mixed batches in time order.
+#[derive(Clone, Copy, Debug, PartialEq, uniffi::Enum)]
+pub enum PaceSample {
+    Fix { fix: GnssFix },
+    Steps { sample: StepSample },
+}
+
+impl From<PaceSample> for core::PaceSample {
+    fn from(s: PaceSample) -> Self {
+        match s {
+            PaceSample::Fix { fix } => Self::Fix(fix.into()),
+            PaceSample::Steps { sample } => Self::Steps(sample.into()),
+        }
+    }
+}
+
+impl From<core::PaceSample> for PaceSample {
+    fn from(s: core::PaceSample) -> Self {
+        match s {
+            core::PaceSample::Fix(fix) => Self::Fix { fix: fix.into() },
+            core::PaceSample::Steps(sample) => Self::Steps {
+                sample: sample.into(),
+            },
+        }
+    }
+}
+
+/// Where the speed of an estimate comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, uniffi::Enum)]
+pub enum PaceSource {
+    /// Not enough data yet for a speed.
+    Initializing,
+    /// The runner stands still: speed 0, no distance added.
+    Stationary,
+    /// GNSS dominates (GNSS weight ≥ 0.8).
+    Gnss,
+    /// GNSS and pedometer both contribute.
+    Fused,
+    /// Pedometer dominates (GNSS weight ≤ 0.2, or GNSS lost).
+    Pedometer,
+}
+
+impl From<core::PaceSource> for PaceSource {
+    fn from(s: core::PaceSource) -> Self {
+        match s {
+            core::PaceSource::Initializing => Self::Initializing,
+            core::PaceSource::Stationary => Self::Stationary,
+            core::PaceSource::Gnss => Self::Gnss,
+            core::PaceSource::Fused => Self::Fused,
+            core::PaceSource::Pedometer => Self::Pedometer,
+        }
+    }
+}
+
+impl From<PaceSource> for core::PaceSource {
+    fn from(s: PaceSource) -> Self {
+        match s {
+            PaceSource::Initializing => Self::Initializing,
+            PaceSource::Stationary => Self::Stationary,
+            PaceSource::Gnss => Self::Gnss,
+            PaceSource::Fused => Self::Fused,
+            PaceSource::Pedometer => Self::Pedometer,
+        }
+    }
+}
+
+/// A pace estimate, produced at every GNSS fix and on demand.
+#[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
+pub struct PaceEstimate {
+    /// Time the estimate refers to, seconds (the latest sample time seen).
+    pub t_s: f64,
+    /// Horizontal speed over ground, m/s (0 when stationary).
+    pub speed_mps: f64,
+    /// Pace, seconds per kilometre; null below 0.5 m/s.
+    pub pace_s_per_km: Option<f64>,
+    /// 1-σ uncertainty of `speed_mps`, m/s, when known.
+    pub speed_std_mps: Option<f64>,
+    /// Cadence, steps per minute (both feet); null without step data.
+    pub cadence_spm: Option<f64>,
+    /// Learned step length, metres; null until learned.
+    pub step_length_m: Option<f64>,
+    /// Weight of GNSS in the fused speed, 0..=1.
+    pub gnss_weight: f64,
+    /// Cumulative distance since start, metres.
+    pub distance_m: f64,
+    /// Where the speed comes from.
+    pub source: PaceSource,
+}
+
+impl From<core::PaceEstimate> for PaceEstimate {
+    fn from(e: core::PaceEstimate) -> Self {
+        Self {
+            t_s: e.t_s,
+            speed_mps: e.speed_mps,
+            pace_s_per_km: e.pace_s_per_km,
+            speed_std_mps: e.speed_std_mps,
+            cadence_spm: e.cadence_spm,
+            step_length_m: e.step_length_m,
+            gnss_weight: e.gnss_weight,
+            distance_m: e.distance_m,
+            source: e.source.into(),
+        }
+    }
+}
+
+impl From<PaceEstimate> for core::PaceEstimate {
+    fn from(e: PaceEstimate) -> Self {
+        Self {
+            t_s: e.t_s,
+            speed_mps: e.speed_mps,
+            pace_s_per_km: e.pace_s_per_km,
+            speed_std_mps: e.speed_std_mps,
+            cadence_spm: e.cadence_spm,
+            step_length_m: e.step_length_m,
+            gnss_weight: e.gnss_weight,
+            distance_m: e.distance_m,
+            source: e.source.into(),
+        }
+    }
+}
+
+/// Which fusion filter a tracker runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, uniffi::Enum)]
+pub enum PaceMode {
+    /// The published complementary filter (Skrzypczyk), for comparison.
+    AsPublished,
+    /// stridekit's default adaptive Kalman filter.
+    Adaptive,
+}
+
+impl From<PaceMode> for core::PaceMode {
+    fn from(m: PaceMode) -> Self {
+        match m {
+            PaceMode::AsPublished => Self::AsPublished,
+            PaceMode::Adaptive => Self::Adaptive,
+        }
+    }
+}
+
+impl From<core::PaceMode> for PaceMode {
+    fn from(m: core::PaceMode) -> Self {
+        match m {
+            core::PaceMode::AsPublished => Self::AsPublished,
+            core::PaceMode::Adaptive => Self::Adaptive,
+        }
+    }
+}
+
+/// Settings of a [`PaceTracker`](crate::PaceTracker) an app may change; every other
+/// filter parameter keeps the core's default (`stridekit_core::pace::PaceConfig::default()`).
+///
+/// The field defaults below are those of the core default; `default_pace_config()`
+/// returns the same record and a test checks both agree.
+#[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
+pub struct PaceConfig {
+    /// Fusion filter (default: `Adaptive`).
+    pub mode: PaceMode,
+    /// Step length used before one is learned from GNSS, metres, 0.2..=3.0
+    /// (null: no pedometer speed until GNSS has taught one).
+    #[uniffi(default = None)]
+    pub initial_step_length_m: Option<f64>,
+    /// Without a step for this long while step data flows, the runner is stationary, seconds.
+    #[uniffi(default = 2.0)]
+    pub stationary_after_s: f64,
+}
+
+impl Default for PaceConfig {
+    fn default() -> Self {
+        core::PaceConfig::default().into()
+    }
+}
+
+impl From<PaceConfig> for core::PaceConfig {
+    fn from(c: PaceConfig) -> Self {
+        Self {
+            mode: c.mode.into(),
+            initial_step_length_m: c.initial_step_length_m,
+            stationary_after_s: c.stationary_after_s,
+            ..core::PaceConfig::default()
+        }
+    }
+}
+
+impl From<core::PaceConfig> for PaceConfig {
+    fn from(c: core::PaceConfig) -> Self {
+        Self {
+            mode: c.mode.into(),
+            initial_step_length_m: c.initial_step_length_m,
+            stationary_after_s: c.stationary_after_s,
+        }
+    }
+}
+
+/// The default configuration (adaptive filter, core defaults).
+#[uniffi::export]
+pub fn default_pace_config() -> PaceConfig {
+    PaceConfig::default()
+}
