@@ -191,11 +191,16 @@ pub fn real_table(dir: &Path, default: PaceConfig) -> Result<String, String> {
         };
         let _ = writeln!(
             out,
-            "| **pooled** | | {} | {} | {} | {} | mean |error| {:.2} %, max {:.2} % | |",
+            "| **pooled** | | {} | {} | {} | {} | absolute error: median {:.2} %, mean {:.2} %, max {:.2} % | |",
             cell(0),
             cell(1),
             cell(2),
             cell(3),
+            {
+                let mut a: Vec<f64> = dist_errors.iter().map(|e| e.abs()).collect();
+                a.sort_by(f64::total_cmp);
+                a[a.len() / 2]
+            },
             dist_errors.iter().map(|e| e.abs()).sum::<f64>() / dist_errors.len() as f64,
             dist_errors.iter().fold(0.0f64, |m, e| m.max(e.abs())),
         );
