@@ -246,17 +246,7 @@ impl AdaptiveFilter {
             gated_since_t_s: f64::NAN,
             info_gnss: 0.0,
             info_ped: 0.0,
-            out: PaceEstimate {
-                t_s: 0.0,
-                speed_mps: 0.0,
-                pace_s_per_km: None,
-                speed_std_mps: None,
-                cadence_spm: None,
-                step_length_m: config.initial_step_length_m,
-                gnss_weight: 1.0,
-                distance_m: 0.0,
-                source: PaceSource::Initializing,
-            },
+            out: PaceEstimate::initial(config.initial_step_length_m),
         };
         let (l0, sl) = match config.initial_step_length_m {
             Some(l) => (l, 0.1),
@@ -596,21 +586,33 @@ impl AdaptiveFilter {
         let mut h = SMatrix::<f64, 1, 8>::zeros();
         h[(0, VE)] = self.x[VE] / s;
         h[(0, VN)] = self.x[VN] / s;
-        let r = SMatrix::<f64, 1, 1>::new(acc.max(0.05).powi(2));
-        let y = SVector::<f64, 1>::new(v - s);
-        let sv = (h * self.p * h.transpose() + r)[(0, 0)];
-        if y[0] * y[0] / sv > GATE_1DOF {
+        let r = acc.max(0.05).powi(2);
+        let sv = (h * self.p * h.transpose())[(0, 0)] + r;
+        if (v - s) * (v - s) / sv > GATE_1DOF {
             return;
         }
+        self.info_gnss += self.scalar_update(&h, v - s, r, Learn::level_if(learn));
+    }
+
+    /// Update with one scalar measurement; returns the speed information it added
+    /// (inverse variance gained along the direction of motion).
+    fn scalar_update(
+        &mut self,
+        h: &SMatrix<f64, 1, 8>,
+        innovation: f64,
+        r: f64,
+        learn: Learn,
+    ) -> f64 {
+        let sv = (h * self.p * h.transpose())[(0, 0)] + r;
         let before = self.speed_var();
         self.apply(
-            &h,
-            &y,
-            &r,
+            h,
+            &SVector::<f64, 1>::new(innovation),
+            &SMatrix::<f64, 1, 1>::new(r),
             &SMatrix::<f64, 1, 1>::new(1.0 / sv),
-            Learn::level_if(learn),
+            learn,
         );
-        self.info_gnss += (1.0 / self.speed_var() - 1.0 / before).max(0.0);
+        (1.0 / self.speed_var() - 1.0 / before).max(0.0)
     }
 
     fn zupt(&mut self) {
@@ -672,20 +674,14 @@ impl AdaptiveFilter {
         let mut h = SMatrix::<f64, 1, 8>::zeros();
         h[(0, LA)] = 1.0;
         h[(0, LB)] = c_mean - cref;
-        let y = SVector::<f64, 1>::new(path / steps - (self.x[LA] + self.x[LB] * (c_mean - cref)));
+        let y = path / steps - (self.x[LA] + self.x[LB] * (c_mean - cref));
         let sigma_path = std::f64::consts::SQRT_2 * PATH_SIGMA_SHARE * self.fix_sigma(fix);
-        let r = SMatrix::<f64, 1, 1>::new((sigma_path / steps).powi(2));
-        let sv = (h * self.p * h.transpose() + r)[(0, 0)];
-        if y[0] * y[0] / sv > GATE_1DOF {
+        let r = (sigma_path / steps).powi(2);
+        let sv = (h * self.p * h.transpose())[(0, 0)] + r;
+        if y * y / sv > GATE_1DOF {
             return;
         }
-        self.apply(
-            &h,
-            &y,
-            &r,
-            &SMatrix::<f64, 1, 1>::new(1.0 / sv),
-            Learn::LevelAndSlope,
-        );
+        self.scalar_update(&h, y, r, Learn::LevelAndSlope);
     }
 
     /// Move the reference cadence c̄ towards `c`, re-expressing `a` so that the
@@ -771,18 +767,8 @@ impl AdaptiveFilter {
         let v_ped = c * l;
         let rel = self.params.pedometer_rel_sigma;
         let c_sigma = c_sigma.max(MIN_CADENCE_SIGMA);
-        let r = SMatrix::<f64, 1, 1>::new((rel * v_ped).powi(2) + (c_sigma * l).powi(2));
-        let y = SVector::<f64, 1>::new(v_ped - s);
-        let sv = (h * self.p * h.transpose() + r)[(0, 0)];
-        let before = self.speed_var();
-        self.apply(
-            &h,
-            &y,
-            &r,
-            &SMatrix::<f64, 1, 1>::new(1.0 / sv),
-            Learn::level_if(learn),
-        );
-        self.info_ped += (1.0 / self.speed_var() - 1.0 / before).max(0.0);
+        let r = (rel * v_ped).powi(2) + (c_sigma * l).powi(2);
+        self.info_ped += self.scalar_update(&h, v_ped - s, r, Learn::level_if(learn));
     }
 
     /// Integrate distance up to the filter time and refresh the output.

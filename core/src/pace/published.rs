@@ -125,17 +125,7 @@ impl PublishedFilter {
             last_fix_t_s: None,
             last_update_t_s: None,
             distance_m: 0.0,
-            out: PaceEstimate {
-                t_s: 0.0,
-                speed_mps: 0.0,
-                pace_s_per_km: None,
-                speed_std_mps: None,
-                cadence_spm: None,
-                step_length_m: config.initial_step_length_m,
-                gnss_weight: 1.0,
-                distance_m: 0.0,
-                source: PaceSource::Initializing,
-            },
+            out: PaceEstimate::initial(config.initial_step_length_m),
         }
     }
 

@@ -144,6 +144,21 @@ pub struct PaceEstimate {
 pub const MIN_PACE_SPEED_MPS: f64 = 0.5;
 
 impl PaceEstimate {
+    /// The estimate before any data: zero speed and distance, `Initializing`.
+    pub fn initial(step_length_m: Option<f64>) -> Self {
+        Self {
+            t_s: 0.0,
+            speed_mps: 0.0,
+            pace_s_per_km: None,
+            speed_std_mps: None,
+            cadence_spm: None,
+            step_length_m,
+            gnss_weight: 1.0,
+            distance_m: 0.0,
+            source: PaceSource::Initializing,
+        }
+    }
+
     /// Pace (s/km) for a speed, `None` below [`MIN_PACE_SPEED_MPS`].
     pub fn pace_for(speed_mps: f64) -> Option<f64> {
         (speed_mps >= MIN_PACE_SPEED_MPS).then(|| 1000.0 / speed_mps)
