@@ -8,12 +8,15 @@
 //! Every engine checks its inputs at the door and returns typed errors; none panics
 //! on bad input. Every engine can be snapshotted to bytes and restored.
 
+pub mod ahrs;
 pub mod eval;
 pub mod geo;
 pub mod pace;
 pub mod signal;
 pub mod sim;
 pub mod snapshot;
+pub mod stepdetect;
+pub mod steplength;
 
 pub use pace::{
     BatchOutcome, GnssFix, PaceConfig, PaceError, PaceEstimate, PaceMode, PaceSample, PaceSource,

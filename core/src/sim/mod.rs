@@ -1,5 +1,6 @@
 //! Deterministic, seeded simulators. Same seed, same output, on every platform.
 
+pub mod phone;
 pub mod rng;
 pub mod run;
 

@@ -1,0 +1,1 @@
+//! Simulated phone IMU while walking/running (in progress).
