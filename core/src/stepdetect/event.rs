@@ -1,0 +1,25 @@
+//! A detected step and the features step-length models use.
+
+/// One detected step. Features are computed over the step (from the previous step
+/// to this one) on the acceleration magnitude, gravity included, m/s².
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepEvent {
+    /// Time of the step (the detector's heel-strike estimate), seconds.
+    pub t_s: f64,
+    /// Time since the previous step, seconds (`NaN` for the first step of a bout);
+    /// step frequency F = 1 / duration_s.
+    pub duration_s: f64,
+    /// Variance of the acceleration magnitude over the step, (m/s²)² ("SV").
+    pub accel_variance_m2ps4: f64,
+    /// Largest acceleration magnitude over the step, m/s².
+    pub accel_max_mps2: f64,
+    /// Smallest acceleration magnitude over the step, m/s².
+    pub accel_min_mps2: f64,
+}
+
+impl StepEvent {
+    /// Step frequency, steps/s (`NaN` when the duration is unknown).
+    pub fn frequency_hz(&self) -> f64 {
+        1.0 / self.duration_s
+    }
+}
