@@ -1,0 +1,96 @@
+//! The command-line tool as a user runs it: the README's main command (`demo`) and
+//! the replay of a user CSV.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn stridekit() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_stridekit"))
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("stridekit-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn demo_prints_a_summary_and_writes_the_report() {
+    let out_dir = temp_dir("demo");
+    let out = stridekit()
+        .args(["demo", "--out"])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    for needle in ["| default |", "| AsPublished |", "Report written to"] {
+        assert!(stdout.contains(needle), "missing {needle:?} in:\n{stdout}");
+    }
+    for file in [
+        "index.html",
+        "summary.md",
+        "speed.svg",
+        "gnss_weight.svg",
+        "step_length.svg",
+        "track.svg",
+    ] {
+        let p = out_dir.join(file);
+        let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        assert!(text.len() > 100, "{} is too small", p.display());
+        if file.ends_with(".svg") {
+            assert!(text.contains("<svg"), "{} is not SVG", p.display());
+        }
+    }
+    let _ = std::fs::remove_dir_all(&out_dir);
+}
+
+#[test]
+fn pace_replays_a_user_csv() {
+    let dir = temp_dir("csv");
+    let csv = dir.join("run.csv");
+    // 10 minutes east along the equator at 3 m/s, 1 Hz fixes, 170 steps/min.
+    let mut text = String::from("t_s,lat_deg,lon_deg,steps_per_min\n");
+    let m_per_deg = 111_319.49;
+    for i in 0..600 {
+        let lon = 3.0 * i as f64 / m_per_deg;
+        text.push_str(&format!("{i},0.0,{lon:.9},170\n"));
+    }
+    std::fs::write(&csv, text).unwrap();
+    let out = stridekit().arg("pace").arg(&csv).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert!(lines[0].starts_with("t_s,t_unix_s,speed_mps"));
+    assert!(lines.len() > 500, "{} lines", lines.len());
+    let last: Vec<&str> = lines.last().unwrap().split(',').collect();
+    let speed: f64 = last[2].parse().unwrap();
+    let distance: f64 = last[8].parse().unwrap();
+    assert!((speed - 3.0).abs() < 0.2, "speed {speed}");
+    assert!((distance - 1797.0).abs() < 40.0, "distance {distance}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn errors_exit_non_zero_with_a_message() {
+    let out = stridekit()
+        .args(["pace", "/nonexistent/run.fit"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("error"));
+    let out = stridekit().arg("frobnicate").output().unwrap();
+    assert!(!out.status.success());
+    let out = stridekit().arg("help").output().unwrap();
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("stridekit demo"));
+}
