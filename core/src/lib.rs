@@ -12,6 +12,7 @@ pub mod ahrs;
 pub mod eval;
 pub mod geo;
 pub mod pace;
+pub mod pdr;
 pub mod signal;
 pub mod sim;
 pub mod snapshot;
