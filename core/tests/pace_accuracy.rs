@@ -53,3 +53,40 @@ fn default_beats_published_and_halves_gnss_ema() {
         );
     }
 }
+
+#[test]
+fn receiver_speed_helps_the_default_filter() {
+    for seed in 1..=3 {
+        let base = RunScenario::demo(seed);
+        let with = RunScenario {
+            receiver_speed: true,
+            ..base.clone()
+        };
+        let score_of = |sc: &RunScenario| {
+            let run = simulate_run(sc);
+            let r = replay(
+                &run.samples(),
+                PaceConfig::as_published(),
+                PaceConfig::default(),
+            );
+            let truth = sim_reference(&run, &r);
+            score(&r, &truth, &run.zones)
+        };
+        let (a, b) = (score_of(&base), score_of(&with));
+        eprintln!(
+            "seed {seed}: without {:?}/{:?} with {:?}/{:?}",
+            a.all[3], a.disturbed[3], b.all[3], b.disturbed[3]
+        );
+        assert!(
+            b.all[3] < a.all[3],
+            "seed {seed}: {} vs {}",
+            b.all[3],
+            a.all[3]
+        );
+        // In zones the receiver speed is noisier than it reports: a small cost at most.
+        assert!(
+            b.disturbed[3] < a.disturbed[3] * 1.2,
+            "seed {seed}: disturbed"
+        );
+    }
+}

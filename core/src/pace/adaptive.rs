@@ -572,13 +572,16 @@ impl AdaptiveFilter {
         self.apply(&h, &y, &r, &s_inv, Learn::level_if(trusted));
         self.info_gnss += (1.0 / self.speed_var() - 1.0 / before).max(0.0);
         if let Some((v, acc)) = fix.speed {
-            self.doppler_update(v, acc, trusted);
+            self.doppler_update(v, acc);
         }
         (nis, trusted)
     }
 
-    /// Receiver (Doppler) speed as a measurement of |v|.
-    fn doppler_update(&mut self, v: f64, acc: f64, learn: bool) {
+    /// Receiver (Doppler) speed as a measurement of |v|. It informs velocity only: a
+    /// precise speed every second would otherwise drag the step length onto each
+    /// second's speed/cadence ratio (gait variability, cadence lag), and the value held
+    /// into an outage would be a noisy snapshot instead of an average.
+    fn doppler_update(&mut self, v: f64, acc: f64) {
         let s = self.speed();
         if s < 0.3 {
             return;
@@ -591,7 +594,7 @@ impl AdaptiveFilter {
         if (v - s) * (v - s) / sv > GATE_1DOF {
             return;
         }
-        self.info_gnss += self.scalar_update(&h, v - s, r, Learn::level_if(learn));
+        self.info_gnss += self.scalar_update(&h, v - s, r, Learn::Nothing);
     }
 
     /// Update with one scalar measurement; returns the speed information it added

@@ -48,6 +48,9 @@ pub struct RunScenario {
     pub stops: bool,
     /// Whether fixes carry a horizontal accuracy.
     pub report_accuracy: bool,
+    /// Whether fixes carry a receiver (Doppler) speed with its accuracy. Off in the
+    /// demo: the paper's method and most activity files have positions only.
+    pub receiver_speed: bool,
 }
 
 /// True state at one instant.
@@ -100,6 +103,7 @@ impl RunScenario {
             outages: true,
             stops: true,
             report_accuracy: true,
+            receiver_speed: false,
         }
     }
 
@@ -206,7 +210,25 @@ pub fn simulate_run(scenario: &RunScenario) -> SimulatedRun {
         zones: zones.iter().map(|z| z.zone).collect(),
     };
     run.fixes = simulate_fixes(&run, &zones, d, &mut stream(seed, 7));
+    if scenario.receiver_speed {
+        add_receiver_speed(&mut run, &mut stream(seed, 8));
+    }
     run
+}
+
+/// Doppler speed: accurate in the open (0.1 m/s), degraded in disturbance zones
+/// (0.6 m/s), never negative (a receiver reports |v|), with a reported accuracy that
+/// is honest in the open and optimistic in zones. Drawn from its own random stream,
+/// so positions and steps are the same with or without it.
+fn add_receiver_speed(run: &mut SimulatedRun, rng: &mut Rng) {
+    for i in 0..run.fixes.len() {
+        let t = run.fixes[i].t_s;
+        let disturbed = run.in_zone(t, ZoneKind::Disturbance);
+        let (sigma, reported) = if disturbed { (0.6, 0.4) } else { (0.1, 0.15) };
+        let v = (run.truth_at(t).speed_mps + sigma * rng.normal()).abs();
+        run.fixes[i].speed_mps = Some(v);
+        run.fixes[i].speed_accuracy_mps = Some(reported);
+    }
 }
 
 // ---------------------------------------------------------------------------------
