@@ -1,1 +1,151 @@
-fn main() {}
+//! Cost of one AHRS update: stridekit's Madgwick filter against the `ahrs` crate's
+//! `Madgwick` (project target: ≤ 0.8× the crate's time per update).
+//!
+//! Both filters consume the same 1024-sample loop of a synthetic hand-held motion at
+//! 100 Hz (gyroscope, accelerometer, magnetometer consistent with one orientation
+//! trajectory, plus gait-like linear acceleration), in order, one sample per
+//! iteration. stridekit's filter needs increasing time, so each iteration advances
+//! `t_s` by 10 ms; the state keeps evolving as in real use (no clones in the timing).
+//!
+//! - `stridekit_default`: every feature on (door checks, initialisation, rejection
+//!   and recovery, bias learning);
+//! - `stridekit_plain`: `AhrsSettings::plain` (the paper's filter; door checks stay);
+//! - `ahrs_crate`: `ahrs::Madgwick::update_imu` / `update` (fixed sample period).
+//!
+//! `update_*` returns flags only; the derived outputs (Euler angles, heading, linear
+//! acceleration) cost an extra `output()` call, measured on its own.
+//!
+//! Run: `cargo bench -p stridekit-core --bench ahrs` (add `-- --quick` for a short run).
+
+use std::hint::black_box;
+
+use ahrs::Ahrs as _;
+use criterion::{criterion_group, criterion_main, Criterion};
+use nalgebra::{UnitQuaternion, Vector3};
+use stridekit_core::ahrs::{Ahrs, AhrsSettings};
+
+const N: usize = 1024;
+const DT: f64 = 0.01;
+const BETA: f64 = 0.1;
+
+struct Sample {
+    gyro: [f64; 3],
+    accel: [f64; 3],
+    mag: [f64; 3],
+}
+
+/// Gyro rates integrated into a truth orientation; accelerometer and magnetometer
+/// readings follow from it.
+fn samples() -> Vec<Sample> {
+    let mut q = UnitQuaternion::from_euler_angles(0.1, 0.5, 0.8);
+    let field = Vector3::new(0.0, 20.0, -45.0);
+    (0..N)
+        .map(|i| {
+            let t = i as f64 * DT;
+            let ph = std::f64::consts::TAU * 1.9 * t;
+            let w = Vector3::new(
+                0.2 * ph.cos(),
+                0.15 * (0.5 * ph).sin(),
+                0.3 * (0.5 * ph).cos(),
+            );
+            let lin = Vector3::new(0.3 * ph.sin(), 0.8 * (ph + 1.0).sin(), 2.0 * ph.sin());
+            let a = q.inverse() * (lin + Vector3::new(0.0, 0.0, 9.80665));
+            let m = q.inverse() * field;
+            q *= UnitQuaternion::from_scaled_axis(w * DT);
+            Sample {
+                gyro: w.into(),
+                accel: a.into(),
+                mag: m.into(),
+            }
+        })
+        .collect()
+}
+
+fn imu(a: &mut Ahrs, t: f64, x: &Sample) -> bool {
+    a.update_imu(t, black_box(x.gyro), black_box(x.accel))
+        .is_ok()
+}
+
+fn marg(a: &mut Ahrs, t: f64, x: &Sample) -> bool {
+    a.update_marg(t, black_box(x.gyro), black_box(x.accel), black_box(x.mag))
+        .is_ok()
+}
+
+fn warmed(
+    settings: AhrsSettings,
+    s: &[Sample],
+    update: impl Fn(&mut Ahrs, f64, &Sample) -> bool,
+) -> (Ahrs, f64) {
+    let mut a = Ahrs::new(settings).expect("valid settings");
+    let mut t = 0.0;
+    for x in s.iter().cycle().take(600) {
+        t += DT;
+        assert!(update(&mut a, t, x));
+    }
+    (a, t)
+}
+
+/// One group: our filter with both settings, then the crate, on the same samples.
+/// The update functions are generic parameters (not function pointers), so both
+/// filters are inlined into the timing loop alike.
+fn group(
+    c: &mut Criterion,
+    name: &str,
+    update: impl Fn(&mut Ahrs, f64, &Sample) -> bool + Copy,
+    reference: impl Fn(&mut ahrs::Madgwick<f64>, &[Vector3<f64>; 3]) -> bool,
+) {
+    let s = samples();
+    let v: Vec<[Vector3<f64>; 3]> = s
+        .iter()
+        .map(|x| [x.gyro.into(), x.accel.into(), x.mag.into()])
+        .collect();
+    let mut group = c.benchmark_group(name);
+    for (name, settings) in [
+        ("stridekit_default", AhrsSettings::default()),
+        ("stridekit_plain", AhrsSettings::plain(BETA)),
+    ] {
+        let (mut a, mut t) = warmed(settings, &s, update);
+        let mut i = 0usize;
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                let x = &s[i % N];
+                i += 1;
+                t += DT;
+                black_box(update(&mut a, t, x))
+            })
+        });
+    }
+    let mut m =
+        ahrs::Madgwick::new_with_quat(DT, BETA, UnitQuaternion::from_euler_angles(0.1, 0.5, 0.8));
+    let mut i = 0usize;
+    group.bench_function("ahrs_crate", |b| {
+        b.iter(|| {
+            let x = &v[i % N];
+            i += 1;
+            black_box(reference(&mut m, x))
+        })
+    });
+    group.finish();
+}
+
+fn bench_imu(c: &mut Criterion) {
+    group(c, "imu_update", imu, |m, x| {
+        m.update_imu(black_box(&x[0]), black_box(&x[1])).is_ok()
+    });
+}
+
+fn bench_marg(c: &mut Criterion) {
+    group(c, "marg_update", marg, |m, x| {
+        m.update(black_box(&x[0]), black_box(&x[1]), black_box(&x[2]))
+            .is_ok()
+    });
+}
+
+fn bench_output(c: &mut Criterion) {
+    let s = samples();
+    let (a, _) = warmed(AhrsSettings::default(), &s, marg);
+    c.bench_function("output", |b| b.iter(|| black_box(&a).output()));
+}
+
+criterion_group!(benches, bench_imu, bench_marg, bench_output);
+criterion_main!(benches);

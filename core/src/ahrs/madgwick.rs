@@ -1,0 +1,791 @@
+//! Madgwick's gradient-descent orientation filter with Fusion-style robustness.
+//!
+//! # The filter
+//! The orientation is a unit quaternion `q` (body → earth). Between samples it is
+//! propagated by the gyroscope, `q̇ = ½ q ⊗ (0, ω)`. Gyroscopes drift, so each sample
+//! also takes one gradient-descent step on the misfit between what the sensors
+//! measure and what `q` predicts they should measure:
+//! - accelerometer: the normalised specific force `â` should equal the earth's up
+//!   direction seen from the body, `f_g(q) = q* ⊗ (0,0,0,1) ⊗ q − â` (true when the
+//!   device does not accelerate);
+//! - magnetometer: the normalised field `m̂` should equal the earth field seen from the
+//!   body. The earth field reference `b = (|h_xy|, 0, h_z)` is rebuilt every sample
+//!   from the measured field rotated into the earth frame, `h = q ⊗ m̂ ⊗ q*`, so the
+//!   magnetometer only ever pulls on heading (its dip and magnitude are not assumed).
+//!
+//! With the stacked misfit `f` and its Jacobian `J`, the step is `∇ = Jᵀ f`, and
+//! `q̇ = ½ q ⊗ ω − β ∇/|∇|`, integrated over the sample interval and renormalised.
+//! β (the gain, rad/s) bounds how fast the correction turns the estimate: large β
+//! trusts accelerometer / magnetometer, small β the gyroscope. The filter runs in
+//! Madgwick's own North-West-Up frame (gravity reference `(0,0,1)`, field reference
+//! in the x-z plane) and the outputs are rotated into ENU or NED by a constant
+//! quaternion ([`super::frame`]). With [`AhrsSettings::plain`] it is the filter of
+//! the paper and of the `ahrs` crate (`tests/ahrs.rs` checks agreement to ≤ 1e-6 rad;
+//! not bit-equal, see "Cost").
+//!
+//! # Robustness (the design of x-io's Fusion, on top of the gradient step)
+//! - **Initialisation.** The first sample sets the orientation directly: roll and
+//!   pitch from gravity, heading from the field (TRIAD) or yaw = 0 without one. The
+//!   gain then ramps linearly from `initial_gain` down to `gain` over
+//!   `initialisation_period_s`, so the first seconds converge fast; nothing is
+//!   rejected meanwhile.
+//! - **Acceleration rejection.** Walking, braking or a swinging arm add linear
+//!   acceleration, and the accelerometer no longer points up. The correction is
+//!   skipped while ||a| − g| > `accel_rejection_mps2` or the angle between measured
+//!   and estimated up exceeds `accel_rejection_rad` (`|f_g|² = 2 − 2 cos θ`, no
+//!   trigonometry per sample).
+//! - **Magnetic rejection.** A magnet, a laptop or steel changes the field's magnitude
+//!   and its dip angle (angle below the horizontal). The filter learns the local Earth
+//!   field (dip direction and magnitude, time constant 20 s) and skips the
+//!   correction while |m| differs from it by more than `mag_rejection_ut` or the dip by
+//!   more than `mag_rejection_dip_rad`. A disturbance that only turns the field without
+//!   changing its magnitude or dip cannot be told from a real turn and is not rejected.
+//! - **Recovery.** Each rejection has a trigger: rejected time counts up, accepted time
+//!   counts down nine times as fast. When it reaches `recovery_trigger_period_s`, the
+//!   estimate (not the sensor) is assumed wrong — e.g. after a gyroscope glitch — and
+//!   the sensor is trusted again until the trigger has counted back to zero; a
+//!   magnetic recovery also resets the learned field to the current one (the user
+//!   walked into a building with another field).
+//! - **Angular rate recovery.** A gyroscope reading beyond 98 % of its range was
+//!   clipped; the integrated orientation is then wrong, so the initialisation phase
+//!   (high gain, no rejection) restarts from the current orientation.
+//! - **Gyroscope bias** is learned while still ([`super::bias`]) and subtracted.
+//!
+//! # Time
+//! `dt` comes from the timestamps. The first sample initialises. A sample not later
+//! than the previous one is rejected ([`AhrsError::TimeNotIncreasing`]). A gap longer
+//! than `max_gap_s` (default 1 s) is not integrated: the motion during it is unknown,
+//! so the filter re-initialises from that sample (flag `reinitialised`), keeping the
+//! learned gyroscope bias. The correction step is scaled by `min(dt, 0.1 s)`, so a
+//! slow or irregular stream cannot make one step overshoot; the gyroscope is
+//! integrated to first order (as the paper) unless one sample turns more than 0.1 rad,
+//! where the exact exponential map is used.
+//!
+//! # Units at the door
+//! Accelerations must be m/s². A common mistake is passing g (iOS Core Motion): the
+//! filter would still find the tilt (it normalises `a`), but every threshold would be
+//! off by 9.8×. Heuristic: (1) the sample that (re)initialises the filter is refused
+//! if |a| is in 0.8..=1.2 while the gyroscope reads below 0.5 rad/s — a device at
+//! rest in g units; in m/s² that would be near free fall at rest, which does not
+//! happen; (2) afterwards the mean |a| over ~1 s (exponential, τ = 1 s) must stay
+//! above 2.5 m/s²: in g units it sits near 1 even while running, in m/s² it falls
+//! that low only after more than 1.3 s of free fall. Both return
+//! [`AhrsError::AccelerationNotInMps2`] and leave the state unchanged. Switching
+//! from m/s² to g mid-stream is caught after ~1.8 s.
+//!
+//! # Cost
+//! One update is a chain of dependent floating-point operations from one sample's
+//! `q` to the next, so the work is arranged to keep that chain short: f64 scalar
+//! code, the step's common factor 2 dropped (it is normalised anyway), `β·dt/|∇|`
+//! computed as `β·dt·|∇|/|∇|²` (square root and division in parallel), the field
+//! reference from `h_z = up·m̂` and `|h_xy| = √(1 − h_z²)` instead of rotating `m̂`,
+//! the final renormalisation by a second-order series instead of `1/√`, decisions
+//! that follow the data (rejection, stillness) computed without branches. Derived
+//! outputs (Euler angles, heading, linear acceleration) are computed only by
+//! [`Ahrs::output`]. See `benches/ahrs.rs` for the comparison with the `ahrs` crate.
+
+use super::bias::{GyroBias, STILL_ACCEL_MPS2};
+use super::error::{finite3, AhrsError};
+use super::flags::AhrsFlags;
+use super::frame::{AxisRemap, EarthFrame};
+use super::output::{AhrsOutput, AhrsRejection, ImuSample};
+use super::quat::{self, Quat};
+use super::settings::AhrsSettings;
+use crate::snapshot::{Reader, SnapshotError, Writer};
+
+/// Snapshot engine kind byte for the AHRS.
+const SNAPSHOT_KIND: u8 = 2;
+/// Snapshot format version written by this build.
+const SNAPSHOT_VERSION: u16 = 1;
+
+/// Longest interval the correction step is scaled by, s.
+pub const MAX_CORRECTION_DT_S: f64 = 0.1;
+/// Above this half-angle² per sample, gyroscope integration is exact (0.1 rad turn).
+const EXACT_HALF_ANGLE2: f64 = 0.05 * 0.05;
+/// A gyroscope axis beyond this share of the range has clipped.
+const GYRO_CLIP_SHARE: f64 = 0.98;
+/// Units heuristic (1): |a| band of a device at rest reporting in g.
+const G_UNITS_LOW: f64 = 0.8;
+const G_UNITS_HIGH: f64 = 1.2;
+/// ... with the gyroscope below this, rad/s.
+const G_UNITS_STILL_RADS: f64 = 0.5;
+/// Units heuristic (2): time constant of the mean |a|, s, the time it must have run,
+/// s, and the lowest mean |a| accepted, m/s².
+const ACCEL_MEAN_TAU_S: f64 = 1.0;
+const ACCEL_MEAN_SPAN_S: f64 = 1.0;
+const ACCEL_MEAN_MIN_MPS2: f64 = 2.5;
+/// Time constant of the learned Earth field, s, and during initialisation.
+const MAG_REF_TAU_S: f64 = 20.0;
+const MAG_REF_INIT_TAU_S: f64 = 0.5;
+/// A field vector this close to gravity cannot give a heading (relative cross product).
+const MIN_HEADING_SIN: f64 = 1e-3;
+
+/// Rejection trigger of one sensor (Fusion's recovery trigger, in seconds).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Recovery {
+    trigger_s: f64,
+    recovering: bool,
+}
+
+impl Recovery {
+    /// Account one sample; returns (use the sensor, recovery started now).
+    /// Branch-free (`&`, `|`, selects): whether a sample is rejected follows the
+    /// data, so branches on it would be mispredicted.
+    #[inline]
+    fn step(&mut self, bad: bool, dt: f64, period: f64) -> (bool, bool) {
+        let delta = if bad { dt } else { -9.0 * dt };
+        self.trigger_s = (self.trigger_s + delta).max(0.0).min(period);
+        let started = !self.recovering & (self.trigger_s >= period);
+        let ended = self.recovering & (self.trigger_s <= 0.0);
+        self.recovering = (self.recovering | started) & !ended;
+        (!bad | self.recovering, started)
+    }
+}
+
+/// Madgwick AHRS with initialisation, rejection, recovery and bias estimation.
+/// Create with [`Ahrs::new`], feed [`Ahrs::update_imu`] / [`Ahrs::update_marg`] (or
+/// [`Ahrs::update_batch`]), read [`Ahrs::output`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ahrs {
+    settings: AhrsSettings,
+    // Derived from the settings (not serialised).
+    /// |f_g|² above which the accelerometer is rejected (2 − 2 cos θ).
+    accel_err2_limit: f64,
+    /// cos of the dip deviation below which the magnetometer is rejected.
+    mag_cos_dip_limit: f64,
+    /// Clipping level of the gyroscope, rad/s.
+    gyro_clip_rads: f64,
+    /// Gain decrease per second while initialising (+∞: no initialisation phase).
+    ramp_rate: f64,
+    /// The axis remap is the identity (skip it).
+    remap_identity: bool,
+    // State.
+    started: bool,
+    last_t_s: f64,
+    /// Orientation body → North-West-Up, [w, x, y, z].
+    q: Quat,
+    /// Current (ramped) gain, rad/s.
+    gain: f64,
+    accel_rec: Recovery,
+    mag_rec: Recovery,
+    /// Learned Earth field: direction in the vertical plane (horizontal and up
+    /// components of the unit field vector) and magnitude, µT (exponential means of
+    /// accepted samples; the mean direction is within ~1e-4 of unit length, which
+    /// moves the dip threshold by hundredths of a degree).
+    mag_ref_ut: [f64; 3],
+    mag_ref_valid: bool,
+    bias: GyroBias,
+    /// Mean |a| (units heuristic), m/s², and how long it has run, s (capped).
+    accel_mean_mps2: f64,
+    accel_mean_span_s: f64,
+    /// Latest accepted specific force, body frame, m/s².
+    last_accel_mps2: [f64; 3],
+    flags: AhrsFlags,
+}
+
+impl Ahrs {
+    /// A filter with validated settings; it starts at the first sample.
+    pub fn new(settings: AhrsSettings) -> Result<Self, AhrsError> {
+        settings.validate()?;
+        let s = &settings;
+        let accel_err2_limit = if s.accel_rejection_rad < std::f64::consts::PI {
+            2.0 - 2.0 * s.accel_rejection_rad.cos()
+        } else {
+            f64::INFINITY
+        };
+        let mag_cos_dip_limit = if s.mag_rejection_dip_rad < std::f64::consts::PI {
+            s.mag_rejection_dip_rad.cos()
+        } else {
+            f64::NEG_INFINITY
+        };
+        let ramp_rate = if s.initialisation_period_s > 0.0 && s.initial_gain > s.gain {
+            (s.initial_gain - s.gain) / s.initialisation_period_s
+        } else {
+            f64::INFINITY
+        };
+        Ok(Self {
+            settings,
+            accel_err2_limit,
+            mag_cos_dip_limit,
+            gyro_clip_rads: GYRO_CLIP_SHARE * s.gyro_range_rads,
+            ramp_rate,
+            remap_identity: s.axis_remap == AxisRemap::IDENTITY,
+            started: false,
+            last_t_s: 0.0,
+            q: [1.0, 0.0, 0.0, 0.0],
+            gain: s.gain,
+            accel_rec: Recovery::default(),
+            mag_rec: Recovery::default(),
+            mag_ref_ut: [0.0; 3],
+            mag_ref_valid: false,
+            bias: GyroBias::default(),
+            accel_mean_mps2: 0.0,
+            accel_mean_span_s: 0.0,
+            last_accel_mps2: [0.0; 3],
+            flags: AhrsFlags::default(),
+        })
+    }
+
+    pub fn settings(&self) -> &AhrsSettings {
+        &self.settings
+    }
+
+    /// Whether a sample was accepted yet.
+    pub fn is_started(&self) -> bool {
+        self.started
+    }
+
+    /// Flags of the latest accepted sample.
+    pub fn flags(&self) -> AhrsFlags {
+        self.flags
+    }
+
+    /// Estimated gyroscope bias, rad/s, body frame.
+    pub fn gyro_bias_rads(&self) -> [f64; 3] {
+        self.bias.bias_rads
+    }
+
+    /// Current filter gain β, rad/s (above `settings.gain` while initialising).
+    pub fn gain(&self) -> f64 {
+        self.gain
+    }
+
+    /// Time of the latest accepted sample, s.
+    pub fn last_t_s(&self) -> Option<f64> {
+        self.started.then_some(self.last_t_s)
+    }
+
+    /// Orientation body → earth in the configured frame, [w, x, y, z] (cheap: no
+    /// trigonometry). `None` before the first sample.
+    pub fn quaternion(&self) -> Option<[f64; 4]> {
+        self.started
+            .then(|| quat::normalised(quat::mul(&self.settings.frame.nwu_to_frame(), &self.q)))
+    }
+
+    /// IMU update: gyroscope (rad/s) and accelerometer (specific force, m/s²), sensor
+    /// frame, at `t_s` (s). Returns the flags; read the full state with [`Ahrs::output`].
+    #[inline]
+    pub fn update_imu(
+        &mut self,
+        t_s: f64,
+        gyro_rads: [f64; 3],
+        accel_mps2: [f64; 3],
+    ) -> Result<AhrsFlags, AhrsError> {
+        self.update(t_s, gyro_rads, accel_mps2, None)
+    }
+
+    /// MARG update: as [`Ahrs::update_imu`] plus the magnetic field (µT, sensor frame).
+    #[inline]
+    pub fn update_marg(
+        &mut self,
+        t_s: f64,
+        gyro_rads: [f64; 3],
+        accel_mps2: [f64; 3],
+        mag_ut: [f64; 3],
+    ) -> Result<AhrsFlags, AhrsError> {
+        self.update(t_s, gyro_rads, accel_mps2, Some(mag_ut))
+    }
+
+    /// One sample with an optional magnetometer reading.
+    #[inline(always)]
+    pub fn update(
+        &mut self,
+        t_s: f64,
+        gyro_rads: [f64; 3],
+        accel_mps2: [f64; 3],
+        mag_ut: Option<[f64; 3]>,
+    ) -> Result<AhrsFlags, AhrsError> {
+        // --- The door: nothing below mutates until every check passed.
+        if !t_s.is_finite() {
+            return Err(AhrsError::NonFinite { field: "t_s" });
+        }
+        finite3("gyro_rads", &gyro_rads)?;
+        finite3("accel_mps2", &accel_mps2)?;
+        if let Some(m) = &mag_ut {
+            finite3("mag_ut", m)?;
+        }
+        let (gyro, accel, mag) = if self.remap_identity {
+            (gyro_rads, accel_mps2, mag_ut)
+        } else {
+            let remap: AxisRemap = self.settings.axis_remap;
+            (
+                remap.apply(gyro_rads),
+                remap.apply(accel_mps2),
+                mag_ut.map(|m| remap.apply(m)),
+            )
+        };
+        let a_norm = (accel[0] * accel[0] + accel[1] * accel[1] + accel[2] * accel[2]).sqrt();
+        let dt = t_s - self.last_t_s;
+        if self.started && dt <= 0.0 {
+            return Err(AhrsError::TimeNotIncreasing {
+                t_s,
+                last_t_s: self.last_t_s,
+            });
+        }
+        if !self.started || dt > self.settings.max_gap_s {
+            let w2 = gyro[0] * gyro[0] + gyro[1] * gyro[1] + gyro[2] * gyro[2];
+            if (G_UNITS_LOW..=G_UNITS_HIGH).contains(&a_norm)
+                && w2 < G_UNITS_STILL_RADS * G_UNITS_STILL_RADS
+            {
+                return Err(AhrsError::AccelerationNotInMps2 { magnitude: a_norm });
+            }
+            self.start(t_s, &accel, a_norm, mag.as_ref());
+            return Ok(self.flags);
+        }
+        let k = (dt * (1.0 / ACCEL_MEAN_TAU_S)).min(1.0);
+        let mean = self.accel_mean_mps2 + k * (a_norm - self.accel_mean_mps2);
+        let span = self.accel_mean_span_s + dt;
+        if span >= ACCEL_MEAN_SPAN_S && mean < ACCEL_MEAN_MIN_MPS2 {
+            return Err(AhrsError::AccelerationNotInMps2 { magnitude: mean });
+        }
+        // --- Accepted.
+        self.accel_mean_mps2 = mean;
+        self.accel_mean_span_s = span.min(ACCEL_MEAN_SPAN_S);
+        self.last_t_s = t_s;
+        self.last_accel_mps2 = accel;
+        // The flags are returned from the local copy: reading them back from `self`
+        // right after their byte-wise store stalls store-to-load forwarding.
+        Ok(self.step(dt, gyro, &accel, a_norm, mag.as_ref()))
+    }
+
+    /// (Re)start the orientation from one sample.
+    fn start(&mut self, t_s: f64, accel: &[f64; 3], a_norm: f64, mag: Option<&[f64; 3]>) {
+        let s = &self.settings;
+        self.q = initial_orientation(s.frame, accel, a_norm, mag);
+        let init = self.ramp_rate.is_finite();
+        self.gain = if init { s.initial_gain } else { s.gain };
+        self.started = true;
+        self.last_t_s = t_s;
+        self.last_accel_mps2 = *accel;
+        self.accel_rec = Recovery::default();
+        self.mag_rec = Recovery::default();
+        self.accel_mean_mps2 = a_norm;
+        self.accel_mean_span_s = 0.0;
+        self.bias.still_s = 0.0;
+        self.mag_ref_valid = false;
+        if let Some(m) = mag {
+            let h = quat::rotate(&self.q, m);
+            let n = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
+            if n > 0.0 {
+                self.mag_ref_ut = [(h[0] * h[0] + h[1] * h[1]).sqrt() / n, h[2] / n, n];
+                self.mag_ref_valid = true;
+            }
+        }
+        self.flags = AhrsFlags {
+            reinitialised: true,
+            initialising: init,
+            ..AhrsFlags::default()
+        };
+    }
+
+    /// One accepted sample after the first: bias, corrections, integration.
+    #[inline(always)]
+    fn step(
+        &mut self,
+        dt: f64,
+        gyro: [f64; 3],
+        a: &[f64; 3],
+        a_norm: f64,
+        mag: Option<&[f64; 3]>,
+    ) -> AhrsFlags {
+        let s = &self.settings;
+        let mut flags = AhrsFlags {
+            initialising: self.flags.initialising,
+            angular_rate_recovery: self.flags.angular_rate_recovery,
+            ..AhrsFlags::default()
+        };
+
+        // Angular rate recovery: a clipped gyroscope restarts the initialisation phase.
+        if (gyro[0].abs() > self.gyro_clip_rads)
+            | (gyro[1].abs() > self.gyro_clip_rads)
+            | (gyro[2].abs() > self.gyro_clip_rads)
+        {
+            flags.initialising = true;
+            flags.angular_rate_recovery = true;
+            self.gain = s.initial_gain.max(s.gain);
+            self.accel_rec = Recovery::default();
+            self.mag_rec = Recovery::default();
+        }
+        if flags.initialising {
+            self.gain -= self.ramp_rate * dt;
+            if self.gain <= s.gain {
+                self.gain = s.gain;
+                flags.initialising = false;
+                flags.angular_rate_recovery = false;
+            }
+        }
+
+        // Gyroscope bias.
+        let mut w = gyro;
+        if s.bias_estimation {
+            let b = &self.bias.bias_rads;
+            w = [w[0] - b[0], w[1] - b[1], w[2] - b[2]];
+            let still = (a_norm - s.gravity_mps2).abs() < STILL_ACCEL_MPS2;
+            flags.bias_learning = self.bias.update(&w, dt, still);
+        }
+
+        let [qw, qx, qy, qz] = self.q;
+        let (mut sw, mut sx, mut sy, mut sz) = (0.0, 0.0, 0.0, 0.0);
+
+        // Up in the body frame as the estimate sees it (third row of R(q)).
+        let vx = 2.0 * (qx * qz - qw * qy);
+        let vy = 2.0 * (qw * qx + qy * qz);
+        let vz = 2.0 * (0.5 - qx * qx - qy * qy);
+
+        // Accelerometer: misfit between the estimated and the measured up direction.
+        if a_norm > 0.0 {
+            let inv = 1.0 / a_norm;
+            let f1 = vx - a[0] * inv;
+            let f2 = vy - a[1] * inv;
+            let f3 = vz - a[2] * inv;
+            let bad = !flags.initialising
+                & (((a_norm - s.gravity_mps2).abs() > s.accel_rejection_mps2)
+                    | (f1 * f1 + f2 * f2 + f3 * f3 > self.accel_err2_limit));
+            let (use_it, _) = self.accel_rec.step(bad, dt, s.recovery_trigger_period_s);
+            flags.accel_recovery = self.accel_rec.recovering;
+            flags.accel_rejected = !use_it;
+            // ∇/2 = ½ J_gᵀ f_g (the step is normalised: common factors drop out),
+            // weighted 0 when rejected (no branch on the data).
+            let u = if use_it { 1.0 } else { 0.0 };
+            sw = u * (qx * f2 - qy * f1);
+            sx = u * (qz * f1 + qw * f2 - 2.0 * qx * f3);
+            sy = u * (qz * f2 - qw * f1 - 2.0 * qy * f3);
+            sz = u * (qx * f1 + qy * f2);
+        } else {
+            flags.accel_rejected = true;
+        }
+
+        // Magnetometer: misfit between the estimated and the measured field direction.
+        if let Some(m) = mag {
+            let m2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
+            if m2 > 0.0 {
+                let m_norm = m2.sqrt();
+                let inv = 1.0 / m_norm;
+                let (mx, my, mz) = (m[0] * inv, m[1] * inv, m[2] * inv);
+                // The unit field in the earth frame, h = q ⊗ m̂ ⊗ q*, enters only as
+                // its up component (up-in-body · m̂) and its horizontal magnitude,
+                // √(1 − h_z²) since |h| = 1: the reference b = (b_x, 0, b_z) without
+                // rotating the whole vector.
+                let bz = vx * mx + vy * my + vz * mz;
+                let bx = (1.0 - bz * bz).max(0.0).sqrt();
+                let [rx, rz, rn] = self.mag_ref_ut;
+                let bad = !flags.initialising
+                    & self.mag_ref_valid
+                    & (((m_norm - rn).abs() > s.mag_rejection_ut)
+                        | (bx * rx + bz * rz < self.mag_cos_dip_limit));
+                let (use_it, started) = self.mag_rec.step(bad, dt, s.recovery_trigger_period_s);
+                flags.mag_recovery = self.mag_rec.recovering;
+                if started || !self.mag_ref_valid {
+                    self.mag_ref_ut = [bx, bz, m_norm];
+                    self.mag_ref_valid = true;
+                }
+                if use_it {
+                    let tau = if flags.initialising {
+                        MAG_REF_INIT_TAU_S
+                    } else {
+                        MAG_REF_TAU_S
+                    };
+                    let k = (dt / tau).min(1.0);
+                    let r = &mut self.mag_ref_ut;
+                    r[0] += k * (bx - r[0]);
+                    r[1] += k * (bz - r[1]);
+                    r[2] += k * (m_norm - r[2]);
+                    // ∇/2 += ½ J_bᵀ f_b, with f_b = b_x·N + b_z·up − m̂ (N: north, the
+                    // first row of R(q), in the body frame).
+                    let n0 = 1.0 - 2.0 * (qy * qy + qz * qz);
+                    let n1 = 2.0 * (qx * qy - qw * qz);
+                    let n2 = 2.0 * (qw * qy + qx * qz);
+                    let f4 = bx * n0 + bz * vx - mx;
+                    let f5 = bx * n1 + bz * vy - my;
+                    let f6 = bx * n2 + bz * vz - mz;
+                    sw += (bz * qx - bx * qz) * f5 + bx * qy * f6 - bz * qy * f4;
+                    sx += bz * qz * f4 + (bx * qy + bz * qw) * f5 + (bx * qz - 2.0 * bz * qx) * f6;
+                    sy += (bx * qx + bz * qz) * f5 + (bx * qw - 2.0 * bz * qy) * f6
+                        - (2.0 * bx * qy + bz * qw) * f4;
+                    sz += (bz * qx - 2.0 * bx * qz) * f4 + (bz * qy - bx * qw) * f5 + bx * qx * f6;
+                } else {
+                    flags.mag_rejected = true;
+                }
+            }
+        }
+
+        // Normalised gradient step, scaled by gain and (bounded) interval.
+        let n2 = sw * sw + sx * sx + sy * sy + sz * sz;
+        // β·dt/|∇| written as β·dt·|∇|/|∇|²: the square root and the division then
+        // run in parallel instead of one after the other (this is on the critical
+        // path from one sample's q to the next).
+        let c = if n2 > 0.0 {
+            (self.gain * dt.min(MAX_CORRECTION_DT_S) / n2) * n2.sqrt()
+        } else {
+            0.0
+        };
+
+        // Gyroscope propagation with the half-angle vector ½ ω dt.
+        let hdt = 0.5 * dt;
+        let (hx, hy, hz) = (w[0] * hdt, w[1] * hdt, w[2] * hdt);
+        let h2 = hx * hx + hy * hy + hz * hz;
+        let p = if h2 < EXACT_HALF_ANGLE2 {
+            // q + q ⊗ (0, ½ ω dt): first order, as the paper.
+            [
+                qw - qx * hx - qy * hy - qz * hz,
+                qx + qw * hx + qy * hz - qz * hy,
+                qy + qw * hy - qx * hz + qz * hx,
+                qz + qw * hz + qx * hy - qy * hx,
+            ]
+        } else {
+            let ha = h2.sqrt();
+            let (sn, cs) = ha.sin_cos();
+            let k = sn / ha;
+            quat::mul(&self.q, &[cs, k * hx, k * hy, k * hz])
+        };
+        let nw = p[0] - c * sw;
+        let nx = p[1] - c * sx;
+        let ny = p[2] - c * sy;
+        let nz = p[3] - c * sz;
+        // Renormalise. |q|² stays close to 1: first-order integration adds (½|ω|dt)²
+        // and the step, which has a radial part, changes it by ~2β·dt (≤ 1e-2 at
+        // β = 1, 100 Hz). There the Taylor series of 1/√(1+ε) to second order,
+        // 1 − ε/2 + 3ε²/8 (error ≤ 5/16·|ε|³ ≈ 3e-7, corrected again next sample),
+        // gives the same direction without a square root and a division on the
+        // chain that carries q from sample to sample. Larger deviations take the
+        // exact path.
+        let eps = nw * nw + nx * nx + ny * ny + nz * nz - 1.0;
+        let inv = if eps.abs() < 1e-2 {
+            1.0 + eps * (0.375 * eps - 0.5)
+        } else {
+            1.0 / (1.0 + eps).sqrt()
+        };
+        self.q = [nw * inv, nx * inv, ny * inv, nz * inv];
+        self.flags = flags;
+        flags
+    }
+
+    /// Orientation and derived quantities after the latest accepted sample; `None`
+    /// before the first.
+    pub fn output(&self) -> Option<AhrsOutput> {
+        self.started.then(|| self.make_output())
+    }
+
+    fn make_output(&self) -> AhrsOutput {
+        let frame = self.settings.frame;
+        let q = quat::normalised(quat::mul(&frame.nwu_to_frame(), &self.q));
+        let (roll_rad, pitch_rad, yaw_rad) = quat::to_euler(&q);
+        let heading = match frame {
+            EarthFrame::Enu => -yaw_rad,
+            EarthFrame::Ned => yaw_rad,
+        };
+        let mut heading_rad = heading.rem_euclid(std::f64::consts::TAU) + 0.0;
+        if heading_rad >= std::f64::consts::TAU {
+            heading_rad = 0.0;
+        }
+        // Up in the body frame: third row of R(q_NWU).
+        let [w, x, y, z] = quat::normalised(self.q);
+        let g = self.settings.gravity_mps2;
+        let gravity_body_mps2 = [
+            g * 2.0 * (x * z - w * y),
+            g * 2.0 * (w * x + y * z),
+            g * (1.0 - 2.0 * (x * x + y * y)),
+        ];
+        let a = &self.last_accel_mps2;
+        let linear_accel_body_mps2 = [
+            a[0] - gravity_body_mps2[0],
+            a[1] - gravity_body_mps2[1],
+            a[2] - gravity_body_mps2[2],
+        ];
+        let linear_accel_earth_mps2 = quat::rotate(&q, &linear_accel_body_mps2);
+        AhrsOutput {
+            t_s: self.last_t_s,
+            frame,
+            quaternion: q,
+            roll_rad,
+            pitch_rad,
+            yaw_rad,
+            heading_rad,
+            gravity_body_mps2,
+            linear_accel_body_mps2,
+            linear_accel_earth_mps2,
+            gyro_bias_rads: self.bias.bias_rads,
+            flags: self.flags,
+        }
+    }
+
+    /// Feed many samples in order; one output per accepted sample goes to `out`,
+    /// every rejected sample (state untouched, the rest of the batch still processed)
+    /// to `rejected`. Returns the number accepted. Allocates nothing itself (only
+    /// `out` / `rejected` may grow: reserve capacity to avoid that).
+    pub fn update_batch<O, R>(
+        &mut self,
+        samples: &[ImuSample],
+        out: &mut O,
+        rejected: &mut R,
+    ) -> usize
+    where
+        O: Extend<AhrsOutput>,
+        R: Extend<AhrsRejection>,
+    {
+        let mut accepted = 0;
+        for (index, s) in samples.iter().enumerate() {
+            match self.update(s.t_s, s.gyro_rads, s.accel_mps2, s.mag_ut) {
+                Ok(_) => {
+                    accepted += 1;
+                    out.extend(Some(self.make_output()));
+                }
+                Err(error) => rejected.extend(Some(AhrsRejection { index, error })),
+            }
+        }
+        accepted
+    }
+
+    /// The whole state as bytes (versioned, checksummed): restoring continues with
+    /// bit-identical output.
+    pub fn snapshot(&self) -> Vec<u8> {
+        let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
+        let s = &self.settings;
+        w.u8(s.frame.to_u8());
+        for (src, neg) in s.axis_remap.source().iter().zip(s.axis_remap.negate()) {
+            w.u8(*src as u8);
+            w.bool(neg);
+        }
+        w.f64s(&[
+            s.gain,
+            s.initial_gain,
+            s.initialisation_period_s,
+            s.gyro_range_rads,
+            s.accel_rejection_mps2,
+            s.accel_rejection_rad,
+            s.mag_rejection_ut,
+            s.mag_rejection_dip_rad,
+            s.recovery_trigger_period_s,
+            s.gravity_mps2,
+            s.max_gap_s,
+        ]);
+        w.bool(s.bias_estimation);
+        w.bool(self.started);
+        w.f64(self.last_t_s);
+        w.f64s(&self.q);
+        w.f64(self.gain);
+        for r in [&self.accel_rec, &self.mag_rec] {
+            w.f64(r.trigger_s);
+            w.bool(r.recovering);
+        }
+        w.f64s(&self.mag_ref_ut);
+        w.bool(self.mag_ref_valid);
+        w.f64s(&self.bias.bias_rads);
+        w.f64(self.bias.still_s);
+        w.f64(self.accel_mean_mps2);
+        w.f64(self.accel_mean_span_s);
+        w.f64s(&self.last_accel_mps2);
+        w.u8(self.flags.to_bits());
+        w.finish()
+    }
+
+    /// A filter continuing exactly where the snapshot was taken.
+    pub fn restore(bytes: &[u8]) -> Result<Self, AhrsError> {
+        let (mut r, _version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let frame = EarthFrame::from_u8(r.u8()?).ok_or(SnapshotError::Invalid("frame"))?;
+        let mut source = [0usize; 3];
+        let mut negate = [false; 3];
+        for i in 0..3 {
+            source[i] = r.u8()? as usize;
+            negate[i] = r.bool()?;
+        }
+        let axis_remap =
+            AxisRemap::new(source, negate).map_err(|_| SnapshotError::Invalid("axis remap"))?;
+        let mut v = [0.0; 11];
+        r.f64s(&mut v)?;
+        let settings = AhrsSettings {
+            frame,
+            axis_remap,
+            gain: v[0],
+            initial_gain: v[1],
+            initialisation_period_s: v[2],
+            gyro_range_rads: v[3],
+            accel_rejection_mps2: v[4],
+            accel_rejection_rad: v[5],
+            mag_rejection_ut: v[6],
+            mag_rejection_dip_rad: v[7],
+            recovery_trigger_period_s: v[8],
+            gravity_mps2: v[9],
+            max_gap_s: v[10],
+            bias_estimation: r.bool()?,
+        };
+        let mut a = Ahrs::new(settings).map_err(|_| SnapshotError::Invalid("settings"))?;
+        a.started = r.bool()?;
+        a.last_t_s = r.f64()?;
+        r.f64s(&mut a.q)?;
+        a.gain = r.f64()?;
+        for rec in [&mut a.accel_rec, &mut a.mag_rec] {
+            rec.trigger_s = r.f64()?;
+            rec.recovering = r.bool()?;
+        }
+        r.f64s(&mut a.mag_ref_ut)?;
+        a.mag_ref_valid = r.bool()?;
+        r.f64s(&mut a.bias.bias_rads)?;
+        a.bias.still_s = r.f64()?;
+        a.accel_mean_mps2 = r.f64()?;
+        a.accel_mean_span_s = r.f64()?;
+        r.f64s(&mut a.last_accel_mps2)?;
+        a.flags = AhrsFlags::from_bits(r.u8()?);
+        r.end()?;
+        let qn = a.q.iter().map(|c| c * c).sum::<f64>();
+        let finite = a.last_t_s.is_finite()
+            && a.gain.is_finite()
+            && a.accel_mean_mps2.is_finite()
+            && a.accel_mean_span_s.is_finite()
+            && a.bias.still_s.is_finite()
+            && a.accel_rec.trigger_s.is_finite()
+            && a.mag_rec.trigger_s.is_finite()
+            && a.mag_ref_ut.iter().all(|x| x.is_finite())
+            && a.bias.bias_rads.iter().all(|x| x.is_finite())
+            && a.last_accel_mps2.iter().all(|x| x.is_finite());
+        if !finite {
+            return Err(SnapshotError::Invalid("non-finite state").into());
+        }
+        if qn.is_nan() || (qn - 1.0).abs() >= 1e-6 {
+            return Err(SnapshotError::Invalid("quaternion not unit").into());
+        }
+        Ok(a)
+    }
+}
+
+/// Orientation (body → NWU) from one sample: roll and pitch from gravity; heading
+/// from the field when there is one (TRIAD: east = field × up, north = up × east),
+/// else yaw = 0 in the output frame.
+fn initial_orientation(
+    frame: EarthFrame,
+    a: &[f64; 3],
+    a_norm: f64,
+    mag: Option<&[f64; 3]>,
+) -> Quat {
+    let c = frame.nwu_to_frame();
+    if a_norm <= 0.0 {
+        return quat::conj(&c);
+    }
+    let up = [a[0] / a_norm, a[1] / a_norm, a[2] / a_norm];
+    if let Some(m) = mag {
+        let e = cross(m, &up);
+        let en = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
+        let mn = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
+        if en > MIN_HEADING_SIN * mn && en > 0.0 {
+            let east = [e[0] / en, e[1] / en, e[2] / en];
+            let north = cross(&up, &east);
+            let west = [-east[0], -east[1], -east[2]];
+            return quat::from_rows(&[north, west, up]);
+        }
+    }
+    let h = up[1].hypot(up[2]);
+    let (roll, pitch) = match frame {
+        EarthFrame::Enu => (up[1].atan2(up[2]), (-up[0]).atan2(h)),
+        EarthFrame::Ned => ((-up[1]).atan2(-up[2]), up[0].atan2(h)),
+    };
+    let q_out = quat::from_euler(roll, pitch, 0.0);
+    quat::mul(&quat::conj(&c), &q_out)
+}
+
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
