@@ -13,6 +13,7 @@ mod data;
 mod error;
 mod fit;
 mod gpx;
+mod oxford;
 mod record;
 mod tcx;
 mod xml;
@@ -24,6 +25,9 @@ pub use crate::data::{data_dir, DATA_ENV_VAR};
 pub use crate::error::FormatError;
 pub use crate::fit::read_fit;
 pub use crate::gpx::read_gpx;
+pub use crate::oxford::{
+    list_oxford_traces, read_oxford_trace, OxfordAccel, OxfordPosition, OxfordTrace,
+};
 pub use crate::record::{Activity, Record};
 pub use crate::tcx::read_tcx;
 

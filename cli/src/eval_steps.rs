@@ -1,0 +1,482 @@
+//! `stridekit eval steps`: step counting of the AsPublished and default detectors on the
+//! Oxford Step Counter traces (phones carried 7 ways, shoe-worn heel-strike reference),
+//! at the native rate, resampled to 50 Hz and with jittered timestamps.
+//!
+//! Scores per trace: count error (detected − reference) / reference, and step-event F1:
+//! a detected step matches a reference heel strike within ±0.25 s, one-to-one (greedy
+//! in time order, which is a maximum matching for a fixed tolerance).
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use stridekit_core::stepdetect::{AccelSample, RobustStepParams, StepDetector, StepDetectorConfig};
+use stridekit_formats::{list_oxford_traces, read_oxford_trace, OxfordPosition, OxfordTrace};
+
+/// Matching tolerance between a detected step and a reference heel strike, s.
+pub const MATCH_TOLERANCE_S: f64 = 0.25;
+
+/// Reference heel strikes closer than this to the previous one are contact-sensor
+/// bounce, not steps (no one walks at more than 3.3 steps/s; the set is all walking), s.
+pub const DEBOUNCE_S: f64 = 0.3;
+
+/// The reference without strikes closer than [`DEBOUNCE_S`] to the previous kept one.
+pub fn debounce(strikes: &[f64]) -> Vec<f64> {
+    let mut out: Vec<f64> = Vec::with_capacity(strikes.len());
+    for &t in strikes {
+        if out.last().is_none_or(|&p| t - p >= DEBOUNCE_S) {
+            out.push(t);
+        }
+    }
+    out
+}
+
+/// How the accelerometer stream is presented to the detectors.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variant {
+    /// As recorded (100–405 Hz).
+    Native,
+    /// Linearly interpolated onto a 50 Hz grid.
+    Resampled50Hz,
+    /// Timestamps jittered by up to ±40 % of the mean spacing and 10 % of samples
+    /// dropped (values unchanged).
+    Jittered,
+}
+
+impl Variant {
+    pub const ALL: [Variant; 3] = [Variant::Native, Variant::Resampled50Hz, Variant::Jittered];
+    fn name(self) -> &'static str {
+        match self {
+            Variant::Native => "native rate",
+            Variant::Resampled50Hz => "resampled to 50 Hz",
+            Variant::Jittered => "jittered timestamps, 10 % dropped",
+        }
+    }
+}
+
+/// Deterministic xorshift in 0..1.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// The trace's samples as presented by `variant`.
+pub fn samples(trace: &OxfordTrace, variant: Variant) -> Vec<AccelSample> {
+    let raw: Vec<AccelSample> = trace
+        .accel
+        .iter()
+        .map(|a| AccelSample {
+            t_s: a.t_s,
+            accel_mps2: a.accel_mps2,
+        })
+        .collect();
+    match variant {
+        Variant::Native => raw,
+        Variant::Resampled50Hz => {
+            let mut out = Vec::new();
+            let (Some(first), Some(last)) = (raw.first(), raw.last()) else {
+                return out;
+            };
+            let mut t = first.t_s;
+            let mut j = 0;
+            while t <= last.t_s {
+                while j + 1 < raw.len() && raw[j + 1].t_s < t {
+                    j += 1;
+                }
+                let (a, b) = (raw[j], raw[(j + 1).min(raw.len() - 1)]);
+                let f = if b.t_s > a.t_s {
+                    ((t - a.t_s) / (b.t_s - a.t_s)).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let v: [f64; 3] = std::array::from_fn(|k| {
+                    a.accel_mps2[k] + f * (b.accel_mps2[k] - a.accel_mps2[k])
+                });
+                out.push(AccelSample {
+                    t_s: t,
+                    accel_mps2: v,
+                });
+                t += 0.02;
+            }
+            out
+        }
+        Variant::Jittered => {
+            let dt = 1.0 / trace.rate_hz();
+            let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+            let mut out: Vec<AccelSample> = Vec::with_capacity(raw.len());
+            for s in raw {
+                if rng.next() < 0.1 {
+                    continue;
+                }
+                let t = s.t_s + 0.8 * (rng.next() - 0.5) * dt;
+                if out.last().is_none_or(|p| t > p.t_s) {
+                    out.push(AccelSample { t_s: t, ..s });
+                }
+            }
+            out
+        }
+    }
+}
+
+/// Step times of one detector over `samples`.
+pub fn detect(config: StepDetectorConfig, samples: &[AccelSample]) -> Vec<f64> {
+    let mut d = StepDetector::new(config).expect("valid configuration");
+    d.push_batch(samples).steps.iter().map(|e| e.t_s).collect()
+}
+
+/// Matched pairs within the tolerance, one-to-one (both lists sorted).
+pub fn matches(detected: &[f64], reference: &[f64], tol_s: f64) -> usize {
+    let (mut i, mut j, mut n) = (0, 0, 0);
+    while i < detected.len() && j < reference.len() {
+        let d = detected[i] - reference[j];
+        if d.abs() <= tol_s {
+            n += 1;
+            i += 1;
+            j += 1;
+        } else if d < 0.0 {
+            i += 1;
+        } else {
+            j += 1;
+        }
+    }
+    n
+}
+
+/// Scores of one detector on one trace.
+#[derive(Clone, Copy, Debug)]
+pub struct Score {
+    pub reference: usize,
+    pub detected: usize,
+    pub count_error_pct: f64,
+    pub f1: f64,
+    /// Median of detected − matched reference time, s.
+    pub lag_s: f64,
+}
+
+pub fn score(detected: &[f64], reference: &[f64]) -> Score {
+    let m = matches(detected, reference, MATCH_TOLERANCE_S) as f64;
+    let (nd, nr) = (detected.len() as f64, reference.len() as f64);
+    let f1 = if nd + nr > 0.0 {
+        2.0 * m / (nd + nr)
+    } else {
+        1.0
+    };
+    // Lag: nearest reference to each detected step (informative only).
+    let mut lags: Vec<f64> = detected
+        .iter()
+        .filter_map(|&t| {
+            let k = reference.partition_point(|&r| r < t);
+            let cands = [k.checked_sub(1), Some(k)];
+            cands
+                .iter()
+                .flatten()
+                .filter_map(|&k| reference.get(k).map(|r| t - r))
+                .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+        })
+        .collect();
+    lags.sort_by(f64::total_cmp);
+    Score {
+        reference: reference.len(),
+        detected: detected.len(),
+        count_error_pct: 100.0 * (nd - nr) / nr,
+        f1,
+        lag_s: lags.get(lags.len() / 2).copied().unwrap_or(f64::NAN),
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Summary of a set of scores: median |count error| %, worst |count error| %, median F1,
+/// mean F1.
+fn summary(s: &[Score]) -> (f64, f64, f64, f64) {
+    let abs: Vec<f64> = s.iter().map(|s| s.count_error_pct.abs()).collect();
+    let worst = abs.iter().copied().fold(0.0, f64::max);
+    let f1: Vec<f64> = s.iter().map(|s| s.f1).collect();
+    let mean_f1 = f1.iter().sum::<f64>() / f1.len().max(1) as f64;
+    (median(abs), worst, median(f1), mean_f1)
+}
+
+struct Row {
+    trace: OxfordTrace,
+    rate_hz: f64,
+    /// [variant][detector]
+    scores: [[Score; 2]; 3],
+    /// Native rate against the de-bounced reference.
+    debounced: [Score; 2],
+}
+
+/// Parameters of the default detector varied by the sensitivity and leave-one-user-out
+/// checks.
+type Knob = (&'static str, fn(&mut RobustStepParams) -> &mut f64);
+const KNOBS: [Knob; 8] = [
+    ("lowpass_hz", |p| &mut p.lowpass_hz),
+    ("hysteresis_rel", |p| &mut p.hysteresis_rel),
+    ("min_amplitude_mps2", |p| &mut p.min_amplitude_mps2),
+    ("relative_amplitude", |p| &mut p.relative_amplitude),
+    ("min_periodicity", |p| &mut p.min_periodicity),
+    ("regularity", |p| &mut p.regularity),
+    ("refractory", |p| &mut p.refractory),
+    ("min_impact_ratio", |p| &mut p.min_impact_ratio),
+];
+
+/// Native-rate scores of `config` on every trace.
+fn scores_of(config: StepDetectorConfig, traces: &[(OxfordTrace, Vec<AccelSample>)]) -> Vec<Score> {
+    traces
+        .iter()
+        .map(|(t, s)| score(&detect(config, s), &t.heel_strikes_t_s))
+        .collect()
+}
+
+/// Sensitivity of the default detector to each parameter (×0.75, ×1.25), and a
+/// leave-one-user-out check: a grid search over three parameters picks the best setting
+/// on two users (lowest mean |count error|) and is scored on the third, next to the
+/// fixed default.
+pub fn robustness(dir: &Path) -> Result<String, String> {
+    let paths = list_oxford_traces(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let mut traces = Vec::new();
+    for p in &paths {
+        let t = read_oxford_trace(p).map_err(|e| format!("{}: {e}", p.display()))?;
+        let s = samples(&t, Variant::Native);
+        traces.push((t, s));
+    }
+    let base = StepDetectorConfig::default();
+    let mut out = String::new();
+    let _ = writeln!(out, "Sensitivity of the default detector (native rate, all {} traces): each parameter scaled by 0.75 and 1.25, the others at their defaults.\n", traces.len());
+    let _ = writeln!(
+        out,
+        "| parameter | default | ×0.75: med / worst / med F1 | ×1.25: med / worst / med F1 |"
+    );
+    let _ = writeln!(out, "|---|---|---|---|");
+    let b = summary(&scores_of(base, &traces));
+    let _ = writeln!(
+        out,
+        "| (defaults) | | {:.2} % / {:.2} % / {:.3} | |",
+        b.0, b.1, b.2
+    );
+    for (name, get) in KNOBS {
+        let mut cells = Vec::new();
+        for f in [0.75, 1.25] {
+            let mut c = base;
+            *get(&mut c.robust) *= f;
+            let cell = match StepDetector::new(c) {
+                Ok(_) => {
+                    let s = summary(&scores_of(c, &traces));
+                    format!("{:.2} % / {:.2} % / {:.3}", s.0, s.1, s.2)
+                }
+                Err(_) => "invalid".into(),
+            };
+            cells.push(cell);
+        }
+        let mut c = base;
+        let _ = writeln!(
+            out,
+            "| {name} | {} | {} | {} |",
+            *get(&mut c.robust),
+            cells[0],
+            cells[1]
+        );
+    }
+
+    // Leave one user out.
+    let grid: Vec<StepDetectorConfig> = {
+        let mut g = Vec::new();
+        for ra in [0.35, 0.45, 0.55] {
+            for mp in [0.3, 0.4, 0.5] {
+                for hr in [0.4, 0.5, 0.6] {
+                    let mut c = base;
+                    c.robust.relative_amplitude = ra;
+                    c.robust.min_periodicity = mp;
+                    c.robust.hysteresis_rel = hr;
+                    g.push(c);
+                }
+            }
+        }
+        g
+    };
+    let all: Vec<Vec<Score>> = grid.iter().map(|c| scores_of(*c, &traces)).collect();
+    let fixed = scores_of(base, &traces);
+    let _ = writeln!(out, "\nLeave one user out: grid over relative_amplitude ∈ {{0.35, 0.45, 0.55}} × min_periodicity ∈ {{0.3, 0.4, 0.5}} × hysteresis_rel ∈ {{0.4, 0.5, 0.6}}; the setting with the lowest mean |count error| on the two other users is scored on the held-out user.\n");
+    let _ = writeln!(out, "| held-out user | traces | setting chosen on the others (rel. amp., periodicity, hysteresis) | held out, chosen: med / worst / med F1 | held out, fixed default: med / worst / med F1 |");
+    let _ = writeln!(out, "|---|---|---|---|---|");
+    for user in ["Jamie", "Carmelo", "Dario"] {
+        let held: Vec<usize> = (0..traces.len())
+            .filter(|&i| traces[i].0.user == user)
+            .collect();
+        let train: Vec<usize> = (0..traces.len())
+            .filter(|&i| traces[i].0.user != user)
+            .collect();
+        let mean_abs = |g: &Vec<Score>, idx: &[usize]| {
+            idx.iter().map(|&i| g[i].count_error_pct.abs()).sum::<f64>() / idx.len() as f64
+        };
+        let best = (0..grid.len())
+            .min_by(|&a, &b| mean_abs(&all[a], &train).total_cmp(&mean_abs(&all[b], &train)))
+            .unwrap_or(0);
+        let pick = |g: &Vec<Score>| held.iter().map(|&i| g[i]).collect::<Vec<_>>();
+        let (c, f) = (summary(&pick(&all[best])), summary(&pick(&fixed)));
+        let r = grid[best].robust;
+        let _ =
+            writeln!(
+            out,
+            "| {user} | {} | {}, {}, {} | {:.2} % / {:.2} % / {:.3} | {:.2} % / {:.2} % / {:.3} |",
+            held.len(),
+            r.relative_amplitude,
+            r.min_periodicity,
+            r.hysteresis_rel,
+            c.0, c.1, c.2, f.0, f.1, f.2
+        );
+    }
+    Ok(out)
+}
+
+/// The full evaluation as markdown.
+pub fn run(dir: &Path) -> Result<String, String> {
+    let paths = list_oxford_traces(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    if paths.is_empty() {
+        return Err(format!("no Oxford traces in {}", dir.display()));
+    }
+    let configs = [
+        StepDetectorConfig::as_published(),
+        StepDetectorConfig::default(),
+    ];
+    let mut rows = Vec::new();
+    for p in &paths {
+        let trace = read_oxford_trace(p).map_err(|e| format!("{}: {e}", p.display()))?;
+        let mut scores = [[None; 2]; 3];
+        let mut debounced = [None; 2];
+        let clean_ref = debounce(&trace.heel_strikes_t_s);
+        for (vi, v) in Variant::ALL.iter().enumerate() {
+            let s = samples(&trace, *v);
+            for (ci, c) in configs.iter().enumerate() {
+                let det = detect(*c, &s);
+                scores[vi][ci] = Some(score(&det, &trace.heel_strikes_t_s));
+                if vi == 0 {
+                    debounced[ci] = Some(score(&det, &clean_ref));
+                }
+            }
+        }
+        let debounced = debounced.map(|s| s.expect("scored"));
+        let scores = scores.map(|v| v.map(|s| s.expect("scored")));
+        let rate_hz = trace.rate_hz();
+        let mut trace = trace;
+        trace.accel = Vec::new();
+        rows.push(Row {
+            trace,
+            rate_hz,
+            scores,
+            debounced,
+        });
+    }
+
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "Oxford Step Counter traces ({}, {} traces; Salvi et al. 2018, CC BY 4.0). Reference: heel strikes of the shoe-worn sensor. Count error = (detected − reference) / reference; F1: detected step within ±{MATCH_TOLERANCE_S} s of a reference heel strike, one-to-one. One configuration for all traces.\n",
+        dir.display(),
+        rows.len()
+    );
+    let _ = writeln!(out, "Per trace, native rate:\n");
+    let _ = writeln!(out, "| trace | Hz | reference | AsPublished steps | AsPublished error | AsPublished F1 | default steps | default error | default F1 | default lag s | default @50 Hz error / F1 | default jittered error / F1 | reference strikes < {DEBOUNCE_S} s apart | default vs de-bounced reference: error / F1 |");
+    let _ = writeln!(
+        out,
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    );
+    for r in &rows {
+        let [p, d] = r.scores[0];
+        let d50 = r.scores[1][1];
+        let dj = r.scores[2][1];
+        let db = r.debounced[1];
+        let _ = writeln!(
+            out,
+            "| {} | {:.0} | {} | {} | {:+.1} % | {:.3} | {} | {:+.1} % | {:.3} | {:+.3} | {:+.1} % / {:.3} | {:+.1} % / {:.3} | {} | {:+.1} % / {:.3} |",
+            r.trace.name,
+            r.rate_hz,
+            p.reference,
+            p.detected,
+            p.count_error_pct,
+            p.f1,
+            d.detected,
+            d.count_error_pct,
+            d.f1,
+            d.lag_s,
+            d50.count_error_pct,
+            d50.f1,
+            dj.count_error_pct,
+            dj.f1,
+            p.reference - db.reference,
+            db.count_error_pct,
+            db.f1,
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\nSummary (median |count error|, worst |count error|, median F1, mean F1):\n"
+    );
+    let _ = writeln!(out, "| group | traces | AsPublished: med / worst / med F1 / mean F1 | default: med / worst / med F1 / mean F1 |");
+    let _ = writeln!(out, "|---|---|---|---|");
+    {
+        let (p, d): (Vec<Score>, Vec<Score>) = rows
+            .iter()
+            .map(|r| (r.debounced[0], r.debounced[1]))
+            .unzip();
+        let (a, b) = (summary(&p), summary(&d));
+        let _ = writeln!(
+            out,
+            "| all, native rate, reference de-bounced (strikes < {DEBOUNCE_S} s after the previous one dropped) | {} | {:.2} % / {:.2} % / {:.3} / {:.3} | {:.2} % / {:.2} % / {:.3} / {:.3} |",
+            d.len(),
+            a.0, a.1, a.2, a.3, b.0, b.1, b.2, b.3
+        );
+    }
+    let mut line = |name: String, sel: &dyn Fn(&Row) -> bool, vi: usize| {
+        let pick = |ci: usize| -> Vec<Score> {
+            rows.iter()
+                .filter(|r| sel(r))
+                .map(|r| r.scores[vi][ci])
+                .collect()
+        };
+        let (p, d) = (pick(0), pick(1));
+        if d.is_empty() {
+            return;
+        }
+        let (a, b) = (summary(&p), summary(&d));
+        let _ = writeln!(
+            out,
+            "| {name} | {} | {:.2} % / {:.2} % / {:.3} / {:.3} | {:.2} % / {:.2} % / {:.3} / {:.3} |",
+            d.len(),
+            a.0, a.1, a.2, a.3, b.0, b.1, b.2, b.3
+        );
+    };
+    for (vi, v) in Variant::ALL.iter().enumerate() {
+        line(format!("**all, {}**", v.name()), &|_| true, vi);
+    }
+    for pos in OxfordPosition::ALL {
+        line(format!("{pos}"), &|r: &Row| r.trace.position == pos, 0);
+    }
+    for user in ["Jamie", "Carmelo", "Dario"] {
+        line(format!("user {user}"), &|r: &Row| r.trace.user == user, 0);
+    }
+    for (vi, v) in Variant::ALL.iter().enumerate().skip(1) {
+        for user in ["Jamie", "Carmelo", "Dario"] {
+            line(
+                format!("user {user}, {}", v.name()),
+                &|r: &Row| r.trace.user == user,
+                vi,
+            );
+        }
+    }
+    Ok(out)
+}

@@ -1,0 +1,739 @@
+//! The default step detector: works in time (not samples), confirms walking/running by
+//! its regularity before counting, and rejects shaking, vehicles and cycling.
+//!
+//! Pipeline:
+//! 1. **Low-pass in time.** The magnitude goes through two cascaded first-order
+//!    low-passes (time constant τ = 1 / (2π·`lowpass_hz`)), each discretised exactly for
+//!    the actual sample spacing (α = 1 − e^(−Δt/τ)), so any rate from 50 to 500 Hz and
+//!    irregular timestamps give the same response. Its group delay (2τ) is subtracted
+//!    from the reported step times.
+//! 2. **Fixed grid.** The filtered magnitude is resampled by linear interpolation onto a
+//!    50 Hz grid; everything after this runs on the grid, so thresholds, windows and
+//!    cost per second do not depend on the input rate.
+//! 3. **Peaks with hysteresis.** x = filtered magnitude − its slow mean (EMA, 1 s). A
+//!    peak is confirmed when x falls more than δ below the running maximum, a valley
+//!    when it rises δ above the running minimum; δ = max(`min_hysteresis_mps2`,
+//!    `hysteresis_rel` · RMS(x)) adapts to the carrying position (a purse gives small
+//!    swings, an armband large ones) and ignores the small secondary bumps of one step.
+//!    Each peak with peak-to-previous-valley amplitude in
+//!    [`min_amplitude_mps2`, `max_amplitude_mps2`] and at least `relative_amplitude` ×
+//!    the typical recent step amplitude is a step *candidate* (vehicle vibration stays
+//!    below the floor; the secondary bump of a slow step stays below the relative bar).
+//! 4. **Bouts.** Candidates are buffered until a bout is confirmed by `confirm_steps`
+//!    consecutive candidates that look like gait:
+//!    - regular *strides*: each sum of two consecutive intervals within ±`regularity`
+//!      of their median (a phone on one side of the body sees left and right steps
+//!      differently — 0.45 s / 0.65 s in a front pocket — but strides are regular), and
+//!      each interval within ±50 % of half the stride;
+//!    - step period (half the stride) inside [`min_bout_interval_s`,
+//!      `max_step_interval_s`] (shaking is faster and irregular);
+//!    - normalised autocorrelation of x at the step or the stride period ≥
+//!      `min_periodicity` (walking is periodic; bumps and shaking are not);
+//!    - a period under `running_interval_s` (running cadence) needs a median amplitude
+//!      of at least `running_min_amplitude_mps2` (running shakes the body well over 1 g;
+//!      small peaks at that rate are double bumps of a slow walk);
+//!    - a median *impact ratio* ≥ `min_impact_ratio`: RMS of the raw magnitude above
+//!      8 Hz (second-order high-pass) over the step, divided by the step amplitude.
+//!      Heel strikes put energy above 8 Hz; smooth periodic motion without impacts
+//!      (pedalling) does not. This is a weak guard: the ratio of real walking goes down
+//!      to ≈ 0.01, the threshold is 0.008, and a strong pedalling harmonic or vibration
+//!      of the bike defeats it (see the report).
+//!
+//!    On confirmation the buffered candidates are released as steps.
+//! 5. **In a bout** each candidate is a step unless it comes sooner than
+//!    `refractory` × the step period (a double peak of one step); a gap of 1.6–2.4
+//!    periods means one weak step was missed and it is filled at the midpoint; a gap
+//!    longer than max(`max_step_interval_s`, 2.5 periods) or an autocorrelation at the
+//!    step/stride period below `min_periodicity` / 2 ends the bout (the next one must
+//!    be confirmed again). The period follows intervals within ±30 % of it quickly and
+//!    others barely.
+//!
+//! Step features (duration, variance, max, min of the raw magnitude) are taken over
+//! the samples between the detection of the previous candidate and this one: one full
+//! step cycle, shifted by the detection latency.
+//!
+//! All parameters were set once for every placement, rate and user (see
+//! `stridekit eval steps --sensitivity` for their sensitivity and a leave-one-user-out
+//! check on the Oxford traces).
+
+use crate::signal::Ring;
+use crate::snapshot::{Reader, SnapshotError, Writer};
+
+use super::event::StepEvent;
+use super::{Moments, Sink};
+
+/// Grid rate of the internal resampling, Hz.
+pub const GRID_HZ: f64 = 50.0;
+const GRID_DT_S: f64 = 1.0 / GRID_HZ;
+/// Grid samples kept for the autocorrelation (5.12 s).
+const HISTORY: usize = 256;
+/// Candidates buffered while a bout is not confirmed.
+const PENDING: usize = 8;
+/// Largest deviation of one step interval from half the stride when confirming
+/// (left/right asymmetry of a phone carried on one side).
+const ASYMMETRY: f64 = 0.5;
+/// Corner of the high-pass that isolates heel impacts from the smooth step motion, Hz.
+const IMPACT_HZ: f64 = 8.0;
+/// Weight of a new interval in the step period: intervals within ±30 % of the period
+/// follow the cadence; others (a secondary bump that passed, a missed step) barely move it.
+fn period_gain(interval_s: f64, period_s: f64) -> f64 {
+    if (interval_s - period_s).abs() <= 0.3 * period_s {
+        0.25
+    } else {
+        0.03
+    }
+}
+
+/// Weight of a new candidate in the typical step amplitude.
+const AMPLITUDE_GAIN: f64 = 0.2;
+/// Input gaps longer than this restart the detector (app paused), s.
+pub const MAX_INPUT_GAP_S: f64 = 0.5;
+/// Slow mean of the filtered magnitude, time constant, s.
+const MEAN_TAU_S: f64 = 1.0;
+/// RMS of x, time constant, s.
+const RMS_TAU_S: f64 = 2.0;
+
+/// Parameters of the default detector (one set for every placement and rate).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RobustStepParams {
+    /// Cut-off of the magnitude low-pass, Hz.
+    pub lowpass_hz: f64,
+    /// Smallest hysteresis of the peak detector, m/s².
+    pub min_hysteresis_mps2: f64,
+    /// Hysteresis relative to the RMS of the de-meaned magnitude.
+    pub hysteresis_rel: f64,
+    /// Smallest peak-to-valley amplitude of a step, m/s².
+    pub min_amplitude_mps2: f64,
+    /// Largest peak-to-valley amplitude of a step, m/s² (beyond: violent shaking).
+    pub max_amplitude_mps2: f64,
+    /// Shortest interval between two steps, s (5 steps/s).
+    pub min_step_interval_s: f64,
+    /// Shortest median step interval that can start a bout, s.
+    pub min_bout_interval_s: f64,
+    /// Longest interval between steps of one bout, s.
+    pub max_step_interval_s: f64,
+    /// Consecutive regular candidates needed to confirm a bout.
+    pub confirm_steps: usize,
+    /// Allowed relative deviation of the intervals from their median when confirming.
+    pub regularity: f64,
+    /// Least normalised autocorrelation at the step or stride period.
+    pub min_periodicity: f64,
+    /// A bout is refused when the median impact ratio of its candidates is below this
+    /// (RMS of the magnitude above 8 Hz over the step / step amplitude): smooth motion
+    /// without heel impacts, such as pedalling.
+    pub min_impact_ratio: f64,
+    /// Step periods shorter than this are running cadences, s ...
+    pub running_interval_s: f64,
+    /// ... which need at least this median amplitude to start a bout, m/s² (running
+    /// shakes the body by well over 1 g; at such a cadence small peaks are the
+    /// secondary bumps of a slow walk).
+    pub running_min_amplitude_mps2: f64,
+    /// Candidates smaller than this fraction of the typical recent step amplitude are
+    /// secondary bumps, not steps.
+    pub relative_amplitude: f64,
+    /// In a bout, candidates sooner than this fraction of the period are double peaks.
+    pub refractory: f64,
+}
+
+impl Default for RobustStepParams {
+    fn default() -> Self {
+        Self {
+            lowpass_hz: 4.0,
+            min_hysteresis_mps2: 0.3,
+            hysteresis_rel: 0.5,
+            min_amplitude_mps2: 1.0,
+            max_amplitude_mps2: 60.0,
+            min_step_interval_s: 0.2,
+            min_bout_interval_s: 0.25,
+            max_step_interval_s: 2.0,
+            confirm_steps: 5,
+            regularity: 0.3,
+            min_periodicity: 0.4,
+            min_impact_ratio: 0.008,
+            refractory: 0.6,
+            relative_amplitude: 0.45,
+            running_interval_s: 0.45,
+            running_min_amplitude_mps2: 4.0,
+        }
+    }
+}
+
+impl RobustStepParams {
+    pub(crate) fn validate(&self) -> Result<(), String> {
+        let all = self.as_array();
+        if all.iter().any(|v| !v.is_finite()) {
+            return Err("parameters must be finite".into());
+        }
+        if !(0.5..=20.0).contains(&self.lowpass_hz) {
+            return Err("lowpass_hz must be 0.5..=20".into());
+        }
+        if self.min_hysteresis_mps2 <= 0.0 || self.hysteresis_rel < 0.0 {
+            return Err("hysteresis must be positive".into());
+        }
+        if !(self.min_amplitude_mps2 >= 0.0 && self.max_amplitude_mps2 > self.min_amplitude_mps2) {
+            return Err("need 0 ≤ min_amplitude_mps2 < max_amplitude_mps2".into());
+        }
+        if !(self.min_step_interval_s > 0.0
+            && self.min_bout_interval_s >= self.min_step_interval_s
+            && self.max_step_interval_s > self.min_bout_interval_s
+            && self.max_step_interval_s <= 2.5)
+        {
+            return Err(
+                "need 0 < min_step_interval_s ≤ min_bout_interval_s < max_step_interval_s ≤ 2.5"
+                    .into(),
+            );
+        }
+        if self.running_interval_s < 0.0 || self.running_min_amplitude_mps2 < 0.0 {
+            return Err("running gate must not be negative".into());
+        }
+        if !(2..=PENDING).contains(&self.confirm_steps) {
+            return Err(format!("confirm_steps must be 2..={PENDING}"));
+        }
+        if !(0.0..=1.0).contains(&self.regularity)
+            || !(-1.0..=1.0).contains(&self.min_periodicity)
+            || !(0.0..=1.0).contains(&self.min_impact_ratio)
+            || !(0.0..1.0).contains(&self.refractory)
+            || !(0.0..1.0).contains(&self.relative_amplitude)
+        {
+            return Err("regularity, periodicity, impact ratio, refractory or relative amplitude out of range".into());
+        }
+        Ok(())
+    }
+
+    fn as_array(&self) -> [f64; 15] {
+        [
+            self.lowpass_hz,
+            self.min_hysteresis_mps2,
+            self.hysteresis_rel,
+            self.min_amplitude_mps2,
+            self.max_amplitude_mps2,
+            self.min_step_interval_s,
+            self.min_bout_interval_s,
+            self.max_step_interval_s,
+            self.regularity,
+            self.min_periodicity,
+            self.min_impact_ratio,
+            self.refractory,
+            self.relative_amplitude,
+            self.running_interval_s,
+            self.running_min_amplitude_mps2,
+        ]
+    }
+
+    pub(crate) fn write(&self, w: &mut Writer) {
+        w.f64s(&self.as_array());
+        w.u64(self.confirm_steps as u64);
+    }
+
+    pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
+        let mut v = [0.0; 15];
+        r.f64s(&mut v)?;
+        let confirm_steps = r.len(PENDING)?;
+        Ok(Self {
+            lowpass_hz: v[0],
+            min_hysteresis_mps2: v[1],
+            hysteresis_rel: v[2],
+            min_amplitude_mps2: v[3],
+            max_amplitude_mps2: v[4],
+            min_step_interval_s: v[5],
+            min_bout_interval_s: v[6],
+            max_step_interval_s: v[7],
+            confirm_steps,
+            regularity: v[8],
+            min_periodicity: v[9],
+            min_impact_ratio: v[10],
+            refractory: v[11],
+            relative_amplitude: v[12],
+            running_interval_s: v[13],
+            running_min_amplitude_mps2: v[14],
+        })
+    }
+}
+
+/// The last grid samples, stored twice so the newest n are always one contiguous slice
+/// (the autocorrelation runs over plain slices, no index arithmetic per element).
+#[derive(Clone, Debug, PartialEq)]
+struct History {
+    buf: [f64; 2 * HISTORY],
+    /// Where the next value goes, 0..HISTORY.
+    pos: usize,
+    len: usize,
+}
+
+impl History {
+    fn new() -> Self {
+        Self {
+            buf: [0.0; 2 * HISTORY],
+            pos: 0,
+            len: 0,
+        }
+    }
+    fn push(&mut self, v: f64) {
+        self.buf[self.pos] = v;
+        self.buf[self.pos + HISTORY] = v;
+        self.pos = (self.pos + 1) % HISTORY;
+        self.len = (self.len + 1).min(HISTORY);
+    }
+    /// The newest `n` values (n ≤ len), oldest first.
+    fn last(&self, n: usize) -> &[f64] {
+        let end = self.pos + HISTORY;
+        &self.buf[end - n..end]
+    }
+}
+
+/// A candidate waiting for its bout to be confirmed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Pending {
+    event: StepEvent,
+    /// Impact ratio of the step (see [`RobustStepParams::min_impact_ratio`]).
+    impact: f64,
+    /// Peak-to-valley amplitude, m/s².
+    amplitude_mps2: f64,
+}
+
+impl Default for StepEvent {
+    fn default() -> Self {
+        StepEvent {
+            t_s: 0.0,
+            duration_s: f64::NAN,
+            accel_variance_m2ps4: 0.0,
+            accel_max_mps2: 0.0,
+            accel_min_mps2: 0.0,
+        }
+    }
+}
+
+/// State of the default detector.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct RobustDetector {
+    p: RobustStepParams,
+    tau_lp_s: f64,
+    /// Grid-step gains of the slow mean and of the mean square (constants).
+    gain_mean: f64,
+    gain_ms: f64,
+    // Input stage.
+    started: bool,
+    lp1: f64,
+    lp2: f64,
+    prev_t_s: f64,
+    prev_y: f64,
+    next_grid_t_s: f64,
+    // Grid stage.
+    mean: f64,
+    ms: f64,
+    xs: History,
+    seeking_peak: bool,
+    ext_x: f64,
+    ext_t_s: f64,
+    /// Last valley value (NaN before the first).
+    valley_x: f64,
+    /// Raw-magnitude statistics since the previous candidate.
+    moments: Moments,
+    // Bout stage.
+    pending: Ring<Pending, PENDING>,
+    in_bout: bool,
+    period_s: f64,
+    /// Time of the last accepted candidate (pending or emitted), NaN if none.
+    last_t_s: f64,
+    hf_sum_sq: f64,
+    hf_n: f64,
+    /// Low-pass states of the impact high-pass sections.
+    hp: [f64; 2],
+    /// Typical amplitude of recent accepted candidates (EMA), m/s²; 0 before any.
+    amplitude_ref_mps2: f64,
+}
+
+impl RobustDetector {
+    pub(crate) fn new(p: RobustStepParams) -> Self {
+        Self {
+            p,
+            tau_lp_s: 1.0 / (2.0 * std::f64::consts::PI * p.lowpass_hz),
+            gain_mean: 1.0 - (-GRID_DT_S / MEAN_TAU_S).exp(),
+            gain_ms: 1.0 - (-GRID_DT_S / RMS_TAU_S).exp(),
+            started: false,
+            lp1: 0.0,
+            lp2: 0.0,
+            prev_t_s: 0.0,
+            prev_y: 0.0,
+            next_grid_t_s: 0.0,
+            mean: 0.0,
+            ms: 0.0,
+            xs: History::new(),
+            seeking_peak: true,
+            ext_x: f64::NEG_INFINITY,
+            ext_t_s: 0.0,
+            valley_x: f64::NAN,
+            moments: Moments::EMPTY,
+            pending: Ring::new(),
+            in_bout: false,
+            period_s: f64::NAN,
+            last_t_s: f64::NAN,
+            hf_sum_sq: 0.0,
+            hf_n: 0.0,
+            hp: [0.0; 2],
+            amplitude_ref_mps2: 0.0,
+        }
+    }
+
+    /// Process one validated sample; released steps are appended to `out`.
+    pub(crate) fn push(&mut self, t_s: f64, mag: f64, out: &mut Sink<'_>) {
+        if self.started && t_s - self.prev_t_s > MAX_INPUT_GAP_S {
+            // Paused: nothing is known about the gap; start over (steps already
+            // released stay counted, unconfirmed candidates are dropped).
+            *self = Self::new(self.p);
+        }
+        self.moments.add(mag);
+        if !self.started {
+            self.started = true;
+            self.lp1 = mag;
+            self.lp2 = mag;
+            self.hp[0] = mag;
+            self.prev_t_s = t_s;
+            self.prev_y = mag;
+            self.next_grid_t_s = t_s;
+            self.mean = mag;
+            self.grid(t_s, mag, out);
+            self.next_grid_t_s = t_s + GRID_DT_S;
+            return;
+        }
+        let dt = t_s - self.prev_t_s;
+        let a = super::ema_gain(dt / self.tau_lp_s);
+        self.lp1 += a * (mag - self.lp1);
+        self.lp2 += a * (self.lp1 - self.lp2);
+        let y = self.lp2;
+        let b = super::ema_gain(dt * 2.0 * std::f64::consts::PI * IMPACT_HZ);
+        // Second-order high-pass: two first-order sections (each: input − its low-pass).
+        // Steeper filters remove too much of the impact content at 50 Hz.
+        let mut h = mag;
+        for lp in &mut self.hp {
+            *lp += b * (h - *lp);
+            h -= *lp;
+        }
+        let hf = h;
+        self.hf_sum_sq += hf * hf;
+        self.hf_n += 1.0;
+        while self.next_grid_t_s <= t_s {
+            let g = self.next_grid_t_s;
+            let f = (g - self.prev_t_s) / dt;
+            let yg = self.prev_y + f * (y - self.prev_y);
+            self.grid(g, yg, out);
+            self.next_grid_t_s += GRID_DT_S;
+        }
+        self.prev_t_s = t_s;
+        self.prev_y = y;
+    }
+
+    fn grid(&mut self, t_s: f64, y: f64, out: &mut Sink<'_>) {
+        let (a_mean, a_ms) = (self.gain_mean, self.gain_ms);
+        self.mean += a_mean * (y - self.mean);
+        let x = y - self.mean;
+        self.ms += a_ms * (x * x - self.ms);
+        self.xs.push(x);
+        let delta = self
+            .p
+            .min_hysteresis_mps2
+            .max(self.p.hysteresis_rel * self.ms.sqrt());
+        if self.seeking_peak {
+            if x > self.ext_x {
+                self.ext_x = x;
+                self.ext_t_s = t_s;
+            } else if x < self.ext_x - delta {
+                let amplitude = self.ext_x - self.valley_x;
+                let peak_t = self.ext_t_s - 2.0 * self.tau_lp_s;
+                self.seeking_peak = false;
+                self.ext_x = x;
+                self.ext_t_s = t_s;
+                if amplitude.is_finite() {
+                    self.candidate(peak_t, amplitude, out);
+                }
+            }
+        } else if x < self.ext_x {
+            self.ext_x = x;
+            self.ext_t_s = t_s;
+        } else if x > self.ext_x + delta {
+            self.valley_x = self.ext_x;
+            self.seeking_peak = true;
+            self.ext_x = x;
+            self.ext_t_s = t_s;
+        }
+    }
+
+    /// Normalised autocorrelation of the last grid samples at `lag_s`.
+    fn acf(&self, lag_s: f64) -> f64 {
+        let lag = (lag_s / GRID_DT_S).round() as usize;
+        if lag == 0 {
+            return 1.0;
+        }
+        let want = ((3.0f64).max(2.5 * lag_s) / GRID_DT_S) as usize;
+        let n = want.min(self.xs.len.saturating_sub(lag));
+        if n < 2 * lag.min(25) {
+            return f64::NAN;
+        }
+        let (mut sa, mut sb, mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        let recent = self.xs.last(n + lag);
+        for (&a, &b) in recent[lag..].iter().zip(&recent[..n]) {
+            sa += a;
+            sb += b;
+            sab += a * b;
+            saa += a * a;
+            sbb += b * b;
+        }
+        let nf = n as f64;
+        let cov = sab - sa * sb / nf;
+        let va = saa - sa * sa / nf;
+        let vb = sbb - sb * sb / nf;
+        if va <= 0.0 || vb <= 0.0 {
+            return 0.0;
+        }
+        cov / (va * vb).sqrt()
+    }
+
+    /// Whether the autocorrelation at the step or at the stride period reaches `min`
+    /// (the stride lag is only computed when the step lag fails; NaN never passes).
+    fn periodic(&self, period_s: f64, min: f64) -> bool {
+        self.acf(period_s) >= min || self.acf(2.0 * period_s) >= min
+    }
+
+    fn candidate(&mut self, t_s: f64, amplitude: f64, out: &mut Sink<'_>) {
+        let p = self.p;
+        let impact = if self.hf_n > 0.0 {
+            (self.hf_sum_sq / self.hf_n).sqrt() / amplitude
+        } else {
+            0.0
+        };
+        if amplitude >= p.min_amplitude_mps2 {
+            self.hf_sum_sq = 0.0;
+            self.hf_n = 0.0;
+        }
+        if !(p.min_amplitude_mps2..=p.max_amplitude_mps2).contains(&amplitude) {
+            return;
+        }
+        if amplitude < p.relative_amplitude * self.amplitude_ref_mps2 {
+            // A secondary bump of the previous step (or of the swing).
+            return;
+        }
+        let interval = t_s - self.last_t_s; // NaN without a previous candidate
+        if interval < p.min_step_interval_s {
+            return;
+        }
+        if self.in_bout {
+            if interval < p.refractory * self.period_s {
+                return;
+            }
+            let gap_end = p.max_step_interval_s.max(2.5 * self.period_s);
+            let periodic = self.periodic(self.period_s, p.min_periodicity * 0.5);
+            if interval <= gap_end && periodic {
+                let ev = self.moments.event(t_s, interval);
+                self.moments = Moments::EMPTY;
+                let period = self.period_s;
+                if interval > 1.6 * period && interval < 2.4 * period {
+                    // One weak step was missed: fill it at the midpoint.
+                    let half = 0.5 * interval;
+                    out.push(StepEvent {
+                        t_s: t_s - half,
+                        duration_s: half,
+                        ..ev
+                    });
+                    out.push(StepEvent {
+                        duration_s: half,
+                        ..ev
+                    });
+                    self.period_s += period_gain(half, period) * (half - period);
+                } else {
+                    out.push(ev);
+                    self.period_s += period_gain(interval, period) * (interval - period);
+                }
+                self.last_t_s = t_s;
+                self.amplitude_ref_mps2 += AMPLITUDE_GAIN * (amplitude - self.amplitude_ref_mps2);
+                return;
+            }
+            // The bout ended (long gap or lost periodicity): this candidate may start
+            // the next one.
+            self.in_bout = false;
+            self.pending.clear();
+        }
+        let duration = if interval <= p.max_step_interval_s {
+            interval
+        } else {
+            self.pending.clear();
+            f64::NAN
+        };
+        let ev = self.moments.event(t_s, duration);
+        self.moments = Moments::EMPTY;
+        self.pending.push(Pending {
+            event: ev,
+            impact,
+            amplitude_mps2: amplitude,
+        });
+        self.amplitude_ref_mps2 = if self.amplitude_ref_mps2 > 0.0 {
+            self.amplitude_ref_mps2 + AMPLITUDE_GAIN * (amplitude - self.amplitude_ref_mps2)
+        } else {
+            amplitude
+        };
+        self.last_t_s = t_s;
+        self.try_confirm(out);
+    }
+
+    /// Confirm a bout from the newest `confirm_steps` pending candidates.
+    fn try_confirm(&mut self, out: &mut Sink<'_>) {
+        let p = self.p;
+        let k = p.confirm_steps;
+        if self.pending.len() < k {
+            return;
+        }
+        // Intervals of the newest k candidates, oldest first.
+        let mut iv = [0.0f64; PENDING];
+        for (j, slot) in iv.iter_mut().enumerate().take(k - 1) {
+            let a = self
+                .pending
+                .back(k - 1 - j)
+                .map(|c| c.event.t_s)
+                .unwrap_or(0.0);
+            let b = self
+                .pending
+                .back(k - 2 - j)
+                .map(|c| c.event.t_s)
+                .unwrap_or(0.0);
+            *slot = b - a;
+        }
+        let ivs = &iv[..k - 1];
+        // Strides (two consecutive steps): left and right steps of a phone carried on
+        // one side differ (0.45 s / 0.65 s in a front pocket), strides do not.
+        let mut strides = [0.0f64; PENDING];
+        let ns = ivs.len().saturating_sub(1).max(1);
+        for j in 0..ns {
+            strides[j] = if ivs.len() >= 2 {
+                ivs[j] + ivs[j + 1]
+            } else {
+                2.0 * ivs[0]
+            };
+        }
+        let st = &mut strides[..ns];
+        st.sort_by(f64::total_cmp);
+        let stride = st[ns / 2];
+        let period = 0.5 * stride;
+        if !(p.min_bout_interval_s..=p.max_step_interval_s).contains(&period) {
+            return;
+        }
+        if st
+            .iter()
+            .any(|&s| (s - stride).abs() > p.regularity * stride)
+        {
+            return;
+        }
+        if ivs.iter().any(|&i| (i - period).abs() > ASYMMETRY * period) {
+            return;
+        }
+        if !self.periodic(period, p.min_periodicity) {
+            return;
+        }
+        let mut amp = [0.0f64; PENDING];
+        for (j, slot) in amp.iter_mut().enumerate().take(k) {
+            *slot = self
+                .pending
+                .back(j)
+                .map(|c| c.amplitude_mps2)
+                .unwrap_or(0.0);
+        }
+        let amp = &mut amp[..k];
+        amp.sort_by(f64::total_cmp);
+        if period < p.running_interval_s && amp[k / 2] < p.running_min_amplitude_mps2 {
+            // Running cadence without running impacts: secondary bumps of a slow walk.
+            return;
+        }
+        let mut imp = [0.0f64; PENDING];
+        for (j, slot) in imp.iter_mut().enumerate().take(k) {
+            *slot = self.pending.back(j).map(|c| c.impact).unwrap_or(0.0);
+        }
+        let imp = &mut imp[..k];
+        imp.sort_by(f64::total_cmp);
+        if imp[k / 2] < p.min_impact_ratio {
+            return;
+        }
+        self.in_bout = true;
+        self.period_s = period;
+        while let Some(c) = self.pending.pop_front() {
+            out.push(c.event);
+        }
+    }
+
+    pub(crate) fn write(&self, w: &mut Writer) {
+        w.bool(self.started);
+        w.f64s(&[
+            self.lp1,
+            self.lp2,
+            self.prev_t_s,
+            self.prev_y,
+            self.next_grid_t_s,
+            self.mean,
+            self.ms,
+        ]);
+        w.u64(self.xs.len as u64);
+        for &v in self.xs.last(self.xs.len) {
+            w.f64(v);
+        }
+        w.bool(self.seeking_peak);
+        w.f64s(&[self.ext_x, self.ext_t_s, self.valley_x]);
+        self.moments.write(w);
+        w.u64(self.pending.len() as u64);
+        for c in self.pending.iter() {
+            super::write_event(w, &c.event);
+            w.f64(c.impact);
+            w.f64(c.amplitude_mps2);
+        }
+        w.bool(self.in_bout);
+        w.f64s(&[
+            self.period_s,
+            self.last_t_s,
+            self.hf_sum_sq,
+            self.hf_n,
+            self.hp[0],
+            self.hp[1],
+            self.amplitude_ref_mps2,
+        ]);
+    }
+
+    pub(crate) fn read(r: &mut Reader, p: RobustStepParams) -> Result<Self, SnapshotError> {
+        let mut d = Self::new(p);
+        d.started = r.bool()?;
+        let mut v = [0.0; 7];
+        r.f64s(&mut v)?;
+        [
+            d.lp1,
+            d.lp2,
+            d.prev_t_s,
+            d.prev_y,
+            d.next_grid_t_s,
+            d.mean,
+            d.ms,
+        ] = v;
+        let n = r.len(HISTORY)?;
+        for _ in 0..n {
+            d.xs.push(r.f64()?);
+        }
+        d.seeking_peak = r.bool()?;
+        let mut e = [0.0; 3];
+        r.f64s(&mut e)?;
+        [d.ext_x, d.ext_t_s, d.valley_x] = e;
+        d.moments = Moments::read(r)?;
+        let n = r.len(PENDING)?;
+        for _ in 0..n {
+            let event = super::read_event(r)?;
+            let impact = r.f64()?;
+            let amplitude_mps2 = r.f64()?;
+            d.pending.push(Pending {
+                event,
+                impact,
+                amplitude_mps2,
+            });
+        }
+        d.in_bout = r.bool()?;
+        d.period_s = r.f64()?;
+        d.last_t_s = r.f64()?;
+        d.hf_sum_sq = r.f64()?;
+        d.hf_n = r.f64()?;
+        r.f64s(&mut d.hp)?;
+        d.amplitude_ref_mps2 = r.f64()?;
+        Ok(d)
+    }
+}

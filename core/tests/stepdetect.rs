@@ -1,0 +1,438 @@
+//! Behaviour of the step detector on synthetic signals: walking and running at 50–500 Hz
+//! with and without timestamp jitter (count within 1 step in 100), shaking, riding in a
+//! vehicle and cycling (no steps), typed errors with the state untouched, and snapshot
+//! split/restore giving identical output.
+
+use stridekit_core::snapshot::SnapshotError;
+use stridekit_core::stepdetect::{
+    AccelSample, DetectorMode, StepDetectError, StepDetector, StepDetectorConfig, StepEvent,
+};
+
+const G: f64 = 9.80665;
+
+/// Deterministic xorshift in 0..1.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn sym(&mut self) -> f64 {
+        2.0 * self.next() - 1.0
+    }
+    /// Roughly Gaussian (sum of uniforms), unit variance.
+    fn gauss(&mut self) -> f64 {
+        (0..12).map(|_| self.next()).sum::<f64>() - 6.0
+    }
+}
+
+/// Sample times over `[0, duration_s)` at `rate_hz`, jittered by ±`jitter` of the spacing.
+fn times(rate_hz: f64, jitter: f64, duration_s: f64, rng: &mut Rng) -> Vec<f64> {
+    let dt = 1.0 / rate_hz;
+    let n = (duration_s * rate_hz) as usize;
+    let mut out: Vec<f64> = Vec::with_capacity(n);
+    for k in 0..n {
+        let t = k as f64 * dt + jitter * dt * rng.sym();
+        if out.last().is_none_or(|&p| t > p) {
+            out.push(t);
+        }
+    }
+    out
+}
+
+/// Spreads a magnitude over three axes with a slowly turning direction (the phone's
+/// orientation does not matter to the detectors).
+fn vector(t: f64, mag: f64) -> [f64; 3] {
+    let (a, b) = (0.3 * t.sin() + 0.4, 0.2 * (0.7 * t).cos() + 1.0);
+    [
+        mag * a.sin() * b.cos(),
+        mag * a.sin() * b.sin(),
+        mag * a.cos(),
+    ]
+}
+
+/// A gait: steps per second, smooth peak-to-valley swing, heel-impact height.
+#[derive(Clone, Copy)]
+struct Gait {
+    step_hz: f64,
+    swing_mps2: f64,
+    impact_mps2: f64,
+}
+
+const WALK: Gait = Gait {
+    step_hz: 1.8,
+    swing_mps2: 3.0,
+    impact_mps2: 3.0,
+};
+const RUN: Gait = Gait {
+    step_hz: 2.8,
+    swing_mps2: 12.0,
+    impact_mps2: 10.0,
+};
+
+/// `stand_s` standing, `walk_s` of the gait, `stand_s` standing. Returns the samples and
+/// the number of heel strikes.
+fn gait_trace(
+    gait: Gait,
+    rate_hz: f64,
+    jitter: f64,
+    walk_s: f64,
+    seed: u64,
+) -> (Vec<AccelSample>, usize) {
+    let stand_s = 3.0;
+    let mut rng = Rng(seed);
+    // Heel strikes with ±3 % period variability and a left/right asymmetry.
+    let mut strikes = Vec::new();
+    let mut t = stand_s;
+    while t < stand_s + walk_s {
+        strikes.push(t);
+        t += (1.0 + 0.03 * rng.sym()) / gait.step_hz;
+    }
+    let mut out = Vec::new();
+    let mut k = 0usize;
+    for t in times(rate_hz, jitter, 2.0 * stand_s + walk_s, &mut rng) {
+        while k + 1 < strikes.len() && strikes[k + 1] <= t {
+            k += 1;
+        }
+        let mut m = G + 0.03 * rng.gauss();
+        if t >= strikes[0] && t < stand_s + walk_s {
+            let t0 = strikes[k];
+            let period = strikes.get(k + 1).map_or(1.0 / gait.step_hz, |n| n - t0);
+            let phase = (t - t0) / period;
+            let side = if k % 2 == 0 { 1.0 } else { 0.85 };
+            let w = std::f64::consts::TAU * phase;
+            m += side * 0.5 * gait.swing_mps2 * (w.cos() + 0.3 * (2.0 * w + 0.5).cos());
+            let tau = t - t0;
+            m += side * gait.impact_mps2 * (-(tau / 0.02).powi(2)).exp();
+        }
+        out.push(AccelSample {
+            t_s: t,
+            accel_mps2: vector(t, m),
+        });
+    }
+    (out, strikes.len())
+}
+
+fn count(mode: DetectorMode, samples: &[AccelSample]) -> usize {
+    let config = StepDetectorConfig {
+        mode,
+        ..Default::default()
+    };
+    let mut d = StepDetector::new(config).unwrap();
+    let out = d.push_batch(samples);
+    assert!(out.rejected.is_empty(), "{:?}", out.rejected.first());
+    assert_eq!(out.steps.len() as u64, d.step_count());
+    out.steps.len()
+}
+
+#[test]
+fn walking_and_running_any_rate_count_within_one_in_a_hundred() {
+    for (name, gait) in [("walk", WALK), ("run", RUN)] {
+        for rate in [50.0, 100.0, 200.0, 500.0] {
+            for jitter in [0.0, 0.4] {
+                let (s, truth) = gait_trace(gait, rate, jitter, 110.0, 0x1234 + rate as u64);
+                let got = count(DetectorMode::Default, &s);
+                let tol = (truth / 100).max(1);
+                assert!(
+                    got.abs_diff(truth) <= tol,
+                    "{name} at {rate} Hz, jitter {jitter}: {got} steps, truth {truth}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn step_events_carry_features() {
+    let (s, _) = gait_trace(WALK, 100.0, 0.0, 30.0, 7);
+    let mut d = StepDetector::new(StepDetectorConfig::default()).unwrap();
+    let steps = d.push_batch(&s).steps;
+    assert!(steps.len() > 40);
+    assert!(steps[0].duration_s.is_nan() || steps[0].duration_s > 0.0);
+    for w in steps.windows(2) {
+        assert!(w[1].t_s > w[0].t_s);
+    }
+    for e in &steps[1..] {
+        assert!((e.frequency_hz() - WALK.step_hz).abs() < 0.3, "{e:?}");
+        assert!(e.accel_max_mps2 > e.accel_min_mps2);
+        assert!(e.accel_variance_m2ps4 > 0.5 && e.accel_variance_m2ps4 < 20.0);
+        assert!(e.accel_min_mps2 < G && e.accel_max_mps2 > G);
+    }
+}
+
+#[test]
+fn shaking_gives_no_steps() {
+    let mut rng = Rng(99);
+    let mut s = Vec::new();
+    let mut f = [6.0, 7.5, 9.0];
+    let mut next_change = 0.0;
+    let mut phase = [0.0; 3];
+    let mut last_t = 0.0;
+    for t in times(200.0, 0.2, 60.0, &mut Rng(5)) {
+        if t >= next_change {
+            for fi in &mut f {
+                *fi = 5.0 + 5.0 * rng.next();
+            }
+            next_change = t + 0.2 + 0.3 * rng.next();
+        }
+        let mut m = G;
+        for i in 0..3 {
+            phase[i] += std::f64::consts::TAU * f[i] * (t - last_t);
+            m += 8.0 * phase[i].sin();
+        }
+        last_t = t;
+        s.push(AccelSample {
+            t_s: t,
+            accel_mps2: vector(3.0 * t, m.abs()),
+        });
+    }
+    assert!(count(DetectorMode::Default, &s) <= 1);
+}
+
+#[test]
+fn vehicle_gives_no_steps() {
+    let mut rng = Rng(42);
+    let mut s = Vec::new();
+    let mut bump_t = 2.0;
+    for t in times(100.0, 0.1, 300.0, &mut Rng(6)) {
+        if t > bump_t + 1.5 && rng.next() < 0.002 {
+            bump_t = t;
+        }
+        let tb = t - bump_t;
+        let bump = if tb >= 0.0 {
+            3.0 * (-tb / 0.3).exp() * (std::f64::consts::TAU * 2.0 * tb).sin()
+        } else {
+            0.0
+        };
+        let m = G
+            + 0.3 * rng.gauss()
+            + 0.2 * (std::f64::consts::TAU * 12.0 * t).sin()
+            + 0.4 * (std::f64::consts::TAU * 0.3 * t).sin()
+            + bump;
+        s.push(AccelSample {
+            t_s: t,
+            accel_mps2: vector(t, m),
+        });
+    }
+    assert_eq!(count(DetectorMode::Default, &s), 0);
+}
+
+#[test]
+fn cycling_gives_no_steps() {
+    for cadence_hz in [1.0, 1.25] {
+        let mut rng = Rng(7);
+        let mut s = Vec::new();
+        for t in times(100.0, 0.1, 120.0, &mut Rng(8)) {
+            let w = std::f64::consts::TAU * cadence_hz * (t + 0.3 * (0.05 * t).sin());
+            let m = G + 2.5 * w.sin() + 0.25 * (2.0 * w + 0.7).sin() + 0.02 * rng.gauss();
+            s.push(AccelSample {
+                t_s: t,
+                accel_mps2: vector(t, m),
+            });
+        }
+        let n = count(DetectorMode::Default, &s);
+        assert_eq!(n, 0, "cycling at {cadence_hz} Hz gave {n} steps");
+    }
+}
+
+#[test]
+fn as_published_counts_a_walk_at_50_hz() {
+    // The published window is 15 samples (0.3 s at 50 Hz). The faithful detector only
+    // needs to work roughly: it sees about half to all of the steps, never more.
+    let (s, truth) = gait_trace(WALK, 50.0, 0.0, 60.0, 3);
+    let got = count(DetectorMode::AsPublished, &s);
+    assert!(
+        got > truth / 3 && got <= truth + truth / 10,
+        "{got} vs {truth}"
+    );
+}
+
+/// Tells whether an error is the expected one.
+type IsExpected = fn(&StepDetectError) -> bool;
+
+fn walking_detector(mode: DetectorMode) -> (StepDetector, f64) {
+    let (s, _) = gait_trace(WALK, 100.0, 0.0, 20.0, 11);
+    let mut d = StepDetector::new(StepDetectorConfig {
+        mode,
+        ..Default::default()
+    })
+    .unwrap();
+    let steps = d.push_batch(&s[..1500]).steps;
+    if mode == DetectorMode::Default {
+        assert!(!steps.is_empty());
+    }
+    (d, s[1499].t_s)
+}
+
+#[test]
+fn invalid_samples_are_rejected_and_change_nothing() {
+    for mode in [DetectorMode::Default, DetectorMode::AsPublished] {
+        let (mut d, t) = walking_detector(mode);
+        let before = d.snapshot();
+        let good = [0.1, 0.2, 9.8];
+        let cases: Vec<(f64, [f64; 3], IsExpected)> = vec![
+            (f64::NAN, good, |e| {
+                matches!(e, StepDetectError::NonFinite { field: "t_s" })
+            }),
+            (f64::INFINITY, good, |e| {
+                matches!(e, StepDetectError::NonFinite { .. })
+            }),
+            (t + 0.01, [f64::NAN, 0.0, 9.8], |e| {
+                matches!(e, StepDetectError::NonFinite { .. })
+            }),
+            (t + 0.01, [0.0, f64::NEG_INFINITY, 9.8], |e| {
+                matches!(e, StepDetectError::NonFinite { .. })
+            }),
+            (t, good, |e| {
+                matches!(e, StepDetectError::TimeNotIncreasing { .. })
+            }),
+            (t - 1.0, good, |e| {
+                matches!(e, StepDetectError::TimeNotIncreasing { .. })
+            }),
+            (t + 0.01, [0.0, 0.0, 1000.0], |e| {
+                matches!(e, StepDetectError::OutOfRange { .. })
+            }),
+        ];
+        for (ts, a, expected) in cases {
+            let e = d.push(ts, a).unwrap_err();
+            assert!(expected(&e), "{mode:?}: ({ts}, {a:?}) gave {e:?}");
+            assert_eq!(d.snapshot(), before, "{mode:?}: state changed by {e:?}");
+        }
+        // Still works afterwards.
+        assert!(d.push(t + 0.01, good).is_ok());
+    }
+}
+
+#[test]
+fn samples_in_g_are_recognised() {
+    // From the first sample on ...
+    let mut d = StepDetector::new(StepDetectorConfig::default()).unwrap();
+    let fresh = d.snapshot();
+    for i in 0..200 {
+        let t = i as f64 * 0.01;
+        let e = d
+            .push(t, [0.02, -0.01, 1.0 + 0.05 * (7.0 * t).sin()])
+            .unwrap_err();
+        assert!(matches!(e, StepDetectError::LooksLikeG { .. }), "{e:?}");
+        assert!(e.to_string().contains("m/s²"));
+    }
+    assert_eq!(d.snapshot(), fresh);
+    assert_eq!(d.last_t_s(), None);
+    // ... and when the stream switches to g after m/s² data.
+    let (mut d, t) = walking_detector(DetectorMode::Default);
+    let mut rejected = 0;
+    for i in 1..=300 {
+        if d.push(t + i as f64 * 0.01, [0.0, 0.0, 1.0]).is_err() {
+            rejected += 1;
+        }
+    }
+    assert!(rejected > 150, "{rejected}");
+    // A real walk in m/s² is never rejected.
+    let (s, _) = gait_trace(RUN, 100.0, 0.3, 60.0, 21);
+    let mut d = StepDetector::new(StepDetectorConfig::default()).unwrap();
+    assert!(d.push_batch(&s).rejected.is_empty());
+}
+
+#[test]
+fn invalid_configuration_is_rejected() {
+    let mut c = StepDetectorConfig::default();
+    c.robust.lowpass_hz = f64::NAN;
+    assert!(matches!(
+        StepDetector::new(c),
+        Err(StepDetectError::InvalidConfig { .. })
+    ));
+    let mut c = StepDetectorConfig::as_published();
+    c.published.window_n = 1;
+    assert!(StepDetector::new(c).is_err());
+    let mut c = StepDetectorConfig::default();
+    c.published.stance_variance_m2ps4 = 10.0; // T2 > T1
+    assert!(StepDetector::new(c).is_err());
+}
+
+fn same(a: &[StepEvent], b: &[StepEvent]) -> bool {
+    let bits = |e: &StepEvent| {
+        [
+            e.t_s,
+            e.duration_s,
+            e.accel_variance_m2ps4,
+            e.accel_max_mps2,
+            e.accel_min_mps2,
+        ]
+        .map(f64::to_bits)
+    };
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| bits(x) == bits(y))
+}
+
+#[test]
+fn snapshot_split_gives_identical_output() {
+    let (s, _) = gait_trace(WALK, 200.0, 0.3, 60.0, 77);
+    for mode in [DetectorMode::Default, DetectorMode::AsPublished] {
+        let config = StepDetectorConfig {
+            mode,
+            ..Default::default()
+        };
+        let mut whole = StepDetector::new(config).unwrap();
+        let all = whole.push_batch(&s).steps;
+        for split in [1, 999, 4321, s.len() / 2, s.len() - 1] {
+            let mut a = StepDetector::new(config).unwrap();
+            let mut got = a.push_batch(&s[..split]).steps;
+            let bytes = a.snapshot();
+            let mut b = StepDetector::restore(&bytes).unwrap();
+            assert_eq!(b.snapshot(), bytes);
+            got.extend(b.push_batch(&s[split..]).steps);
+            assert!(same(&got, &all), "{mode:?} split at {split}");
+            assert_eq!(b.step_count(), whole.step_count());
+        }
+    }
+}
+
+#[test]
+fn corrupt_or_foreign_snapshots_are_rejected() {
+    let (d, _) = walking_detector(DetectorMode::Default);
+    let bytes = d.snapshot();
+    let mut bad = bytes.clone();
+    bad[20] ^= 0x40;
+    assert!(matches!(
+        StepDetector::restore(&bad),
+        Err(StepDetectError::Snapshot(SnapshotError::Checksum))
+    ));
+    assert!(matches!(
+        StepDetector::restore(&bytes[..bytes.len() - 9]),
+        Err(StepDetectError::Snapshot(_))
+    ));
+    let pace = stridekit_core::PaceTracker::new(Default::default())
+        .unwrap()
+        .snapshot();
+    assert!(matches!(
+        StepDetector::restore(&pace),
+        Err(StepDetectError::Snapshot(SnapshotError::WrongKind { .. }))
+    ));
+}
+
+#[test]
+fn buffered_steps_drain_through_pop_step() {
+    let (s, truth) = gait_trace(WALK, 100.0, 0.0, 30.0, 5);
+    let mut d = StepDetector::new(StepDetectorConfig::default()).unwrap();
+    let mut got = 0usize;
+    let mut burst = 0usize;
+    for x in &s {
+        let mut n = 0;
+        if d.push_sample(x).unwrap().is_some() {
+            n += 1;
+        }
+        while d.pop_step().is_some() {
+            n += 1;
+        }
+        burst = burst.max(n);
+        got += n;
+    }
+    assert!(
+        burst >= 4,
+        "the confirmed bout releases its buffered steps at once"
+    );
+    assert_eq!(got as u64, d.step_count());
+    assert!(got.abs_diff(truth) <= 1, "{got} vs {truth}");
+}
