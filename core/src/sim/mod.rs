@@ -4,5 +4,6 @@ pub mod phone;
 pub mod rng;
 pub mod run;
 
+pub use phone::{simulate_phone, PhoneActivity, PhonePlacement, PhoneScenario, SimulatedPhone};
 pub use rng::Rng;
 pub use run::{simulate_run, RunScenario, SimulatedRun, StepReport, TruthSample, Zone, ZoneKind};

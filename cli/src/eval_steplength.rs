@@ -1,0 +1,446 @@
+//! `stridekit eval steplength`: distance error of the step-length models during a
+//! 5-minute GNSS outage after calibration (target ≤ 3 %), on the phone simulator and
+//! on real runs (cadence only).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use stridekit_core::geo::LocalFrame;
+use stridekit_core::sim::phone::PhonePlacement;
+use stridekit_core::stepdetect::StepEvent;
+use stridekit_core::steplength::eval::{mixes, run_cases, Case, OUTAGE_S};
+use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
+
+/// Seeds per simulator mix.
+const SEEDS: u64 = 7;
+/// Real runs: calibration lasts at least this long before the outage stretch, s.
+const REAL_CALIBRATION_S: f64 = 600.0;
+/// Real runs: a clean stretch has no fix gap longer than this, s.
+const CLEAN_MAX_FIX_GAP_S: f64 = 5.0;
+/// Real runs: ... and a cadence of at least this all along, steps/min.
+const CLEAN_MIN_CADENCE_SPM: f64 = 60.0;
+/// Reference GNSS distance: chords between fixes at least this far apart, s.
+const CHORD_MIN_S: f64 = 5.0;
+/// Cadence reports further apart than this are a pause, s.
+const CADENCE_GAP_S: f64 = 10.0;
+
+fn pct(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:+.2} %")
+    } else {
+        "—".into()
+    }
+}
+
+fn mean_max(errs: impl Iterator<Item = f64>) -> (f64, f64, usize, usize) {
+    let (mut s, mut m, mut n, mut within) = (0.0, 0.0f64, 0usize, 0usize);
+    for e in errs.filter(|e| e.is_finite()) {
+        s += e.abs();
+        m = m.max(e.abs());
+        n += 1;
+        within += usize::from(e.abs() <= 3.0);
+    }
+    (if n > 0 { s / n as f64 } else { f64::NAN }, m, within, n)
+}
+
+/// The simulator tables.
+pub fn simulator_tables() -> String {
+    let models = StepLengthModel::ALL;
+    let cases = run_cases(SEEDS, &models, StepLengthConfig::default());
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "Simulator (`sim::phone`): {} mixes × {SEEDS} seeds, the phone placement cycling through all 7; 8 min of calibration with good GNSS (1 Hz, white 0.5 m + Gauss–Markov 1.5 m / 60 s), then a {:.0}-min GNSS outage. Distance in the outage = Σ step lengths returned for the simulator's true heel strikes (features from its accelerometer) vs Σ true step lengths. Cells: mean |error| / worst |error|; target ≤ 3 %.\n",
+        mixes().len(),
+        OUTAGE_S / 60.0
+    );
+    let _ = write!(out, "| mix |");
+    for m in models {
+        let _ = write!(out, " {} |", m.name());
+    }
+    let _ = writeln!(out);
+    let _ = writeln!(out, "|---|{}", "---|".repeat(models.len()));
+    let row = |out: &mut String, label: &str, cs: &[&Case]| {
+        let _ = write!(out, "| {label} |");
+        for k in 0..models.len() {
+            let (mean, max, _, _) = mean_max(cs.iter().map(|c| c.results[k].error_pct));
+            let _ = write!(out, " {mean:.2} / {max:.2} % |");
+        }
+        let _ = writeln!(out);
+    };
+    for mix in mixes() {
+        let cs: Vec<&Case> = cases.iter().filter(|c| c.mix == mix.name).collect();
+        row(&mut out, mix.name, &cs);
+    }
+    let all: Vec<&Case> = cases.iter().collect();
+    row(&mut out, "**all**", &all);
+    let _ = write!(out, "| runs within 3 % |");
+    for k in 0..models.len() {
+        let (_, _, within, n) = mean_max(all.iter().map(|c| c.results[k].error_pct));
+        let _ = write!(out, " {within}/{n} |");
+    }
+    let _ = writeln!(out);
+
+    let _ = writeln!(
+        out,
+        "\nBy placement (all mixes), mean |error| / worst |error|:\n"
+    );
+    let _ = write!(out, "| placement |");
+    for m in models {
+        let _ = write!(out, " {} |", m.name());
+    }
+    let _ = writeln!(out);
+    let _ = writeln!(out, "|---|{}", "---|".repeat(models.len()));
+    for p in PhonePlacement::ALL {
+        let cs: Vec<&Case> = cases.iter().filter(|c| c.placement == p).collect();
+        row(&mut out, &format!("{p:?}"), &cs);
+    }
+    out
+}
+
+/// A real activity reduced to what the step-length models can use.
+struct RealRun {
+    name: String,
+    /// (t, east, north, accuracy).
+    fixes: Vec<(f64, f64, f64, Option<f64>)>,
+    /// (t, steps/min).
+    cadence: Vec<(f64, f64)>,
+    /// (t, device distance m).
+    device: Vec<(f64, f64)>,
+}
+
+fn load(path: &Path) -> Result<RealRun, String> {
+    let a = stridekit_formats::read_activity(path).map_err(|e| e.to_string())?;
+    let t0 = a.records.first().map(|r| r.t_s).unwrap_or(0.0);
+    let mut frame: Option<LocalFrame> = None;
+    let mut run = RealRun {
+        name: path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned(),
+        fixes: Vec::new(),
+        cadence: Vec::new(),
+        device: Vec::new(),
+    };
+    let mut last_count: Option<(f64, f64)> = None;
+    for r in &a.records {
+        let t = r.t_s - t0;
+        if let (Some(lat), Some(lon)) = (r.lat_deg, r.lon_deg) {
+            let f = *frame.get_or_insert_with(|| LocalFrame::new(lat, lon, 0.0));
+            let p = f.to_enu(lat, lon, 0.0);
+            run.fixes.push((t, p[0], p[1], r.horizontal_accuracy_m));
+        }
+        if let Some(c) = r.steps_per_min {
+            run.cadence.push((t, c.clamp(0.0, 300.0)));
+        } else if let Some(n) = r.step_count {
+            if let Some((tp, np)) = last_count {
+                if t > tp && n >= np {
+                    run.cadence
+                        .push((t, (60.0 * (n - np) / (t - tp)).min(300.0)));
+                }
+            }
+            last_count = Some((t, n));
+        }
+        if let Some(d) = r.device_distance_m {
+            run.device.push((t, d));
+        }
+    }
+    Ok(run)
+}
+
+/// Step events from a cadence series: the cumulative count (trapezoid between
+/// reports) crosses each integer at a step; duration = 1 / cadence there. Pauses
+/// (cadence below 30 steps/min or reports > 10 s apart) end a bout. Cadence-only
+/// data carries no acceleration: the features are neutral (only F is meaningful).
+fn synth_steps(cadence: &[(f64, f64)]) -> Vec<StepEvent> {
+    let mut out = Vec::new();
+    let mut acc = 0.0;
+    let mut bout_new = true;
+    for w in cadence.windows(2) {
+        let ((t0, c0), (t1, c1)) = (w[0], w[1]);
+        if t1 - t0 > CADENCE_GAP_S || c0 < 30.0 || c1 < 30.0 {
+            bout_new = true;
+            acc = 0.0;
+            continue;
+        }
+        let add = 0.5 * (c0 + c1) / 60.0 * (t1 - t0);
+        let mut next = 1.0 - acc;
+        while next <= add {
+            // Time where the trapezoid reaches `next` steps (linear cadence in between).
+            let (a, b) = (c0 / 60.0, (c1 - c0) / 60.0 / (t1 - t0));
+            let tau = if b.abs() < 1e-12 {
+                next / a
+            } else {
+                (-a + (a * a + 2.0 * b * next).max(0.0).sqrt()) / b
+            };
+            let t = t0 + tau.clamp(0.0, t1 - t0);
+            let c = c0 + (c1 - c0) * tau / (t1 - t0);
+            out.push(StepEvent {
+                t_s: t,
+                duration_s: if bout_new { f64::NAN } else { 60.0 / c },
+                accel_variance_m2ps4: 0.0,
+                accel_max_mps2: 9.81,
+                accel_min_mps2: 9.81,
+            });
+            bout_new = false;
+            next += 1.0;
+        }
+        acc = (acc + add).fract();
+    }
+    // Strictly increasing times (a report could land two steps at the same instant).
+    out.dedup_by(|b, a| b.t_s <= a.t_s);
+    out
+}
+
+/// Sum of chords between fixes at least `min_s` apart over `[t0, t1]`.
+fn chord_distance(fixes: &[(f64, f64, f64, Option<f64>)], t0: f64, t1: f64, min_s: f64) -> f64 {
+    let inside: Vec<_> = fixes.iter().filter(|f| f.0 >= t0 && f.0 <= t1).collect();
+    let Some(first) = inside.first() else {
+        return f64::NAN;
+    };
+    let mut last = **first;
+    let mut d = 0.0;
+    for (i, f) in inside.iter().enumerate() {
+        if f.0 - last.0 >= min_s || (i + 1 == inside.len() && f.0 > last.0) {
+            d += (f.1 - last.1).hypot(f.2 - last.2);
+            last = **f;
+        }
+    }
+    d
+}
+
+/// First clean 5-minute stretch starting after the calibration period.
+fn clean_stretch(run: &RealRun) -> Option<(f64, f64)> {
+    let end = run.fixes.last()?.0;
+    let mut s = REAL_CALIBRATION_S;
+    while s + OUTAGE_S <= end {
+        let e = s + OUTAGE_S;
+        let fx: Vec<f64> = run
+            .fixes
+            .iter()
+            .map(|f| f.0)
+            .filter(|t| *t >= s - CLEAN_MAX_FIX_GAP_S && *t <= e + CLEAN_MAX_FIX_GAP_S)
+            .collect();
+        let fixes_ok = fx.first().is_some_and(|t| *t <= s)
+            && fx.last().is_some_and(|t| *t >= e)
+            && fx.windows(2).all(|w| w[1] - w[0] <= CLEAN_MAX_FIX_GAP_S);
+        let cad: Vec<(f64, f64)> = run
+            .cadence
+            .iter()
+            .copied()
+            .filter(|c| c.0 >= s - CADENCE_GAP_S && c.0 <= e + CADENCE_GAP_S)
+            .collect();
+        let cadence_ok = cad.first().is_some_and(|c| c.0 <= s)
+            && cad.last().is_some_and(|c| c.0 >= e)
+            && cad.iter().all(|c| c.1 >= CLEAN_MIN_CADENCE_SPM)
+            && cad
+                .windows(2)
+                .all(|w| w[1].0 - w[0].0 <= CLEAN_MAX_FIX_GAP_S);
+        if fixes_ok && cadence_ok {
+            return Some((s, e));
+        }
+        s += 30.0;
+    }
+    None
+}
+
+/// Estimated distance over `[s, e)` after calibrating on everything before `s`.
+fn outage_distance(
+    model: StepLengthModel,
+    config: StepLengthConfig,
+    run: &RealRun,
+    steps: &[StepEvent],
+    s: f64,
+    e: f64,
+) -> (f64, u32) {
+    let Ok(mut est) = StepLengthEstimator::new(model, config) else {
+        return (f64::NAN, 0);
+    };
+    let mut fi = 0;
+    let mut d = 0.0;
+    for ev in steps.iter().take_while(|ev| ev.t_s < e) {
+        while let Some(f) = run.fixes.get(fi) {
+            if f.0 > ev.t_s || f.0 >= s {
+                break;
+            }
+            let _ = est.push_gnss_fix(f.0, f.1, f.2, f.3);
+            fi += 1;
+        }
+        if let Ok(l) = est.push_step(ev) {
+            if ev.t_s >= s {
+                d += l;
+            }
+        }
+    }
+    (d, est.calibration().fits)
+}
+
+/// The real-run table for the activity files in `dir`.
+pub fn real_table(dir: &Path) -> Result<String, String> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| format!("cannot read {}: {e}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            matches!(
+                p.extension()
+                    .and_then(|e| e.to_str())
+                    .map(|e| e.to_ascii_lowercase())
+                    .as_deref(),
+                Some("fit" | "tcx" | "gpx")
+            )
+        })
+        .collect();
+    files.sort();
+    // Records come every 1–3 s in these files and carry no accuracy: fixes up to
+    // 5 s apart still locate steps.
+    let config = StepLengthConfig {
+        max_fix_gap_s: CLEAN_MAX_FIX_GAP_S,
+        ..StepLengthConfig::default()
+    };
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "Real runs ({}): GNSS + cadence only (no accelerometer), so only the constant and the frequency-only linear model apply; steps are synthesised from the cadence series. Each model calibrates on all GNSS before the first clean 5-minute stretch that starts ≥ {:.0} min into the run (clean: fixes ≤ {CLEAN_MAX_FIX_GAP_S:.0} s apart, cadence ≥ {CLEAN_MIN_CADENCE_SPM:.0} steps/min throughout); that stretch is then treated as an outage. Reference distance = sum of GNSS chords between fixes ≥ {CHORD_MIN_S:.0} s apart: fix-to-fix chords over 1–3 s are inflated by position noise (noise is a large share of a 3–9 m chord), while chords of ≥ 5 s (15–20 m running) are inflated by < ~1 % and still follow the road's bends. All-fix chords and the device's distance (its own fusion, sometimes a foot pod) are shown for context.\n",
+        dir.display(),
+        REAL_CALIBRATION_S / 60.0
+    );
+    let _ = writeln!(out, "| file | run min | stretch min | steps | reference m (≥ 5 s chords) | all-fix chords m | device m | constant | linear F only | fits (linear F) |");
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|---|");
+    let mut skipped = Vec::new();
+    let mut errs = [Vec::new(), Vec::new()];
+    for path in &files {
+        let run = match load(path) {
+            Ok(r) => r,
+            Err(e) => {
+                skipped.push(format!("{}: {e}", path.display()));
+                continue;
+            }
+        };
+        if run.fixes.len() < 30 || run.cadence.len() < 30 {
+            skipped.push(format!(
+                "{}: {}",
+                run.name,
+                if run.fixes.len() < 30 {
+                    "no GNSS track"
+                } else {
+                    "no cadence"
+                }
+            ));
+            continue;
+        }
+        let Some((s, e)) = clean_stretch(&run) else {
+            skipped.push(format!(
+                "{}: no clean 5-minute stretch after {:.0} min (run {:.0} min)",
+                run.name,
+                REAL_CALIBRATION_S / 60.0,
+                run.fixes.last().map(|f| f.0).unwrap_or(0.0) / 60.0
+            ));
+            continue;
+        };
+        let steps = synth_steps(&run.cadence);
+        let n_steps = steps.iter().filter(|x| x.t_s >= s && x.t_s < e).count();
+        let reference = chord_distance(&run.fixes, s, e, CHORD_MIN_S);
+        let all_chords = chord_distance(&run.fixes, s, e, 0.0);
+        let dev_at = |t: f64| {
+            run.device
+                .iter()
+                .find(|d| d.0 >= t)
+                .map(|d| d.1)
+                .unwrap_or(f64::NAN)
+        };
+        let device = dev_at(e) - dev_at(s);
+        let (dc, _) = outage_distance(StepLengthModel::Constant, config, &run, &steps, s, e);
+        let (dl, fits) = outage_distance(
+            StepLengthModel::LinearFrequencyOnly,
+            config,
+            &run,
+            &steps,
+            s,
+            e,
+        );
+        let ec = 100.0 * (dc - reference) / reference;
+        let el = 100.0 * (dl - reference) / reference;
+        errs[0].push(ec);
+        errs[1].push(el);
+        let _ = writeln!(
+            out,
+            "| {} | {:.0} | {:.1}–{:.1} | {n_steps} | {reference:.0} | {all_chords:.0} | {} | {} | {} | {fits} |",
+            run.name,
+            run.fixes.last().map(|f| f.0).unwrap_or(0.0) / 60.0,
+            s / 60.0,
+            e / 60.0,
+            if device.is_finite() {
+                format!("{device:.0}")
+            } else {
+                "—".into()
+            },
+            pct(ec),
+            pct(el),
+        );
+    }
+    if !errs[0].is_empty() {
+        let (mc, xc, wc, nc) = mean_max(errs[0].iter().copied());
+        let (ml, xl, wl, nl) = mean_max(errs[1].iter().copied());
+        let _ = writeln!(
+            out,
+            "| **all** | | | | | | | mean {mc:.2} %, worst {xc:.2} %, {wc}/{nc} within 3 % | mean {ml:.2} %, worst {xl:.2} %, {wl}/{nl} within 3 % | |"
+        );
+    }
+    for s in skipped {
+        let _ = writeln!(out, "\nSkipped: {s}");
+    }
+    Ok(out)
+}
+
+/// The whole report. `data_dir` is the folder of real activity files (default:
+/// `pace/original` in the shared data folder); the real part is skipped with a
+/// message when it is absent.
+pub fn report(data_dir: Option<&Path>) -> Result<String, String> {
+    let mut out = String::from("## Step length: distance error in a 5-minute GNSS outage\n\n");
+    out.push_str(&simulator_tables());
+    out.push('\n');
+    let dir = data_dir
+        .map(Path::to_path_buf)
+        .or_else(|| stridekit_formats::data_dir().map(|d| d.join("pace/original")));
+    match dir {
+        Some(d) if d.is_dir() => out.push_str(&real_table(&d)?),
+        _ => out.push_str(
+            "Real runs: skipped (../shared/data/pace/original not found; pass a data folder or set STRIDEKIT_DATA)\n",
+        ),
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn synthesised_steps_follow_cadence() {
+        let cadence: Vec<(f64, f64)> = (0..=60).map(|i| (i as f64, 180.0)).collect();
+        let steps = synth_steps(&cadence);
+        assert!((steps.len() as i64 - 180).abs() <= 1, "{}", steps.len());
+        assert!(steps[0].duration_s.is_nan());
+        assert!((steps[5].duration_s - 60.0 / 180.0).abs() < 1e-9);
+        assert!(steps.windows(2).all(|w| w[1].t_s > w[0].t_s));
+    }
+
+    /// The full report (simulator + real runs), for a manual look before the
+    /// command is wired: `cargo test -p stridekit-cli print_steplength_report --
+    /// --ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn print_steplength_report() {
+        println!("{}", report(None).unwrap());
+    }
+
+    #[test]
+    fn chords_skip_close_fixes() {
+        let fixes: Vec<(f64, f64, f64, Option<f64>)> = (0..=20)
+            .map(|i| (i as f64, 3.0 * i as f64, 0.0, None))
+            .collect();
+        assert!((chord_distance(&fixes, 0.0, 20.0, 5.0) - 60.0).abs() < 1e-9);
+        assert!((chord_distance(&fixes, 0.0, 20.0, 0.0) - 60.0).abs() < 1e-9);
+    }
+}
