@@ -3,6 +3,8 @@
 mod activity;
 mod demo;
 mod eval_pace;
+mod eval_steplength;
+mod eval_steps;
 mod replay;
 mod report;
 
@@ -25,6 +27,15 @@ USAGE:
       (default 10) and on the real runs in DIR (default: ../shared/data/pace/original)
       with injected GNSS degradation. Prints markdown tables. --set changes a
       parameter of the default filter (see AdaptiveParams) for sensitivity checks.
+  stridekit eval steps [--data DIR] [--sensitivity]
+      Step counting of the AsPublished and default detectors on the Oxford Step
+      Counter traces in DIR (default: ../shared/data/steps/oxford): count error and
+      step-event F1 per trace and per placement, also at 50 Hz and with jitter.
+      --sensitivity adds parameter sensitivity and a leave-one-user-out check.
+  stridekit eval steplength [--data DIR]
+      Step-length models (constant, linear robust and as published, frequency-only,
+      Weinberg): distance error over a 5-minute GNSS outage after calibration, on the
+      phone simulator and on the real runs in DIR (default: ../shared/data/pace/original).
   stridekit help
 ";
 
@@ -86,6 +97,25 @@ fn main() -> ExitCode {
                     println!("Real runs: skipped (../shared/data/pace/original not found; pass --data DIR or set STRIDEKIT_DATA)");
                     Ok(())
                 }
+            }
+        }
+        Some("eval") if args.get(1).map(String::as_str) == Some("steplength") => {
+            let dir = flag(&args, "--data").map(PathBuf::from);
+            eval_steplength::report(dir.as_deref()).map(|t| println!("{t}"))
+        }
+        Some("eval") if args.get(1).map(String::as_str) == Some("steps") => {
+            let dir = flag(&args, "--data")
+                .map(PathBuf::from)
+                .or_else(|| stridekit_formats::data_dir().map(|d| d.join("steps/oxford")));
+            match dir {
+                Some(d) if d.is_dir() => eval_steps::run(&d).and_then(|t| {
+                    println!("{t}");
+                    if args.iter().any(|a| a == "--sensitivity") {
+                        println!("{}", eval_steps::robustness(&d)?);
+                    }
+                    Ok(())
+                }),
+                _ => Err("Oxford traces not found: pass --data DIR or set STRIDEKIT_DATA".into()),
             }
         }
         Some("help" | "--help" | "-h") => {
