@@ -59,6 +59,11 @@ impl Writer {
             self.f64(v);
         }
     }
+    /// A nested blob (e.g. a sub-engine's own snapshot), length-prefixed.
+    pub fn bytes(&mut self, b: &[u8]) {
+        self.u64(b.len() as u64);
+        self.buf.extend_from_slice(b);
+    }
     pub fn finish(mut self) -> Vec<u8> {
         let crc = crc32(&self.buf);
         self.buf.extend_from_slice(&crc.to_le_bytes());
@@ -142,6 +147,18 @@ impl<'a> Reader<'a> {
             *v = self.f64()?;
         }
         Ok(())
+    }
+    /// A nested blob written by [`Writer::bytes`].
+    pub fn bytes(&mut self) -> Result<&'a [u8], SnapshotError> {
+        let n = self.u64()?;
+        let n = usize::try_from(n).map_err(|_| SnapshotError::Truncated)?;
+        let end = self.pos.checked_add(n).ok_or(SnapshotError::Truncated)?;
+        let s = self
+            .buf
+            .get(self.pos..end)
+            .ok_or(SnapshotError::Truncated)?;
+        self.pos = end;
+        Ok(s)
     }
     /// A count stored as u64 that must not exceed `max`.
     pub fn len(&mut self, max: usize) -> Result<usize, SnapshotError> {

@@ -27,6 +27,8 @@
 
 use std::f64::consts::PI;
 
+use crate::snapshot::{Reader, SnapshotError, Writer};
+
 /// Step frequency above which the gait is taken as running (spring-mass), Hz.
 pub const RUNNING_STEP_HZ: f64 = 2.4;
 /// Gain of the pull towards a stride's axis at full quality (per stride).
@@ -225,6 +227,59 @@ impl WalkingDirection {
         if self.phone_azimuth_rad.is_finite() {
             self.offset_rad = wrap(self.azimuth_rad - self.phone_azimuth_rad);
         }
+    }
+
+    pub(crate) fn write(&self, w: &mut Writer) {
+        let s = &self.stride;
+        w.f64s(&[
+            self.azimuth_rad,
+            s.n,
+            s.se,
+            s.sn,
+            s.see,
+            s.snn,
+            s.sen,
+            s.vz,
+            s.svz,
+        ]);
+        w.f64s(&[
+            s.sevz,
+            s.snvz,
+            self.vz_mps,
+            self.last_t_s,
+            self.phone_azimuth_rad,
+        ]);
+        w.f64(self.offset_rad);
+        w.bool(self.known);
+        w.bool(self.sign_resolved);
+        w.u64(self.steps_in_stride as u64);
+    }
+
+    pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
+        let mut v = [0.0; 14];
+        r.f64s(&mut v)?;
+        Ok(Self {
+            azimuth_rad: v[0],
+            stride: StrideStats {
+                n: v[1],
+                se: v[2],
+                sn: v[3],
+                see: v[4],
+                snn: v[5],
+                sen: v[6],
+                vz: v[7],
+                svz: v[8],
+                sevz: v[9],
+                snvz: v[10],
+            },
+            vz_mps: v[11],
+            last_t_s: v[12],
+            phone_azimuth_rad: v[13],
+            offset_rad: r.f64()?,
+            known: r.bool()?,
+            sign_resolved: r.bool()?,
+            steps_in_stride: r.len(2)? as u32,
+        })
     }
 
     /// A GNSS course over ground (azimuth, rad) while walking straight: resolves the

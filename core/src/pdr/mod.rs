@@ -1,7 +1,9 @@
 //! Pedestrian dead reckoning with a phone: steps × step length × walking direction
-//! (issue 3, in progress: the walking-direction estimator is here; the navigator that
-//! ties AHRS, step detection, step length and GNSS together comes next).
+//! ([`PhoneNavigator`]), built from the AHRS, the step detector, the step-length
+//! estimator and the walking-direction estimator ([`WalkingDirection`]).
 
 pub mod heading;
+pub mod navigator;
 
 pub use heading::WalkingDirection;
+pub use navigator::{NavError, NavEstimate, NavigatorConfig, PhoneNavigator};
