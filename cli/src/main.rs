@@ -3,6 +3,7 @@
 mod activity;
 mod demo;
 mod eval_pace;
+mod eval_pdr;
 mod eval_steplength;
 mod eval_steps;
 mod replay;
@@ -32,6 +33,9 @@ USAGE:
       Counter traces in DIR (default: ../shared/data/steps/oxford): count error and
       step-event F1 per trace and per placement, also at 50 Hz and with jitter.
       --sensitivity adds parameter sensitivity and a leave-one-user-out check.
+  stridekit eval pdr [--seeds N]
+      Pedestrian dead reckoning on the phone simulator, every placement: step count,
+      distance and end-point error after a 10-minute GNSS outage (default 3 seeds).
   stridekit eval steplength [--data DIR]
       Step-length models (constant, linear robust and as published, frequency-only,
       Weinberg): distance error over a 5-minute GNSS outage after calibration, on the
@@ -98,6 +102,12 @@ fn main() -> ExitCode {
                     Ok(())
                 }
             }
+        }
+        Some("eval") if args.get(1).map(String::as_str) == Some("pdr") => {
+            let seeds = flag(&args, "--seeds")
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(3);
+            eval_pdr::report(seeds).map(|t| println!("{t}"))
         }
         Some("eval") if args.get(1).map(String::as_str) == Some("steplength") => {
             let dir = flag(&args, "--data").map(PathBuf::from);

@@ -35,6 +35,18 @@ pub const RUNNING_STEP_HZ: f64 = 2.4;
 const AXIS_GAIN: f64 = 0.3;
 /// Strides whose along/across variance ratio is below this carry no direction.
 const MIN_AXIS_RATIO: f64 = 1.5;
+/// Learning rate of the stride-axis bias from GNSS courses.
+const AXIS_BIAS_GAIN: f64 = 0.2;
+
+/// Wrap an axis difference (defined modulo π) to (−π/2, π/2].
+fn wrap_axis(a: f64) -> f64 {
+    let x = wrap(2.0 * a) / 2.0;
+    if x <= -0.5 * PI {
+        x + PI
+    } else {
+        x
+    }
+}
 
 /// Wrap an angle to (−π, π].
 pub fn wrap(a: f64) -> f64 {
@@ -117,6 +129,13 @@ pub struct WalkingDirection {
     last_t_s: f64,
     phone_azimuth_rad: f64,
     offset_rad: f64,
+    /// Systematic difference between GNSS course and the stride axis (body motion is
+    /// not exactly fore-aft in every placement: a pocket also sees the thigh's swing),
+    /// learned while GNSS is good, applied to every stride axis.
+    axis_bias_rad: f64,
+    /// Stride axes since the last course, as doubled-angle sums (axes are modulo π).
+    axis_sum_cos2: f64,
+    axis_sum_sin2: f64,
 }
 
 impl Default for WalkingDirection {
@@ -137,6 +156,9 @@ impl WalkingDirection {
             last_t_s: f64::NAN,
             phone_azimuth_rad: f64::NAN,
             offset_rad: f64::NAN,
+            axis_bias_rad: 0.0,
+            axis_sum_cos2: 0.0,
+            axis_sum_sin2: 0.0,
         }
     }
 
@@ -203,6 +225,9 @@ impl WalkingDirection {
             return;
         }
         let quality = ((ratio - MIN_AXIS_RATIO) / (4.0 * MIN_AXIS_RATIO)).clamp(0.0, 1.0);
+        self.axis_sum_cos2 += quality * (2.0 * axis).cos();
+        self.axis_sum_sin2 += quality * (2.0 * axis).sin();
+        let axis = wrap(axis + self.axis_bias_rad);
         if !self.known {
             // Choose forward by the gait cue: walking → forward acceleration is
             // anti-correlated with vertical velocity; running → correlated.
@@ -249,7 +274,12 @@ impl WalkingDirection {
             self.last_t_s,
             self.phone_azimuth_rad,
         ]);
-        w.f64(self.offset_rad);
+        w.f64s(&[
+            self.offset_rad,
+            self.axis_bias_rad,
+            self.axis_sum_cos2,
+            self.axis_sum_sin2,
+        ]);
         w.bool(self.known);
         w.bool(self.sign_resolved);
         w.u64(self.steps_in_stride as u64);
@@ -276,6 +306,9 @@ impl WalkingDirection {
             last_t_s: v[12],
             phone_azimuth_rad: v[13],
             offset_rad: r.f64()?,
+            axis_bias_rad: r.f64()?,
+            axis_sum_cos2: r.f64()?,
+            axis_sum_sin2: r.f64()?,
             known: r.bool()?,
             sign_resolved: r.bool()?,
             steps_in_stride: r.len(2)? as u32,
@@ -289,6 +322,17 @@ impl WalkingDirection {
             return;
         }
         let w = weight.clamp(0.0, 1.0);
+        // Learn the stride-axis bias: course minus the mean stride axis since the
+        // last course (both as axes, modulo π).
+        if self.axis_sum_cos2.hypot(self.axis_sum_sin2) > 1.0 {
+            let mean_axis = 0.5 * self.axis_sum_sin2.atan2(self.axis_sum_cos2);
+            let diff = wrap_axis(course_rad - mean_axis);
+            self.axis_bias_rad = wrap_axis(
+                self.axis_bias_rad + AXIS_BIAS_GAIN * wrap_axis(diff - self.axis_bias_rad),
+            );
+        }
+        self.axis_sum_cos2 = 0.0;
+        self.axis_sum_sin2 = 0.0;
         if !self.known {
             self.azimuth_rad = wrap(course_rad);
             self.known = true;
