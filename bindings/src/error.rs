@@ -13,6 +13,7 @@ use stridekit_core::pace::Stream;
 pub enum SensorStream {
     Gnss,
     Steps,
+    Accelerometer,
 }
 
 impl std::fmt::Display for SensorStream {
@@ -20,6 +21,7 @@ impl std::fmt::Display for SensorStream {
         f.write_str(match self {
             SensorStream::Gnss => "GNSS",
             SensorStream::Steps => "step",
+            SensorStream::Accelerometer => "accelerometer",
         })
     }
 }
@@ -29,6 +31,7 @@ impl From<Stream> for SensorStream {
         match s {
             Stream::Gnss => Self::Gnss,
             Stream::Steps => Self::Steps,
+            Stream::Accelerometer => Self::Accelerometer,
         }
     }
 }
@@ -55,6 +58,9 @@ pub enum PaceError {
         t_s: f64,
         last_t_s: f64,
     },
+    /// Accelerometer samples look like g, not m/s² (multiply by 9.80665).
+    #[error("acceleration magnitude averages {mean_magnitude:.2}: the samples look like g, expected m/s²")]
+    AccelerationNotInMps2 { mean_magnitude: f64 },
     /// The configuration is not usable.
     #[error("invalid configuration: {reason}")]
     InvalidConfig { reason: String },
@@ -93,6 +99,9 @@ impl From<core::PaceError> for PaceError {
                 t_s,
                 last_t_s,
             },
+            core::PaceError::AccelerationNotInMps2 { mean_magnitude } => {
+                Self::AccelerationNotInMps2 { mean_magnitude }
+            }
             core::PaceError::InvalidConfig { reason } => Self::InvalidConfig { reason },
             core::PaceError::Snapshot(s) => Self::InvalidSnapshot {
                 reason: s.to_string(),

@@ -7,6 +7,8 @@ use crate::snapshot::SnapshotError;
 pub enum Stream {
     Gnss,
     Steps,
+    /// Raw accelerometer samples (steps detected by the tracker).
+    Accelerometer,
 }
 
 impl std::fmt::Display for Stream {
@@ -14,6 +16,7 @@ impl std::fmt::Display for Stream {
         f.write_str(match self {
             Stream::Gnss => "GNSS",
             Stream::Steps => "step",
+            Stream::Accelerometer => "accelerometer",
         })
     }
 }
@@ -39,12 +42,44 @@ pub enum PaceError {
         t_s: f64,
         last_t_s: f64,
     },
+    /// Accelerometer samples average about 1 instead of about 9.8: they are in g.
+    #[error(
+        "acceleration magnitude averages {mean_magnitude:.2}: the samples look like g, \
+         expected m/s² (about 9.8 at rest; multiply by 9.80665)"
+    )]
+    AccelerationNotInMps2 { mean_magnitude: f64 },
     /// The configuration is not usable.
     #[error("invalid configuration: {reason}")]
     InvalidConfig { reason: String },
     /// A snapshot could not be restored.
     #[error("cannot restore snapshot: {0}")]
     Snapshot(#[from] SnapshotError),
+}
+
+impl From<crate::stepdetect::StepDetectError> for PaceError {
+    fn from(e: crate::stepdetect::StepDetectError) -> Self {
+        use crate::stepdetect::StepDetectError as D;
+        match e {
+            D::NonFinite { field } => Self::NonFinite { field },
+            D::OutOfRange {
+                field,
+                value,
+                expected,
+            } => Self::OutOfRange {
+                field,
+                value,
+                expected,
+            },
+            D::TimeNotIncreasing { t_s, last_t_s } => Self::TimeNotIncreasing {
+                stream: Stream::Accelerometer,
+                t_s,
+                last_t_s,
+            },
+            D::LooksLikeG { mean_magnitude } => Self::AccelerationNotInMps2 { mean_magnitude },
+            D::InvalidConfig { reason } => Self::InvalidConfig { reason },
+            D::Snapshot(s) => Self::Snapshot(s),
+        }
+    }
 }
 
 pub(crate) fn finite(field: &'static str, v: f64) -> Result<f64, PaceError> {

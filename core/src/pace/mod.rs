@@ -24,6 +24,7 @@ pub use types::{GnssFix, PaceEstimate, PaceSample, PaceSource, StepSample, MIN_P
 
 use crate::geo::LocalFrame;
 use crate::snapshot::{Reader, SnapshotError, Writer};
+use crate::stepdetect::{AccelSample, StepDetector, StepDetectorConfig, StepEvent};
 use error::{finite, in_range};
 use steps::StepStream;
 
@@ -72,6 +73,8 @@ pub struct PaceTracker {
     last_fix_t_s: Option<f64>,
     steps: StepStream,
     filter: Filter,
+    /// Step detector for raw accelerometer input, created on the first sample.
+    detector: Option<StepDetector>,
 }
 
 /// A sample a batch push rejected, with its index in the batch.
@@ -100,6 +103,7 @@ impl PaceTracker {
             frame: None,
             last_fix_t_s: None,
             steps: StepStream::new(),
+            detector: None,
         })
     }
 
@@ -117,6 +121,11 @@ impl PaceTracker {
     /// The local ENU frame (anchored at the first fix), once a fix was seen.
     pub fn frame(&self) -> Option<&LocalFrame> {
         self.frame.as_ref()
+    }
+
+    /// Steps detected from raw accelerometer input so far.
+    pub fn detected_steps(&self) -> u64 {
+        self.detector.as_ref().map_or(0, |d| d.step_count())
     }
 
     /// Counter resets seen in the step stream.
@@ -193,6 +202,60 @@ impl PaceTracker {
         Ok(())
     }
 
+    /// Push one raw accelerometer sample (m/s², gravity included, any axes): the
+    /// tracker detects steps itself (the default [`StepDetector`]) and feeds them to
+    /// the step stream. An alternative to platform step counts: use one step source
+    /// per tracker (a detected step earlier than a pushed count is ignored).
+    pub fn push_accel(&mut self, t_s: f64, accel_mps2: [f64; 3]) -> Result<(), PaceError> {
+        let first = match &mut self.detector {
+            Some(d) => d.push(t_s, accel_mps2)?,
+            None => {
+                let mut d = StepDetector::new(StepDetectorConfig::default())?;
+                let first = d.push(t_s, accel_mps2)?;
+                self.detector = Some(d);
+                first
+            }
+        };
+        if let Some(e) = first {
+            self.on_detected_step(&e);
+        }
+        while let Some(e) = self.detector.as_mut().and_then(|d| d.pop_step()) {
+            self.on_detected_step(&e);
+        }
+        Ok(())
+    }
+
+    /// Push many accelerometer samples; rejected ones are skipped and reported.
+    pub fn push_accel_batch(&mut self, samples: &[AccelSample]) -> Vec<Rejection> {
+        let mut rejected = Vec::new();
+        for (index, s) in samples.iter().enumerate() {
+            if let Err(error) = self.push_accel(s.t_s, s.accel_mps2) {
+                rejected.push(Rejection { index, error });
+            }
+        }
+        rejected
+    }
+
+    fn on_detected_step(&mut self, e: &StepEvent) {
+        let sample = StepSample::Event { t_s: e.t_s };
+        if self.steps.check(&sample).is_err() {
+            log::debug!(
+                "detected step at {} s is not after the step stream: ignored",
+                e.t_s
+            );
+            return;
+        }
+        self.steps.push(&sample);
+        let ctx = Context {
+            config: &self.config,
+            steps: &self.steps,
+        };
+        match &mut self.filter {
+            Filter::Published(f) => f.on_steps(e.t_s, &ctx),
+            Filter::Adaptive(f) => f.on_steps(e.t_s, &ctx),
+        }
+    }
+
     /// Push a sample of either stream; a fix returns its estimate.
     pub fn push(&mut self, sample: &PaceSample) -> Result<Option<PaceEstimate>, PaceError> {
         match sample {
@@ -248,6 +311,13 @@ impl PaceTracker {
             Filter::Published(f) => f.write(&mut w),
             Filter::Adaptive(f) => f.write(&mut w),
         }
+        match &self.detector {
+            Some(d) => {
+                w.bool(true);
+                w.bytes(&d.snapshot());
+            }
+            None => w.bool(false),
+        }
         w.finish()
     }
 
@@ -277,6 +347,11 @@ impl PaceTracker {
                 Filter::Adaptive(adaptive::AdaptiveFilter::read(&mut r, &config)?)
             }
         };
+        let detector = if r.bool()? {
+            Some(StepDetector::restore(r.bytes()?)?)
+        } else {
+            None
+        };
         r.end()?;
         Ok(Self {
             config,
@@ -284,6 +359,7 @@ impl PaceTracker {
             last_fix_t_s,
             steps,
             filter,
+            detector,
         })
     }
 }
