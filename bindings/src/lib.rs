@@ -29,6 +29,6 @@ pub use error::{PaceError, SensorStream};
 pub use sim::{simulate_run, SimulatedRun};
 pub use tracker::{BatchResult, PaceTracker, RejectedSample};
 pub use types::{
-    default_pace_config, GnssFix, PaceConfig, PaceEstimate, PaceMode, PaceSample, PaceSource,
-    StepSample,
+    default_pace_config, AccelSample, GnssFix, PaceConfig, PaceEstimate, PaceMode, PaceSample,
+    PaceSource, StepSample,
 };

@@ -22,6 +22,9 @@
 //! | 40     | `speed_mps`             | NaN                      |
 //! | 48     | `speed_accuracy_mps`    | NaN                      |
 //!
+//! **Accelerometer samples** ([`ACCEL_RECORD_BYTES`] = 32 bytes per sample, four
+//! f64 LE): `t_s`, `ax`, `ay`, `az` (m/s², gravity included, any axes).
+//!
 //! Kotlin: `ByteBuffer.allocate(n * 56).order(ByteOrder.LITTLE_ENDIAN)` and
 //! `putDouble` seven times per fix (`Double.NaN` for a missing optional); Swift:
 //! `withUnsafeBytes(of: value.bitPattern.littleEndian)`.
@@ -37,6 +40,16 @@ use stridekit_core::pace as core;
 pub const STEP_COUNT_RECORD_BYTES: usize = 16;
 /// Bytes per packed GNSS fix record.
 pub const FIX_RECORD_BYTES: usize = 56;
+/// Bytes per packed accelerometer record.
+pub const ACCEL_RECORD_BYTES: usize = 32;
+
+/// Decode packed accelerometer samples `(t_s, ax, ay, az)`.
+pub fn accel(bytes: &[u8]) -> Result<impl Iterator<Item = (f64, [f64; 3])> + '_, PaceError> {
+    check_len(bytes, ACCEL_RECORD_BYTES, "accelerometer")?;
+    Ok(bytes
+        .chunks_exact(ACCEL_RECORD_BYTES)
+        .map(|c| (f64_at(c, 0), [f64_at(c, 8), f64_at(c, 16), f64_at(c, 24)])))
+}
 
 fn check_len(bytes: &[u8], record: usize, what: &str) -> Result<(), PaceError> {
     if bytes.len() % record == 0 {

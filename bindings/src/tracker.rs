@@ -7,7 +7,7 @@ use stridekit_core::pace as core;
 
 use crate::error::{guard, PaceError};
 use crate::packed;
-use crate::types::{GnssFix, PaceConfig, PaceEstimate, PaceSample, StepSample};
+use crate::types::{AccelSample, GnssFix, PaceConfig, PaceEstimate, PaceSample, StepSample};
 
 /// A sample a batch push rejected; the rest of the batch was still processed.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
@@ -177,6 +177,32 @@ impl PaceTracker {
             let counts = packed::step_counts(&data)?;
             Ok(self.batch(counts, 0, |t, s| t.push_steps(&s).map(|_| None)))
         })
+    }
+
+    /// Raw accelerometer samples (m/s², gravity included, any axes) instead of
+    /// platform step counts: the tracker detects steps itself. Use one step source
+    /// per tracker.
+    pub fn push_accel_samples(&self, samples: Vec<AccelSample>) -> BatchResult {
+        let n = samples.len();
+        self.batch(samples.into_iter(), n, |t, s| {
+            t.push_accel(s.t_s, [s.x_mps2, s.y_mps2, s.z_mps2])
+                .map(|_| None)
+        })
+    }
+
+    /// Fast path for accelerometer streams (100–400 Hz): 32-byte little-endian
+    /// records `(t_s, ax, ay, az)` as f64. Fails as a whole only if the length is not a
+    /// multiple of 32; otherwise behaves like `push_accel_samples`.
+    pub fn push_accel_packed(&self, data: Vec<u8>) -> Result<BatchResult, PaceError> {
+        guard(|| {
+            let samples = packed::accel(&data)?;
+            Ok(self.batch(samples, 0, |t, (ts, a)| t.push_accel(ts, a).map(|_| None)))
+        })
+    }
+
+    /// Steps detected so far from accelerometer input.
+    pub fn detected_steps(&self) -> u64 {
+        self.lock().detected_steps()
     }
 
     /// The current estimate, at the time of the newest sample of either stream.

@@ -92,6 +92,18 @@ impl From<core::StepSample> for StepSample {
     }
 }
 
+/// One raw accelerometer sample: specific force (gravity included) in m/s², device
+/// axes as the platform reports them (Android `TYPE_ACCELEROMETER`, iOS
+/// `CMAccelerometerData` × 9.80665: iOS reports g).
+#[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
+pub struct AccelSample {
+    /// Time, seconds on the app's monotonic clock.
+    pub t_s: f64,
+    pub x_mps2: f64,
+    pub y_mps2: f64,
+    pub z_mps2: f64,
+}
+
 /// One input of either stream, for mixed batches in time order.
 #[derive(Clone, Copy, Debug, PartialEq, uniffi::Enum)]
 pub enum PaceSample {
