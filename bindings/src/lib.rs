@@ -20,6 +20,7 @@
 uniffi::setup_scaffolding!();
 
 mod error;
+pub mod navigator;
 pub mod packed;
 mod sim;
 mod tracker;

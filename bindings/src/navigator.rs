@@ -1,0 +1,212 @@
+//! `PhoneNavigator` at the FFI: pedestrian dead reckoning from raw phone IMU data,
+//! corrected by GNSS (core: `stridekit_core::pdr`).
+//!
+//! IMU samples cross the FFI packed, 80-byte little-endian records of ten f64:
+//! `t_s, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y, accel_z (m/s², gravity
+//! included), mag_x, mag_y, mag_z (µT; NaN when there is no magnetometer)`, device
+//! axes as the platform reports them.
+
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+
+use stridekit_core::ahrs::ImuSample;
+use stridekit_core::pdr as core;
+
+use crate::types::GnssFix;
+
+/// Bytes per packed IMU record.
+pub const IMU_RECORD_BYTES: usize = 80;
+
+/// Why the navigator rejected an input, a buffer or a snapshot (Kotlin
+/// `NavException`, Swift `NavError`). A rejected input changes nothing.
+#[derive(Clone, Debug, PartialEq, thiserror::Error, uniffi::Error)]
+#[uniffi::export(Display)]
+pub enum NavError {
+    /// An IMU sample was rejected (NaN, time not increasing, accelerations in g, ...).
+    #[error("IMU sample rejected: {reason}")]
+    InvalidImuSample { reason: String },
+    /// A GNSS fix was rejected.
+    #[error("GNSS fix rejected: {reason}")]
+    InvalidFix { reason: String },
+    /// Snapshot bytes could not be restored.
+    #[error("cannot restore snapshot: {reason}")]
+    InvalidSnapshot { reason: String },
+    /// A packed buffer is not a whole number of 80-byte records.
+    #[error("invalid packed buffer: {reason}")]
+    InvalidBuffer { reason: String },
+    /// A bug inside stridekit (a caught panic). The navigator stays usable.
+    #[error("internal error in stridekit: {reason}")]
+    Internal { reason: String },
+}
+
+fn guard<T>(f: impl FnOnce() -> Result<T, NavError>) -> Result<T, NavError> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|p| {
+        let reason = p
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| p.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "panic".into());
+        Err(NavError::Internal { reason })
+    })
+}
+
+/// Where the pedestrian is (see the core `NavEstimate`).
+#[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
+pub struct NavEstimate {
+    pub t_s: f64,
+    /// Local East-North-Up position, metres (anchored at the first fix).
+    pub east_m: f64,
+    pub north_m: f64,
+    /// 1-σ per axis, metres.
+    pub position_std_m: f64,
+    pub lat_deg: Option<f64>,
+    pub lon_deg: Option<f64>,
+    /// Walking direction, radians clockwise from north.
+    pub walking_azimuth_rad: Option<f64>,
+    /// Walking direction minus the phone's heading, radians.
+    pub heading_offset_rad: Option<f64>,
+    pub steps: u64,
+    pub distance_m: f64,
+    pub step_length_m: Option<f64>,
+}
+
+impl From<core::NavEstimate> for NavEstimate {
+    fn from(e: core::NavEstimate) -> Self {
+        Self {
+            t_s: e.t_s,
+            east_m: e.east_m,
+            north_m: e.north_m,
+            position_std_m: e.position_std_m,
+            lat_deg: e.lat_deg,
+            lon_deg: e.lon_deg,
+            walking_azimuth_rad: e.walking_azimuth_rad,
+            heading_offset_rad: e.heading_offset_rad,
+            steps: e.steps,
+            distance_m: e.distance_m,
+            step_length_m: e.step_length_m,
+        }
+    }
+}
+
+/// An IMU sample a batch rejected.
+#[derive(Clone, Debug, PartialEq, uniffi::Record)]
+pub struct RejectedImuSample {
+    pub index: u32,
+    pub reason: String,
+}
+
+/// What a packed IMU push produced.
+#[derive(Clone, Debug, PartialEq, uniffi::Record)]
+pub struct ImuBatchResult {
+    pub rejected: Vec<RejectedImuSample>,
+    /// The estimate after the batch.
+    pub latest: NavEstimate,
+}
+
+/// Pedestrian dead reckoning with a phone. Safe to call from several threads.
+#[derive(Debug, uniffi::Object)]
+pub struct PhoneNavigator {
+    inner: Mutex<core::PhoneNavigator>,
+}
+
+impl PhoneNavigator {
+    fn lock(&self) -> MutexGuard<'_, core::PhoneNavigator> {
+        self.inner.lock().unwrap_or_else(|p| {
+            self.inner.clear_poison();
+            PoisonError::into_inner(p)
+        })
+    }
+}
+
+fn f64_at(c: &[u8], i: usize) -> f64 {
+    let mut b = [0u8; 8];
+    b.copy_from_slice(&c[8 * i..8 * i + 8]);
+    f64::from_le_bytes(b)
+}
+
+#[uniffi::export]
+impl PhoneNavigator {
+    /// A navigator with the default configuration (ENU, default step detector,
+    /// robust linear step length).
+    #[uniffi::constructor]
+    pub fn with_defaults() -> Arc<Self> {
+        Arc::new(Self {
+            inner: Mutex::new(
+                core::PhoneNavigator::new(core::NavigatorConfig::default())
+                    .expect("the core default configuration is valid"),
+            ),
+        })
+    }
+
+    /// A navigator continuing exactly where `snapshot()` was taken.
+    #[uniffi::constructor]
+    pub fn restore(snapshot: Vec<u8>) -> Result<Arc<Self>, NavError> {
+        guard(|| {
+            let n = core::PhoneNavigator::restore(&snapshot).map_err(|e| {
+                NavError::InvalidSnapshot {
+                    reason: e.to_string(),
+                }
+            })?;
+            Ok(Arc::new(Self {
+                inner: Mutex::new(n),
+            }))
+        })
+    }
+
+    /// Push IMU samples packed as 80-byte records (layout in the module docs).
+    pub fn push_imu_packed(&self, data: Vec<u8>) -> Result<ImuBatchResult, NavError> {
+        guard(|| {
+            if data.len() % IMU_RECORD_BYTES != 0 {
+                return Err(NavError::InvalidBuffer {
+                    reason: format!(
+                        "{} bytes is not a whole number of {IMU_RECORD_BYTES}-byte IMU records",
+                        data.len()
+                    ),
+                });
+            }
+            let mut nav = self.lock();
+            let mut rejected = Vec::new();
+            for (index, c) in data.chunks_exact(IMU_RECORD_BYTES).enumerate() {
+                let mag = [f64_at(c, 7), f64_at(c, 8), f64_at(c, 9)];
+                let s = ImuSample {
+                    t_s: f64_at(c, 0),
+                    gyro_rads: [f64_at(c, 1), f64_at(c, 2), f64_at(c, 3)],
+                    accel_mps2: [f64_at(c, 4), f64_at(c, 5), f64_at(c, 6)],
+                    mag_ut: (!mag.iter().any(|v| v.is_nan())).then_some(mag),
+                };
+                if let Err(e) = nav.push_imu(&s) {
+                    rejected.push(RejectedImuSample {
+                        index: u32::try_from(index).unwrap_or(u32::MAX),
+                        reason: e.to_string(),
+                    });
+                }
+            }
+            Ok(ImuBatchResult {
+                rejected,
+                latest: nav.estimate().into(),
+            })
+        })
+    }
+
+    /// Push one GNSS fix: anchors the local frame (first fix), corrects position,
+    /// calibrates step length and walking direction.
+    pub fn push_fix(&self, fix: GnssFix) -> Result<NavEstimate, NavError> {
+        guard(|| {
+            self.lock()
+                .push_fix(&fix.into())
+                .map(Into::into)
+                .map_err(|e| NavError::InvalidFix {
+                    reason: e.to_string(),
+                })
+        })
+    }
+
+    /// Where the pedestrian is now.
+    pub fn estimate(&self) -> NavEstimate {
+        self.lock().estimate().into()
+    }
+
+    /// The whole state as bytes (sub-engines included).
+    pub fn snapshot(&self) -> Vec<u8> {
+        self.lock().snapshot()
+    }
+}
