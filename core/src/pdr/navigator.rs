@@ -182,13 +182,13 @@ impl PhoneNavigator {
 
     /// One IMU sample (sensor frame; the AHRS settings say how to remap it).
     pub fn push_imu(&mut self, s: &ImuSample) -> Result<(), NavError> {
-        // Both engines check the same things (finite, increasing time, m/s²); the
-        // detector's checks run on a copy first so a rejection leaves both untouched.
-        let mut detector = self.detector.clone();
-        let first = detector.push(s.t_s, s.accel_mps2)?;
+        // Both engines check the same things (finite, increasing time, m/s²): the
+        // detector's check runs first, without side effects, so a rejection by either
+        // leaves both untouched (the AHRS rejects before changing anything too).
+        self.detector.check_sample(s.t_s, s.accel_mps2)?;
         self.ahrs
             .update(s.t_s, s.gyro_rads, s.accel_mps2, s.mag_ut)?;
-        self.detector = detector;
+        let first = self.detector.push(s.t_s, s.accel_mps2)?;
         self.last_t_s = s.t_s;
         if let Some(o) = self.ahrs.output() {
             let q = o.unit_quaternion();

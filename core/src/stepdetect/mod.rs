@@ -282,6 +282,12 @@ impl StepDetector {
 
     /// Checks a sample without changing state; returns its magnitude and the updated
     /// units mean.
+    /// Whether [`push`](Self::push) would accept this sample, without changing
+    /// anything (callers that update several engines per sample check first).
+    pub fn check_sample(&self, t_s: f64, accel_mps2: [f64; 3]) -> Result<(), StepDetectError> {
+        self.check(t_s, accel_mps2).map(|_| ())
+    }
+
     fn check(&self, t_s: f64, a: [f64; 3]) -> Result<(f64, f64), StepDetectError> {
         if !t_s.is_finite() {
             return Err(StepDetectError::NonFinite { field: "t_s" });
