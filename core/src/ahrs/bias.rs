@@ -11,6 +11,8 @@
 
 use std::f64::consts::PI;
 
+use super::quat::min;
+
 /// An axis faster than this is moving, rad/s (3 °/s).
 pub const STILL_RATE_RADS: f64 = 3.0 * PI / 180.0;
 /// |a| further than this from gravity is moving, m/s².
@@ -47,12 +49,12 @@ impl GyroBias {
         let learning = still & (self.still_s >= STILL_TIMEOUT_S);
         // The stillness timer counts up to the timeout and restarts on any motion.
         self.still_s = if still {
-            (self.still_s + dt_s).min(STILL_TIMEOUT_S)
+            min(self.still_s + dt_s, STILL_TIMEOUT_S)
         } else {
             0.0
         };
         let k = if learning {
-            (2.0 * PI * BIAS_CUTOFF_HZ * dt_s).min(1.0)
+            min(2.0 * PI * BIAS_CUTOFF_HZ * dt_s, 1.0)
         } else {
             0.0
         };

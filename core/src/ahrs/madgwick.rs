@@ -75,21 +75,28 @@
 //!
 //! # Cost
 //! One update is a chain of dependent floating-point operations from one sample's
-//! `q` to the next, so the work is arranged to keep that chain short: f64 scalar
-//! code, the step's common factor 2 dropped (it is normalised anyway), `β·dt/|∇|`
-//! computed as `β·dt·|∇|/|∇|²` (square root and division in parallel), the field
-//! reference from `h_z = up·m̂` and `|h_xy| = √(1 − h_z²)` instead of rotating `m̂`,
-//! the final renormalisation by a second-order series instead of `1/√`, decisions
-//! that follow the data (rejection, stillness) computed without branches. Derived
-//! outputs (Euler angles, heading, linear acceleration) are computed only by
-//! [`Ahrs::output`]. See `benches/ahrs.rs` for the comparison with the `ahrs` crate.
+//! `q` to the next (the state is stored and loaded back by the next sample), so the
+//! work is arranged to keep that chain short and the instruction count low: f64
+//! scalar code on plain arrays, the step's common factor 2 dropped (it is normalised
+//! anyway); the field reference from `b_z = up·m̂` and `b_x = √(1 − b_z²)` instead of
+//! rotating `m̂`; the magnetometer gradient regrouped as `P + b_x·Q` with
+//! `b_x² = 1 − b_z²` inside `P` and `Q`, so that root runs in parallel with the rest
+//! (`mag_gradient`); `β·dt/|∇|` as `β·dt·|∇|/|∇|²` (root and division in
+//! parallel); the renormalisation by a second-order series whose argument
+//! `|q̃|² − 1 = (|p|² − 1 + (β·dt)²) − 2c·p·∇` is known up to one product before the
+//! step size `c` is; rare paths (large turns, large renormalisations) out of line;
+//! `min`/`max` without NaN fix-ups (the door already refused NaN); the orientation
+//! stored as two halves that the next sample can load straight from the store buffer
+//! (`quat::SplitQuat`). Derived outputs (Euler angles, heading, linear
+//! acceleration) are computed only by [`Ahrs::output`]. See `benches/ahrs.rs` for the
+//! comparison with the `ahrs` crate.
 
 use super::bias::{GyroBias, STILL_ACCEL_MPS2};
 use super::error::{finite3, AhrsError};
 use super::flags::AhrsFlags;
 use super::frame::{AxisRemap, EarthFrame};
 use super::output::{AhrsOutput, AhrsRejection, ImuSample};
-use super::quat::{self, Quat};
+use super::quat::{self, max, min, Quat};
 use super::settings::AhrsSettings;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
@@ -134,7 +141,7 @@ impl Recovery {
     #[inline]
     fn step(&mut self, bad: bool, dt: f64, period: f64) -> (bool, bool) {
         let delta = if bad { dt } else { -9.0 * dt };
-        self.trigger_s = (self.trigger_s + delta).max(0.0).min(period);
+        self.trigger_s = min(max(self.trigger_s + delta, 0.0), period);
         let started = !self.recovering & (self.trigger_s >= period);
         let ended = self.recovering & (self.trigger_s <= 0.0);
         self.recovering = (self.recovering | started) & !ended;
@@ -163,7 +170,7 @@ pub struct Ahrs {
     started: bool,
     last_t_s: f64,
     /// Orientation body → North-West-Up, [w, x, y, z].
-    q: Quat,
+    q: quat::SplitQuat,
     /// Current (ramped) gain, rad/s.
     gain: f64,
     accel_rec: Recovery,
@@ -212,7 +219,7 @@ impl Ahrs {
             remap_identity: s.axis_remap == AxisRemap::IDENTITY,
             started: false,
             last_t_s: 0.0,
-            q: [1.0, 0.0, 0.0, 0.0],
+            q: quat::SplitQuat::new([1.0, 0.0, 0.0, 0.0]),
             gain: s.gain,
             accel_rec: Recovery::default(),
             mag_rec: Recovery::default(),
@@ -258,8 +265,12 @@ impl Ahrs {
     /// Orientation body → earth in the configured frame, [w, x, y, z] (cheap: no
     /// trigonometry). `None` before the first sample.
     pub fn quaternion(&self) -> Option<[f64; 4]> {
-        self.started
-            .then(|| quat::normalised(quat::mul(&self.settings.frame.nwu_to_frame(), &self.q)))
+        self.started.then(|| {
+            quat::normalised(quat::mul(
+                &self.settings.frame.nwu_to_frame(),
+                &self.q.get(),
+            ))
+        })
     }
 
     /// IMU update: gyroscope (rad/s) and accelerometer (specific force, m/s²), sensor
@@ -314,7 +325,8 @@ impl Ahrs {
                 mag_ut.map(|m| remap.apply(m)),
             )
         };
-        let a_norm = (accel[0] * accel[0] + accel[1] * accel[1] + accel[2] * accel[2]).sqrt();
+        let a2 = accel[0] * accel[0] + accel[1] * accel[1] + accel[2] * accel[2];
+        let a_norm = a2.sqrt();
         let dt = t_s - self.last_t_s;
         if self.started && dt <= 0.0 {
             return Err(AhrsError::TimeNotIncreasing {
@@ -332,7 +344,7 @@ impl Ahrs {
             self.start(t_s, &accel, a_norm, mag.as_ref());
             return Ok(self.flags);
         }
-        let k = (dt * (1.0 / ACCEL_MEAN_TAU_S)).min(1.0);
+        let k = min(dt * (1.0 / ACCEL_MEAN_TAU_S), 1.0);
         let mean = self.accel_mean_mps2 + k * (a_norm - self.accel_mean_mps2);
         let span = self.accel_mean_span_s + dt;
         if span >= ACCEL_MEAN_SPAN_S && mean < ACCEL_MEAN_MIN_MPS2 {
@@ -340,18 +352,18 @@ impl Ahrs {
         }
         // --- Accepted.
         self.accel_mean_mps2 = mean;
-        self.accel_mean_span_s = span.min(ACCEL_MEAN_SPAN_S);
+        self.accel_mean_span_s = min(span, ACCEL_MEAN_SPAN_S);
         self.last_t_s = t_s;
         self.last_accel_mps2 = accel;
         // The flags are returned from the local copy: reading them back from `self`
         // right after their byte-wise store stalls store-to-load forwarding.
-        Ok(self.step(dt, gyro, &accel, a_norm, mag.as_ref()))
+        Ok(self.step(dt, gyro, &accel, a2, a_norm, mag.as_ref()))
     }
 
     /// (Re)start the orientation from one sample.
     fn start(&mut self, t_s: f64, accel: &[f64; 3], a_norm: f64, mag: Option<&[f64; 3]>) {
         let s = &self.settings;
-        self.q = initial_orientation(s.frame, accel, a_norm, mag);
+        self.q.set(initial_orientation(s.frame, accel, a_norm, mag));
         let init = self.ramp_rate.is_finite();
         self.gain = if init { s.initial_gain } else { s.gain };
         self.started = true;
@@ -364,7 +376,7 @@ impl Ahrs {
         self.bias.still_s = 0.0;
         self.mag_ref_valid = false;
         if let Some(m) = mag {
-            let h = quat::rotate(&self.q, m);
+            let h = quat::rotate(&self.q.get(), m);
             let n = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
             if n > 0.0 {
                 self.mag_ref_ut = [(h[0] * h[0] + h[1] * h[1]).sqrt() / n, h[2] / n, n];
@@ -385,6 +397,7 @@ impl Ahrs {
         dt: f64,
         gyro: [f64; 3],
         a: &[f64; 3],
+        a2: f64,
         a_norm: f64,
         mag: Option<&[f64; 3]>,
     ) -> AhrsFlags {
@@ -424,7 +437,7 @@ impl Ahrs {
             flags.bias_learning = self.bias.update(&w, dt, still);
         }
 
-        let [qw, qx, qy, qz] = self.q;
+        let [qw, qx, qy, qz] = self.q.get();
         let (mut sw, mut sx, mut sy, mut sz) = (0.0, 0.0, 0.0, 0.0);
 
         // Up in the body frame as the estimate sees it (third row of R(q)).
@@ -434,7 +447,8 @@ impl Ahrs {
 
         // Accelerometer: misfit between the estimated and the measured up direction.
         if a_norm > 0.0 {
-            let inv = 1.0 / a_norm;
+            // 1/|a| as |a|/|a|²: root and division in parallel.
+            let inv = a_norm * (1.0 / a2);
             let f1 = vx - a[0] * inv;
             let f2 = vy - a[1] * inv;
             let f3 = vz - a[2] * inv;
@@ -444,13 +458,13 @@ impl Ahrs {
             let (use_it, _) = self.accel_rec.step(bad, dt, s.recovery_trigger_period_s);
             flags.accel_recovery = self.accel_rec.recovering;
             flags.accel_rejected = !use_it;
-            // ∇/2 = ½ J_gᵀ f_g (the step is normalised: common factors drop out),
-            // weighted 0 when rejected (no branch on the data).
-            let u = if use_it { 1.0 } else { 0.0 };
-            sw = u * (qx * f2 - qy * f1);
-            sx = u * (qz * f1 + qw * f2 - 2.0 * qx * f3);
-            sy = u * (qz * f2 - qw * f1 - 2.0 * qy * f3);
-            sz = u * (qx * f1 + qy * f2);
+            // ∇/2 = ½ J_gᵀ f_g (the step is normalised: common factors drop out).
+            if use_it {
+                sw = qx * f2 - qy * f1;
+                sx = qz * f1 + qw * f2 - 2.0 * qx * f3;
+                sy = qz * f2 - qw * f1 - 2.0 * qy * f3;
+                sz = qx * f1 + qy * f2;
+            }
         } else {
             flags.accel_rejected = true;
         }
@@ -460,14 +474,15 @@ impl Ahrs {
             let m2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
             if m2 > 0.0 {
                 let m_norm = m2.sqrt();
-                let inv = 1.0 / m_norm;
+                let inv = m_norm * (1.0 / m2);
                 let (mx, my, mz) = (m[0] * inv, m[1] * inv, m[2] * inv);
                 // The unit field in the earth frame, h = q ⊗ m̂ ⊗ q*, enters only as
                 // its up component (up-in-body · m̂) and its horizontal magnitude,
                 // √(1 − h_z²) since |h| = 1: the reference b = (b_x, 0, b_z) without
                 // rotating the whole vector.
                 let bz = vx * mx + vy * my + vz * mz;
-                let bx = (1.0 - bz * bz).max(0.0).sqrt();
+                let bx2 = 1.0 - bz * bz;
+                let bx = max(bx2, 0.0).sqrt();
                 let [rx, rz, rn] = self.mag_ref_ut;
                 let bad = !flags.initialising
                     & self.mag_ref_valid
@@ -480,51 +495,33 @@ impl Ahrs {
                     self.mag_ref_valid = true;
                 }
                 if use_it {
-                    let tau = if flags.initialising {
-                        MAG_REF_INIT_TAU_S
+                    let k = if flags.initialising {
+                        min(dt * (1.0 / MAG_REF_INIT_TAU_S), 1.0)
                     } else {
-                        MAG_REF_TAU_S
+                        min(dt * (1.0 / MAG_REF_TAU_S), 1.0)
                     };
-                    let k = (dt / tau).min(1.0);
                     let r = &mut self.mag_ref_ut;
                     r[0] += k * (bx - r[0]);
                     r[1] += k * (bz - r[1]);
                     r[2] += k * (m_norm - r[2]);
-                    // ∇/2 += ½ J_bᵀ f_b, with f_b = b_x·N + b_z·up − m̂ (N: north, the
-                    // first row of R(q), in the body frame).
-                    let n0 = 1.0 - 2.0 * (qy * qy + qz * qz);
-                    let n1 = 2.0 * (qx * qy - qw * qz);
-                    let n2 = 2.0 * (qw * qy + qx * qz);
-                    let f4 = bx * n0 + bz * vx - mx;
-                    let f5 = bx * n1 + bz * vy - my;
-                    let f6 = bx * n2 + bz * vz - mz;
-                    sw += (bz * qx - bx * qz) * f5 + bx * qy * f6 - bz * qy * f4;
-                    sx += bz * qz * f4 + (bx * qy + bz * qw) * f5 + (bx * qz - 2.0 * bz * qx) * f6;
-                    sy += (bx * qx + bz * qz) * f5 + (bx * qw - 2.0 * bz * qy) * f6
-                        - (2.0 * bx * qy + bz * qw) * f4;
-                    sz += (bz * qx - 2.0 * bx * qz) * f4 + (bz * qy - bx * qw) * f5 + bx * qx * f6;
+                    // ∇/2 += ½ J_bᵀ f_b = P + b_x·Q: the root b_x enters last.
+                    let v = [vx, vy, vz];
+                    let (gp, gq) = mag_gradient(&[qw, qx, qy, qz], &v, &[mx, my, mz], bz, bx2);
+                    sw = (sw + gp[0]) + bx * gq[0];
+                    sx = (sx + gp[1]) + bx * gq[1];
+                    sy = (sy + gp[2]) + bx * gq[2];
+                    sz = (sz + gp[3]) + bx * gq[3];
                 } else {
                     flags.mag_rejected = true;
                 }
             }
         }
 
-        // Normalised gradient step, scaled by gain and (bounded) interval.
-        let n2 = sw * sw + sx * sx + sy * sy + sz * sz;
-        // β·dt/|∇| written as β·dt·|∇|/|∇|²: the square root and the division then
-        // run in parallel instead of one after the other (this is on the critical
-        // path from one sample's q to the next).
-        let c = if n2 > 0.0 {
-            (self.gain * dt.min(MAX_CORRECTION_DT_S) / n2) * n2.sqrt()
-        } else {
-            0.0
-        };
-
         // Gyroscope propagation with the half-angle vector ½ ω dt.
         let hdt = 0.5 * dt;
         let (hx, hy, hz) = (w[0] * hdt, w[1] * hdt, w[2] * hdt);
         let h2 = hx * hx + hy * hy + hz * hz;
-        let p = if h2 < EXACT_HALF_ANGLE2 {
+        let [p0, p1, p2, p3] = if h2 < EXACT_HALF_ANGLE2 {
             // q + q ⊗ (0, ½ ω dt): first order, as the paper.
             [
                 qw - qx * hx - qy * hy - qz * hz,
@@ -533,29 +530,41 @@ impl Ahrs {
                 qz + qw * hz + qx * hy - qy * hx,
             ]
         } else {
-            let ha = h2.sqrt();
-            let (sn, cs) = ha.sin_cos();
-            let k = sn / ha;
-            quat::mul(&self.q, &[cs, k * hx, k * hy, k * hz])
+            exact_propagation(&[qw, qx, qy, qz], hx, hy, hz, h2)
         };
-        let nw = p[0] - c * sw;
-        let nx = p[1] - c * sx;
-        let ny = p[2] - c * sy;
-        let nz = p[3] - c * sz;
+
+        // Normalised gradient step, scaled by gain and (bounded) interval.
+        let n2 = sw * sw + sx * sx + sy * sy + sz * sz;
+        let step = self.gain * min(dt, MAX_CORRECTION_DT_S);
+        // β·dt/|∇| written as β·dt·|∇|/|∇|²: the square root and the division then
+        // run in parallel instead of one after the other (this is on the critical
+        // path from one sample's q to the next).
+        let (c, step2) = if n2 > 0.0 {
+            ((step / n2) * n2.sqrt(), step * step)
+        } else {
+            (0.0, 0.0)
+        };
+        let nw = p0 - c * sw;
+        let nx = p1 - c * sx;
+        let ny = p2 - c * sy;
+        let nz = p3 - c * sz;
         // Renormalise. |q|² stays close to 1: first-order integration adds (½|ω|dt)²
         // and the step, which has a radial part, changes it by ~2β·dt (≤ 1e-2 at
         // β = 1, 100 Hz). There the Taylor series of 1/√(1+ε) to second order,
         // 1 − ε/2 + 3ε²/8 (error ≤ 5/16·|ε|³ ≈ 3e-7, corrected again next sample),
         // gives the same direction without a square root and a division on the
         // chain that carries q from sample to sample. Larger deviations take the
-        // exact path.
-        let eps = nw * nw + nx * nx + ny * ny + nz * nz - 1.0;
+        // exact path. ε = |p − c∇|² − 1 = (|p|² − 1 + c²|∇|²) − 2c·p·∇ with
+        // c²|∇|² = (β·dt)²: everything but the last product is known before c.
+        let pp = p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3;
+        let ps = p0 * sw + p1 * sx + p2 * sy + p3 * sz;
+        let eps = ((pp - 1.0) + step2) - 2.0 * c * ps;
         let inv = if eps.abs() < 1e-2 {
-            1.0 + eps * (0.375 * eps - 0.5)
+            (1.0 - 0.5 * eps) + 0.375 * (eps * eps)
         } else {
-            1.0 / (1.0 + eps).sqrt()
+            exact_inverse_norm(eps)
         };
-        self.q = [nw * inv, nx * inv, ny * inv, nz * inv];
+        self.q.set([nw * inv, nx * inv, ny * inv, nz * inv]);
         self.flags = flags;
         flags
     }
@@ -568,7 +577,7 @@ impl Ahrs {
 
     fn make_output(&self) -> AhrsOutput {
         let frame = self.settings.frame;
-        let q = quat::normalised(quat::mul(&frame.nwu_to_frame(), &self.q));
+        let q = quat::normalised(quat::mul(&frame.nwu_to_frame(), &self.q.get()));
         let (roll_rad, pitch_rad, yaw_rad) = quat::to_euler(&q);
         let heading = match frame {
             EarthFrame::Enu => -yaw_rad,
@@ -579,7 +588,7 @@ impl Ahrs {
             heading_rad = 0.0;
         }
         // Up in the body frame: third row of R(q_NWU).
-        let [w, x, y, z] = quat::normalised(self.q);
+        let [w, x, y, z] = quat::normalised(self.q.get());
         let g = self.settings.gravity_mps2;
         let gravity_body_mps2 = [
             g * 2.0 * (x * z - w * y),
@@ -662,7 +671,7 @@ impl Ahrs {
         w.bool(s.bias_estimation);
         w.bool(self.started);
         w.f64(self.last_t_s);
-        w.f64s(&self.q);
+        w.f64s(&self.q.get());
         w.f64(self.gain);
         for r in [&self.accel_rec, &self.mag_rec] {
             w.f64(r.trigger_s);
@@ -712,7 +721,9 @@ impl Ahrs {
         let mut a = Ahrs::new(settings).map_err(|_| SnapshotError::Invalid("settings"))?;
         a.started = r.bool()?;
         a.last_t_s = r.f64()?;
-        r.f64s(&mut a.q)?;
+        let mut q = [0.0; 4];
+        r.f64s(&mut q)?;
+        a.q.set(q);
         a.gain = r.f64()?;
         for rec in [&mut a.accel_rec, &mut a.mag_rec] {
             rec.trigger_s = r.f64()?;
@@ -727,7 +738,7 @@ impl Ahrs {
         r.f64s(&mut a.last_accel_mps2)?;
         a.flags = AhrsFlags::from_bits(r.u8()?);
         r.end()?;
-        let qn = a.q.iter().map(|c| c * c).sum::<f64>();
+        let qn = a.q.get().iter().map(|c| c * c).sum::<f64>();
         let finite = a.last_t_s.is_finite()
             && a.gain.is_finite()
             && a.accel_mean_mps2.is_finite()
@@ -782,10 +793,125 @@ fn initial_orientation(
     quat::mul(&quat::conj(&c), &q_out)
 }
 
+/// Madgwick's algebraic magnetometer gradient ½ J_bᵀ f_b, regrouped as P + b_x·Q so
+/// that the square root b_x = √(1 − b_z²) is needed only at the very end (it then runs
+/// in parallel with P and Q instead of heading the chain).
+///
+/// With the reference b = (b_x, 0, b_z), N = first row of R(q) (north in the body
+/// frame) and `v` the third (up), the misfit is f_b = b_x·N + b_z·v − m̂ = b_x·N + G.
+/// Each row of ½ J_bᵀ is (α·b_x + b_z·γ) with α, γ from q alone:
+/// α = (0, −qz, qy), (0, qy, qz), (−2qy, qx, qw), (−2qz, −qw, qx) and
+/// γ = (−qy, qx, 0), (qz, qw, −2qx), (−qw, qz, −2qy), (qx, qy, 0) for w, x, y, z. So
+///   ½ J_bᵀ f_b = b_x²·Σα N + b_z·Σγ G + b_x·(Σα G + b_z·Σγ N),
+/// with b_x² = 1 − b_z² (`bx2`), and Σα N reduces to 2t·(qw, qx) for w, x and
+/// 2(qw² + qx² − N₀)·(qy, qz) for y, z, where t = qy² + qz².
+#[inline(always)]
+fn mag_gradient(q: &Quat, v: &[f64; 3], m: &[f64; 3], bz: f64, bx2: f64) -> (Quat, Quat) {
+    let [qw, qx, qy, qz] = *q;
+    let t = qy * qy + qz * qz;
+    let n0 = 1.0 - 2.0 * t;
+    let n1 = 2.0 * (qx * qy - qw * qz);
+    let n2 = 2.0 * (qw * qy + qx * qz);
+    let g0 = bz * v[0] - m[0];
+    let g1 = bz * v[1] - m[1];
+    let g2 = bz * v[2] - m[2];
+    let at = 2.0 * bx2 * t;
+    let ac = 2.0 * bx2 * (qw * qw + qx * qx - n0);
+    let (qx2, qy2, qz2) = (2.0 * qx, 2.0 * qy, 2.0 * qz);
+    let p = [
+        at * qw + bz * (qx * g1 - qy * g0),
+        at * qx + bz * (qz * g0 + qw * g1 - qx2 * g2),
+        ac * qy + bz * (qz * g1 - qw * g0 - qy2 * g2),
+        ac * qz + bz * (qx * g0 + qy * g1),
+    ];
+    let r = [
+        (qy * g2 - qz * g1) + bz * (qx * n1 - qy * n0),
+        (qy * g1 + qz * g2) + bz * (qz * n0 + qw * n1 - qx2 * n2),
+        (qx * g1 + qw * g2 - qy2 * g0) + bz * (qz * n1 - qw * n0 - qy2 * n2),
+        (qx * g2 - qz2 * g0 - qw * g1) + bz * (qx * n0 + qy * n1),
+    ];
+    (p, r)
+}
+
+/// q ⊗ exp(½ ω dt) for a large turn (cold: rare at phone sample rates).
+#[cold]
+#[inline(never)]
+fn exact_propagation(q: &Quat, hx: f64, hy: f64, hz: f64, h2: f64) -> Quat {
+    let ha = h2.sqrt();
+    let (sn, cs) = ha.sin_cos();
+    let k = sn / ha;
+    quat::mul(q, &[cs, k * hx, k * hy, k * hz])
+}
+
+/// 1/√(1 + ε) when ε is too large for the series (cold).
+#[cold]
+#[inline(never)]
+fn exact_inverse_norm(eps: f64) -> f64 {
+    1.0 / (1.0 + eps).sqrt()
+}
+
 fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
         a[0] * b[1] - a[1] * b[0],
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The regrouped magnetometer gradient equals the direct ½ J_bᵀ f_b (Madgwick's
+    /// formula, as written before the regrouping).
+    #[test]
+    fn mag_gradient_matches_the_direct_formula() {
+        let mut seed = 12345u64;
+        let mut rnd = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for _ in 0..1000 {
+            let q = quat::normalised([rnd(), rnd(), rnd(), rnd()]);
+            let m = {
+                let m = [rnd(), rnd(), rnd()];
+                let n = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
+                [m[0] / n, m[1] / n, m[2] / n]
+            };
+            let [qw, qx, qy, qz] = q;
+            let v = [
+                2.0 * (qx * qz - qw * qy),
+                2.0 * (qw * qx + qy * qz),
+                2.0 * (0.5 - qx * qx - qy * qy),
+            ];
+            let bz = v[0] * m[0] + v[1] * m[1] + v[2] * m[2];
+            let bx2 = 1.0 - bz * bz;
+            let bx = bx2.max(0.0).sqrt();
+            let (p, r) = mag_gradient(&q, &v, &m, bz, bx2);
+            // Direct: f_b = b_x·N + b_z·v − m̂, then ½ J_bᵀ f_b.
+            let n0 = 1.0 - 2.0 * (qy * qy + qz * qz);
+            let n1 = 2.0 * (qx * qy - qw * qz);
+            let n2 = 2.0 * (qw * qy + qx * qz);
+            let f4 = bx * n0 + bz * v[0] - m[0];
+            let f5 = bx * n1 + bz * v[1] - m[1];
+            let f6 = bx * n2 + bz * v[2] - m[2];
+            let direct = [
+                (bz * qx - bx * qz) * f5 + bx * qy * f6 - bz * qy * f4,
+                bz * qz * f4 + (bx * qy + bz * qw) * f5 + (bx * qz - 2.0 * bz * qx) * f6,
+                (bx * qx + bz * qz) * f5 + (bx * qw - 2.0 * bz * qy) * f6
+                    - (2.0 * bx * qy + bz * qw) * f4,
+                (bz * qx - 2.0 * bx * qz) * f4 + (bz * qy - bx * qw) * f5 + bx * qx * f6,
+            ];
+            for i in 0..4 {
+                let got = p[i] + bx * r[i];
+                assert!(
+                    (got - direct[i]).abs() < 1e-14,
+                    "{i}: {got} vs {}",
+                    direct[i]
+                );
+            }
+        }
+    }
 }

@@ -1,9 +1,65 @@
-//! Small scalar quaternion helpers (w, x, y, z), f64, no allocation.
+//! Small scalar quaternion helpers (w, x, y, z), f64, no allocation, and the scalar
+//! `min`/`max` of the filter's hot path.
 //!
 //! A quaternion `q` here rotates body-frame vectors into the earth frame:
 //! `v_earth = q ⊗ (0, v_body) ⊗ q*`.
 
 pub(crate) type Quat = [f64; 4];
+
+/// The smaller of two numbers that are not NaN: one `minsd` (`f64::min` adds a NaN
+/// fix-up of four instructions).
+#[inline(always)]
+pub(crate) fn min(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The larger of two numbers that are not NaN (see [`min`]).
+#[inline(always)]
+pub(crate) fn max(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The filter's orientation as kept between samples: (w, x) and (y, z) in two
+/// 16-byte halves with a gap between them. One sample stores the halves, the next
+/// loads them back right away (the orientation is the chain from sample to sample);
+/// a load spanning both stores (x and y together) cannot be forwarded from the store
+/// buffer and waits for the previous sample to retire. The gap rules such a load out.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub(crate) struct SplitQuat {
+    wx: [f64; 2],
+    gap: f64,
+    yz: [f64; 2],
+}
+
+impl SplitQuat {
+    pub(crate) fn new(q: Quat) -> Self {
+        Self {
+            wx: [q[0], q[1]],
+            gap: 0.0,
+            yz: [q[2], q[3]],
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn get(&self) -> Quat {
+        [self.wx[0], self.wx[1], self.yz[0], self.yz[1]]
+    }
+
+    #[inline(always)]
+    pub(crate) fn set(&mut self, q: Quat) {
+        self.wx = [q[0], q[1]];
+        self.yz = [q[2], q[3]];
+    }
+}
 
 #[inline]
 pub(crate) fn mul(a: &Quat, b: &Quat) -> Quat {
