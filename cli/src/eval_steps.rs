@@ -15,19 +15,67 @@ use stridekit_formats::{list_oxford_traces, read_oxford_trace, OxfordPosition, O
 /// Matching tolerance between a detected step and a reference heel strike, s.
 pub const MATCH_TOLERANCE_S: f64 = 0.25;
 
-/// Reference heel strikes closer than this to the previous one are contact-sensor
-/// bounce, not steps (no one walks at more than 3.3 steps/s; the set is all walking), s.
-pub const DEBOUNCE_S: f64 = 0.3;
-
-/// The reference without strikes closer than [`DEBOUNCE_S`] to the previous kept one.
-pub fn debounce(strikes: &[f64]) -> Vec<f64> {
-    let mut out: Vec<f64> = Vec::with_capacity(strikes.len());
-    for &t in strikes {
-        if out.last().is_none_or(|&p| t - p >= DEBOUNCE_S) {
-            out.push(t);
+/// Heel strikes of each foot from a trace's `stepcounter.csv` (ns, foot-1, foot-2
+/// contact; a 0→1 transition is a strike), in time order, with the foot (0 or 1).
+pub fn strikes_by_foot(dir: &Path) -> Result<Vec<(f64, u8)>, String> {
+    let path = dir.join("stepcounter.csv");
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut out = Vec::new();
+    let mut prev: Option<[u8; 2]> = None;
+    for (i, line) in text.lines().enumerate() {
+        if line.trim().is_empty() {
+            continue;
         }
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        let bad = || format!("{}: line {}: bad row", path.display(), i + 1);
+        if f.len() < 3 {
+            return Err(bad());
+        }
+        let t_ns: i64 = f[0].parse().map_err(|_| bad())?;
+        let c: [u8; 2] = [
+            f[1].parse().map_err(|_| bad())?,
+            f[2].parse().map_err(|_| bad())?,
+        ];
+        if let Some(p) = prev {
+            for foot in 0..2 {
+                if c[foot] == 1 && p[foot] == 0 {
+                    out.push((t_ns as f64 * 1e-9, foot as u8));
+                }
+            }
+        }
+        prev = Some(c);
     }
-    out
+    Ok(out)
+}
+
+/// The reference made consistent with alternating feet, and how many strikes were
+/// dropped and inserted. Walking alternates feet, so two strikes of the same foot in a
+/// row are a sensor fault: sooner than 1.5 median step intervals (less than ¾ of a
+/// stride: the foot cannot have swung) the second is contact chatter and is dropped; at
+/// 1.5–2.5 intervals (one stride) the other foot's strike was not registered and one is
+/// inserted at the midpoint; later (a pause) nothing is changed.
+pub fn alternation_checked(strikes: &[(f64, u8)]) -> (Vec<f64>, usize, usize) {
+    let mut iv: Vec<f64> = strikes.windows(2).map(|w| w[1].0 - w[0].0).collect();
+    iv.sort_by(f64::total_cmp);
+    let m = iv.get(iv.len() / 2).copied().unwrap_or(f64::NAN);
+    let (mut out, mut dropped, mut inserted) = (Vec::<(f64, u8)>::new(), 0, 0);
+    for &(t, foot) in strikes {
+        if let Some(&(tp, fp)) = out.last() {
+            if fp == foot {
+                let dt = t - tp;
+                if dt < 1.5 * m {
+                    dropped += 1;
+                    continue;
+                }
+                if dt <= 2.5 * m {
+                    out.push((0.5 * (tp + t), 1 - foot));
+                    inserted += 1;
+                }
+            }
+        }
+        out.push((t, foot));
+    }
+    (out.into_iter().map(|s| s.0).collect(), dropped, inserted)
 }
 
 /// How the accelerometer stream is presented to the detectors.
@@ -216,8 +264,10 @@ struct Row {
     rate_hz: f64,
     /// [variant][detector]
     scores: [[Score; 2]; 3],
-    /// Native rate against the de-bounced reference.
-    debounced: [Score; 2],
+    /// Against the alternation-checked reference, [variant][detector].
+    checked: [[Score; 2]; 3],
+    /// Reference strikes dropped / inserted by the alternation check.
+    fixes: (usize, usize),
 }
 
 /// Parameters of the default detector varied by the sensitivity and leave-one-user-out
@@ -250,13 +300,14 @@ pub fn robustness(dir: &Path) -> Result<String, String> {
     let paths = list_oxford_traces(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut traces = Vec::new();
     for p in &paths {
-        let t = read_oxford_trace(p).map_err(|e| format!("{}: {e}", p.display()))?;
+        let mut t = read_oxford_trace(p).map_err(|e| format!("{}: {e}", p.display()))?;
         let s = samples(&t, Variant::Native);
+        t.heel_strikes_t_s = alternation_checked(&strikes_by_foot(p)?).0;
         traces.push((t, s));
     }
     let base = StepDetectorConfig::default();
     let mut out = String::new();
-    let _ = writeln!(out, "Sensitivity of the default detector (native rate, all {} traces): each parameter scaled by 0.75 and 1.25, the others at their defaults.\n", traces.len());
+    let _ = writeln!(out, "Sensitivity of the default detector (native rate, all {} traces, alternation-checked reference): each parameter scaled by 0.75 and 1.25, the others at their defaults.\n", traces.len());
     let _ = writeln!(
         out,
         "| parameter | default | ×0.75: med / worst / med F1 | ×1.25: med / worst / med F1 |"
@@ -298,11 +349,17 @@ pub fn robustness(dir: &Path) -> Result<String, String> {
         for ra in [0.35, 0.45, 0.55] {
             for mp in [0.3, 0.4, 0.5] {
                 for hr in [0.4, 0.5, 0.6] {
-                    let mut c = base;
-                    c.robust.relative_amplitude = ra;
-                    c.robust.min_periodicity = mp;
-                    c.robust.hysteresis_rel = hr;
-                    g.push(c);
+                    for rg in [0.2, 0.3] {
+                        for rf in [0.6, 0.65, 0.7] {
+                            let mut c = base;
+                            c.robust.relative_amplitude = ra;
+                            c.robust.min_periodicity = mp;
+                            c.robust.hysteresis_rel = hr;
+                            c.robust.regularity = rg;
+                            c.robust.refractory = rf;
+                            g.push(c);
+                        }
+                    }
                 }
             }
         }
@@ -310,8 +367,8 @@ pub fn robustness(dir: &Path) -> Result<String, String> {
     };
     let all: Vec<Vec<Score>> = grid.iter().map(|c| scores_of(*c, &traces)).collect();
     let fixed = scores_of(base, &traces);
-    let _ = writeln!(out, "\nLeave one user out: grid over relative_amplitude ∈ {{0.35, 0.45, 0.55}} × min_periodicity ∈ {{0.3, 0.4, 0.5}} × hysteresis_rel ∈ {{0.4, 0.5, 0.6}}; the setting with the lowest mean |count error| on the two other users is scored on the held-out user.\n");
-    let _ = writeln!(out, "| held-out user | traces | setting chosen on the others (rel. amp., periodicity, hysteresis) | held out, chosen: med / worst / med F1 | held out, fixed default: med / worst / med F1 |");
+    let _ = writeln!(out, "\nLeave one user out (alternation-checked reference): grid over relative_amplitude ∈ {{0.35, 0.45, 0.55}} × min_periodicity ∈ {{0.3, 0.4, 0.5}} × hysteresis_rel ∈ {{0.4, 0.5, 0.6}} × regularity ∈ {{0.2, 0.3}} × refractory ∈ {{0.6, 0.65, 0.7}}; the setting with the lowest mean |count error| on the two other users is scored on the held-out user.\n");
+    let _ = writeln!(out, "| held-out user | traces | setting chosen on the others (rel. amp., periodicity, hysteresis, regularity, refractory) | held out, chosen: med / worst / med F1 | held out, fixed default: med / worst / med F1 |");
     let _ = writeln!(out, "|---|---|---|---|---|");
     for user in ["Jamie", "Carmelo", "Dario"] {
         let held: Vec<usize> = (0..traces.len())
@@ -332,11 +389,13 @@ pub fn robustness(dir: &Path) -> Result<String, String> {
         let _ =
             writeln!(
             out,
-            "| {user} | {} | {}, {}, {} | {:.2} % / {:.2} % / {:.3} | {:.2} % / {:.2} % / {:.3} |",
+            "| {user} | {} | {}, {}, {}, {}, {} | {:.2} % / {:.2} % / {:.3} | {:.2} % / {:.2} % / {:.3} |",
             held.len(),
             r.relative_amplitude,
             r.min_periodicity,
             r.hysteresis_rel,
+            r.regularity,
+            r.refractory,
             c.0, c.1, c.2, f.0, f.1, f.2
         );
     }
@@ -357,19 +416,17 @@ pub fn run(dir: &Path) -> Result<String, String> {
     for p in &paths {
         let trace = read_oxford_trace(p).map_err(|e| format!("{}: {e}", p.display()))?;
         let mut scores = [[None; 2]; 3];
-        let mut debounced = [None; 2];
-        let clean_ref = debounce(&trace.heel_strikes_t_s);
+        let mut checked = [[None; 2]; 3];
+        let (clean_ref, dropped, inserted) = alternation_checked(&strikes_by_foot(p)?);
         for (vi, v) in Variant::ALL.iter().enumerate() {
             let s = samples(&trace, *v);
             for (ci, c) in configs.iter().enumerate() {
                 let det = detect(*c, &s);
                 scores[vi][ci] = Some(score(&det, &trace.heel_strikes_t_s));
-                if vi == 0 {
-                    debounced[ci] = Some(score(&det, &clean_ref));
-                }
+                checked[vi][ci] = Some(score(&det, &clean_ref));
             }
         }
-        let debounced = debounced.map(|s| s.expect("scored"));
+        let checked = checked.map(|v| v.map(|s| s.expect("scored")));
         let scores = scores.map(|v| v.map(|s| s.expect("scored")));
         let rate_hz = trace.rate_hz();
         let mut trace = trace;
@@ -378,7 +435,8 @@ pub fn run(dir: &Path) -> Result<String, String> {
             trace,
             rate_hz,
             scores,
-            debounced,
+            checked,
+            fixes: (dropped, inserted),
         });
     }
 
@@ -390,7 +448,7 @@ pub fn run(dir: &Path) -> Result<String, String> {
         rows.len()
     );
     let _ = writeln!(out, "Per trace, native rate:\n");
-    let _ = writeln!(out, "| trace | Hz | reference | AsPublished steps | AsPublished error | AsPublished F1 | default steps | default error | default F1 | default lag s | default @50 Hz error / F1 | default jittered error / F1 | reference strikes < {DEBOUNCE_S} s apart | default vs de-bounced reference: error / F1 |");
+    let _ = writeln!(out, "| trace | Hz | reference | AsPublished steps | AsPublished error | AsPublished F1 | default steps | default error | default F1 | default lag s | default @50 Hz error / F1 | default jittered error / F1 | alternation check: reference strikes dropped / inserted | default vs checked reference: error / F1 |");
     let _ = writeln!(
         out,
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
@@ -399,10 +457,10 @@ pub fn run(dir: &Path) -> Result<String, String> {
         let [p, d] = r.scores[0];
         let d50 = r.scores[1][1];
         let dj = r.scores[2][1];
-        let db = r.debounced[1];
+        let db = r.checked[0][1];
         let _ = writeln!(
             out,
-            "| {} | {:.0} | {} | {} | {:+.1} % | {:.3} | {} | {:+.1} % | {:.3} | {:+.3} | {:+.1} % / {:.3} | {:+.1} % / {:.3} | {} | {:+.1} % / {:.3} |",
+            "| {} | {:.0} | {} | {} | {:+.1} % | {:.3} | {} | {:+.1} % | {:.3} | {:+.3} | {:+.1} % / {:.3} | {:+.1} % / {:.3} | {} / {} | {:+.1} % / {:.3} |",
             r.trace.name,
             r.rate_hz,
             p.reference,
@@ -417,7 +475,8 @@ pub fn run(dir: &Path) -> Result<String, String> {
             d50.f1,
             dj.count_error_pct,
             dj.f1,
-            p.reference - db.reference,
+            r.fixes.0,
+            r.fixes.1,
             db.count_error_pct,
             db.f1,
         );
@@ -426,39 +485,14 @@ pub fn run(dir: &Path) -> Result<String, String> {
         out,
         "\nSummary (median |count error|, worst |count error|, median F1, mean F1):\n"
     );
-    let _ = writeln!(out, "| group | traces | AsPublished: med / worst / med F1 / mean F1 | default: med / worst / med F1 / mean F1 |");
-    let _ = writeln!(out, "|---|---|---|---|");
-    {
-        let (p, d): (Vec<Score>, Vec<Score>) = rows
-            .iter()
-            .map(|r| (r.debounced[0], r.debounced[1]))
-            .unzip();
-        let (a, b) = (summary(&p), summary(&d));
-        let _ = writeln!(
-            out,
-            "| all, native rate, reference de-bounced (strikes < {DEBOUNCE_S} s after the previous one dropped) | {} | {:.2} % / {:.2} % / {:.3} / {:.3} | {:.2} % / {:.2} % / {:.3} / {:.3} |",
-            d.len(),
-            a.0, a.1, a.2, a.3, b.0, b.1, b.2, b.3
-        );
-    }
+    let header = "| group | traces | AsPublished: med / worst / med F1 / mean F1 | default: med / worst / med F1 / mean F1 |\n|---|---|---|---|";
+    let _ = writeln!(out, "{header}");
+    let mut out_checked = format!("{header}\n");
     let mut line = |name: String, sel: &dyn Fn(&Row) -> bool, vi: usize| {
-        let pick = |ci: usize| -> Vec<Score> {
-            rows.iter()
-                .filter(|r| sel(r))
-                .map(|r| r.scores[vi][ci])
-                .collect()
-        };
-        let (p, d) = (pick(0), pick(1));
-        if d.is_empty() {
-            return;
-        }
-        let (a, b) = (summary(&p), summary(&d));
-        let _ = writeln!(
-            out,
-            "| {name} | {} | {:.2} % / {:.2} % / {:.3} / {:.3} | {:.2} % / {:.2} % / {:.3} / {:.3} |",
-            d.len(),
-            a.0, a.1, a.2, a.3, b.0, b.1, b.2, b.3
-        );
+        line_of(&mut out, &rows, &name, sel, &|r: &Row| r.scores[vi]);
+        line_of(&mut out_checked, &rows, &name, sel, &|r: &Row| {
+            r.checked[vi]
+        });
     };
     for (vi, v) in Variant::ALL.iter().enumerate() {
         line(format!("**all, {}**", v.name()), &|_| true, vi);
@@ -478,5 +512,35 @@ pub fn run(dir: &Path) -> Result<String, String> {
             );
         }
     }
+    let _ = writeln!(out, "\nAgainst the alternation-checked reference (walking alternates feet: a strike of the same foot as the previous one within 1.5 median step intervals is contact chatter and dropped; one a stride later means the other foot's strike was not registered and one is inserted; the per-trace table gives the counts):\n\n{out_checked}");
     Ok(out)
+}
+
+/// One summary row: the scores `pick` selects of the rows `sel` accepts.
+fn line_of(
+    out: &mut String,
+    rows: &[Row],
+    name: &str,
+    sel: &dyn Fn(&Row) -> bool,
+    pick: &dyn Fn(&Row) -> [Score; 2],
+) {
+    let (p, d): (Vec<Score>, Vec<Score>) = rows
+        .iter()
+        .filter(|r| sel(r))
+        .map(|r| {
+            let s = pick(r);
+            (s[0], s[1])
+        })
+        .unzip();
+    if d.is_empty() {
+        return;
+    }
+    let (a, b) = (summary(&p), summary(&d));
+    let _ =
+        writeln!(
+        out,
+        "| {name} | {} | {:.2} % / {:.2} % / {:.3} / {:.3} | {:.2} % / {:.2} % / {:.3} / {:.3} |",
+        d.len(),
+        a.0, a.1, a.2, a.3, b.0, b.1, b.2, b.3
+    );
 }

@@ -436,3 +436,142 @@ fn buffered_steps_drain_through_pop_step() {
     assert_eq!(got as u64, d.step_count());
     assert!(got.abs_diff(truth) <= 1, "{got} vs {truth}");
 }
+
+/// What the phone shows during one stretch of a synthetic recording.
+#[derive(Clone, Copy, PartialEq)]
+enum Stretch {
+    /// Walking with `WALK` (the steps are counted in the truth).
+    Walk,
+    /// Still walking, but the phone is handled: irregular bumps hide the gait (the steps
+    /// are still counted in the truth).
+    HandledWhileWalking,
+    /// Handling the phone while standing (no steps).
+    HandledStanding,
+    /// Standing still (no steps).
+    Still,
+}
+
+/// A 100 Hz recording made of `(stretch, seconds)` pieces; returns the samples and the
+/// true number of steps.
+fn stretches(pieces: &[(Stretch, f64)], seed: u64) -> (Vec<AccelSample>, usize) {
+    let mut rng = Rng(seed);
+    let total: f64 = pieces.iter().map(|p| p.1).sum();
+    let what = |t: f64| {
+        let mut end = 0.0;
+        for &(s, d) in pieces {
+            end += d;
+            if t < end {
+                return s;
+            }
+        }
+        Stretch::Still
+    };
+    // Strikes at the walking cadence wherever the person walks.
+    let mut strikes = Vec::new();
+    let mut t = 0.0;
+    while t < total {
+        if matches!(what(t), Stretch::Walk | Stretch::HandledWhileWalking) {
+            strikes.push(t);
+            t += (1.0 + 0.03 * rng.sym()) / WALK.step_hz;
+        } else {
+            t += 0.01;
+        }
+    }
+    let mut bumps = Vec::new();
+    let mut b = 0.0;
+    while b < total {
+        bumps.push((b, 2.0 + 3.0 * rng.next()));
+        b += 0.2 + 0.45 * rng.next();
+    }
+    let mut out = Vec::new();
+    let (mut k, mut j) = (0usize, 0usize);
+    for t in times(100.0, 0.1, total, &mut rng) {
+        while k + 1 < strikes.len() && strikes[k + 1] <= t {
+            k += 1;
+        }
+        while j + 1 < bumps.len() && bumps[j + 1].0 <= t {
+            j += 1;
+        }
+        let mut m = G + 0.03 * rng.gauss();
+        match what(t) {
+            Stretch::Walk if !strikes.is_empty() && t >= strikes[k] => {
+                let t0 = strikes[k];
+                let w = std::f64::consts::TAU * (t - t0) * WALK.step_hz;
+                m += 0.5 * WALK.swing_mps2 * (w.cos() + 0.3 * (2.0 * w + 0.5).cos());
+                m += WALK.impact_mps2 * (-((t - t0) / 0.02).powi(2)).exp();
+            }
+            Stretch::HandledWhileWalking | Stretch::HandledStanding => {
+                let (b0, a) = bumps[j];
+                m += a * (-((t - b0) / 0.08).powi(2)).exp();
+            }
+            _ => {}
+        }
+        out.push(AccelSample {
+            t_s: t,
+            accel_mps2: vector(t, m),
+        });
+    }
+    (out, strikes.len())
+}
+
+#[test]
+fn handling_the_phone_before_a_walk_is_not_counted() {
+    use Stretch::*;
+    for seed in 1..=5 {
+        let (s, truth) = stretches(
+            &[
+                (Still, 2.0),
+                (HandledStanding, 4.0),
+                (Still, 1.5),
+                (Walk, 40.0),
+                (Still, 3.0),
+            ],
+            seed,
+        );
+        let n = count(DetectorMode::Default, &s);
+        assert!(
+            n.abs_diff(truth) <= 1,
+            "seed {seed}: {n} steps, {truth} true"
+        );
+    }
+}
+
+#[test]
+fn steps_hidden_by_handling_within_a_walk_are_filled_but_not_a_pause() {
+    use Stretch::*;
+    for seed in 1..=5 {
+        // Walking on while the phone is handled for 3 s: the lost steps are filled.
+        let (s, truth) = stretches(
+            &[
+                (Still, 2.0),
+                (Walk, 30.0),
+                (HandledWhileWalking, 3.0),
+                (Walk, 30.0),
+                (Still, 3.0),
+            ],
+            seed,
+        );
+        let n = count(DetectorMode::Default, &s);
+        // Within 3 % (the steps of the handled stretch are ≈ 5 % of the walk).
+        assert!(
+            n.abs_diff(truth) <= 3,
+            "seed {seed}: {n} steps, {truth} true"
+        );
+        // Standing still for 3 s between two walks: nothing is filled.
+        let (s, truth) = stretches(
+            &[
+                (Still, 2.0),
+                (Walk, 30.0),
+                (Still, 3.0),
+                (Walk, 30.0),
+                (Still, 3.0),
+            ],
+            seed,
+        );
+        let n = count(DetectorMode::Default, &s);
+        assert!(
+            n <= truth && n + 3 >= truth,
+            "seed {seed}: {n} steps, {truth} true (pause)"
+        );
+    }
+}

@@ -39,7 +39,7 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 /// Snapshot engine kind byte for the step detector.
 const SNAPSHOT_KIND: u8 = 3;
 /// Snapshot format version written by this build.
-const SNAPSHOT_VERSION: u16 = 1;
+const SNAPSHOT_VERSION: u16 = 2;
 /// Magnitudes above this are not an accelerometer reading, m/s² (50 g).
 pub const MAX_ACCEL_MPS2: f64 = 50.0 * 9.80665;
 /// Time constant of the magnitude mean used by the g-units check, s.

@@ -39,7 +39,13 @@
 //!      to ≈ 0.01, the threshold is 0.008, and a strong pedalling harmonic or vibration
 //!      of the bike defeats it (see the report).
 //!
-//!    On confirmation the buffered candidates are released as steps.
+//!    On confirmation the k checked candidates are released as steps, and older
+//!    buffered ones only as far as they chain back with step-like intervals (0.5–2.4
+//!    periods): the irregular peaks of handling the phone before walking are dropped.
+//!    If the previous bout ended by losing its periodicity (not by silence: candidates
+//!    kept coming, no interval over `max_step_interval_s`) at most 6 s earlier and the
+//!    new cadence is within ±30 % of the old one, the person walked on (a turn, the phone
+//!    handled while walking): the steps of the gap are filled at the cadence (≤ 12).
 //! 5. **In a bout** each candidate is a step unless it comes sooner than
 //!    `refractory` × the step period (a double peak of one step); a gap of 1.6–2.4
 //!    periods means one weak step was missed and it is filled at the midpoint; a gap
@@ -83,6 +89,14 @@ fn period_gain(interval_s: f64, period_s: f64) -> f64 {
         0.03
     }
 }
+
+/// A bout that ended by losing its periodicity (not by silence) and is followed within
+/// this time by a bout at a cadence within ±30 % of it, with candidates arriving all
+/// through the gap (the phone kept moving), is one walk: the steps in the gap (a turn,
+/// the phone handled while walking) are filled at the cadence, s.
+const FILL_MAX_GAP_S: f64 = 6.0;
+/// Most steps filled into one gap.
+const FILL_MAX_STEPS: usize = 12;
 
 /// Weight of a new candidate in the typical step amplitude.
 const AMPLITUDE_GAIN: f64 = 0.2;
@@ -341,6 +355,9 @@ pub(crate) struct RobustDetector {
     hp: [f64; 2],
     /// Typical amplitude of recent accepted candidates (EMA), m/s²; 0 before any.
     amplitude_ref_mps2: f64,
+    /// Last step and period of the bout that ended most recently (NaN if none).
+    bout_end_t_s: f64,
+    bout_end_period_s: f64,
 }
 
 impl RobustDetector {
@@ -372,6 +389,8 @@ impl RobustDetector {
             hf_n: 0.0,
             hp: [0.0; 2],
             amplitude_ref_mps2: 0.0,
+            bout_end_t_s: f64::NAN,
+            bout_end_period_s: f64::NAN,
         }
     }
 
@@ -516,6 +535,10 @@ impl RobustDetector {
         if interval < p.min_step_interval_s {
             return;
         }
+        if interval.is_nan() || interval > p.max_step_interval_s {
+            // Silence (or the first candidate): no walk continues across it.
+            self.bout_end_t_s = f64::NAN;
+        }
         if self.in_bout {
             if interval < p.refractory * self.period_s {
                 return;
@@ -550,6 +573,10 @@ impl RobustDetector {
             // The bout ended (long gap or lost periodicity): this candidate may start
             // the next one.
             self.in_bout = false;
+            if interval <= p.max_step_interval_s {
+                self.bout_end_t_s = self.last_t_s;
+                self.bout_end_period_s = self.period_s;
+            }
             self.pending.clear();
         }
         let duration = if interval <= p.max_step_interval_s {
@@ -652,6 +679,47 @@ impl RobustDetector {
         }
         self.in_bout = true;
         self.period_s = period;
+        // Only the newest k candidates were checked. Older ones waiting in the buffer
+        // (handling the phone before walking, a stumble) are steps only if they chain
+        // back from the bout with step-like intervals; the first that does not and all
+        // before it are dropped.
+        let n = self.pending.len();
+        let mut keep = k;
+        while keep < n {
+            let (Some(older), Some(newer)) = (self.pending.back(keep), self.pending.back(keep - 1))
+            else {
+                break;
+            };
+            let iv = newer.event.t_s - older.event.t_s;
+            // A step (±50 % of the period) or a step and a missed one (< 2.4 periods).
+            if !((1.0 - ASYMMETRY) * period..2.4 * period).contains(&iv) {
+                break;
+            }
+            keep += 1;
+        }
+        for _ in keep..n {
+            self.pending.pop_front();
+        }
+        if let Some(first) = self.pending.get(0) {
+            let gap = first.event.t_s - self.bout_end_t_s; // NaN without a previous bout
+            let same_cadence =
+                (period - self.bout_end_period_s).abs() <= 0.3 * self.bout_end_period_s;
+            if gap <= FILL_MAX_GAP_S && same_cadence {
+                let m = ((gap / period).round() as usize)
+                    .saturating_sub(1)
+                    .min(FILL_MAX_STEPS);
+                let step = gap / (m + 1) as f64;
+                for i in 1..=m {
+                    out.push(StepEvent {
+                        t_s: self.bout_end_t_s + i as f64 * step,
+                        duration_s: step,
+                        ..first.event
+                    });
+                }
+            }
+        }
+        self.bout_end_t_s = f64::NAN;
+        self.bout_end_period_s = f64::NAN;
         while let Some(c) = self.pending.pop_front() {
             out.push(c.event);
         }
@@ -690,6 +758,8 @@ impl RobustDetector {
             self.hp[0],
             self.hp[1],
             self.amplitude_ref_mps2,
+            self.bout_end_t_s,
+            self.bout_end_period_s,
         ]);
     }
 
@@ -734,6 +804,8 @@ impl RobustDetector {
         d.hf_n = r.f64()?;
         r.f64s(&mut d.hp)?;
         d.amplitude_ref_mps2 = r.f64()?;
+        d.bout_end_t_s = r.f64()?;
+        d.bout_end_period_s = r.f64()?;
         Ok(d)
     }
 }
