@@ -1,55 +1,107 @@
 //! Walking direction from a phone carried anywhere.
 //!
-//! A phone's own heading (where its top points) says little about where its owner
-//! walks: in a front pocket the screen faces the thigh, in a bag it can point anywhere.
-//! What every placement shares is the body's motion. Walking makes the horizontal
-//! acceleration oscillate mostly along the walking direction (the centre of mass
-//! brakes and pushes once per step) and less across it (sway). So, in the earth frame:
+//! The walking direction is split into two parts that change at very different rates:
 //!
-//! 1. **Axis per stride**: principal axis of the horizontal linear acceleration over
-//!    a stride (two steps), by a 2×2 covariance eigen-decomposition; an axis, i.e. an
-//!    angle modulo π, with a quality = how much more variance lies along it than across.
-//! 2. **Turns between strides**: the phone's angular rate about the vertical (earth
-//!    frame), integrated. It is defined in every orientation (a yaw angle is not for an
-//!    upright phone) and follows turns within a step.
-//! 3. **Complementary fusion**: the walking azimuth follows the gyro and is pulled
-//!    towards each stride's axis (the candidate of the two directions closest to the
-//!    current estimate), weighted by the stride's quality.
-//! 4. **Forward or backward**: the axis leaves a 180° ambiguity. It is resolved by a GNSS
-//!    course when one is available (`observe_course`), and otherwise kept by continuity.
-//!    At start without GNSS, the inverted-pendulum cue is used: when walking, forward
-//!    speed is highest when the body is lowest, so forward acceleration is
-//!    anti-correlated with vertical velocity (for running, a spring-mass gait, the sign
-//!    flips; cadence above `RUNNING_STEP_HZ` selects it).
+//! 1. **Where the phone points** (its attitude): the AHRS gives it at every sample,
+//!    tilt from the accelerometer, yaw integrated from the gyroscope. The gyro-integrated
+//!    yaw drifts (gyroscope bias about the vertical), so the azimuth of the AHRS frame
+//!    itself carries a slowly varying correction `μ` (AHRS azimuth − true azimuth):
+//!    - with a magnetometer, `μ` is tracked from the tilt-compensated magnetic field
+//!      (the AHRS tilt, the raw field minus an online hard-iron estimate) by a
+//!      second-order loop (offset and drift rate, time constants 10 s and 40 s), with
+//!      samples whose field strength or dip departs from the learned ones rejected;
+//!    - without one, `μ` only follows its learned drift rate; GNSS teaches that rate
+//!      (the gyroscope bias about the vertical) while fixes are good.
+//! 2. **How the phone is carried**: the walking direction expressed in the phone's
+//!    body frame, a unit vector `forward_body` (the heading offset of the phone, in 3-D:
+//!    it stays meaningful for an upright phone in a pocket, whose yaw angle is not, and
+//!    a limb swing, a rotation about the body's lateral axis, leaves its azimuth
+//!    unchanged). It is
+//!    - *initialised* from the body's motion: walking makes the horizontal acceleration
+//!      oscillate mostly along the walking direction, so the principal axis of the
+//!      earth-frame horizontal linear acceleration over a stride (2×2 covariance) gives
+//!      the axis; the forward/backward sign comes from the gait phase (inverted
+//!      pendulum: forward acceleration is anti-correlated with vertical velocity when
+//!      walking; correlated for a spring-mass running gait, cadence above
+//!      `RUNNING_STEP_HZ`), or, after a carrying change, from continuity with the last
+//!      walking direction;
+//!    - *calibrated* by GNSS: the angle between the GNSS displacement and the
+//!      dead-reckoned displacement over the same stretch (≥ 15 m) rotates it (and
+//!      resolves a wrong sign once);
+//!    - *held* once calibrated, through GNSS outages: the stride axis is only used
+//!      again after a carrying change, detected as a lasting jump (> 0.6 rad) of the
+//!      gravity direction in the body frame.
 //!
+//! Walking azimuth = azimuth of `q · forward_body` − `μ`, averaged over each step.
 //! Azimuths are radians clockwise from north in (−π, π]; east = sin, north = cos.
-//! The heading offset of the phone (walking azimuth − phone azimuth) is an output.
 
 use std::f64::consts::PI;
+
+use nalgebra::{Matrix4, Quaternion, UnitQuaternion, Vector3, Vector4};
 
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Step frequency above which the gait is taken as running (spring-mass), Hz.
 pub const RUNNING_STEP_HZ: f64 = 2.4;
-/// Gain of the pull towards a stride's axis at full quality (per stride).
+/// Gain of the pull towards a stride's axis at full quality (per stride), before
+/// GNSS calibrated the carrying.
 const AXIS_GAIN: f64 = 0.3;
 /// Strides whose along/across variance ratio is below this carry no direction.
 const MIN_AXIS_RATIO: f64 = 1.5;
-/// Learning rate of the stride-axis bias from GNSS courses.
-const AXIS_BIAS_GAIN: f64 = 0.2;
+/// Magnetic yaw loop: offset and rate time constants, s.
+const MAG_TAU_S: f64 = 10.0;
+const MAG_RATE_TAU_S: f64 = 40.0;
+/// A field sample is rejected when its strength or dip departs from the learned ones
+/// by more than this (µT, rad).
+const MAG_GATE_UT: f64 = 6.0;
+const MAG_GATE_DIP_RAD: f64 = 0.14;
+/// Time constant of the learned field strength and dip, s.
+const MAG_REF_TAU_S: f64 = 60.0;
+/// Hard-iron sphere fit: forgetting time constant, s, and ridge towards zero, µT²
+/// (an offset along a direction the field never swept stays near zero).
+const HARD_IRON_TAU_S: f64 = 900.0;
+const HARD_IRON_RIDGE_UT2: f64 = 4.0;
+/// Samples of the fit before its solution is used.
+const HARD_IRON_MIN_N: f64 = 1000.0;
+/// Carrying change: body-frame gravity direction low-passed fast and slow, s; a
+/// difference above this angle, rad, is a new carrying.
+const UP_FAST_TAU_S: f64 = 2.0;
+const UP_SLOW_TAU_S: f64 = 20.0;
+const CARRY_CHANGE_RAD: f64 = 0.6;
+/// Time constant of the mean earth-frame specific force that corrects the AHRS tilt, s.
+const TILT_TAU_S: f64 = 3.0;
+/// Standard gravity, m/s².
+const GRAVITY_MPS2: f64 = 9.80665;
+/// Calibration from GNSS stretches (a Kalman filter on the azimuth error and, without
+/// a magnetometer, its drift rate): prior σ of the carrying azimuth, rad, and of the
+/// drift rate, rad/s; random walks of both, rad²/s and rad²/s³.
+const CAL_OFFSET_SIGMA0_RAD: f64 = 0.5;
+const CAL_RATE_SIGMA0_RADS: f64 = 0.02;
+const CAL_OFFSET_Q: f64 = 1e-4;
+const CAL_RATE_Q: f64 = 1e-11;
 
-/// Wrap an axis difference (defined modulo π) to (−π/2, π/2].
-fn wrap_axis(a: f64) -> f64 {
-    let x = wrap(2.0 * a) / 2.0;
-    if x <= -0.5 * PI {
-        x + PI
+const CAL_P0: [f64; 3] = [
+    CAL_OFFSET_SIGMA0_RAD * CAL_OFFSET_SIGMA0_RAD,
+    0.0,
+    CAL_RATE_SIGMA0_RADS * CAL_RATE_SIGMA0_RADS,
+];
+
+/// Wrap an angle to (−π, π]: one add for the sum or difference of two wrapped
+/// angles, the general remainder otherwise.
+#[inline]
+pub fn wrap(a: f64) -> f64 {
+    if a > -PI && a <= PI {
+        a
+    } else if a > PI && a <= 3.0 * PI {
+        a - 2.0 * PI
+    } else if a <= -PI && a > -3.0 * PI {
+        a + 2.0 * PI
     } else {
-        x
+        wrap_any(a)
     }
 }
 
-/// Wrap an angle to (−π, π].
-pub fn wrap(a: f64) -> f64 {
+fn wrap_any(a: f64) -> f64 {
     let mut x = (a + PI).rem_euclid(2.0 * PI) - PI;
     if x <= -PI {
         x += 2.0 * PI;
@@ -66,9 +118,8 @@ struct StrideStats {
     see: f64,
     snn: f64,
     sen: f64,
-    /// Vertical velocity (integrated vertical acceleration, mean removed later) and its
-    /// products with the horizontal components, for the forward/backward cue.
-    vz: f64,
+    /// Vertical velocity (integrated vertical acceleration) and its products with the
+    /// horizontal components, for the forward/backward cue.
     svz: f64,
     sevz: f64,
     snvz: f64,
@@ -105,8 +156,7 @@ impl StrideStats {
         Some((az, l1 / l2))
     }
 
-    /// Sign of the covariance between acceleration along azimuth `az` and vertical
-    /// velocity (mean removed).
+    /// Covariance between acceleration along azimuth `az` and vertical velocity.
     fn forward_vz_cov(&self, az: f64) -> f64 {
         let (s, c) = az.sin_cos();
         let n = self.n.max(1.0);
@@ -114,28 +164,129 @@ impl StrideStats {
         let vz_mean = self.svz / n;
         (s * self.sevz + c * self.snvz) / n - a_mean * vz_mean
     }
+
+    fn to_array(self) -> [f64; 9] {
+        [
+            self.n, self.se, self.sn, self.see, self.snn, self.sen, self.svz, self.sevz, self.snvz,
+        ]
+    }
+
+    fn from_array(v: &[f64]) -> Self {
+        Self {
+            n: v[0],
+            se: v[1],
+            sn: v[2],
+            see: v[3],
+            snn: v[4],
+            sen: v[5],
+            svz: v[6],
+            sevz: v[7],
+            snvz: v[8],
+        }
+    }
+}
+
+/// Online hard-iron (constant field offset in the body frame) estimate: least-squares
+/// sphere fit `|m − h|² = const`, i.e. `2 m·h + c = |m|²`, with forgetting and a ridge.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct HardIron {
+    /// Upper triangle of Σ x xᵀ for x = (2m, 1): 10 values, then Σ x |m|²: 4 values.
+    sums: [f64; 14],
+    h_ut: [f64; 3],
+}
+
+impl HardIron {
+    fn add(&mut self, m: &[f64; 3]) {
+        let x = [2.0 * m[0], 2.0 * m[1], 2.0 * m[2], 1.0];
+        let y = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
+        let s = &mut self.sums;
+        let mut k = 0;
+        for i in 0..4 {
+            for j in i..4 {
+                s[k] += x[i] * x[j];
+                k += 1;
+            }
+        }
+        for i in 0..4 {
+            s[10 + i] += x[i] * y;
+        }
+    }
+
+    /// Forget (factor `decay`) and re-solve.
+    fn solve(&mut self, decay: f64) {
+        for s in self.sums.iter_mut() {
+            *s *= decay;
+        }
+        let s = &self.sums;
+        let n = s[9];
+        if n < HARD_IRON_MIN_N {
+            return;
+        }
+        let mut a = Matrix4::zeros();
+        let mut k = 0;
+        for i in 0..4 {
+            for j in i..4 {
+                a[(i, j)] = s[k];
+                a[(j, i)] = s[k];
+                k += 1;
+            }
+        }
+        let ridge = 4.0 * n * HARD_IRON_RIDGE_UT2;
+        for i in 0..3 {
+            a[(i, i)] += ridge;
+        }
+        let b = Vector4::new(s[10], s[11], s[12], s[13]);
+        if let Some(x) = a.cholesky().map(|c| c.solve(&b)) {
+            let h = [x[0], x[1], x[2]];
+            if h.iter().all(|v| v.is_finite() && v.abs() < 100.0) {
+                self.h_ut = h;
+            }
+        }
+    }
 }
 
 /// Estimates the walking azimuth and the phone's heading offset.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WalkingDirection {
+    /// Latest walking azimuth (per sample), once known.
     azimuth_rad: f64,
     known: bool,
-    /// Sign fixed by GNSS (or by a confident cue) rather than assumed.
-    sign_resolved: bool,
+    /// Sum of sin/cos of the walking azimuth since the last step.
+    step_sin: f64,
+    step_cos: f64,
+    /// AHRS azimuth − true azimuth, and its drift rate, rad, rad/s.
+    mu_rad: f64,
+    mu_rate_rads: f64,
+    mu_known: bool,
+    mag_seen: bool,
+    /// Learned field strength, µT, and dip, rad.
+    mag_ref_ut: f64,
+    dip_ref_rad: f64,
+    mag_ref_known: bool,
+    hard_iron: HardIron,
+    /// Walking direction in the body frame (how the phone is carried).
+    forward_body: [f64; 3],
+    forward_known: bool,
+    /// `forward_body` calibrated by GNSS (held from then on).
+    calibrated: bool,
+    /// Covariance of the calibration filter (azimuth error, drift-rate error):
+    /// p00, p01, p11.
+    cal_p: [f64; 3],
+    /// Body-frame up, low-passed fast and slow (carrying change detection).
+    up_fast: [f64; 3],
+    up_slow: [f64; 3],
+    up_known: bool,
+    /// Orientation (body → ENU) of the latest sample after the tilt correction,
+    /// `[w, x, y, z]`.
+    q: [f64; 4],
+    /// Mean specific force in the AHRS earth frame (low-passed), m/s²: its tilt from
+    /// the vertical is the AHRS's mean tilt error while walking.
+    mean_force_enu: [f64; 3],
     stride: StrideStats,
     steps_in_stride: u32,
     vz_mps: f64,
     last_t_s: f64,
-    phone_azimuth_rad: f64,
-    offset_rad: f64,
-    /// Systematic difference between GNSS course and the stride axis (body motion is
-    /// not exactly fore-aft in every placement: a pocket also sees the thigh's swing),
-    /// learned while GNSS is good, applied to every stride axis.
-    axis_bias_rad: f64,
-    /// Stride axes since the last course, as doubled-angle sums (axes are modulo π).
-    axis_sum_cos2: f64,
-    axis_sum_sin2: f64,
+    last_stride_t_s: f64,
 }
 
 impl Default for WalkingDirection {
@@ -144,21 +295,41 @@ impl Default for WalkingDirection {
     }
 }
 
+fn unit(v: [f64; 3]) -> Vector3<f64> {
+    Vector3::from(v)
+        .try_normalize(1e-12)
+        .unwrap_or(Vector3::z())
+}
+
 impl WalkingDirection {
     pub fn new() -> Self {
         Self {
             azimuth_rad: 0.0,
             known: false,
-            sign_resolved: false,
+            step_sin: 0.0,
+            step_cos: 0.0,
+            mu_rad: 0.0,
+            mu_rate_rads: 0.0,
+            mu_known: false,
+            mag_seen: false,
+            mag_ref_ut: 0.0,
+            dip_ref_rad: 0.0,
+            mag_ref_known: false,
+            hard_iron: HardIron::default(),
+            forward_body: [1.0, 0.0, 0.0],
+            forward_known: false,
+            calibrated: false,
+            cal_p: CAL_P0,
+            up_fast: [0.0, 0.0, 1.0],
+            up_slow: [0.0, 0.0, 1.0],
+            up_known: false,
+            q: [1.0, 0.0, 0.0, 0.0],
+            mean_force_enu: [0.0, 0.0, GRAVITY_MPS2],
             stride: StrideStats::default(),
             steps_in_stride: 0,
             vz_mps: 0.0,
             last_t_s: f64::NAN,
-            phone_azimuth_rad: f64::NAN,
-            offset_rad: f64::NAN,
-            axis_bias_rad: 0.0,
-            axis_sum_cos2: 0.0,
-            axis_sum_sin2: 0.0,
+            last_stride_t_s: f64::NAN,
         }
     }
 
@@ -167,25 +338,67 @@ impl WalkingDirection {
         self.known.then_some(self.azimuth_rad)
     }
 
-    /// Whether the forward/backward ambiguity was resolved by GNSS.
+    /// Whether GNSS calibrated how the phone is carried (sign included).
     pub fn sign_resolved(&self) -> bool {
-        self.sign_resolved
+        self.calibrated
     }
 
-    /// Walking azimuth minus the phone's azimuth, radians (how the phone is carried).
-    pub fn heading_offset_rad(&self) -> Option<f64> {
-        (self.known && self.offset_rad.is_finite()).then_some(self.offset_rad)
+    /// Walking azimuth minus the phone's azimuth, radians (how the phone is carried);
+    /// the phone's azimuth is that of `heading_axis_body` (e.g. body +y, the top edge
+    /// of a phone in the Android / iOS device frame).
+    pub fn heading_offset_rad(&self, heading_axis_body: [f64; 3]) -> Option<f64> {
+        if !self.known {
+            return None;
+        }
+        let v = self.quat() * Vector3::from(heading_axis_body);
+        (v.x.hypot(v.y) > 1e-6).then(|| wrap(self.azimuth_rad - (v.x.atan2(v.y) - self.mu_rad)))
     }
 
-    /// One IMU sample in the earth frame: linear acceleration east/north/up (gravity
-    /// removed), the angular rate about the vertical (rad/s, counter-clockwise seen
-    /// from above, i.e. the ENU z component), and the phone's own azimuth if known.
+    /// Estimated hard-iron offset of the magnetometer, body frame, µT.
+    pub fn hard_iron_ut(&self) -> [f64; 3] {
+        self.hard_iron.h_ut
+    }
+
+    /// The walking direction in the phone's body frame, once known (how it is carried).
+    pub fn forward_body(&self) -> Option<[f64; 3]> {
+        self.forward_known.then_some(self.forward_body)
+    }
+
+    /// Orientation (body → ENU) of the latest sample after the tilt correction,
+    /// `[w, x, y, z]` (azimuths in it are still offset by the yaw correction).
+    pub fn orientation(&self) -> [f64; 4] {
+        self.q
+    }
+
+    /// Correction of the AHRS azimuth (AHRS − true), rad, and its drift rate, rad/s.
+    pub fn yaw_correction(&self) -> (f64, f64) {
+        (self.mu_rad, self.mu_rate_rads)
+    }
+
+    fn quat(&self) -> UnitQuaternion<f64> {
+        let [w, x, y, z] = self.q;
+        UnitQuaternion::new_unchecked(Quaternion::new(w, x, y, z))
+    }
+
+    /// Rotate `forward_body` so that its azimuth grows by `delta` (clockwise), about the
+    /// (slow) body-frame up.
+    fn rotate_forward(&mut self, delta: f64) {
+        let k = unit(self.up_fast);
+        let v = Vector3::from(self.forward_body);
+        let (s, c) = (-delta).sin_cos();
+        let r = v * c + k.cross(&v) * s + k * (k.dot(&v) * (1.0 - c));
+        self.forward_body = r.try_normalize(1e-12).unwrap_or(v).into();
+    }
+
+    /// One IMU sample: the orientation body → ENU from the AHRS, the measured
+    /// specific force (accelerometer, gravity included) in that ENU frame, and the
+    /// magnetometer reading in the body frame if any.
     pub fn push_sample(
         &mut self,
         t_s: f64,
-        lin_acc_enu_mps2: [f64; 3],
-        yaw_rate_up_rads: f64,
-        phone_azimuth_rad: Option<f64>,
+        q_enu: &UnitQuaternion<f64>,
+        force_enu_mps2: [f64; 3],
+        mag_body_ut: Option<[f64; 3]>,
     ) {
         let dt = if self.last_t_s.is_finite() {
             (t_s - self.last_t_s).clamp(0.0, 0.1)
@@ -193,158 +406,332 @@ impl WalkingDirection {
             0.0
         };
         self.last_t_s = t_s;
-        // A counter-clockwise (positive up) rotation decreases a clockwise azimuth.
-        if self.known {
-            self.azimuth_rad = wrap(self.azimuth_rad - yaw_rate_up_rads * dt);
+        if !self.last_stride_t_s.is_finite() {
+            self.last_stride_t_s = t_s;
         }
+        // Tilt correction: over strides the body's acceleration averages out, so the
+        // mean specific force in the earth frame is vertical; the AHRS's systematic
+        // tilt error while walking (its accelerometer correction follows the median
+        // rather than the mean of the asymmetric gait accelerations) shows as a tilt
+        // of that mean, which is rotated away.
+        let k_tilt = dt / TILT_TAU_S;
+        let f_enu = force_enu_mps2;
+        for (m, f) in self.mean_force_enu.iter_mut().zip(f_enu) {
+            *m += k_tilt * (f - *m);
+        }
+        // Shortest rotation taking the mean force's direction a to up:
+        // q ∝ (1 + a_z, a × z) = (1 + a_z, a_y, −a_x, 0).
+        let mf = Vector3::from(self.mean_force_enu);
+        let g = mf.norm();
+        let fix = if g > 1.0 && mf.z > 0.0 {
+            let a = mf / g;
+            UnitQuaternion::from_quaternion(Quaternion::new(1.0 + a.z, a.y, -a.x, 0.0))
+        } else {
+            UnitQuaternion::identity()
+        };
+        let q_enu = &(fix * q_enu);
+        let lin = fix * Vector3::from(f_enu) - Vector3::new(0.0, 0.0, g.max(1.0));
+        let lin_acc_enu_mps2 = [lin.x, lin.y, lin.z];
+        self.q = [q_enu.w, q_enu.i, q_enu.j, q_enu.k];
+        let up_b = q_enu.inverse_transform_vector(&Vector3::z());
+
+        // Carrying change: a lasting jump of the body-frame gravity direction.
+        if !self.up_known {
+            self.up_fast = up_b.into();
+            self.up_slow = up_b.into();
+            self.up_known = true;
+        } else {
+            let kf = dt / UP_FAST_TAU_S;
+            let ks = dt / UP_SLOW_TAU_S;
+            let fast = Vector3::from(self.up_fast) + (up_b - Vector3::from(self.up_fast)) * kf;
+            let slow = Vector3::from(self.up_slow) + (fast - Vector3::from(self.up_slow)) * ks;
+            self.up_fast = fast.into();
+            self.up_slow = slow.into();
+            let (f, s) = (unit(self.up_fast), unit(self.up_slow));
+            if f.dot(&s) < CARRY_CHANGE_RAD.cos() {
+                self.up_slow = self.up_fast;
+                self.forward_known = false;
+                self.calibrated = false;
+                self.cal_p[0] = CAL_P0[0];
+            }
+        }
+
+        // Magnetometer: azimuth of magnetic north in the AHRS frame.
+        match mag_body_ut {
+            Some(m) => {
+                let h = self.hard_iron.h_ut;
+                let mc = Vector3::new(m[0] - h[0], m[1] - h[1], m[2] - h[2]);
+                let n = mc.norm();
+                if n > 1.0 {
+                    let dip = (mc.dot(&up_b) / n).clamp(-1.0, 1.0).asin();
+                    if !self.mag_ref_known {
+                        self.mag_ref_ut = n;
+                        self.dip_ref_rad = dip;
+                        self.mag_ref_known = true;
+                    }
+                    let ok = (n - self.mag_ref_ut).abs() < MAG_GATE_UT
+                        && (dip - self.dip_ref_rad).abs() < MAG_GATE_DIP_RAD;
+                    let k = dt / MAG_REF_TAU_S;
+                    self.mag_ref_ut += k * (n - self.mag_ref_ut);
+                    self.dip_ref_rad += k * (dip - self.dip_ref_rad);
+                    let me = q_enu * mc;
+                    if ok {
+                        self.hard_iron.add(&m);
+                    }
+                    if ok && me.x.hypot(me.y) > 1.0 {
+                        let meas = me.x.atan2(me.y);
+                        if !self.mag_seen {
+                            self.mu_rad = meas;
+                            self.mu_known = true;
+                        } else {
+                            let e = wrap(meas - self.mu_rad);
+                            self.mu_rad += dt * e / MAG_TAU_S;
+                            self.mu_rate_rads += dt * e / (MAG_RATE_TAU_S * MAG_RATE_TAU_S);
+                        }
+                        self.mag_seen = true;
+                    }
+                }
+            }
+            None => {
+                if !self.mu_known {
+                    self.mu_rad = 0.0;
+                    self.mu_known = true;
+                }
+            }
+        }
+        self.mu_rad = wrap(self.mu_rad + self.mu_rate_rads * dt);
+
         // Vertical velocity, leaky to stay bounded (time constant ~1 s).
         self.vz_mps = self.vz_mps * (1.0 - dt) + lin_acc_enu_mps2[2] * dt;
         self.stride
             .add(lin_acc_enu_mps2[0], lin_acc_enu_mps2[1], self.vz_mps);
-        if let Some(p) = phone_azimuth_rad {
-            self.phone_azimuth_rad = p;
-            if self.known {
-                self.offset_rad = wrap(self.azimuth_rad - p);
+
+        // Walking azimuth of this sample.
+        if self.forward_known {
+            let v = q_enu * Vector3::from(self.forward_body);
+            if v.x.hypot(v.y) > 0.2 {
+                let az = wrap(v.x.atan2(v.y) - self.mu_rad);
+                self.azimuth_rad = az;
+                self.known = true;
+                let (s, c) = az.sin_cos();
+                self.step_sin += s;
+                self.step_cos += c;
             }
         }
     }
 
-    /// A step was detected; every second step closes a stride and updates the axis.
-    /// `step_hz` selects the walking or running cue for the forward direction.
-    pub fn push_step(&mut self, step_hz: f64) {
+    /// A step was detected: returns the walking azimuth over the step (once known).
+    /// Every second step closes a stride: the hard-iron fit is re-solved, and until GNSS
+    /// calibrated the carrying, the stride's axis updates it. `step_hz` selects the
+    /// walking or running cue for the forward direction.
+    pub fn push_step(&mut self, step_hz: f64) -> Option<f64> {
+        let step_az = if self.step_sin != 0.0 || self.step_cos != 0.0 {
+            Some(self.step_sin.atan2(self.step_cos))
+        } else {
+            self.azimuth_rad()
+        };
+        self.step_sin = 0.0;
+        self.step_cos = 0.0;
         self.steps_in_stride += 1;
         if self.steps_in_stride < 2 {
-            return;
+            return step_az;
         }
         self.steps_in_stride = 0;
         let stats = std::mem::take(&mut self.stride);
-        let Some((axis, ratio)) = stats.axis() else {
-            return;
+        if self.last_t_s.is_finite() && self.last_stride_t_s.is_finite() {
+            let span = (self.last_t_s - self.last_stride_t_s).max(0.0);
+            self.hard_iron.solve((-span / HARD_IRON_TAU_S).exp());
+        }
+        self.last_stride_t_s = self.last_t_s;
+        if self.calibrated {
+            return step_az;
+        }
+        let Some((axis_ahrs, ratio)) = stats.axis() else {
+            return step_az;
         };
         if ratio < MIN_AXIS_RATIO {
-            return;
+            return step_az;
         }
         let quality = ((ratio - MIN_AXIS_RATIO) / (4.0 * MIN_AXIS_RATIO)).clamp(0.0, 1.0);
-        self.axis_sum_cos2 += quality * (2.0 * axis).cos();
-        self.axis_sum_sin2 += quality * (2.0 * axis).sin();
-        let axis = wrap(axis + self.axis_bias_rad);
-        if !self.known {
-            // Choose forward by the gait cue: walking → forward acceleration is
-            // anti-correlated with vertical velocity; running → correlated.
-            let cov = stats.forward_vz_cov(axis);
-            let running = step_hz > RUNNING_STEP_HZ;
-            let forward_is_axis = if running { cov > 0.0 } else { cov < 0.0 };
-            self.azimuth_rad = if forward_is_axis {
-                axis
+        let axis = wrap(axis_ahrs - self.mu_rad);
+        if !self.forward_known {
+            let forward_is_axis = if self.known {
+                // After a carrying change: continuity with the last direction.
+                wrap(axis - self.azimuth_rad).abs() <= 0.5 * PI
             } else {
-                wrap(axis + PI)
+                // Gait cue: walking → forward acceleration is anti-correlated with
+                // vertical velocity; running → correlated.
+                let cov = stats.forward_vz_cov(axis_ahrs);
+                let running = step_hz > RUNNING_STEP_HZ;
+                if running {
+                    cov > 0.0
+                } else {
+                    cov < 0.0
+                }
             };
-            self.known = true;
-            return;
+            let dir_ahrs = if forward_is_axis {
+                axis_ahrs
+            } else {
+                axis_ahrs + PI
+            };
+            let u = Vector3::new(dir_ahrs.sin(), dir_ahrs.cos(), 0.0);
+            self.forward_body = self.quat().inverse_transform_vector(&u).into();
+            self.forward_known = true;
+            return step_az;
         }
         // Of the axis' two directions, take the one nearer the current estimate.
         let mut target = axis;
         if wrap(target - self.azimuth_rad).abs() > 0.5 * PI {
             target = wrap(target + PI);
         }
-        self.azimuth_rad =
-            wrap(self.azimuth_rad + AXIS_GAIN * quality * wrap(target - self.azimuth_rad));
-        if self.phone_azimuth_rad.is_finite() {
-            self.offset_rad = wrap(self.azimuth_rad - self.phone_azimuth_rad);
+        self.rotate_forward(AXIS_GAIN * quality * wrap(target - self.azimuth_rad));
+        step_az
+    }
+
+    /// GNSS says the dead-reckoned displacement over a stretch of `window_s` seconds
+    /// was `err_rad` anticlockwise of the true one (true azimuth − dead-reckoned
+    /// azimuth), with a 1-σ of `sigma_rad`. A wrong forward sign is resolved once; a
+    /// Kalman filter on the azimuth error (and, without a magnetometer, on the drift
+    /// rate of the gyro-integrated yaw, which the stretch's mean error lags by half its
+    /// length) rotates the carrying and corrects the drift rate.
+    pub fn observe_rotation(&mut self, err_rad: f64, window_s: f64, sigma_rad: f64) {
+        if !self.forward_known || !err_rad.is_finite() || sigma_rad.is_nan() || sigma_rad <= 0.0 {
+            return;
+        }
+        let mut err = wrap(err_rad);
+        if !self.calibrated && err.abs() > 0.5 * PI {
+            self.rotate_forward(PI);
+            err = wrap(err - PI);
+        }
+        self.calibrated = true;
+        let t = if window_s.is_finite() {
+            window_s.max(0.0)
+        } else {
+            0.0
+        };
+        let use_rate = !self.mag_seen;
+        let [mut p00, mut p01, mut p11] = self.cal_p;
+        if !use_rate {
+            p01 = 0.0;
+            p11 = 0.0;
+        }
+        // Predict over the stretch: offset += rate · t.
+        p00 += 2.0 * t * p01 + t * t * p11 + CAL_OFFSET_Q * t;
+        p01 += t * p11;
+        if use_rate {
+            p11 += CAL_RATE_Q * t;
+        }
+        // The stretch's mean error = offset − rate · t/2 (both as errors now).
+        let h1 = if use_rate { -0.5 * t } else { 0.0 };
+        let s = p00 + 2.0 * h1 * p01 + h1 * h1 * p11 + sigma_rad * sigma_rad;
+        let k0 = (p00 + h1 * p01) / s;
+        let k1 = (p01 + h1 * p11) / s;
+        // Update and apply: the error states go back to zero.
+        let (ph0, ph1) = (p00 + h1 * p01, p01 + h1 * p11);
+        p00 -= k0 * ph0;
+        p01 -= k0 * ph1;
+        p11 -= k1 * ph1;
+        self.cal_p = [p00, p01, p11];
+        self.rotate_forward(k0 * err);
+        if use_rate {
+            // True azimuth = AHRS azimuth − μ: a growing error wants μ to grow slower.
+            self.mu_rate_rads -= k1 * err;
         }
     }
 
     pub(crate) fn write(&self, w: &mut Writer) {
-        let s = &self.stride;
         w.f64s(&[
             self.azimuth_rad,
-            s.n,
-            s.se,
-            s.sn,
-            s.see,
-            s.snn,
-            s.sen,
-            s.vz,
-            s.svz,
-        ]);
-        w.f64s(&[
-            s.sevz,
-            s.snvz,
+            self.step_sin,
+            self.step_cos,
+            self.mu_rad,
+            self.mu_rate_rads,
+            self.mag_ref_ut,
+            self.dip_ref_rad,
             self.vz_mps,
             self.last_t_s,
-            self.phone_azimuth_rad,
+            self.last_stride_t_s,
         ]);
-        w.f64s(&[
-            self.offset_rad,
-            self.axis_bias_rad,
-            self.axis_sum_cos2,
-            self.axis_sum_sin2,
-        ]);
-        w.bool(self.known);
-        w.bool(self.sign_resolved);
+        w.f64s(&self.mean_force_enu);
+        w.f64s(&self.cal_p);
+        w.f64s(&self.hard_iron.sums);
+        w.f64s(&self.hard_iron.h_ut);
+        w.f64s(&self.forward_body);
+        w.f64s(&self.up_fast);
+        w.f64s(&self.up_slow);
+        w.f64s(&self.q);
+        w.f64s(&self.stride.to_array());
+        for b in [
+            self.known,
+            self.mu_known,
+            self.mag_seen,
+            self.mag_ref_known,
+            self.forward_known,
+            self.calibrated,
+            self.up_known,
+        ] {
+            w.bool(b);
+        }
         w.u64(self.steps_in_stride as u64);
     }
 
     pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
-        let mut v = [0.0; 14];
+        let mut v = [0.0; 10];
         r.f64s(&mut v)?;
+        let mut mean_force_enu = [0.0; 3];
+        r.f64s(&mut mean_force_enu)?;
+        let mut cal_p = [0.0; 3];
+        r.f64s(&mut cal_p)?;
+        let mut hard_iron = HardIron::default();
+        r.f64s(&mut hard_iron.sums)?;
+        r.f64s(&mut hard_iron.h_ut)?;
+        let mut forward_body = [0.0; 3];
+        r.f64s(&mut forward_body)?;
+        let mut up_fast = [0.0; 3];
+        r.f64s(&mut up_fast)?;
+        let mut up_slow = [0.0; 3];
+        r.f64s(&mut up_slow)?;
+        let mut q = [0.0; 4];
+        r.f64s(&mut q)?;
+        let mut stride = [0.0; 9];
+        r.f64s(&mut stride)?;
+        let mut b = [false; 7];
+        for x in b.iter_mut() {
+            *x = r.bool()?;
+        }
+        let steps_in_stride = r.len(2)? as u32;
+        let qn = q.iter().map(|x| x * x).sum::<f64>();
+        if qn.is_nan() || (qn - 1.0).abs() >= 1e-6 {
+            return Err(SnapshotError::Invalid("walking direction orientation"));
+        }
         Ok(Self {
             azimuth_rad: v[0],
-            stride: StrideStats {
-                n: v[1],
-                se: v[2],
-                sn: v[3],
-                see: v[4],
-                snn: v[5],
-                sen: v[6],
-                vz: v[7],
-                svz: v[8],
-                sevz: v[9],
-                snvz: v[10],
-            },
-            vz_mps: v[11],
-            last_t_s: v[12],
-            phone_azimuth_rad: v[13],
-            offset_rad: r.f64()?,
-            axis_bias_rad: r.f64()?,
-            axis_sum_cos2: r.f64()?,
-            axis_sum_sin2: r.f64()?,
-            known: r.bool()?,
-            sign_resolved: r.bool()?,
-            steps_in_stride: r.len(2)? as u32,
+            step_sin: v[1],
+            step_cos: v[2],
+            mu_rad: v[3],
+            mu_rate_rads: v[4],
+            mag_ref_ut: v[5],
+            dip_ref_rad: v[6],
+            vz_mps: v[7],
+            last_t_s: v[8],
+            last_stride_t_s: v[9],
+            mean_force_enu,
+            cal_p,
+            hard_iron,
+            forward_body,
+            up_fast,
+            up_slow,
+            q,
+            stride: StrideStats::from_array(&stride),
+            known: b[0],
+            mu_known: b[1],
+            mag_seen: b[2],
+            mag_ref_known: b[3],
+            forward_known: b[4],
+            calibrated: b[5],
+            up_known: b[6],
+            steps_in_stride,
         })
-    }
-
-    /// A GNSS course over ground (azimuth, rad) while walking straight: resolves the
-    /// forward/backward ambiguity and pulls the estimate towards it with `weight` (0..1).
-    pub fn observe_course(&mut self, course_rad: f64, weight: f64) {
-        if !course_rad.is_finite() {
-            return;
-        }
-        let w = weight.clamp(0.0, 1.0);
-        // Learn the stride-axis bias: course minus the mean stride axis since the
-        // last course (both as axes, modulo π).
-        if self.axis_sum_cos2.hypot(self.axis_sum_sin2) > 1.0 {
-            let mean_axis = 0.5 * self.axis_sum_sin2.atan2(self.axis_sum_cos2);
-            let diff = wrap_axis(course_rad - mean_axis);
-            self.axis_bias_rad = wrap_axis(
-                self.axis_bias_rad + AXIS_BIAS_GAIN * wrap_axis(diff - self.axis_bias_rad),
-            );
-        }
-        self.axis_sum_cos2 = 0.0;
-        self.axis_sum_sin2 = 0.0;
-        if !self.known {
-            self.azimuth_rad = wrap(course_rad);
-            self.known = true;
-        } else if wrap(course_rad - self.azimuth_rad).abs() > 0.5 * PI && !self.sign_resolved {
-            // The axis was right, the sign wrong.
-            self.azimuth_rad = wrap(self.azimuth_rad + PI);
-        }
-        self.sign_resolved = true;
-        self.azimuth_rad = wrap(self.azimuth_rad + w * wrap(course_rad - self.azimuth_rad));
-        if self.phone_azimuth_rad.is_finite() {
-            self.offset_rad = wrap(self.azimuth_rad - self.phone_azimuth_rad);
-        }
     }
 }
 
@@ -353,8 +740,11 @@ mod tests {
     use super::*;
     use crate::sim::Rng;
 
-    /// Earth-frame linear acceleration of a walker heading `az` (inverted pendulum:
-    /// forward acceleration = −k · vertical velocity) plus sway and noise.
+    /// A walker heading `az(t)` with the phone upright in a pocket (body y up, body x
+    /// pointing 1 rad anticlockwise of forward), inverted-pendulum acceleration plus
+    /// sway and noise, an ideal AHRS whose yaw drifts by `drift` rad/s, and a
+    /// magnetometer if `mag`.
+    #[allow(clippy::too_many_arguments)]
     fn walk(
         wd: &mut WalkingDirection,
         rng: &mut Rng,
@@ -362,24 +752,33 @@ mod tests {
         seconds: f64,
         az_of_t: impl Fn(f64) -> f64,
         step_hz: f64,
+        drift: f64,
+        mag: bool,
     ) -> f64 {
         let fs = 100.0;
         let mut next_step = t0 + 1.0 / step_hz;
         let n = (seconds * fs) as usize;
         let mut t = t0;
+        let field = Vector3::new(0.0, 20.0, -44.0);
         for i in 0..n {
             t = t0 + i as f64 / fs;
             let ph = 2.0 * PI * step_hz * (t - t0);
-            let vz = 0.15 * ph.cos(); // vertical velocity of the body
+            let vz = 0.15 * ph.cos();
             let a_up = -0.15 * 2.0 * PI * step_hz * ph.sin();
             let a_fwd = -2.0 * vz / 0.15 * 0.6 + 0.2 * rng.normal();
             let a_side = 0.4 * (0.5 * ph).sin() + 0.2 * rng.normal();
             let az = az_of_t(t);
-            let (s, c) = az.sin_cos();
-            let e = a_fwd * s + a_side * c;
-            let nn = a_fwd * c - a_side * s;
-            let rate = -(az_of_t(t + 0.01) - az_of_t(t)) / 0.01;
-            wd.push_sample(t, [e, nn, a_up], rate, Some(wrap(az - 1.0)));
+            // True attitude: walking frame (x fwd, y left, z up) → ENU, phone body
+            // x = forward rotated 1 rad anticlockwise, z = left-ish, y = up.
+            let walk_to_enu = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.5 * PI - az);
+            let body_to_walk = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 1.0)
+                * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * PI);
+            let q_true = walk_to_enu * body_to_walk;
+            let q_ahrs = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), -drift * t) * q_true;
+            let a_true = walk_to_enu * Vector3::new(a_fwd, a_side, a_up + GRAVITY_MPS2);
+            let a_ahrs = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), -drift * t) * a_true;
+            let m = mag.then(|| (q_true.inverse() * field).into());
+            wd.push_sample(t, &q_ahrs, a_ahrs.into(), m);
             if t >= next_step {
                 wd.push_step(step_hz);
                 next_step += 1.0 / step_hz;
@@ -389,22 +788,22 @@ mod tests {
     }
 
     #[test]
-    fn finds_the_walking_direction_and_the_phone_offset() {
+    fn finds_the_walking_direction_from_the_gait() {
         for az in [0.3, 2.0, -2.5] {
             let mut wd = WalkingDirection::new();
             let mut rng = Rng::new(1);
-            walk(&mut wd, &mut rng, 0.0, 30.0, |_| az, 1.8);
+            walk(&mut wd, &mut rng, 0.0, 30.0, |_| az, 1.8, 0.0, true);
             let est = wd.azimuth_rad().unwrap();
             assert!(wrap(est - az).abs() < 0.1, "{az}: {est}");
-            assert!((wd.heading_offset_rad().unwrap() - 1.0).abs() < 0.1);
         }
     }
 
     #[test]
-    fn follows_turns_and_gnss_fixes_the_sign() {
+    fn follows_turns_and_the_magnetometer_cancels_yaw_drift() {
         let mut wd = WalkingDirection::new();
         let mut rng = Rng::new(2);
-        // Straight north, then a 90° right turn over 3 s, then east.
+        // Straight north, then a 90° right turn over 3 s, then east; the AHRS yaw
+        // drifts 0.01 rad/s.
         let az = |t: f64| {
             if t < 20.0 {
                 0.0
@@ -414,14 +813,24 @@ mod tests {
                 0.5 * PI
             }
         };
-        walk(&mut wd, &mut rng, 0.0, 40.0, az, 1.8);
-        assert!(wrap(wd.azimuth_rad().unwrap() - 0.5 * PI).abs() < 0.12);
-        // A GNSS course pointing the other way flips a wrong sign once.
-        let mut wrong = WalkingDirection::new();
-        wrong.push_sample(0.0, [0.0; 3], 0.0, None);
-        wrong.observe_course(0.0, 0.5);
-        assert!(wrong.sign_resolved());
-        assert!(wrap(wrong.azimuth_rad().unwrap()).abs() < 1e-9);
+        walk(&mut wd, &mut rng, 0.0, 200.0, az, 1.8, 0.01, true);
+        assert!(wrap(wd.azimuth_rad().unwrap() - 0.5 * PI).abs() < 0.1);
+    }
+
+    #[test]
+    fn gnss_flips_a_wrong_sign_once_and_calibrates() {
+        let mut wd = WalkingDirection::new();
+        let mut rng = Rng::new(3);
+        walk(&mut wd, &mut rng, 0.0, 10.0, |_| 1.0, 1.8, 0.0, false);
+        let before = wd.azimuth_rad().unwrap();
+        wd.observe_rotation(PI - 0.1, 10.0, 0.5);
+        assert!(wd.sign_resolved());
+        walk(&mut wd, &mut rng, 10.0, 2.0, |_| 1.0, 1.8, 0.0, false);
+        let after = wd.azimuth_rad().unwrap();
+        assert!(
+            (wrap(after - before).abs() - (PI - 0.05)).abs() < 0.05,
+            "{before} {after}"
+        );
     }
 
     #[test]

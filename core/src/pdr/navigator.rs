@@ -1,19 +1,22 @@
 //! `PhoneNavigator`: pedestrian dead reckoning with a phone, corrected by GNSS.
 //!
-//! Per IMU sample: the AHRS ([`crate::ahrs`]) gives the orientation and the linear
+//! Per IMU sample: the AHRS ([`crate::ahrs`], run as an IMU filter: tilt from the
+//! accelerometer, yaw from the gyroscope) gives the orientation and the linear
 //! acceleration in the earth frame; the step detector ([`crate::stepdetect`]) finds
-//! steps in the raw acceleration; the walking direction ([`super::heading`]) follows
-//! the body's motion, not the phone's pointing. Per step: the step-length estimator
-//! ([`crate::steplength`]) gives a length, and the position advances by it along the
-//! walking direction. GNSS fixes, when pushed, anchor the local East-North-Up frame
-//! (at the first fix), correct the position (a 2-D Kalman update weighted by the
-//! fix's accuracy against the dead-reckoning uncertainty), calibrate step length, and
-//! give the walking direction its course.
+//! steps in the raw acceleration; the walking direction ([`super::heading`]) combines
+//! the orientation, the magnetometer (when given: it corrects the AHRS yaw) and how the
+//! phone is carried. Per step: the step-length estimator ([`crate::steplength`]) gives
+//! a length, and the position advances by it along the step's walking direction. GNSS
+//! fixes, when pushed, anchor the local East-North-Up frame (at the first fix),
+//! correct the position (a 2-D Kalman update weighted by the fix's accuracy against
+//! the dead-reckoning uncertainty), calibrate step length, and calibrate how the phone
+//! is carried: the angle between the GNSS displacement and the dead-reckoned one over
+//! the same stretch (≥ 15 m) rotates the walking direction's carrying estimate.
 //!
 //! Before the first fix, positions are relative to where the navigator started;
 //! at the first fix the track is re-expressed around it.
 
-use nalgebra::Vector3;
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::ahrs::{Ahrs, AhrsError, AhrsSettings, EarthFrame, ImuSample};
 use crate::geo::LocalFrame;
@@ -25,7 +28,7 @@ use crate::steplength::{StepLengthConfig, StepLengthError, StepLengthEstimator, 
 use super::heading::WalkingDirection;
 
 const SNAPSHOT_KIND: u8 = 5;
-const SNAPSHOT_VERSION: u16 = 1;
+const SNAPSHOT_VERSION: u16 = 2;
 /// 68 % radius of a circular 2-D Gaussian is 1.515 σ per axis.
 const RADIUS68_TO_SIGMA: f64 = 1.0 / 1.515;
 /// Per-axis σ assumed for a fix without accuracy, m.
@@ -34,14 +37,13 @@ const DEFAULT_FIX_SIGMA_M: f64 = 5.0;
 /// (step-length error) and walking-direction uncertainty across it, rad.
 const STEP_LENGTH_REL_SIGMA: f64 = 0.05;
 const DIRECTION_SIGMA_RAD: f64 = 0.08;
-/// A GNSS course needs this much displacement and time between fixes (m, s).
-const COURSE_MIN_DISTANCE_M: f64 = 10.0;
+/// A GNSS stretch (displacement compared with dead reckoning) needs this much
+/// displacement and time between fixes (m, s).
+const COURSE_MIN_DISTANCE_M: f64 = 15.0;
 const COURSE_MIN_TIME_S: f64 = 5.0;
-/// ... and a walking direction that turned less than this meanwhile, rad.
-const COURSE_MAX_TURN_RAD: f64 = 0.35;
-/// Weight of one GNSS course in the walking direction.
-const COURSE_WEIGHT: f64 = 0.3;
-/// Fixes with a worse accuracy give no course, m.
+/// ... and no longer than this (a longer gap restarts the stretch), s.
+const COURSE_MAX_TIME_S: f64 = 60.0;
+/// Fixes with a worse accuracy give no stretch, m.
 const COURSE_MAX_ACCURACY_M: f64 = 15.0;
 
 /// Why the navigator rejected an input (its state is unchanged).
@@ -126,8 +128,19 @@ pub struct PhoneNavigator {
     last_step_length_m: f64,
     last_t_s: f64,
     last_fix_t_s: f64,
-    /// Fix and walking azimuth where the current course baseline starts.
-    course_anchor: (f64, f64, f64, f64),
+    /// Dead-reckoned position without GNSS corrections, m.
+    dr_east_m: f64,
+    dr_north_m: f64,
+    /// Where the current GNSS stretch starts: time, fix east/north, dead-reckoned
+    /// east/north.
+    course_anchor: [f64; 5],
+}
+
+/// NED → ENU rotation (swaps north and east, flips the vertical).
+/// (A half turn about the horizontal axis between north and east.)
+fn ned_to_enu() -> UnitQuaternion<f64> {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    UnitQuaternion::new_unchecked(Quaternion::new(0.0, h, h, 0.0))
 }
 
 fn check_fix(fix: &GnssFix) -> Result<(), NavError> {
@@ -172,7 +185,9 @@ impl PhoneNavigator {
             last_step_length_m: f64::NAN,
             last_t_s: f64::NAN,
             last_fix_t_s: f64::NAN,
-            course_anchor: (f64::NAN, f64::NAN, f64::NAN, f64::NAN),
+            dr_east_m: 0.0,
+            dr_north_m: 0.0,
+            course_anchor: [f64::NAN; 5],
         })
     }
 
@@ -186,21 +201,26 @@ impl PhoneNavigator {
         // detector's check runs first, without side effects, so a rejection by either
         // leaves both untouched (the AHRS rejects before changing anything too).
         self.detector.check_sample(s.t_s, s.accel_mps2)?;
-        self.ahrs
-            .update(s.t_s, s.gyro_rads, s.accel_mps2, s.mag_ut)?;
+        if let Some(m) = &s.mag_ut {
+            if !m.iter().all(|v| v.is_finite()) {
+                return Err(AhrsError::NonFinite { field: "mag_ut" }.into());
+            }
+        }
+        // The AHRS runs without the magnetometer: the walking direction corrects its
+        // yaw from the field itself (see `super::heading`).
+        self.ahrs.update(s.t_s, s.gyro_rads, s.accel_mps2, None)?;
         let first = self.detector.push(s.t_s, s.accel_mps2)?;
         self.last_t_s = s.t_s;
-        if let Some(o) = self.ahrs.output() {
-            let q = o.unit_quaternion();
-            let w = Vector3::from(s.gyro_rads) - Vector3::from(o.gyro_bias_rads);
-            let w_earth = q * w;
-            let a = o.linear_accel_earth_mps2;
-            let (lin_enu, rate_up) = match o.frame {
-                EarthFrame::Enu => (a, w_earth.z),
-                EarthFrame::Ned => ([a[1], a[0], -a[2]], -w_earth.z),
+        if let Some([w, x, y, z]) = self.ahrs.quaternion() {
+            let q = UnitQuaternion::new_unchecked(Quaternion::new(w, x, y, z));
+            let q_enu = match self.config.ahrs.frame {
+                EarthFrame::Enu => q,
+                EarthFrame::Ned => ned_to_enu() * q,
             };
-            self.direction
-                .push_sample(s.t_s, lin_enu, rate_up, Some(o.heading_rad));
+            let remap = &self.config.ahrs.axis_remap;
+            let force = q_enu * Vector3::from(remap.apply(s.accel_mps2));
+            let mag = s.mag_ut.map(|m| remap.apply(m));
+            self.direction.push_sample(s.t_s, &q_enu, force.into(), mag);
         }
         if let Some(step) = first {
             self.on_step(&step)?;
@@ -213,15 +233,19 @@ impl PhoneNavigator {
 
     fn on_step(&mut self, step: &StepEvent) -> Result<(), NavError> {
         let hz = step.frequency_hz();
-        self.direction
-            .push_step(if hz.is_finite() { hz } else { 1.8 });
         let length = self.lengths.push_step(step)?;
+        let az = self
+            .direction
+            .push_step(if hz.is_finite() { hz } else { 1.8 });
         self.steps += 1;
         self.last_step_length_m = length;
         self.distance_m += length;
-        if let Some(az) = self.direction.azimuth_rad() {
-            self.east_m += length * az.sin();
-            self.north_m += length * az.cos();
+        if let Some(az) = az {
+            let (de, dn) = (length * az.sin(), length * az.cos());
+            self.east_m += de;
+            self.north_m += dn;
+            self.dr_east_m += de;
+            self.dr_north_m += dn;
             self.pos_var_m2 +=
                 (STEP_LENGTH_REL_SIGMA * length).powi(2) + (DIRECTION_SIGMA_RAD * length).powi(2);
         }
@@ -239,9 +263,7 @@ impl PhoneNavigator {
                 expected: "after the previous fix",
             });
         }
-        let sigma = fix
-            .horizontal_accuracy_m
-            .map_or(DEFAULT_FIX_SIGMA_M, |a| (a * RADIUS68_TO_SIGMA).max(0.5));
+        let sigma = self.fix_sigma_m(fix);
         let frame = match self.frame {
             Some(f) => f,
             None => {
@@ -271,33 +293,50 @@ impl PhoneNavigator {
         Ok(self.estimate())
     }
 
-    /// The walking direction learns its course (and its forward sign) from the GNSS
-    /// displacement over a straight stretch.
+    /// Per-axis σ of a fix, m.
+    fn fix_sigma_m(&self, fix: &GnssFix) -> f64 {
+        fix.horizontal_accuracy_m
+            .map_or(DEFAULT_FIX_SIGMA_M, |a| (a * RADIUS68_TO_SIGMA).max(0.5))
+    }
+
+    /// The walking direction learns how the phone is carried (and its forward sign)
+    /// from the angle between the GNSS and the dead-reckoned displacements over a
+    /// stretch of ≥ 15 m.
     fn observe_course(&mut self, fix: &GnssFix, p: [f64; 3]) {
-        let az_now = self.direction.azimuth_rad().unwrap_or(f64::NAN);
         let good = fix
             .horizontal_accuracy_m
             .is_none_or(|a| a <= COURSE_MAX_ACCURACY_M);
-        let (t0, e0, n0, az0) = self.course_anchor;
-        if !good || !t0.is_finite() {
-            self.course_anchor = (fix.t_s, p[0], p[1], az_now);
+        let [t0, e0, n0, de0, dn0] = self.course_anchor;
+        let anchor = [fix.t_s, p[0], p[1], self.dr_east_m, self.dr_north_m];
+        if !good || !t0.is_finite() || fix.t_s - t0 > COURSE_MAX_TIME_S {
+            self.course_anchor = anchor;
             return;
         }
-        let (de, dn) = (p[0] - e0, p[1] - n0);
-        let d = de.hypot(dn);
-        if d < COURSE_MIN_DISTANCE_M || fix.t_s - t0 < COURSE_MIN_TIME_S {
+        let (ge, gn) = (p[0] - e0, p[1] - n0);
+        let g = ge.hypot(gn);
+        if g < COURSE_MIN_DISTANCE_M || fix.t_s - t0 < COURSE_MIN_TIME_S {
             return;
         }
-        let turned = super::heading::wrap(az_now - az0).abs();
-        if az_now.is_nan() || az0.is_nan() || turned < COURSE_MAX_TURN_RAD {
-            self.direction.observe_course(de.atan2(dn), COURSE_WEIGHT);
+        let (de, dn) = (self.dr_east_m - de0, self.dr_north_m - dn0);
+        if de.hypot(dn) > 0.5 * g {
+            // Azimuth of GNSS minus azimuth of dead reckoning (clockwise positive); its
+            // σ from the two fixes' accuracy across the baseline.
+            let err = (ge * dn - gn * de).atan2(ge * de + gn * dn);
+            let sigma = std::f64::consts::SQRT_2 * self.fix_sigma_m(fix) / g;
+            self.direction.observe_rotation(err, fix.t_s - t0, sigma);
         }
-        self.course_anchor = (
-            fix.t_s,
-            p[0],
-            p[1],
-            self.direction.azimuth_rad().unwrap_or(f64::NAN),
-        );
+        self.course_anchor = anchor;
+    }
+
+    /// The walking-direction estimator (diagnostics: carrying, yaw correction).
+    pub fn walking_direction(&self) -> &WalkingDirection {
+        &self.direction
+    }
+
+    /// The AHRS orientation of the latest sample (body → AHRS earth frame),
+    /// `[w, x, y, z]`.
+    pub fn orientation(&self) -> Option<[f64; 4]> {
+        self.ahrs.quaternion()
     }
 
     /// Where the pedestrian is now.
@@ -311,7 +350,14 @@ impl PhoneNavigator {
             lat_deg: geo.map(|g| g.0),
             lon_deg: geo.map(|g| g.1),
             walking_azimuth_rad: self.direction.azimuth_rad(),
-            heading_offset_rad: self.direction.heading_offset_rad(),
+            // The phone's heading as the AHRS defines it: body +y (top edge) in ENU,
+            // body +x in NED.
+            heading_offset_rad: self
+                .direction
+                .heading_offset_rad(match self.config.ahrs.frame {
+                    EarthFrame::Enu => [0.0, 1.0, 0.0],
+                    EarthFrame::Ned => [1.0, 0.0, 0.0],
+                }),
             steps: self.steps,
             distance_m: self.distance_m,
             step_length_m: self
@@ -344,11 +390,10 @@ impl PhoneNavigator {
             self.last_step_length_m,
             self.last_t_s,
             self.last_fix_t_s,
-            self.course_anchor.0,
-            self.course_anchor.1,
-            self.course_anchor.2,
-            self.course_anchor.3,
+            self.dr_east_m,
+            self.dr_north_m,
         ]);
+        w.f64s(&self.course_anchor);
         w.u64(self.steps);
         w.finish()
     }
@@ -369,8 +414,10 @@ impl PhoneNavigator {
         } else {
             None
         };
-        let mut v = [0.0; 11];
+        let mut v = [0.0; 9];
         r.f64s(&mut v)?;
+        let mut course_anchor = [0.0; 5];
+        r.f64s(&mut course_anchor)?;
         let steps = r.u64()?;
         r.end()?;
         let config = NavigatorConfig {
@@ -393,7 +440,9 @@ impl PhoneNavigator {
             last_step_length_m: v[4],
             last_t_s: v[5],
             last_fix_t_s: v[6],
-            course_anchor: (v[7], v[8], v[9], v[10]),
+            dr_east_m: v[7],
+            dr_north_m: v[8],
+            course_anchor,
             steps,
         })
     }

@@ -175,6 +175,9 @@ pub struct PhoneScenario {
     pub gnss: bool,
     /// GNSS outages (start, end), seconds: no fixes inside.
     pub gnss_outages: Vec<(f64, f64)>,
+    /// Turns (start s, duration s, angle rad clockwise) replacing the random ones
+    /// (e.g. a closed loop); the slow heading wander stays.
+    pub turns: Option<Vec<(f64, f64, f64)>>,
 }
 
 impl PhoneScenario {
@@ -194,6 +197,7 @@ impl PhoneScenario {
             magnetic_disturbances: false,
             gnss: true,
             gnss_outages: Vec::new(),
+            turns: None,
         }
     }
 
@@ -261,6 +265,8 @@ pub struct PhoneTruth {
     pub speed_mps: f64,
     /// Distance travelled (walking, running, cycling and vehicle), metres.
     pub distance_m: f64,
+    /// Attitude of the phone: body → ENU rotation as a unit quaternion `[w, x, y, z]`.
+    pub attitude_wxyz: [f64; 4],
 }
 
 /// A simulated GNSS fix in the local ENU frame.
@@ -353,6 +359,7 @@ impl SimulatedPhone {
             heading_rad: a.heading_rad,
             speed_mps: l(a.speed_mps, b.speed_mps),
             distance_m: l(a.distance_m, b.distance_m),
+            attitude_wxyz: a.attitude_wxyz,
         }
     }
 
@@ -537,6 +544,15 @@ pub fn simulate_phone(scenario: &PhoneScenario) -> SimulatedPhone {
     let heading_wobble = Wobble::new(&mut head_rng, 0.02, 40.0, 120.0);
     let mut turns = Vec::new();
     let mut tt = head_rng.range(60.0, 120.0);
+    if let Some(given) = &scenario.turns {
+        turns.extend(
+            given
+                .iter()
+                .filter(|t| t.0.is_finite() && t.1.is_finite() && t.1 > 0.0 && t.2.is_finite())
+                .map(|&(t0, dur, angle)| Turn { t0, dur, angle }),
+        );
+        tt = f64::INFINITY;
+    }
     while tt < total_s {
         let angle = head_rng.range(0.6, 1.6) * if head_rng.uniform() < 0.5 { -1.0 } else { 1.0 };
         // Peak lateral acceleration of the turn (v·π/2·angle/dur) at most 2.5 m/s².
@@ -642,6 +658,7 @@ pub fn simulate_phone(scenario: &PhoneScenario) -> SimulatedPhone {
             heading_rad: heading_at(t).rem_euclid(std::f64::consts::TAU),
             speed_mps: speed_at(t, &mut sc, &mut pc),
             distance_m: dist,
+            attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
         });
     }
     // Step lengths: the truth integrates the same piecewise-constant speed, so the
@@ -758,6 +775,17 @@ pub fn simulate_phone(scenario: &PhoneScenario) -> SimulatedPhone {
             swing,
         }
     };
+
+    // Truth attitude.
+    {
+        let (mut sc, mut pc) = (0, 0);
+        for tr in truth.iter_mut() {
+            let q = nalgebra::UnitQuaternion::from_rotation_matrix(
+                &pose_at(tr.t_s, &mut sc, &mut pc).c_enu_b,
+            );
+            tr.attitude_wxyz = [q.w, q.i, q.j, q.k];
+        }
+    }
 
     // IMU samples.
     let mut noise_rng = stream(seed, 8);

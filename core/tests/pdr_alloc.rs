@@ -1,0 +1,79 @@
+//! PhoneNavigator: no heap allocation per IMU sample or GNSS fix after construction
+//! (with and without a magnetometer, rejected inputs included).
+
+mod common;
+use common::allocations_in;
+
+use stridekit_core::ahrs::ImuSample;
+use stridekit_core::geo::LocalFrame;
+use stridekit_core::pace::GnssFix;
+use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
+use stridekit_core::sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
+
+enum Input {
+    Imu(ImuSample),
+    Fix(GnssFix),
+}
+
+fn inputs(placement: PhonePlacement, use_mag: bool) -> Vec<Input> {
+    let mut sc = PhoneScenario::walk(11, placement, 1.4, 150.0);
+    sc.gnss_outages = vec![(90.0, 151.0)];
+    let sim = simulate_phone(&sc);
+    let frame = LocalFrame::new(47.0, 8.0, 0.0);
+    let mut out = Vec::with_capacity(sim.samples.len() + sim.fixes.len());
+    let mut fi = 0;
+    for s in &sim.samples {
+        while fi < sim.fixes.len() && sim.fixes[fi].t_s <= s.t_s {
+            let f = sim.fixes[fi];
+            let (lat, lon) = frame.to_geodetic(f.east_m, f.north_m);
+            out.push(Input::Fix(
+                GnssFix::new(f.t_s, lat, lon).with_accuracy(f.accuracy_m),
+            ));
+            fi += 1;
+        }
+        out.push(Input::Imu(ImuSample {
+            t_s: s.t_s,
+            gyro_rads: s.gyro_radps,
+            accel_mps2: s.accel_mps2,
+            mag_ut: use_mag.then_some(s.mag_ut),
+        }));
+    }
+    out
+}
+
+#[test]
+fn navigator_does_not_allocate_per_sample() {
+    for placement in [PhonePlacement::FrontPocket, PhonePlacement::InHand] {
+        for use_mag in [true, false] {
+            let xs = inputs(placement, use_mag);
+            let mut nav = PhoneNavigator::new(NavigatorConfig::default()).unwrap();
+            let (n, steps) = allocations_in(|| {
+                for x in &xs {
+                    match x {
+                        Input::Imu(s) => nav.push_imu(s).unwrap(),
+                        Input::Fix(f) => {
+                            nav.push_fix(f).unwrap();
+                        }
+                    }
+                    std::hint::black_box(nav.estimate());
+                }
+                // Rejected inputs too.
+                let t = nav.estimate().t_s;
+                let bad = ImuSample {
+                    t_s: t + 0.01,
+                    gyro_rads: [0.0; 3],
+                    accel_mps2: [0.0, 0.0, 9.8],
+                    mag_ut: Some([f64::NAN, 0.0, 0.0]),
+                };
+                assert!(nav.push_imu(&bad).is_err());
+                assert!(nav.push_fix(&GnssFix::new(t + 1.0, 95.0, 0.0)).is_err());
+                nav.estimate().steps
+            });
+            assert!(steps > 100, "{placement:?}: {steps} steps");
+            assert_eq!(
+                n, 0,
+                "{placement:?}, mag {use_mag}: allocations on the sample path"
+            );
+        }
+    }
+}
