@@ -10,6 +10,7 @@
 
 pub mod ahrs;
 pub mod eval;
+pub mod foot;
 pub mod geo;
 pub mod pace;
 pub mod pdr;

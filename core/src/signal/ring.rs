@@ -52,6 +52,14 @@ impl<T: Copy + Default, const N: usize> Ring<T, N> {
         self.len -= 1;
         Some(v)
     }
+    /// Remove and return the newest element.
+    pub fn pop_back(&mut self) -> Option<T> {
+        if self.len == 0 {
+            return None;
+        }
+        self.len -= 1;
+        Some(self.buf[(self.head + self.len) % N])
+    }
     /// Mutable access to the newest element.
     pub fn newest_mut(&mut self) -> Option<&mut T> {
         if self.len == 0 {

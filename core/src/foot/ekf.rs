@@ -1,0 +1,303 @@
+//! Strapdown mechanisation in the local level ENU frame and its 15-state error-state
+//! Kalman filter.
+//!
+//! Nominal state: attitude `q` (body → ENU), velocity `v`, position `p`, accelerometer
+//! bias `b_a`, gyroscope bias `b_g`. Error state `δx = [δp, δv, φ, δb_a, δb_g]`
+//! (estimate − truth; `φ` is the attitude error in the ENU frame, `Ĉ = (I + [φ×]) C`).
+//! Error dynamics: `δṗ = δv`, `δv̇ = −[f_n×] φ − Ĉ δb_a`, `φ̇ = −Ĉ δb_g`, biases random
+//! walks. The covariance is propagated by blocks (F is sparse), then symmetrised with
+//! a floor on the diagonal; the zero-velocity update uses `P ← P − K S Kᵀ`, which
+//! keeps it symmetric.
+
+use nalgebra::{Matrix3, SMatrix, UnitQuaternion, Vector3};
+
+use super::config::Correction;
+
+pub(crate) type Cov = SMatrix<f64, 15, 15>;
+pub(crate) const IP: usize = 0;
+pub(crate) const IV: usize = 3;
+pub(crate) const IA: usize = 6;
+pub(crate) const IBA: usize = 9;
+pub(crate) const IBG: usize = 12;
+
+/// Smallest variance kept on the diagonal.
+const VAR_FLOOR: f64 = 1e-14;
+/// Largest variance kept per state (position 1 000 km, velocity 100 m/s, tilt 1 rad,
+/// heading π, accelerometer bias 10 m/s², gyroscope bias 1 rad/s, all 1-σ): beyond
+/// these the linearised filter means nothing, and capping (by scaling the state's row
+/// and column, which keeps P positive semi-definite) keeps it finite.
+const VAR_CAP: [f64; 15] = [
+    1e12,
+    1e12,
+    1e12,
+    1e4,
+    1e4,
+    1e4,
+    1.0,
+    1.0,
+    std::f64::consts::PI * std::f64::consts::PI,
+    100.0,
+    100.0,
+    100.0,
+    1.0,
+    1.0,
+    1.0,
+];
+/// Speed assumed for the position uncertainty across a gap, m/s (a brisk walk: the
+/// foot may have gone anywhere within it).
+const GAP_SPEED_MPS: f64 = 2.0;
+/// Longest gap the covariance grows with, s (a year; keeps the arithmetic finite).
+const MAX_GAP_GROWTH_S: f64 = 3.2e7;
+
+#[inline]
+fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
+    Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
+}
+
+/// Process noise per second.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Noise {
+    pub acc_var_per_s: f64,
+    pub gyro_var_per_s: f64,
+    pub acc_bias_var_per_s: f64,
+    pub gyro_bias_var_per_s: f64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Strapdown {
+    pub q: UnitQuaternion<f64>,
+    pub v: Vector3<f64>,
+    pub p: Vector3<f64>,
+    pub ba: Vector3<f64>,
+    pub bg: Vector3<f64>,
+    pub cov: Cov,
+    /// Local gravity magnitude, m/s².
+    pub g: f64,
+    /// Raw body-frame specific force and rate of the previous sample (the
+    /// mechanisation integrates their average with the current one).
+    pub prev_f: Vector3<f64>,
+    pub prev_w: Vector3<f64>,
+}
+
+impl Strapdown {
+    pub fn new(
+        q: UnitQuaternion<f64>,
+        g: f64,
+        bg: Vector3<f64>,
+        initial_std: &[f64; 15],
+        prev_f: Vector3<f64>,
+        prev_w: Vector3<f64>,
+    ) -> Self {
+        let mut cov = Cov::zeros();
+        for (i, s) in initial_std.iter().enumerate() {
+            cov[(i, i)] = s * s;
+        }
+        Self {
+            q,
+            v: Vector3::zeros(),
+            p: Vector3::zeros(),
+            ba: Vector3::zeros(),
+            bg,
+            cov,
+            g,
+            prev_f,
+            prev_w,
+        }
+    }
+
+    /// Advance by one sample: integrate the bias-corrected rates (average of this
+    /// sample and the previous one) over `dt_int` and propagate the covariance over
+    /// it; across a gap (`dt_cov > dt_int`) the rest of the gap only widens the
+    /// diagonal (white noise on velocity, attitude and biases, [`GAP_SPEED_MPS`] on
+    /// position): the linearised cross-terms over hours would be meaningless and,
+    /// fed back by the next zero-velocity update, throw the state kilometres away.
+    #[inline]
+    pub fn propagate(
+        &mut self,
+        f_b: &[f64; 3],
+        w_b: &[f64; 3],
+        dt_int: f64,
+        dt_cov: f64,
+        n: &Noise,
+    ) {
+        let w_raw = Vector3::new(w_b[0], w_b[1], w_b[2]);
+        let f_raw = Vector3::new(f_b[0], f_b[1], f_b[2]);
+        // Trapezoidal: the average of this sample and the previous one over the
+        // interval (second order; a zero-order hold of the newest sample lags half a
+        // step, which matters across dropped samples and at low rates).
+        let w = (w_raw + self.prev_w) * 0.5 - self.bg;
+        let f = (f_raw + self.prev_f) * 0.5 - self.ba;
+        self.prev_w = w_raw;
+        self.prev_f = f_raw;
+        let half = UnitQuaternion::from_scaled_axis(w * (0.5 * dt_int));
+        // Specific force rotated with the mid-interval attitude.
+        let q_mid = self.q * half;
+        let f_n = q_mid * f;
+        self.q = q_mid * half;
+        let a = f_n - Vector3::new(0.0, 0.0, self.g);
+        let v_old = self.v;
+        self.v += a * dt_int;
+        self.p += (v_old + self.v) * (0.5 * dt_int);
+
+        let c = *self.q.to_rotation_matrix().matrix();
+        self.propagate_cov(&c, &f_n, dt_int, n);
+        if dt_cov > dt_int {
+            self.widen(dt_cov - dt_int, n);
+        }
+    }
+
+    /// Grow the diagonal of the covariance for `extra` seconds without data.
+    #[cold]
+    fn widen(&mut self, extra: f64, n: &Noise) {
+        let t = extra.min(MAX_GAP_GROWTH_S);
+        let pos = (GAP_SPEED_MPS * t).powi(2);
+        for i in 0..3 {
+            self.cov[(IP + i, IP + i)] += pos;
+            self.cov[(IV + i, IV + i)] += n.acc_var_per_s * t;
+            self.cov[(IA + i, IA + i)] += n.gyro_var_per_s * t;
+            self.cov[(IBA + i, IBA + i)] += n.acc_bias_var_per_s * t;
+            self.cov[(IBG + i, IBG + i)] += n.gyro_bias_var_per_s * t;
+        }
+        self.condition();
+    }
+
+    fn propagate_cov(&mut self, c: &Matrix3<f64>, f_n: &Vector3<f64>, dt: f64, n: &Noise) {
+        let a_va = -skew(f_n) * dt; // δv ← φ
+        let a_cb = -c * dt; // δv ← δb_a and φ ← δb_g
+                            // P ← F P (row blocks; every increment is computed from the old rows first).
+        {
+            let p = &self.cov;
+            let add_p = p.fixed_rows::<3>(IV) * dt;
+            let add_v = a_va * p.fixed_rows::<3>(IA) + a_cb * p.fixed_rows::<3>(IBA);
+            let add_a = a_cb * p.fixed_rows::<3>(IBG);
+            self.cov.fixed_rows_mut::<3>(IP).add_assign(&add_p);
+            self.cov.fixed_rows_mut::<3>(IV).add_assign(&add_v);
+            self.cov.fixed_rows_mut::<3>(IA).add_assign(&add_a);
+        }
+        // P ← P Fᵀ (column blocks, likewise).
+        {
+            let m = &self.cov;
+            let add_p = m.fixed_columns::<3>(IV) * dt;
+            let add_v = m.fixed_columns::<3>(IA) * a_va.transpose()
+                + m.fixed_columns::<3>(IBA) * a_cb.transpose();
+            let add_a = m.fixed_columns::<3>(IBG) * a_cb.transpose();
+            self.cov.fixed_columns_mut::<3>(IP).add_assign(&add_p);
+            self.cov.fixed_columns_mut::<3>(IV).add_assign(&add_v);
+            self.cov.fixed_columns_mut::<3>(IA).add_assign(&add_a);
+        }
+        for i in 0..3 {
+            self.cov[(IV + i, IV + i)] += n.acc_var_per_s * dt;
+            self.cov[(IA + i, IA + i)] += n.gyro_var_per_s * dt;
+            self.cov[(IBA + i, IBA + i)] += n.acc_bias_var_per_s * dt;
+            self.cov[(IBG + i, IBG + i)] += n.gyro_bias_var_per_s * dt;
+        }
+        self.condition();
+    }
+
+    /// Symmetrise, cap and floor the diagonal.
+    #[allow(clippy::needless_range_loop)] // (i, j) index pairs read best as such
+    fn condition(&mut self) {
+        // Column-major storage: `m[j][i]` is element (i, j).
+        let m = &mut self.cov.data.0;
+        for i in 0..15 {
+            for j in (i + 1)..15 {
+                let s = 0.5 * (m[j][i] + m[i][j]);
+                m[j][i] = s;
+                m[i][j] = s;
+            }
+        }
+        for i in 0..15 {
+            let d = self.cov.data.0[i][i];
+            if d > VAR_CAP[i] {
+                self.cap(i, d);
+            }
+            let d = &mut self.cov.data.0[i][i];
+            if d.is_nan() || *d < VAR_FLOOR {
+                *d = VAR_FLOOR;
+            }
+        }
+    }
+
+    /// Scale row and column `i` so that the variance becomes the cap.
+    #[cold]
+    fn cap(&mut self, i: usize, d: f64) {
+        let s = if d.is_finite() {
+            (VAR_CAP[i] / d).sqrt()
+        } else {
+            0.0
+        };
+        for j in 0..15 {
+            self.cov[(i, j)] *= s;
+            self.cov[(j, i)] *= s;
+        }
+        self.cov[(i, i)] = VAR_CAP[i];
+    }
+
+    /// Zero-velocity update with measurement noise σ (m/s); feeds back what
+    /// `correction` says. Returns false (and changes nothing) if the innovation
+    /// covariance cannot be inverted.
+    pub fn zupt(&mut self, sigma_mps: f64, correction: Correction) -> bool {
+        let r = sigma_mps * sigma_mps;
+        let s = self.cov.fixed_view::<3, 3>(IV, IV) + Matrix3::from_diagonal_element(r);
+        let Some(s_inv) = s.try_inverse() else {
+            return false;
+        };
+        let k = self.cov.fixed_columns::<3>(IV) * s_inv; // 15 × 3
+        let dx = k * self.v;
+        if !dx.iter().all(|x| x.is_finite()) {
+            return false;
+        }
+        let ks = k * s;
+        self.cov -= ks * k.transpose();
+        self.condition();
+
+        let dp = Vector3::new(dx[IP], dx[IP + 1], dx[IP + 2]);
+        let dv = Vector3::new(dx[IV], dx[IV + 1], dx[IV + 2]);
+        let mut phi = Vector3::new(dx[IA], dx[IA + 1], dx[IA + 2]);
+        let dba = Vector3::new(dx[IBA], dx[IBA + 1], dx[IBA + 2]);
+        let dbg = Vector3::new(dx[IBG], dx[IBG + 1], dx[IBG + 2]);
+        self.v -= dv;
+        match correction {
+            Correction::Full => {
+                self.p -= dp;
+                self.ba -= dba;
+                self.bg -= dbg;
+            }
+            Correction::AsPublished => {
+                // Pitch and roll only: drop the vertical (heading) component.
+                phi.z = 0.0;
+            }
+        }
+        self.q = UnitQuaternion::from_scaled_axis(-phi) * self.q;
+        true
+    }
+
+    pub fn is_finite(&self) -> bool {
+        // `x · 0` is ±0 for a finite x and NaN otherwise; four independent sums with
+        // no early exit vectorise.
+        let finite = |s: &[f64]| {
+            let mut acc = [0.0_f64; 4];
+            let mut chunks = s.chunks_exact(4);
+            for c in &mut chunks {
+                for k in 0..4 {
+                    acc[k] += c[k] * 0.0;
+                }
+            }
+            let mut r = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+            for x in chunks.remainder() {
+                r += x * 0.0;
+            }
+            r == 0.0
+        };
+        finite(self.q.coords.as_slice())
+            & finite(self.v.as_slice())
+            & finite(self.p.as_slice())
+            & finite(self.ba.as_slice())
+            & finite(self.bg.as_slice())
+            & finite(self.cov.as_slice())
+            & finite(self.prev_f.as_slice())
+            & finite(self.prev_w.as_slice())
+    }
+}
+
+use std::ops::AddAssign;

@@ -1,0 +1,23 @@
+//! Foot-mounted inertial navigation (paper seed 001; OpenShoe / pyshoe lineage):
+//! [`FootNavigator`] runs a sliding median pre-filter, a zero-velocity detector
+//! ([`ZeroVelocityDetector`]: fixed thresholds, gait-adaptive thresholds, SVM, SHOE),
+//! strapdown mechanisation in a local level ENU frame and a 15-state error-state
+//! Kalman filter with zero-velocity updates. See `docs/foot.md`.
+
+pub mod config;
+pub mod detect;
+mod ekf;
+pub mod error;
+mod median;
+pub mod navigator;
+pub mod svm;
+pub mod types;
+
+pub use config::{Correction, FootConfig};
+pub use detect::{
+    AdaptiveThresholds, FixedThresholds, Gait, ShoeDetector, WindowStats, ZeroVelocityDetector,
+};
+pub use error::FootError;
+pub use navigator::{FootBatchOutcome, FootNavigator, FootRejection};
+pub use svm::SvmModel;
+pub use types::{FootEstimate, FootSample, Stride};

@@ -1,0 +1,1044 @@
+//! [`FootNavigator`]: median pre-filter → zero-velocity detector → strapdown
+//! mechanisation → 15-state error-state Kalman filter with zero-velocity updates.
+//!
+//! Pipeline and latency: the median filter and the detector both look at windows
+//! centred on the sample they decide, so the estimate for a sample comes out
+//! [`delay_samples`](FootNavigator::delay_samples) samples after it was pushed
+//! (2 samples, 10 ms, at 200 Hz with the defaults).
+//!
+//! Start: the first [`FootConfig::alignment_s`] seconds must be a rest: roll and pitch
+//! come from the mean specific force, local gravity from its magnitude, the gyroscope
+//! bias from the mean rate (when enabled) and the sample rate from the timestamps
+//! (the detector window in samples follows from it). Position starts at the origin,
+//! yaw at [`FootConfig::initial_yaw_rad`].
+//!
+//! Bad input: a NaN/∞ field, a value no foot IMU reports, or a timestamp not after
+//! the previous one is rejected with a typed error and changes nothing. Saturated
+//! samples (at ≥ 99 % of a configured range) are used but no zero-velocity update
+//! uses a window that contains one. A time step longer than `max_gap_s` is a gap: the
+//! mechanisation integrates `max_gap_s` of it, the covariance is propagated over
+//! that and its diagonal widened for the rest (position by 2 m/s × the gap), and the
+//! estimate is flagged. Should the state ever become non-finite, the speed
+//! absurd (> 50 m/s, a foot does not do that) or a bias estimate beyond any MEMS
+//! sensor (‖b_a‖ > 5 m/s², ‖b_g‖ > 1 rad/s), the navigator keeps the state it had
+//! before the sample (the covariance without its correlations), zeroes the velocity
+//! and widens the velocity variance (counted in
+//! [`divergence_resets`](FootNavigator::divergence_resets)) rather than returning
+//! NaN. Variances are capped (1 000 km, 100 m/s, 1 rad tilt, π heading, 10 m/s²,
+//! 1 rad/s, 1-σ) so that the covariance stays finite through any input.
+
+use std::sync::Arc;
+
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+
+use super::config::{Correction, FootConfig, MAX_DETECTOR_WINDOW};
+use super::detect::{
+    AdaptiveThresholds, FixedThresholds, ShoeDetector, WindowStats, ZeroVelocityDetector, G_MPS2,
+};
+use super::ekf::{Cov, Noise, Strapdown, IA, IP, IV};
+use super::error::{finite3, FootError};
+use super::median::{MedianFilter, MAX_MEDIAN_WINDOW};
+use super::svm::SvmModel;
+use super::types::{BodySample, FootEstimate, FootSample, Stride};
+use crate::ahrs::AxisRemap;
+use crate::signal::Ring;
+use crate::snapshot::{Reader, SnapshotError, Writer};
+
+/// Capacity of the sliding-maximum queue of the gait window.
+const GAIT_CAP: usize = 1024;
+/// Physical limits at the door.
+const MAX_ACC_MPS2: f64 = 2000.0;
+const MAX_GYRO_RADS: f64 = 200.0;
+/// Speed above which the state is considered diverged, m/s.
+const MAX_SPEED_MPS: f64 = 50.0;
+/// Bias estimates beyond what any MEMS IMU has also mean divergence.
+const MAX_ACC_BIAS_MPS2: f64 = 5.0;
+const MAX_GYRO_BIAS_RADS: f64 = 1.0;
+
+/// A sample a batch push rejected, with its index in the batch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FootRejection {
+    pub index: usize,
+    pub error: FootError,
+}
+
+/// What a batch push did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FootBatchOutcome {
+    /// Estimates produced (one per processed sample, after the pipeline delay).
+    pub estimates: usize,
+    /// Rejected samples (the rest of the batch was processed).
+    pub rejected: Vec<FootRejection>,
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Alignment {
+    n: u64,
+    t_first: f64,
+    t_last: f64,
+    sum_f: [f64; 3],
+    sum_w: [f64; 3],
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct FootNavigator {
+    config: FootConfig,
+    noise: Noise,
+    /// Time of the newest accepted raw sample.
+    last_t: Option<f64>,
+    median: MedianFilter,
+    /// Filtered samples, newest last (detector window source).
+    det: Ring<BodySample, MAX_DETECTOR_WINDOW>,
+    /// Monotonic queue `(t, ‖f‖)` for the gait-window peak.
+    gait: Ring<(f64, f64), GAIT_CAP>,
+    align: Alignment,
+    /// Detector window in samples, set at alignment (0 before).
+    window: usize,
+    rate_hz: f64,
+    ins: Option<Strapdown>,
+    /// Time of the last sample integrated (or of the last alignment sample).
+    ins_t: f64,
+    stance: bool,
+    swing_start_t: f64,
+    last_onset: Option<(f64, [f64; 3])>,
+    strides: u64,
+    distance_m: f64,
+    resets: u64,
+    latest: Option<FootEstimate>,
+}
+
+impl FootNavigator {
+    pub fn new(config: FootConfig) -> Result<Self, FootError> {
+        config.validate()?;
+        let noise = Noise {
+            acc_var_per_s: config.accel_noise_density.powi(2),
+            gyro_var_per_s: config.gyro_noise_density.powi(2),
+            acc_bias_var_per_s: config.accel_bias_walk.powi(2),
+            gyro_bias_var_per_s: config.gyro_bias_walk.powi(2),
+        };
+        Ok(Self {
+            median: MedianFilter::new(config.median_window),
+            config,
+            noise,
+            last_t: None,
+            det: Ring::new(),
+            gait: Ring::new(),
+            align: Alignment::default(),
+            window: 0,
+            rate_hz: 0.0,
+            ins: None,
+            ins_t: f64::NEG_INFINITY,
+            stance: true,
+            swing_start_t: 0.0,
+            last_onset: None,
+            strides: 0,
+            distance_m: 0.0,
+            resets: 0,
+            latest: None,
+        })
+    }
+
+    pub fn config(&self) -> &FootConfig {
+        &self.config
+    }
+
+    /// Alignment is done and samples are being integrated.
+    pub fn is_aligned(&self) -> bool {
+        self.ins.is_some()
+    }
+
+    /// Sample rate measured during alignment, Hz (0 before).
+    pub fn sample_rate_hz(&self) -> f64 {
+        self.rate_hz
+    }
+
+    /// Detector window, samples (0 before alignment).
+    pub fn detector_window(&self) -> usize {
+        self.window
+    }
+
+    /// How many samples the estimates lag the newest input.
+    pub fn delay_samples(&self) -> usize {
+        self.median.delay() + self.window / 2
+    }
+
+    /// Times the divergence guard reset the velocity.
+    pub fn divergence_resets(&self) -> u64 {
+        self.resets
+    }
+
+    /// The newest estimate (None before alignment).
+    pub fn estimate(&self) -> Option<FootEstimate> {
+        self.latest
+    }
+
+    /// Check a sample at the door without changing anything.
+    pub fn check(&self, s: &FootSample) -> Result<(), FootError> {
+        if !s.t_s.is_finite() {
+            return Err(FootError::NonFinite { field: "t_s" });
+        }
+        finite3("accel_mps2", &s.accel_mps2)?;
+        finite3("gyro_rads", &s.gyro_rads)?;
+        for &a in &s.accel_mps2 {
+            if a.abs() > MAX_ACC_MPS2 {
+                return Err(FootError::OutOfRange {
+                    field: "accel_mps2",
+                    value: a,
+                    reason: "|a| per axis must be ≤ 2000 m/s²",
+                });
+            }
+        }
+        for &w in &s.gyro_rads {
+            if w.abs() > MAX_GYRO_RADS {
+                return Err(FootError::OutOfRange {
+                    field: "gyro_rads",
+                    value: w,
+                    reason: "|ω| per axis must be ≤ 200 rad/s",
+                });
+            }
+        }
+        if let Some(last) = self.last_t {
+            if s.t_s <= last {
+                return Err(FootError::TimeNotIncreasing {
+                    t_s: s.t_s,
+                    last_t_s: last,
+                });
+            }
+        }
+        if self.ins.is_none() {
+            // Units check while the foot should be at rest.
+            let an = norm(&s.accel_mps2);
+            if norm(&s.gyro_rads) < 0.5 && (0.5..=1.5).contains(&an) {
+                return Err(FootError::AccelerationNotInMps2 { magnitude: an });
+            }
+        }
+        Ok(())
+    }
+
+    /// Push one sample. Returns the estimate of the sample the pipeline finished (the
+    /// one [`delay_samples`](Self::delay_samples) back), or `None` while filling or
+    /// aligning.
+    pub fn push(&mut self, s: &FootSample) -> Result<Option<FootEstimate>, FootError> {
+        self.push_inner(s, None)
+    }
+
+    /// Push one sample whose stance is known from outside (a pressure insole, labels
+    /// of a data set): the detector is bypassed for it. Same output as [`push`](Self::push).
+    pub fn push_with_stance(
+        &mut self,
+        s: &FootSample,
+        stance: bool,
+    ) -> Result<Option<FootEstimate>, FootError> {
+        self.push_inner(s, Some(stance))
+    }
+
+    fn push_inner(
+        &mut self,
+        s: &FootSample,
+        external: Option<bool>,
+    ) -> Result<Option<FootEstimate>, FootError> {
+        self.check(s)?;
+        self.last_t = Some(s.t_s);
+        let f = self.config.axis_remap.apply(s.accel_mps2);
+        let w = self.config.axis_remap.apply(s.gyro_rads);
+        let saturated = saturated(&s.accel_mps2, self.config.accel_range_mps2)
+            || saturated(&s.gyro_rads, self.config.gyro_range_rads);
+        let body = BodySample {
+            t_s: s.t_s,
+            f,
+            w,
+            saturated,
+            external,
+        };
+        let Some(filtered) = self.median.push(body) else {
+            return Ok(None);
+        };
+        Ok(self.after_median(filtered))
+    }
+
+    /// Push a batch; `on_estimate` sees every estimate produced, in order. Bad samples
+    /// are skipped and reported.
+    pub fn push_batch(
+        &mut self,
+        samples: &[FootSample],
+        mut on_estimate: impl FnMut(&FootEstimate),
+    ) -> FootBatchOutcome {
+        let mut out = FootBatchOutcome::default();
+        for (index, s) in samples.iter().enumerate() {
+            match self.push(s) {
+                Ok(Some(e)) => {
+                    out.estimates += 1;
+                    on_estimate(&e);
+                }
+                Ok(None) => {}
+                Err(error) => out.rejected.push(FootRejection { index, error }),
+            }
+        }
+        out
+    }
+
+    fn after_median(&mut self, s: BodySample) -> Option<FootEstimate> {
+        self.det.push(s);
+        let fnorm = norm(&s.f);
+        while let Some(&(_, v)) = self.gait.newest().as_ref() {
+            if v <= fnorm {
+                self.gait.pop_back();
+            } else {
+                break;
+            }
+        }
+        if self.gait.len() == GAIT_CAP {
+            self.gait.pop_front();
+        }
+        self.gait.push((s.t_s, fnorm));
+        let horizon = s.t_s - self.config.gait_window_s;
+        while let Some((t, _)) = self.gait.get(0) {
+            if t < horizon && self.gait.len() > 1 {
+                self.gait.pop_front();
+            } else {
+                break;
+            }
+        }
+
+        if self.ins.is_none() {
+            self.accumulate_alignment(&s);
+            return None;
+        }
+        if self.det.len() < self.window {
+            return None;
+        }
+        let c = self.det.back(self.window / 2)?;
+        if c.t_s <= self.ins_t {
+            return None;
+        }
+        let stats = self.window_stats();
+        Some(self.integrate(&c, &stats))
+    }
+
+    fn accumulate_alignment(&mut self, s: &BodySample) {
+        let a = &mut self.align;
+        if a.n == 0 {
+            a.t_first = s.t_s;
+        }
+        a.n += 1;
+        a.t_last = s.t_s;
+        for i in 0..3 {
+            a.sum_f[i] += s.f[i];
+            a.sum_w[i] += s.w[i];
+        }
+        if a.t_last - a.t_first < self.config.alignment_s || a.n < 3 {
+            return;
+        }
+        let n = a.n as f64;
+        let mf = Vector3::new(a.sum_f[0] / n, a.sum_f[1] / n, a.sum_f[2] / n);
+        let mw = Vector3::new(a.sum_w[0] / n, a.sum_w[1] / n, a.sum_w[2] / n);
+        let rate = (n - 1.0) / (a.t_last - a.t_first);
+        let mut win = (self.config.detector_window_s * rate).round() as usize;
+        if win % 2 == 0 {
+            win += 1;
+        }
+        self.window = win.clamp(3, MAX_DETECTOR_WINDOW);
+        self.rate_hz = rate;
+        let g = mf.norm().clamp(0.5 * G_MPS2, 1.5 * G_MPS2);
+        let roll = mf.y.atan2(mf.z);
+        let pitch = (-mf.x).atan2((mf.y * mf.y + mf.z * mf.z).sqrt());
+        let q = UnitQuaternion::from_euler_angles(roll, pitch, self.config.initial_yaw_rad);
+        let bg = if self.config.gyro_bias_from_alignment {
+            mw
+        } else {
+            Vector3::zeros()
+        };
+        let c = &self.config;
+        let tilt = 1.0_f64.to_radians();
+        let std = [
+            1e-3,
+            1e-3,
+            1e-3,
+            1e-3,
+            1e-3,
+            1e-3,
+            tilt,
+            tilt,
+            1e-4,
+            c.initial_accel_bias_std_mps2,
+            c.initial_accel_bias_std_mps2,
+            c.initial_accel_bias_std_mps2,
+            c.initial_gyro_bias_std_rads,
+            c.initial_gyro_bias_std_rads,
+            c.initial_gyro_bias_std_rads,
+        ];
+        self.ins = Some(Strapdown::new(
+            q,
+            g,
+            bg,
+            &std,
+            Vector3::from(s.f),
+            Vector3::from(s.w),
+        ));
+        self.ins_t = s.t_s;
+        self.stance = true;
+        self.last_onset = Some((s.t_s, [0.0; 3]));
+    }
+
+    fn window_stats(&self) -> WindowStats {
+        let n = self.window;
+        let g = self.ins.as_ref().map_or(G_MPS2, |i| i.g);
+        let c = self.det.back(n / 2).unwrap_or_default();
+        let mut mf = [0.0; 3];
+        let mut mw = [0.0; 3];
+        let mut sat = false;
+        for k in 0..n {
+            let s = self.det.back(k).unwrap_or_default();
+            for i in 0..3 {
+                mf[i] += s.f[i];
+                mw[i] += s.w[i];
+            }
+            sat |= s.saturated;
+        }
+        let inv = 1.0 / n as f64;
+        for i in 0..3 {
+            mf[i] *= inv;
+            mw[i] *= inv;
+        }
+        let mfn = norm(&mf).max(1e-9);
+        let u = [mf[0] / mfn, mf[1] / mfn, mf[2] / mfn];
+        let mut vf = [0.0; 3];
+        let mut vw = [0.0; 3];
+        let mut shoe_a = 0.0;
+        let mut shoe_w = 0.0;
+        for k in 0..n {
+            let s = self.det.back(k).unwrap_or_default();
+            for i in 0..3 {
+                let df = s.f[i] - mf[i];
+                let dw = s.w[i] - mw[i];
+                vf[i] += df * df;
+                vw[i] += dw * dw;
+                let r = s.f[i] - g * u[i];
+                shoe_a += r * r;
+                shoe_w += s.w[i] * s.w[i];
+            }
+        }
+        let cn = norm(&c.f);
+        WindowStats {
+            acc_norm_mps2: cn,
+            acc_dev_mps2: (cn - g).abs(),
+            gyro_norm_rads: norm(&c.w),
+            acc_std_mps2: vf.map(|v| (v * inv).sqrt()),
+            gyro_std_rads: vw.map(|v| (v * inv).sqrt()),
+            peak_acc_norm_mps2: self.gait.get(0).map_or(cn, |(_, v)| v),
+            shoe_acc_ss: shoe_a,
+            shoe_gyro_ss: shoe_w,
+            n,
+            saturated: sat,
+        }
+    }
+
+    /// Whether the detector calls the window around the sample `delay` back stance
+    /// (exposed for evaluations through [`FootEstimate::stance`]).
+    fn detect(&self, stats: &WindowStats) -> bool {
+        self.config.detector.is_stance(stats)
+    }
+
+    fn integrate(&mut self, c: &BodySample, stats: &WindowStats) -> FootEstimate {
+        let stance = c.external.unwrap_or_else(|| self.detect(stats));
+        let dt = c.t_s - self.ins_t;
+        let gap = dt > self.config.max_gap_s;
+        let dt_int = dt.min(self.config.max_gap_s);
+        let correction = self.config.correction;
+        let zupt_sigma = self.config.zupt_noise_mps;
+        let noise = self.noise;
+        let Some(ins) = self.ins.as_mut() else {
+            return FootEstimate::default();
+        };
+        // What the divergence guard falls back to (the covariance only by its
+        // diagonal: copying all of it every sample would cost more than the guard).
+        let before = (ins.q, ins.p, ins.ba, ins.bg, ins.cov.diagonal());
+        ins.propagate(&c.f, &c.w, dt_int, dt, &noise);
+        if stance {
+            ins.zupt(zupt_sigma, correction);
+        }
+        if !ins.is_finite()
+            || ins.v.norm() > MAX_SPEED_MPS
+            || ins.ba.norm() > MAX_ACC_BIAS_MPS2
+            || ins.bg.norm() > MAX_GYRO_BIAS_RADS
+        {
+            // Divergence guard: keep where we were, stop, and admit uncertainty.
+            let (q, p, ba, bg, var) = before;
+            ins.q = q;
+            ins.p = p;
+            ins.ba = ba;
+            ins.bg = bg;
+            ins.v = Vector3::zeros();
+            ins.prev_f = Vector3::from(c.f);
+            ins.prev_w = Vector3::from(c.w);
+            ins.cov = Cov::from_diagonal(&var);
+            for i in 0..3 {
+                ins.cov[(IV + i, IV + i)] += 1.0;
+            }
+            self.resets += 1;
+        }
+        self.ins_t = c.t_s;
+
+        let p = [ins.p.x, ins.p.y, ins.p.z];
+        let mut stride = None;
+        if stance && !self.stance {
+            if c.t_s - self.swing_start_t >= self.config.min_swing_s {
+                if let Some((t0, p0)) = self.last_onset {
+                    let len = (p[0] - p0[0]).hypot(p[1] - p0[1]);
+                    let dur = c.t_s - t0;
+                    stride = Some(Stride {
+                        t_s: c.t_s,
+                        length_m: len,
+                        duration_s: dur,
+                        speed_mps: if dur > 0.0 { len / dur } else { 0.0 },
+                        climb_m: p[2] - p0[2],
+                    });
+                    self.strides += 1;
+                    self.distance_m += len;
+                }
+                self.last_onset = Some((c.t_s, p));
+            }
+        } else if !stance && self.stance {
+            self.swing_start_t = c.t_s;
+        }
+        self.stance = stance;
+        let est = self.make_estimate(c, stance, stride, gap);
+        self.latest = Some(est);
+        est
+    }
+
+    fn make_estimate(
+        &self,
+        c: &BodySample,
+        stance: bool,
+        stride: Option<Stride>,
+        gap: bool,
+    ) -> FootEstimate {
+        let Some(ins) = self.ins.as_ref() else {
+            return FootEstimate::default();
+        };
+        let (roll, pitch, yaw) = ins.q.euler_angles();
+        let sd = |i: usize| ins.cov[(i, i)].sqrt();
+        let heading = (std::f64::consts::FRAC_PI_2 - yaw).rem_euclid(std::f64::consts::TAU);
+        let q = ins.q.coords; // x, y, z, w
+        FootEstimate {
+            t_s: c.t_s,
+            position_m: [ins.p.x, ins.p.y, ins.p.z],
+            velocity_mps: [ins.v.x, ins.v.y, ins.v.z],
+            quaternion: [q.w, q.x, q.y, q.z],
+            roll_rad: roll,
+            pitch_rad: pitch,
+            yaw_rad: yaw,
+            heading_rad: heading,
+            position_std_m: [sd(IP), sd(IP + 1), sd(IP + 2)],
+            velocity_std_mps: [sd(IV), sd(IV + 1), sd(IV + 2)],
+            tilt_std_rad: [sd(IA), sd(IA + 1)],
+            heading_std_rad: sd(IA + 2),
+            accel_bias_mps2: [ins.ba.x, ins.ba.y, ins.ba.z],
+            gyro_bias_rads: [ins.bg.x, ins.bg.y, ins.bg.z],
+            stance,
+            strides: self.strides,
+            distance_m: self.distance_m,
+            stride,
+            saturated: c.saturated,
+            gap,
+        }
+    }
+
+    /// The zero-velocity detector in use.
+    pub fn detector(&self) -> &ZeroVelocityDetector {
+        &self.config.detector
+    }
+
+    /// The detector-window statistics the detector saw for the newest estimate (call
+    /// right after a push that returned `Some`): the same code path as the detector,
+    /// for training (`stridekit train zupt`) and evaluations. `None` before alignment.
+    pub fn detector_stats(&self) -> Option<WindowStats> {
+        (self.ins.is_some() && self.window > 0 && self.det.len() >= self.window)
+            .then(|| self.window_stats())
+    }
+}
+
+#[inline]
+fn norm(v: &[f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+#[inline]
+fn saturated(v: &[f64; 3], range: Option<f64>) -> bool {
+    range.is_some_and(|r| v.iter().any(|x| x.abs() >= 0.99 * r))
+}
+
+// ------------------------------------------------------------------ snapshot / restore
+
+/// Snapshot engine kind byte of the foot navigator.
+const SNAPSHOT_KIND: u8 = 6;
+const SNAPSHOT_VERSION: u16 = 1;
+
+fn write_body(w: &mut Writer, s: &BodySample) {
+    w.f64(s.t_s);
+    w.f64s(&s.f);
+    w.f64s(&s.w);
+    w.bool(s.saturated);
+    w.u8(match s.external {
+        None => 0,
+        Some(false) => 1,
+        Some(true) => 2,
+    });
+}
+
+fn read_body(r: &mut Reader) -> Result<BodySample, SnapshotError> {
+    let mut s = BodySample {
+        t_s: r.f64()?,
+        ..Default::default()
+    };
+    r.f64s(&mut s.f)?;
+    r.f64s(&mut s.w)?;
+    s.saturated = r.bool()?;
+    s.external = match r.u8()? {
+        0 => None,
+        1 => Some(false),
+        2 => Some(true),
+        _ => return Err(SnapshotError::Invalid("external stance")),
+    };
+    if !(s.t_s.is_finite()
+        && s.f.iter().all(|v| v.is_finite())
+        && s.w.iter().all(|v| v.is_finite()))
+    {
+        return Err(SnapshotError::Invalid("non-finite sample"));
+    }
+    Ok(s)
+}
+
+fn write_v3(w: &mut Writer, v: &Vector3<f64>) {
+    w.f64s(v.as_slice());
+}
+
+fn read_v3(r: &mut Reader) -> Result<Vector3<f64>, SnapshotError> {
+    let mut a = [0.0; 3];
+    r.f64s(&mut a)?;
+    Ok(Vector3::from(a))
+}
+
+fn write_config(w: &mut Writer, c: &FootConfig) {
+    // Exhaustive on purpose: a new setting must be added to the snapshot.
+    let FootConfig {
+        axis_remap,
+        median_window,
+        detector_window_s,
+        gait_window_s,
+        detector,
+        alignment_s,
+        gyro_bias_from_alignment,
+        initial_yaw_rad,
+        correction,
+        accel_noise_density,
+        gyro_noise_density,
+        accel_bias_walk,
+        gyro_bias_walk,
+        zupt_noise_mps,
+        initial_accel_bias_std_mps2,
+        initial_gyro_bias_std_rads,
+        accel_range_mps2,
+        gyro_range_rads,
+        max_gap_s,
+        min_swing_s,
+    } = c;
+    for (src, neg) in axis_remap.source().iter().zip(axis_remap.negate()) {
+        w.u8(*src as u8);
+        w.bool(neg);
+    }
+    w.u64(*median_window as u64);
+    w.f64s(&[
+        *detector_window_s,
+        *gait_window_s,
+        *alignment_s,
+        *initial_yaw_rad,
+        *accel_noise_density,
+        *gyro_noise_density,
+        *accel_bias_walk,
+        *gyro_bias_walk,
+        *zupt_noise_mps,
+        *initial_accel_bias_std_mps2,
+        *initial_gyro_bias_std_rads,
+        *max_gap_s,
+        *min_swing_s,
+    ]);
+    w.bool(*gyro_bias_from_alignment);
+    w.u8(match correction {
+        Correction::Full => 0,
+        Correction::AsPublished => 1,
+    });
+    w.opt_f64(*accel_range_mps2);
+    w.opt_f64(*gyro_range_rads);
+    let fixed = |w: &mut Writer, t: &FixedThresholds| {
+        let FixedThresholds {
+            acc_dev_mps2,
+            gyro_rads,
+            acc_std_mps2,
+            gyro_std_rads,
+        } = t;
+        w.f64s(&[*acc_dev_mps2, *gyro_rads, *acc_std_mps2, *gyro_std_rads]);
+    };
+    match detector {
+        ZeroVelocityDetector::Fixed(t) => {
+            w.u8(0);
+            fixed(w, t);
+        }
+        ZeroVelocityDetector::Adaptive(a) => {
+            let AdaptiveThresholds {
+                jog_peak_mps2,
+                run_peak_mps2,
+                walk,
+                jog,
+                run,
+            } = a;
+            w.u8(1);
+            w.f64s(&[*jog_peak_mps2, *run_peak_mps2]);
+            for t in [walk, jog, run] {
+                fixed(w, t);
+            }
+        }
+        ZeroVelocityDetector::Svm(m) if m.is_shipped() => {
+            // The shipped model: a tag, not its 80 kB text.
+            w.u8(4);
+        }
+        ZeroVelocityDetector::Svm(m) => {
+            w.u8(2);
+            w.bytes(m.to_text().as_bytes());
+        }
+        ZeroVelocityDetector::Shoe(d) => {
+            let ShoeDetector {
+                acc_noise_mps2,
+                gyro_noise_rads,
+                threshold,
+            } = d;
+            w.u8(3);
+            w.f64s(&[*acc_noise_mps2, *gyro_noise_rads, *threshold]);
+        }
+    }
+}
+
+fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
+    let mut source = [0usize; 3];
+    let mut negate = [false; 3];
+    for i in 0..3 {
+        source[i] = r.u8()? as usize;
+        negate[i] = r.bool()?;
+    }
+    let axis_remap =
+        AxisRemap::new(source, negate).map_err(|_| SnapshotError::Invalid("axis remap"))?;
+    let median_window = r.len(MAX_MEDIAN_WINDOW)?;
+    let mut v = [0.0; 13];
+    r.f64s(&mut v)?;
+    let gyro_bias_from_alignment = r.bool()?;
+    let correction = match r.u8()? {
+        0 => Correction::Full,
+        1 => Correction::AsPublished,
+        _ => return Err(SnapshotError::Invalid("correction").into()),
+    };
+    let accel_range_mps2 = r.opt_f64()?;
+    let gyro_range_rads = r.opt_f64()?;
+    let fixed = |r: &mut Reader| -> Result<FixedThresholds, SnapshotError> {
+        let mut t = [0.0; 4];
+        r.f64s(&mut t)?;
+        Ok(FixedThresholds {
+            acc_dev_mps2: t[0],
+            gyro_rads: t[1],
+            acc_std_mps2: t[2],
+            gyro_std_rads: t[3],
+        })
+    };
+    let detector = match r.u8()? {
+        0 => ZeroVelocityDetector::Fixed(fixed(r)?),
+        1 => {
+            let mut p = [0.0; 2];
+            r.f64s(&mut p)?;
+            ZeroVelocityDetector::Adaptive(AdaptiveThresholds {
+                jog_peak_mps2: p[0],
+                run_peak_mps2: p[1],
+                walk: fixed(r)?,
+                jog: fixed(r)?,
+                run: fixed(r)?,
+            })
+        }
+        2 => {
+            let text = std::str::from_utf8(r.bytes()?)
+                .map_err(|_| SnapshotError::Invalid("detector model text"))?;
+            ZeroVelocityDetector::Svm(Arc::new(SvmModel::parse(text)?))
+        }
+        4 => ZeroVelocityDetector::Svm(SvmModel::shared_shipped()),
+        3 => {
+            let mut p = [0.0; 3];
+            r.f64s(&mut p)?;
+            ZeroVelocityDetector::Shoe(ShoeDetector {
+                acc_noise_mps2: p[0],
+                gyro_noise_rads: p[1],
+                threshold: p[2],
+            })
+        }
+        _ => return Err(SnapshotError::Invalid("detector kind").into()),
+    };
+    Ok(FootConfig {
+        axis_remap,
+        median_window,
+        detector_window_s: v[0],
+        gait_window_s: v[1],
+        detector,
+        alignment_s: v[2],
+        gyro_bias_from_alignment,
+        initial_yaw_rad: v[3],
+        correction,
+        accel_noise_density: v[4],
+        gyro_noise_density: v[5],
+        accel_bias_walk: v[6],
+        gyro_bias_walk: v[7],
+        zupt_noise_mps: v[8],
+        initial_accel_bias_std_mps2: v[9],
+        initial_gyro_bias_std_rads: v[10],
+        accel_range_mps2,
+        gyro_range_rads,
+        max_gap_s: v[11],
+        min_swing_s: v[12],
+    })
+}
+
+fn write_estimate(w: &mut Writer, e: &FootEstimate) {
+    let FootEstimate {
+        t_s,
+        position_m,
+        velocity_mps,
+        quaternion,
+        roll_rad,
+        pitch_rad,
+        yaw_rad,
+        heading_rad,
+        position_std_m,
+        velocity_std_mps,
+        tilt_std_rad,
+        heading_std_rad,
+        accel_bias_mps2,
+        gyro_bias_rads,
+        stance,
+        strides,
+        distance_m,
+        stride,
+        saturated,
+        gap,
+    } = e;
+    w.f64(*t_s);
+    w.f64s(position_m);
+    w.f64s(velocity_mps);
+    w.f64s(quaternion);
+    w.f64s(&[*roll_rad, *pitch_rad, *yaw_rad, *heading_rad]);
+    w.f64s(position_std_m);
+    w.f64s(velocity_std_mps);
+    w.f64s(tilt_std_rad);
+    w.f64(*heading_std_rad);
+    w.f64s(accel_bias_mps2);
+    w.f64s(gyro_bias_rads);
+    w.bool(*stance);
+    w.u64(*strides);
+    w.f64(*distance_m);
+    w.bool(stride.is_some());
+    let s = stride.unwrap_or_default();
+    w.f64s(&[s.t_s, s.length_m, s.duration_s, s.speed_mps, s.climb_m]);
+    w.bool(*saturated);
+    w.bool(*gap);
+}
+
+fn read_estimate(r: &mut Reader) -> Result<FootEstimate, SnapshotError> {
+    let mut e = FootEstimate {
+        t_s: r.f64()?,
+        ..Default::default()
+    };
+    r.f64s(&mut e.position_m)?;
+    r.f64s(&mut e.velocity_mps)?;
+    r.f64s(&mut e.quaternion)?;
+    let mut a = [0.0; 4];
+    r.f64s(&mut a)?;
+    [e.roll_rad, e.pitch_rad, e.yaw_rad, e.heading_rad] = a;
+    r.f64s(&mut e.position_std_m)?;
+    r.f64s(&mut e.velocity_std_mps)?;
+    r.f64s(&mut e.tilt_std_rad)?;
+    e.heading_std_rad = r.f64()?;
+    r.f64s(&mut e.accel_bias_mps2)?;
+    r.f64s(&mut e.gyro_bias_rads)?;
+    e.stance = r.bool()?;
+    e.strides = r.u64()?;
+    e.distance_m = r.f64()?;
+    let has_stride = r.bool()?;
+    let mut s = [0.0; 5];
+    r.f64s(&mut s)?;
+    e.stride = has_stride.then_some(Stride {
+        t_s: s[0],
+        length_m: s[1],
+        duration_s: s[2],
+        speed_mps: s[3],
+        climb_m: s[4],
+    });
+    e.saturated = r.bool()?;
+    e.gap = r.bool()?;
+    Ok(e)
+}
+
+impl FootNavigator {
+    /// The whole state as bytes (engine kind 6, versioned, checksummed): restoring
+    /// continues with bit-identical estimates. The SVM detector's model is stored as
+    /// its text form (a few hundred kB for the shipped model).
+    pub fn snapshot(&self) -> Vec<u8> {
+        let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
+        write_config(&mut w, &self.config);
+        w.opt_f64(self.last_t);
+        w.u64(self.median.samples().count() as u64);
+        for s in self.median.samples() {
+            write_body(&mut w, &s);
+        }
+        w.u64(self.det.len() as u64);
+        for s in self.det.iter() {
+            write_body(&mut w, &s);
+        }
+        w.u64(self.gait.len() as u64);
+        for (t, v) in self.gait.iter() {
+            w.f64(t);
+            w.f64(v);
+        }
+        let a = &self.align;
+        w.u64(a.n);
+        w.f64(a.t_first);
+        w.f64(a.t_last);
+        w.f64s(&a.sum_f);
+        w.f64s(&a.sum_w);
+        w.u64(self.window as u64);
+        w.f64(self.rate_hz);
+        w.bool(self.ins.is_some());
+        if let Some(ins) = &self.ins {
+            w.f64s(ins.q.coords.as_slice());
+            write_v3(&mut w, &ins.v);
+            write_v3(&mut w, &ins.p);
+            write_v3(&mut w, &ins.ba);
+            write_v3(&mut w, &ins.bg);
+            w.f64s(ins.cov.as_slice());
+            w.f64(ins.g);
+            write_v3(&mut w, &ins.prev_f);
+            write_v3(&mut w, &ins.prev_w);
+        }
+        w.f64(self.ins_t);
+        w.bool(self.stance);
+        w.f64(self.swing_start_t);
+        w.bool(self.last_onset.is_some());
+        let (t0, p0) = self.last_onset.unwrap_or_default();
+        w.f64(t0);
+        w.f64s(&p0);
+        w.u64(self.strides);
+        w.f64(self.distance_m);
+        w.u64(self.resets);
+        w.bool(self.latest.is_some());
+        write_estimate(&mut w, &self.latest.unwrap_or_default());
+        w.finish()
+    }
+
+    /// A navigator continuing exactly where the snapshot was taken.
+    pub fn restore(bytes: &[u8]) -> Result<Self, FootError> {
+        let (mut r, _version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let config = read_config(&mut r)?;
+        let mut n = FootNavigator::new(config).map_err(|e| match e {
+            FootError::Snapshot(s) => FootError::Snapshot(s),
+            _ => FootError::Snapshot(SnapshotError::Invalid("configuration")),
+        })?;
+        let invalid = |what| FootError::Snapshot(SnapshotError::Invalid(what));
+        n.last_t = r.opt_f64()?;
+        let len = r.len(n.config.median_window)?;
+        for _ in 0..len {
+            n.median.restore_push(read_body(&mut r)?);
+        }
+        let len = r.len(MAX_DETECTOR_WINDOW)?;
+        for _ in 0..len {
+            n.det.push(read_body(&mut r)?);
+        }
+        let len = r.len(GAIT_CAP)?;
+        for _ in 0..len {
+            let t = r.f64()?;
+            let v = r.f64()?;
+            if !(t.is_finite() && v.is_finite()) {
+                return Err(invalid("gait queue"));
+            }
+            n.gait.push((t, v));
+        }
+        n.align.n = r.u64()?;
+        n.align.t_first = r.f64()?;
+        n.align.t_last = r.f64()?;
+        r.f64s(&mut n.align.sum_f)?;
+        r.f64s(&mut n.align.sum_w)?;
+        n.window = r.len(MAX_DETECTOR_WINDOW)?;
+        n.rate_hz = r.f64()?;
+        if r.bool()? {
+            let mut q = [0.0; 4];
+            r.f64s(&mut q)?;
+            let q = UnitQuaternion::new_unchecked(Quaternion::new(q[3], q[0], q[1], q[2]));
+            let v = read_v3(&mut r)?;
+            let p = read_v3(&mut r)?;
+            let ba = read_v3(&mut r)?;
+            let bg = read_v3(&mut r)?;
+            let mut cov = [0.0; 225];
+            r.f64s(&mut cov)?;
+            let g = r.f64()?;
+            let prev_f = read_v3(&mut r)?;
+            let prev_w = read_v3(&mut r)?;
+            let ins = Strapdown {
+                q,
+                v,
+                p,
+                ba,
+                bg,
+                cov: Cov::from_column_slice(&cov),
+                g,
+                prev_f,
+                prev_w,
+            };
+            let qn = ins.q.coords.norm_squared();
+            if !ins.is_finite()
+                || (qn - 1.0).abs() > 1e-6
+                || !(g.is_finite() && g > 0.0)
+                || (0..15).any(|i| ins.cov[(i, i)] < 0.0)
+            {
+                return Err(invalid("navigation state"));
+            }
+            n.ins = Some(ins);
+        }
+        n.ins_t = r.f64()?;
+        n.stance = r.bool()?;
+        n.swing_start_t = r.f64()?;
+        let has_onset = r.bool()?;
+        let t0 = r.f64()?;
+        let mut p0 = [0.0; 3];
+        r.f64s(&mut p0)?;
+        n.last_onset = has_onset.then_some((t0, p0));
+        n.strides = r.u64()?;
+        n.distance_m = r.f64()?;
+        n.resets = r.u64()?;
+        let has_latest = r.bool()?;
+        let latest = read_estimate(&mut r)?;
+        n.latest = has_latest.then_some(latest);
+        r.end()?;
+        let finite = n.last_t.is_none_or(f64::is_finite)
+            && n.align.t_first.is_finite()
+            && n.align.t_last.is_finite()
+            && n.align.sum_f.iter().all(|v| v.is_finite())
+            && n.align.sum_w.iter().all(|v| v.is_finite())
+            && n.rate_hz.is_finite()
+            && n.rate_hz >= 0.0
+            && !n.ins_t.is_nan()
+            && n.swing_start_t.is_finite()
+            && t0.is_finite()
+            && p0.iter().all(|v| v.is_finite())
+            && n.distance_m.is_finite();
+        if !finite {
+            return Err(invalid("non-finite state"));
+        }
+        if n.ins.is_some() != (n.window > 0) || (n.window > 0 && n.window % 2 == 0) {
+            return Err(invalid("detector window"));
+        }
+        Ok(n)
+    }
+}

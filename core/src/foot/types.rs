@@ -1,0 +1,100 @@
+//! Samples going into the foot navigator and the estimates coming out.
+
+/// One IMU sample from the foot, sensor frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FootSample {
+    /// Time, seconds on the app's monotonic clock, strictly increasing.
+    pub t_s: f64,
+    /// Specific force, m/s², sensor axes (reads +9.8 along "up" at rest).
+    pub accel_mps2: [f64; 3],
+    /// Angular rate, rad/s, sensor axes.
+    pub gyro_rads: [f64; 3],
+}
+
+/// A sample in body axes (after the axis remap), as the pipeline stages pass it on.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct BodySample {
+    pub t_s: f64,
+    pub f: [f64; 3],
+    pub w: [f64; 3],
+    pub saturated: bool,
+    /// Stance given from outside (labels, a pressure insole) instead of the detector.
+    pub external: Option<bool>,
+}
+
+impl BodySample {
+    #[inline]
+    pub fn channel(&self, ch: usize) -> f64 {
+        if ch < 3 {
+            self.f[ch]
+        } else {
+            self.w[ch - 3]
+        }
+    }
+    #[inline]
+    pub fn set_channel(&mut self, ch: usize, v: f64) {
+        if ch < 3 {
+            self.f[ch] = v
+        } else {
+            self.w[ch - 3] = v
+        }
+    }
+}
+
+/// One stride: from one stance onset of the instrumented foot to the next.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stride {
+    /// Time of the stance onset that ends the stride, s.
+    pub t_s: f64,
+    /// Horizontal distance between the two stance onsets, m.
+    pub length_m: f64,
+    /// Time between them, s.
+    pub duration_s: f64,
+    /// `length_m / duration_s`, m/s.
+    pub speed_mps: f64,
+    /// Height change, m (up positive): stairs.
+    pub climb_m: f64,
+}
+
+/// Where the foot is, after one sample. Frame: local level East-North-Up with the
+/// origin where the navigator started and yaw 0 = body +x pointing East at start
+/// (set `FootConfig::initial_yaw_rad` to use a known heading).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FootEstimate {
+    /// Time of the sample this estimate is for (the pipeline lags the newest input by
+    /// [`FootNavigator::delay_samples`](super::FootNavigator::delay_samples)), s.
+    pub t_s: f64,
+    /// Position, m, ENU.
+    pub position_m: [f64; 3],
+    /// Velocity, m/s, ENU.
+    pub velocity_mps: [f64; 3],
+    /// Orientation body → ENU, `[w, x, y, z]`.
+    pub quaternion: [f64; 4],
+    /// ZYX Euler angles, rad: roll about body x, pitch about body y, yaw about up
+    /// (counter-clockwise from East).
+    pub roll_rad: f64,
+    pub pitch_rad: f64,
+    pub yaw_rad: f64,
+    /// Heading of body +x clockwise from North (the ENU y axis), 0..2π.
+    pub heading_rad: f64,
+    /// 1-σ of position and velocity per ENU axis.
+    pub position_std_m: [f64; 3],
+    pub velocity_std_mps: [f64; 3],
+    /// 1-σ of the tilt (about East and North) and of the heading, rad.
+    pub tilt_std_rad: [f64; 2],
+    pub heading_std_rad: f64,
+    /// Accelerometer and gyroscope bias estimates, body axes.
+    pub accel_bias_mps2: [f64; 3],
+    pub gyro_bias_rads: [f64; 3],
+    /// The detector said the foot is still; a zero-velocity update was applied.
+    pub stance: bool,
+    /// Strides counted and the sum of their horizontal lengths, m.
+    pub strides: u64,
+    pub distance_m: f64,
+    /// The stride that ended on this sample.
+    pub stride: Option<Stride>,
+    /// The sample hit the configured sensor range (no update in its window).
+    pub saturated: bool,
+    /// The time step before this sample exceeded `max_gap_s` (see the navigator docs).
+    pub gap: bool,
+}

@@ -1,0 +1,464 @@
+//! Foot-mounted navigation on simulated walks (`sim::foot`): loop closure, strides,
+//! static alignment, sample rates, jitter and dropped samples, sensor axes, and
+//! snapshot/restore splitting a replay anywhere.
+
+use stridekit_core::foot::{
+    AdaptiveThresholds, FixedThresholds, FootConfig, FootError, FootEstimate, FootNavigator,
+    ZeroVelocityDetector,
+};
+use stridekit_core::sim::{simulate_foot, FootScenario, SimulatedFoot};
+use stridekit_core::snapshot::SnapshotError;
+
+fn replay(sim: &SimulatedFoot, config: FootConfig) -> (FootNavigator, Vec<FootEstimate>) {
+    let mut nav = FootNavigator::new(config).expect("valid config");
+    let mut out = Vec::with_capacity(sim.samples.len());
+    let outcome = nav.push_batch(&sim.samples, |e| out.push(*e));
+    assert!(outcome.rejected.is_empty(), "{:?}", &outcome.rejected[..1]);
+    assert_eq!(nav.divergence_resets(), 0);
+    (nav, out)
+}
+
+fn with_detector(detector: ZeroVelocityDetector) -> FootConfig {
+    FootConfig {
+        detector,
+        ..FootConfig::default()
+    }
+}
+
+/// End error (horizontal, m) and its share of the path.
+fn closure(sim: &SimulatedFoot, est: &[FootEstimate]) -> (f64, f64) {
+    let e = est.last().expect("estimates");
+    let end = e.position_m[0].hypot(e.position_m[1]);
+    (end, end / sim.distance_m)
+}
+
+/// Checks stride count, each stride's length (matched by time) and the distance.
+fn check_strides(sim: &SimulatedFoot, est: &[FootEstimate], tol: f64, label: &str) {
+    let strides: Vec<_> = est.iter().filter_map(|e| e.stride).collect();
+    assert_eq!(strides.len(), sim.strides.len(), "{label}: stride count");
+    let last = est.last().unwrap();
+    assert_eq!(last.strides as usize, sim.strides.len(), "{label}");
+    for (s, t) in strides.iter().zip(&sim.strides) {
+        assert!(
+            (s.t_s - t.t_s).abs() < 0.2,
+            "{label}: stride at {} vs true {}",
+            s.t_s,
+            t.t_s
+        );
+        assert!(
+            (s.length_m - t.length_m).abs() < tol * t.length_m,
+            "{label}: stride at {}: {} m vs {} m",
+            t.t_s,
+            s.length_m,
+            t.length_m
+        );
+        assert!(s.duration_s > 0.0 && s.speed_mps.is_finite() && s.climb_m.abs() < 0.1);
+    }
+    assert!(
+        (last.distance_m - sim.distance_m).abs() < 0.02 * sim.distance_m,
+        "{label}: distance {} vs {}",
+        last.distance_m,
+        sim.distance_m
+    );
+}
+
+fn assert_finite(est: &[FootEstimate]) {
+    for e in est {
+        let scalars = [
+            e.t_s,
+            e.roll_rad,
+            e.pitch_rad,
+            e.yaw_rad,
+            e.heading_rad,
+            e.heading_std_rad,
+            e.distance_m,
+        ];
+        let all = e
+            .position_m
+            .iter()
+            .chain(&e.velocity_mps)
+            .chain(&e.quaternion)
+            .chain(&e.position_std_m)
+            .chain(&e.velocity_std_mps)
+            .chain(&e.tilt_std_rad)
+            .chain(&e.accel_bias_mps2)
+            .chain(&e.gyro_bias_rads)
+            .chain(&scalars);
+        for v in all {
+            assert!(v.is_finite(), "{e:?}");
+        }
+    }
+}
+
+#[test]
+fn simulated_walk_closes_its_loop_with_every_detector() {
+    let sim = simulate_foot(&FootScenario::walk(1, 2));
+    assert_eq!(sim.strides.len(), 84);
+    for det in [
+        ZeroVelocityDetector::default(),
+        ZeroVelocityDetector::Fixed(FixedThresholds::WALK),
+        ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
+    ] {
+        let name = det.name();
+        let (nav, est) = replay(&sim, with_detector(det));
+        assert_finite(&est);
+        // 51 samples (0.25 s) align, the rest come out after the pipeline delay.
+        assert_eq!(est.len() + nav.delay_samples() + 51, sim.samples.len());
+        let (end, share) = closure(&sim, &est);
+        eprintln!(
+            "walk {name}: end {end:.3} m, {:.3} % of {} m",
+            100.0 * share,
+            sim.distance_m
+        );
+        assert!(share < 0.01, "{name}: end error {end} m");
+        check_strides(&sim, &est, 0.05, name);
+        // The stance flag follows the true foot-flat phases (the detector window
+        // and the smooth motion onset make the edges differ by a few samples).
+        let truth_at = |t: f64| {
+            let i = sim.truth.partition_point(|x| x.t_s < t);
+            sim.truth[i].stance
+        };
+        let agree = est.iter().filter(|e| e.stance == truth_at(e.t_s)).count();
+        let share = agree as f64 / est.len() as f64;
+        assert!(share > 0.9, "{name}: stance agreement {share}");
+        // Heading and position follow the truth all along.
+        let mut worst: f64 = 0.0;
+        for e in est.iter().step_by(20) {
+            let i = sim.truth.partition_point(|x| x.t_s < e.t_s);
+            let p = sim.truth[i].position_m;
+            worst = worst.max((e.position_m[0] - p[0]).hypot(e.position_m[1] - p[1]));
+        }
+        assert!(worst < 1.0, "{name}: worst position error {worst} m");
+    }
+}
+
+#[test]
+fn simulated_run_closes_its_loop() {
+    let sim = simulate_foot(&FootScenario::run(2, 2));
+    for det in [
+        ZeroVelocityDetector::default(),
+        ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
+    ] {
+        let name = det.name();
+        let (_, est) = replay(&sim, with_detector(det));
+        assert_finite(&est);
+        let (end, share) = closure(&sim, &est);
+        eprintln!(
+            "run {name}: end {end:.3} m, {:.3} % of {} m",
+            100.0 * share,
+            sim.distance_m
+        );
+        assert!(share < 0.01, "{name}: end error {end} m");
+        check_strides(&sim, &est, 0.05, name);
+    }
+}
+
+#[test]
+fn the_svm_detector_runs_on_a_walk() {
+    // Whatever model ships, the pipeline with it stays finite and moves.
+    let sim = simulate_foot(&FootScenario::walk(3, 1));
+    let (nav, est) = replay(&sim, with_detector(ZeroVelocityDetector::default_svm()));
+    assert_finite(&est);
+    assert!(nav.is_aligned());
+}
+
+#[test]
+fn sample_rates_100_200_500_hz() {
+    for rate in [100.0, 200.0, 500.0] {
+        let sim = simulate_foot(&FootScenario {
+            sample_rate_hz: rate,
+            ..FootScenario::walk(4, 1)
+        });
+        let (nav, est) = replay(&sim, FootConfig::default());
+        assert!((nav.sample_rate_hz() - rate).abs() < 1e-6 * rate);
+        // The detector window in samples: odd, 3..=31, from the measured rate.
+        let mut expect = (FootConfig::default().detector_window_s * rate).round() as usize;
+        if expect % 2 == 0 {
+            expect += 1;
+        }
+        let expect = expect.clamp(3, 31);
+        assert_eq!(nav.detector_window(), expect);
+        assert_finite(&est);
+        let (end, share) = closure(&sim, &est);
+        eprintln!("{rate} Hz: end {end:.3} m ({:.3} %)", 100.0 * share);
+        assert!(share < 0.01, "{rate} Hz: end error {end} m");
+        check_strides(&sim, &est, 0.05, &format!("{rate} Hz"));
+    }
+}
+
+#[test]
+fn jittered_timestamps_and_dropped_samples() {
+    let sim = simulate_foot(&FootScenario {
+        timestamp_jitter_s: 0.0005,
+        drop_probability: 0.05,
+        ..FootScenario::walk(5, 2)
+    });
+    let dropped = 1.0 - sim.samples.len() as f64 / ((sim.truth.last().unwrap().t_s) * 200.0);
+    assert!(dropped > 0.03, "{dropped}");
+    let (nav, est) = replay(&sim, FootConfig::default());
+    assert!(
+        (nav.sample_rate_hz() - 190.0).abs() < 5.0,
+        "{}",
+        nav.sample_rate_hz()
+    );
+    assert_finite(&est);
+    assert!(est.iter().all(|e| !e.gap));
+    let (end, share) = closure(&sim, &est);
+    eprintln!("jitter + drops: end {end:.3} m ({:.3} %)", 100.0 * share);
+    assert!(share < 0.01, "end error {end} m");
+    check_strides(&sim, &est, 0.05, "jitter + drops");
+
+    // A half-second hole in the middle of a stance: flagged, and the walk goes on.
+    let mut samples = sim.samples.clone();
+    let mid = sim.strides[40].t_s + 0.05;
+    samples.retain(|s| !(s.t_s > mid && s.t_s < mid + 0.3));
+    let mut nav = FootNavigator::new(FootConfig::default()).unwrap();
+    let mut est = Vec::new();
+    assert!(nav
+        .push_batch(&samples, |e| est.push(*e))
+        .rejected
+        .is_empty());
+    assert_finite(&est);
+    assert_eq!(est.iter().filter(|e| e.gap).count(), 1);
+    let (end, share) = closure(&sim, &est);
+    assert!(share < 0.02, "with a hole: end error {end} m");
+}
+
+#[test]
+fn static_tilt_alignment() {
+    for (i, rpy) in [[0.0, 0.0, 0.0], [10.0, -7.0, 0.0], [-25.0, 15.0, 30.0]]
+        .into_iter()
+        .enumerate()
+    {
+        let rpy_rad: [f64; 3] = rpy.map(|d: f64| d.to_radians());
+        let sim = simulate_foot(&FootScenario {
+            mount_rpy_rad: rpy_rad,
+            laps: 0,
+            rest_start_s: 3.0,
+            rest_end_s: 0.0,
+            accel_bias_std_mps2: 0.0,
+            ..FootScenario::walk(6 + i as u64, 0)
+        });
+        // A 2 s alignment averages the tremor out of the gyroscope bias.
+        let (nav, est) = replay(
+            &sim,
+            FootConfig {
+                alignment_s: 2.0,
+                ..FootConfig::default()
+            },
+        );
+        assert!(nav.is_aligned());
+        let e = est.last().unwrap();
+        // Truth: the mounting rotation (the foot rests flat, pointing East).
+        let tol = 0.1_f64.to_radians();
+        assert!(
+            (e.roll_rad - rpy_rad[0]).abs() < tol,
+            "{rpy:?}: roll {}",
+            e.roll_rad.to_degrees()
+        );
+        assert!(
+            (e.pitch_rad - rpy_rad[1]).abs() < tol,
+            "{rpy:?}: pitch {}",
+            e.pitch_rad.to_degrees()
+        );
+        // At rest the navigator stays put and calls every sample stance.
+        assert!(est.iter().all(|e| e.stance));
+        assert!(e.position_m.iter().all(|p| p.abs() < 1e-3), "{e:?}");
+        // The gyroscope bias came from the alignment.
+        for k in 0..3 {
+            assert!(
+                (e.gyro_bias_rads[k] - sim.gyro_bias_rads[k]).abs() < 5e-4,
+                "{e:?} vs {:?}",
+                sim.gyro_bias_rads
+            );
+        }
+    }
+}
+
+#[test]
+fn tilted_mount_and_pyshoe_axes_walk() {
+    let sim = simulate_foot(&FootScenario {
+        mount_rpy_rad: [0.15, -0.1, 0.0],
+        ..FootScenario::walk(7, 1)
+    });
+    let (_, est) = replay(&sim, FootConfig::default());
+    let (end, share) = closure(&sim, &est);
+    assert!(share < 0.01, "tilted mount: end error {end} m");
+    check_strides(&sim, &est, 0.05, "tilted mount");
+
+    let sim = simulate_foot(&FootScenario {
+        sensor_z_down: true,
+        ..FootScenario::walk(7, 1)
+    });
+    let (_, est) = replay(
+        &sim,
+        FootConfig {
+            axis_remap: FootConfig::pyshoe_axes(),
+            ..FootConfig::default()
+        },
+    );
+    let (end, share) = closure(&sim, &est);
+    assert!(share < 0.01, "pyshoe axes: end error {end} m");
+    check_strides(&sim, &est, 0.05, "pyshoe axes");
+}
+
+// ------------------------------------------------------------------ snapshot
+
+/// Runs `samples` through `nav`, comparing with the reference estimates from `from`.
+fn continue_and_compare(
+    mut nav: FootNavigator,
+    samples: &[stridekit_core::foot::FootSample],
+    reference: &[Option<FootEstimate>],
+    label: &str,
+) -> FootNavigator {
+    for (k, s) in samples.iter().enumerate() {
+        let e = nav.push(s).expect("accepted");
+        assert_eq!(
+            e.map(|e| format!("{e:?}")),
+            reference[k].map(|e| format!("{e:?}")),
+            "{label}: sample {k} after the split"
+        );
+        if let (Some(a), Some(b)) = (e, reference[k]) {
+            assert_eq!(
+                a.position_m.map(f64::to_bits),
+                b.position_m.map(f64::to_bits)
+            );
+            assert_eq!(
+                a.quaternion.map(f64::to_bits),
+                b.quaternion.map(f64::to_bits)
+            );
+        }
+    }
+    nav
+}
+
+/// Splits at every sample of the first `dense` and then every `every` samples.
+fn split_everywhere(
+    config: FootConfig,
+    sim: &SimulatedFoot,
+    every: usize,
+    horizon: usize,
+    dense: usize,
+) {
+    let label = config.detector.name();
+    let mut reference_nav = FootNavigator::new(config.clone()).unwrap();
+    let reference: Vec<Option<FootEstimate>> = sim
+        .samples
+        .iter()
+        .map(|s| reference_nav.push(s).unwrap())
+        .collect();
+    let final_snapshot = reference_nav.snapshot();
+
+    let mut nav = FootNavigator::new(config).unwrap();
+    let n = sim.samples.len();
+    for k in 0..n {
+        if k < dense || k % every == 0 {
+            let bytes = nav.snapshot();
+            let restored = FootNavigator::restore(&bytes).expect("restores");
+            assert_eq!(
+                restored.snapshot(),
+                bytes,
+                "{label}: snapshot of the restored at {k}"
+            );
+            let end = (k + horizon).min(n);
+            let after =
+                continue_and_compare(restored, &sim.samples[k..end], &reference[k..end], label);
+            if end == n {
+                assert_eq!(after.snapshot(), final_snapshot, "{label}: split at {k}");
+            }
+        }
+        nav.push(&sim.samples[k]).unwrap();
+    }
+    assert_eq!(nav.snapshot(), final_snapshot);
+    // A split run to the very end matches bit for bit.
+    let k = n / 3;
+    let mut nav = FootNavigator::new(reference_nav.config().clone()).unwrap();
+    for s in &sim.samples[..k] {
+        nav.push(s).unwrap();
+    }
+    let restored = FootNavigator::restore(&nav.snapshot()).unwrap();
+    let after = continue_and_compare(restored, &sim.samples[k..], &reference[k..], label);
+    assert_eq!(after.snapshot(), final_snapshot);
+    assert_eq!(after.estimate(), reference_nav.estimate());
+}
+
+#[test]
+fn snapshot_restore_splits_anywhere() {
+    let sim = simulate_foot(&FootScenario {
+        sample_rate_hz: 100.0,
+        rest_start_s: 0.5,
+        rest_end_s: 0.5,
+        loop_m: [6.0, 3.0],
+        ..FootScenario::walk(8, 1)
+    });
+    let base = FootConfig {
+        median_window: 5,
+        accel_range_mps2: Some(60.0),
+        gyro_range_rads: Some(20.0),
+        ..FootConfig::default()
+    };
+    for det in [
+        ZeroVelocityDetector::default(),
+        ZeroVelocityDetector::Fixed(FixedThresholds::WALK),
+        ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
+        ZeroVelocityDetector::default_svm(),
+    ] {
+        // Restoring the SVM detector loads its model (builds the decision tables):
+        // fewer split points.
+        let svm = matches!(det, ZeroVelocityDetector::Svm(_));
+        split_everywhere(
+            FootConfig {
+                detector: det,
+                ..base.clone()
+            },
+            &sim,
+            if svm { 97 } else { 3 },
+            120,
+            if svm { 3 } else { 80 },
+        );
+    }
+    // Defaults (no median) and the as-published correction.
+    split_everywhere(FootConfig::default(), &sim, 7, 60, 80);
+    split_everywhere(
+        FootConfig {
+            correction: stridekit_core::foot::Correction::AsPublished,
+            ..FootConfig::default()
+        },
+        &sim,
+        7,
+        60,
+        80,
+    );
+}
+
+#[test]
+fn snapshot_rejects_garbage() {
+    let sim = simulate_foot(&FootScenario::walk(9, 1));
+    let mut nav = FootNavigator::new(FootConfig::default()).unwrap();
+    for s in &sim.samples[..1000] {
+        nav.push(s).unwrap();
+    }
+    let bytes = nav.snapshot();
+    assert_eq!(bytes[4], 6, "engine kind byte");
+    let mut bad = bytes.clone();
+    bad[40] ^= 0x10;
+    assert_eq!(
+        FootNavigator::restore(&bad).unwrap_err(),
+        FootError::Snapshot(SnapshotError::Checksum)
+    );
+    assert!(matches!(
+        FootNavigator::restore(&bytes[..bytes.len() - 9]).unwrap_err(),
+        FootError::Snapshot(_)
+    ));
+    assert!(matches!(
+        FootNavigator::restore(b"not a snapshot at all").unwrap_err(),
+        FootError::Snapshot(SnapshotError::BadMagic)
+    ));
+    let mut other = bytes.clone();
+    other[4] = 5;
+    assert!(FootNavigator::restore(&other).is_err());
+    // Every truncation fails cleanly.
+    for n in 0..bytes.len() {
+        assert!(FootNavigator::restore(&bytes[..n]).is_err());
+    }
+}

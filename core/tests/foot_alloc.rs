@@ -1,0 +1,79 @@
+//! No heap allocation per sample once the foot navigator is aligned: the median
+//! filter, every zero-velocity detector, the mechanisation and the Kalman filter run
+//! on fixed-size state (counting allocator in `common`).
+
+mod common;
+use common::allocations_in;
+
+use stridekit_core::foot::{
+    AdaptiveThresholds, FixedThresholds, FootConfig, FootNavigator, FootSample,
+    ZeroVelocityDetector,
+};
+use stridekit_core::sim::{simulate_foot, FootScenario};
+
+#[test]
+fn pushing_samples_does_not_allocate() {
+    let sim = simulate_foot(&FootScenario::walk(31, 1));
+    for detector in [
+        ZeroVelocityDetector::default(),
+        ZeroVelocityDetector::Fixed(FixedThresholds::WALK),
+        ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
+        ZeroVelocityDetector::default_svm(),
+    ] {
+        for median_window in [1, 7] {
+            let name = detector.name();
+            let mut nav = FootNavigator::new(FootConfig {
+                detector: detector.clone(),
+                median_window,
+                accel_range_mps2: Some(160.0),
+                ..FootConfig::default()
+            })
+            .unwrap();
+            let (warm, rest) = sim.samples.split_at(500);
+            for s in warm {
+                nav.push(s).unwrap();
+            }
+            assert!(nav.is_aligned());
+            let (half_a, half_b) = rest.split_at(rest.len() / 2);
+            let mut estimates = 0usize;
+            let mut strides = 0usize;
+            let (n, _) = allocations_in(|| {
+                for s in half_a {
+                    if let Some(e) = nav.push(s).unwrap() {
+                        estimates += 1;
+                        strides += e.stride.is_some() as usize;
+                        std::hint::black_box(e);
+                    }
+                }
+                // Rejected samples (typed errors) and a gap do not allocate either.
+                let last = half_a.last().unwrap().t_s;
+                let _ = nav.push(&FootSample {
+                    t_s: f64::NAN,
+                    ..half_b[0]
+                });
+                let _ = nav.push(&FootSample {
+                    t_s: last,
+                    ..half_b[0]
+                });
+                let _ = nav.push(&FootSample {
+                    accel_mps2: [1e6, 0.0, 0.0],
+                    ..half_b[0]
+                });
+                std::hint::black_box(nav.estimate());
+                // A clean batch.
+                let outcome = nav.push_batch(half_b, |e| {
+                    std::hint::black_box(e);
+                });
+                estimates += outcome.estimates;
+            });
+            assert_eq!(
+                n, 0,
+                "{name} (median {median_window}): allocations on the per-sample path"
+            );
+            assert!(
+                estimates > 5000 && strides > 10,
+                "{name}: {estimates} {strides}"
+            );
+        }
+    }
+}
