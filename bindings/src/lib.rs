@@ -16,10 +16,15 @@
 //! val pace = result.latest.paceSPerKm
 //! val saved: ByteArray = tracker.snapshot()        // later: PaceTracker.restore(saved)
 //! ```
+//!
+//! The other engines follow the same pattern with their own error type:
+//! [`navigator::PhoneNavigator`] (`NavError`) and [`foot::FootNavigator`] (`FootError`,
+//! Kotlin `FootException`; packed 56-byte IMU records, see the [`foot`] module docs).
 
 uniffi::setup_scaffolding!();
 
 mod error;
+pub mod foot;
 pub mod navigator;
 pub mod packed;
 mod sim;
@@ -27,6 +32,10 @@ mod tracker;
 mod types;
 
 pub use error::{PaceError, SensorStream};
+pub use foot::{
+    simulate_foot_walk, FootConfig, FootError, FootEstimate, FootImuSample, FootNavigator,
+    SimulatedFootWalk,
+};
 pub use sim::{simulate_run, SimulatedRun};
 pub use tracker::{BatchResult, PaceTracker, RejectedSample};
 pub use types::{

@@ -2,12 +2,15 @@
 
 mod activity;
 mod demo;
+mod eval_foot;
 mod eval_pace;
 mod eval_pdr;
 mod eval_steplength;
 mod eval_steps;
+mod foot;
 mod replay;
 mod report;
+mod train_zupt;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -40,6 +43,25 @@ USAGE:
       Step-length models (constant, linear robust and as published, frequency-only,
       Weinberg): distance error over a 5-minute GNSS outage after calibration, on the
       phone simulator and on the real runs in DIR (default: ../shared/data/pace/original).
+  stridekit foot FILE.csv [--out traj.csv] [--labels NAME]
+      Replay a foot-mounted IMU recording (pyshoe CSV: x fwd, y right, z down)
+      through the foot navigator; write the trajectory CSV (default
+      foot_trajectory.csv) and, next to it, traj.svg (top view) and traj_height.svg
+      (height over time). With truth columns (gt_*), the truth is aligned to the
+      estimate (rotation about the vertical + translation), written beside it in the
+      CSV, drawn in both plots and its position RMSE printed. --labels drives the
+      zero-velocity updates with a stance label column (e.g. vicon_opt) instead of
+      the detector.
+  stridekit eval foot [--data DIR] [--tune]
+      Foot-mounted navigation on the pyshoe VICON trials in DIR (default:
+      ../shared/data/foot/pyshoe-vicon): position RMSE, loop closure and zero-velocity
+      agreement per trial and per gait for the fixed, adaptive, SVM (cross-validated
+      over trials) and SHOE detectors and the oracle labels. --tune prints the grid
+      searches on the training split that chose the detector defaults.
+  stridekit train zupt [--data DIR] [--trials A,B,...|--split K/N] [--out FILE]
+      Train the SVM zero-velocity detector (six Gaussian-kernel SVMs) on the trials
+      in DIR (default: all; --split K/N leaves out fold K of N, by position modulo N)
+      and write a model file (format v1, see core/src/foot/svm.rs).
   stridekit help
 ";
 
@@ -101,6 +123,50 @@ fn main() -> ExitCode {
                     println!("Real runs: skipped (../shared/data/pace/original not found; pass --data DIR or set STRIDEKIT_DATA)");
                     Ok(())
                 }
+            }
+        }
+        Some("foot") => match args.get(1) {
+            Some(file) => {
+                let out = flag(&args, "--out").unwrap_or_else(|| "foot_trajectory.csv".into());
+                foot::run(
+                    &PathBuf::from(file),
+                    &PathBuf::from(out),
+                    eval_foot::base_config(),
+                    flag(&args, "--labels"),
+                )
+            }
+            None => Err("foot needs a FILE".into()),
+        },
+        Some("eval") if args.get(1).map(String::as_str) == Some("foot") => {
+            let dir = flag(&args, "--data")
+                .map(PathBuf::from)
+                .or_else(|| stridekit_formats::data_dir().map(|d| d.join("foot/pyshoe-vicon")));
+            match dir {
+                Some(d) if d.is_dir() => if args.iter().any(|a| a == "--tune") {
+                    eval_foot::tune(&d, &[0.025, 0.05, 0.1])
+                } else {
+                    eval_foot::run(&d)
+                }
+                .map(|t| println!("{t}")),
+                _ => Err("foot trials not found: pass --data DIR or set STRIDEKIT_DATA".into()),
+            }
+        }
+        Some("train") if args.get(1).map(String::as_str) == Some("zupt") => {
+            let dir = flag(&args, "--data")
+                .map(PathBuf::from)
+                .or_else(|| stridekit_formats::data_dir().map(|d| d.join("foot/pyshoe-vicon")));
+            let out = flag(&args, "--out").unwrap_or_else(|| "zupt_svm_v1.txt".into());
+            let line = format!("stridekit {}", args.join(" "));
+            match dir {
+                Some(d) if d.is_dir() => train_zupt::run(
+                    &d,
+                    flag(&args, "--trials").as_deref(),
+                    flag(&args, "--split").as_deref(),
+                    &PathBuf::from(out),
+                    &line,
+                )
+                .map(|t| println!("{t}")),
+                _ => Err("foot trials not found: pass --data DIR or set STRIDEKIT_DATA".into()),
             }
         }
         Some("eval") if args.get(1).map(String::as_str) == Some("pdr") => {

@@ -12,6 +12,7 @@ mod csv;
 mod data;
 mod error;
 mod fit;
+mod foot;
 mod gpx;
 mod oxford;
 mod record;
@@ -24,6 +25,7 @@ pub use crate::csv::read_csv;
 pub use crate::data::{data_dir, DATA_ENV_VAR};
 pub use crate::error::FormatError;
 pub use crate::fit::read_fit;
+pub use crate::foot::{list_foot_trials, read_foot_csv, FootRecording};
 pub use crate::gpx::read_gpx;
 pub use crate::oxford::{
     list_oxford_traces, read_oxford_trace, OxfordAccel, OxfordPosition, OxfordTrace,

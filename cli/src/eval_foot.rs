@@ -1,0 +1,931 @@
+//! `stridekit eval foot`: the foot-mounted navigator on the pyshoe / UofT VICON trials
+//! (foot IMU at 200 Hz with motion-capture truth), every zero-velocity detector with
+//! one configuration for all trials, next to the same filter driven by the data set's
+//! per-trial optimised stance labels (an oracle no causal detector has).
+//!
+//! Splits. Trials are sorted by name; even positions (0, 2, 4, …) are the TRAINING
+//! split on which the detector defaults were chosen (`eval foot --tune`), odd
+//! positions the HELD-OUT split. The SVM is cross-validated: `SVM_FOLDS` folds by
+//! position modulo `SVM_FOLDS`; each trial is detected by a model trained (same code
+//! as `stridekit train zupt`) on the other folds only.
+//!
+//! Gait. Per sample, from the truth: the foot's horizontal path over ±0.5 s (one
+//! stride) divided by 1 s; above [`RUN_SPEED_MPS`] the sample is running, otherwise
+//! walking. The stairs and crawling session (trials named [`OTHER_PREFIX`]*; the data
+//! confirm it: truth height range 0.6–0.7 m on three of them, a foot upside down at
+//! rest — stance tilt ~155° — on the crawling ones, and mean horizontal speed
+//! ≤ 0.33 m/s on all) is "other" in every sample. A trial's gait is its samples'
+//! majority. The table prints the height range, stance tilt and mean speed.
+
+use std::path::Path;
+
+use stridekit_core::foot::{
+    AdaptiveThresholds, Correction, FixedThresholds, FootConfig, FootEstimate, FootNavigator,
+    FootSample, ShoeDetector, WindowStats, ZeroVelocityDetector,
+};
+use stridekit_formats::{list_foot_trials, read_foot_csv, FootRecording};
+
+use crate::train_zupt;
+
+/// Foot speed averaged over one stride above which a sample is running, m/s.
+pub const RUN_SPEED_MPS: f64 = 1.8;
+/// The recording session of stairs and crawling trials ("other").
+pub const OTHER_PREFIX: &str = "2018-02-";
+/// Folds of the SVM cross-validation.
+pub const SVM_FOLDS: usize = 6;
+
+#[derive(Clone, Debug)]
+pub struct Method {
+    pub name: String,
+    pub config: FootConfig,
+    /// Drive the updates with this label column of the file instead of the detector;
+    /// `"best"` means the column of the trial's best detector in `_summary.csv`.
+    pub labels: Option<String>,
+}
+
+/// Gait of a sample (or, by majority, of a trial).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GaitClass {
+    Walk = 0,
+    Run = 1,
+    Other = 2,
+}
+
+impl GaitClass {
+    pub fn name(self) -> &'static str {
+        ["walk", "run", "other"][self as usize]
+    }
+}
+
+/// What one method did on one trial.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Outcome {
+    /// Position RMSE against truth after the best rotation about the vertical and
+    /// translation, m.
+    pub rmse_m: f64,
+    /// |(estimated − true) start→end displacement| / path length, %.
+    pub closure_pct: f64,
+    /// Fraction of samples whose stance flag equals the reference labels, %.
+    pub zv_accuracy_pct: f64,
+    /// Per sample gait (walk, run, other): samples agreeing with the reference labels
+    /// and samples.
+    pub zv_agree: [usize; 3],
+    pub zv_total: [usize; 3],
+    /// Samples called stance where the reference says swing, per gait.
+    pub false_stance: [usize; 3],
+    pub strides: u64,
+    pub distance_m: f64,
+    /// pyshoe's published metric (`process_error_vicon.py`): both tracks shifted to
+    /// start at 0, the estimate rotated about the vertical so that its position at
+    /// the first sample 0.8 m from the start points the same way as the truth's, then
+    /// the mean over samples of the RMS over the two horizontal axes (‖e‖/√2), m.
+    pub armse_2d_m: f64,
+}
+
+#[derive(Clone, Debug)]
+pub struct Trial {
+    pub rec: FootRecording,
+    /// Label column of the best detector (reference for the zero-velocity accuracy).
+    pub best: String,
+    /// pyshoe's own filter on the best labels (`best_error_m` of `_summary.csv`,
+    /// same metric as [`Outcome::armse_2d_m`]), m.
+    pub pyshoe_best_m: Option<f64>,
+    /// The trial's majority gait is running (the evaluation itself reads
+    /// [`TrialInfo`]; kept for callers such as `stridekit foot`).
+    #[allow(dead_code)]
+    pub run: bool,
+    pub path_m: f64,
+}
+
+/// What the truth says about a trial beyond [`Trial`].
+#[derive(Clone, Debug, Default)]
+pub struct TrialInfo {
+    /// Per sample gait.
+    pub gait: Vec<Option<GaitClass>>,
+    /// Majority gait.
+    pub kind: Option<GaitClass>,
+    pub z_range_m: f64,
+    pub mean_speed_mps: f64,
+    /// Angle between the sensor's down axis and the mean specific force while the
+    /// foot is still (‖ω‖ < 0.3 rad/s), deg: ~15–27° on foot, ~155° crawling.
+    pub stance_tilt_deg: f64,
+    pub run_fraction: f64,
+    /// The truth as recorded (before `mirror_truth`), for the mirror check.
+    pub raw_truth: Vec<[f64; 3]>,
+}
+
+impl TrialInfo {
+    fn kind(&self) -> GaitClass {
+        self.kind.unwrap_or(GaitClass::Walk)
+    }
+}
+
+pub fn base_config() -> FootConfig {
+    FootConfig {
+        axis_remap: FootConfig::pyshoe_axes(),
+        ..FootConfig::calibrated_imu()
+    }
+}
+
+fn with(name: &str, detector: ZeroVelocityDetector) -> Method {
+    Method {
+        name: name.into(),
+        config: FootConfig {
+            detector,
+            ..base_config()
+        },
+        labels: None,
+    }
+}
+
+/// The methods with fixed configurations (the SVM is added per fold by [`run`]).
+pub fn methods() -> Vec<Method> {
+    vec![
+        with(
+            "fixed",
+            ZeroVelocityDetector::Fixed(FixedThresholds::default()),
+        ),
+        with(
+            "adaptive",
+            ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
+        ),
+        with("shoe", ZeroVelocityDetector::Shoe(ShoeDetector::default())),
+        Method {
+            name: "shoe, as published".into(),
+            config: FootConfig {
+                correction: Correction::AsPublished,
+                ..base_config()
+            },
+            labels: None,
+        },
+        Method {
+            name: "oracle labels".into(),
+            config: base_config(),
+            labels: Some("best".into()),
+        },
+    ]
+}
+
+pub fn load(dir: &Path) -> Result<Vec<Trial>, String> {
+    Ok(load_with_info(dir)?.into_iter().map(|(t, _)| t).collect())
+}
+
+pub fn load_with_info(dir: &Path) -> Result<Vec<(Trial, TrialInfo)>, String> {
+    let summary = std::fs::read_to_string(dir.join("_summary.csv")).unwrap_or_default();
+    let mut best_of = std::collections::HashMap::new();
+    let mut lines = summary.lines();
+    if let Some(h) = lines.next() {
+        let cols: Vec<&str> = h.split(',').collect();
+        let ti = cols.iter().position(|c| *c == "trial");
+        let bi = cols.iter().position(|c| *c == "best_detector");
+        let ei = cols.iter().position(|c| *c == "best_error_m");
+        if let (Some(ti), Some(bi)) = (ti, bi) {
+            for l in lines {
+                let f: Vec<&str> = l.split(',').collect();
+                if let (Some(t), Some(b)) = (f.get(ti), f.get(bi)) {
+                    let err = ei
+                        .and_then(|e| f.get(e))
+                        .and_then(|v| v.parse::<f64>().ok());
+                    best_of.insert(t.to_string(), (format!("{b}_opt"), err));
+                }
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for path in list_foot_trials(dir).map_err(|e| e.to_string())? {
+        let mut rec = read_foot_csv(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let tilt = stance_tilt_deg(&rec);
+        let Some(truth) = rec.truth_m.as_mut() else {
+            continue;
+        };
+        let raw_truth = truth.clone();
+        mirror_truth(truth);
+        let (best, pyshoe_best_m) = best_of
+            .get(&rec.name)
+            .cloned()
+            .unwrap_or_else(|| ("shoe_opt".into(), None));
+        let other = rec.name.starts_with(OTHER_PREFIX);
+        let mut info = gait_info(&rec.t_s, truth, raw_truth, other);
+        info.stance_tilt_deg = tilt;
+        let path_m = path_length(&rec.t_s, truth);
+        out.push((
+            Trial {
+                run: info.kind == Some(GaitClass::Run),
+                best,
+                pyshoe_best_m,
+                path_m,
+                rec,
+            },
+            info,
+        ));
+    }
+    Ok(out)
+}
+
+/// The VICON positions of this set are a mirror image of the IMU's (right-handed)
+/// navigation frame: with the truth's y axis negated, every trial's estimate fits
+/// it by a rotation (RMSE ~0.1 m); without, only a mirror fits (RMSE ~1–2 m). The IMU
+/// data are self-consistent (a mirrored IMU would break the strapdown solution, which
+/// closes its loops to ~1 %), so the truth is what gets mirrored. `eval foot` prints
+/// the check on every run.
+pub fn mirror_truth(truth: &mut [[f64; 3]]) {
+    for g in truth.iter_mut() {
+        g[1] = -g[1];
+    }
+}
+
+/// Cumulative horizontal path of the truth, sampled every 0.1 s (VICON jitter would
+/// inflate a per-sample sum), interpolated back to every sample.
+fn cumulative_path(t: &[f64], g: &[[f64; 3]]) -> Vec<f64> {
+    let mut knots = vec![(t[0], 0.0)];
+    let mut last = 0usize;
+    let mut s = 0.0;
+    for i in 1..t.len() {
+        if t[i] - t[last] >= 0.1 || i == t.len() - 1 {
+            s += (g[i][0] - g[last][0]).hypot(g[i][1] - g[last][1]);
+            knots.push((t[i], s));
+            last = i;
+        }
+    }
+    let mut out = Vec::with_capacity(t.len());
+    let mut k = 0;
+    for &ti in t {
+        while k + 2 < knots.len() && knots[k + 1].0 < ti {
+            k += 1;
+        }
+        let (t0, s0) = knots[k];
+        let (t1, s1) = knots[(k + 1).min(knots.len() - 1)];
+        let f = if t1 > t0 {
+            ((ti - t0) / (t1 - t0)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        out.push(s0 + f * (s1 - s0));
+    }
+    out
+}
+
+fn path_length(t: &[f64], g: &[[f64; 3]]) -> f64 {
+    cumulative_path(t, g).last().copied().unwrap_or(0.0)
+}
+
+/// See [`TrialInfo::stance_tilt_deg`] (sensor z down, as in the pyshoe data).
+fn stance_tilt_deg(rec: &FootRecording) -> f64 {
+    let mut m = [0.0; 3];
+    for (f, w) in rec.accel_mps2.iter().zip(&rec.gyro_rads) {
+        if norm(*w) < 0.3 {
+            for i in 0..3 {
+                m[i] += f[i];
+            }
+        }
+    }
+    m[0].hypot(m[1]).atan2(-m[2]).to_degrees()
+}
+
+fn gait_info(t: &[f64], g: &[[f64; 3]], raw_truth: Vec<[f64; 3]>, other: bool) -> TrialInfo {
+    let n = t.len();
+    let s = cumulative_path(t, g);
+    let (zmin, zmax) = g
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p[2]), b.max(p[2]))
+        });
+    let dur = (t[n - 1] - t[0]).max(1e-9);
+    let mean_speed = s[n - 1] / dur;
+    let mut gait = Vec::with_capacity(n);
+    let (mut lo, mut hi) = (0usize, 0usize);
+    for i in 0..n {
+        while t[lo] < t[i] - 0.5 {
+            lo += 1;
+        }
+        while hi + 1 < n && t[hi + 1] <= t[i] + 0.5 {
+            hi += 1;
+        }
+        let span = t[hi] - t[lo];
+        gait.push(Some(if other {
+            GaitClass::Other
+        } else if span > 0.0 && (s[hi] - s[lo]) / span > RUN_SPEED_MPS {
+            GaitClass::Run
+        } else {
+            GaitClass::Walk
+        }));
+    }
+    let count = |c| gait.iter().filter(|g| **g == Some(c)).count();
+    let (w, r, o) = (
+        count(GaitClass::Walk),
+        count(GaitClass::Run),
+        count(GaitClass::Other),
+    );
+    let kind = if o >= w.max(r) {
+        GaitClass::Other
+    } else if r > w {
+        GaitClass::Run
+    } else {
+        GaitClass::Walk
+    };
+    TrialInfo {
+        run_fraction: r as f64 / n as f64,
+        gait,
+        kind: Some(kind),
+        z_range_m: zmax - zmin,
+        mean_speed_mps: mean_speed,
+        stance_tilt_deg: 0.0,
+        raw_truth,
+    }
+}
+
+/// Runs one method over a trial; returns the estimates with their sample indices.
+pub fn replay(trial: &Trial, m: &Method) -> Result<Vec<(usize, FootEstimate)>, String> {
+    let rec = &trial.rec;
+    let labels = match m.labels.as_deref() {
+        Some("best") => Some(
+            rec.label(&trial.best)
+                .ok_or_else(|| format!("{}: no label column {}", rec.name, trial.best))?,
+        ),
+        Some(other) => Some(
+            rec.label(other)
+                .ok_or_else(|| format!("{}: no label column {other}", rec.name))?,
+        ),
+        None => None,
+    };
+    let mut nav = FootNavigator::new(m.config.clone()).map_err(|e| e.to_string())?;
+    let mut out = Vec::with_capacity(rec.len());
+    for i in 0..rec.len() {
+        let s = FootSample {
+            t_s: rec.t_s[i],
+            accel_mps2: rec.accel_mps2[i],
+            gyro_rads: rec.gyro_rads[i],
+        };
+        let r = match labels {
+            Some(l) => nav.push_with_stance(&s, l[i]),
+            None => nav.push(&s),
+        };
+        if let Some(e) = r.map_err(|e| format!("{} sample {i}: {e}", rec.name))? {
+            // Estimates come in sample order, `delay` samples late.
+            let k = rec.t_s.partition_point(|&t| t < e.t_s);
+            out.push((k, e));
+        }
+    }
+    Ok(out)
+}
+
+/// Best rotation about the vertical and translation of `est` onto `truth`:
+/// returns (θ, translation).
+fn align(est: &[[f64; 3]], truth: &[[f64; 3]]) -> (f64, [f64; 3]) {
+    let n = est.len() as f64;
+    let mut ce = [0.0; 3];
+    let mut cg = [0.0; 3];
+    for (e, g) in est.iter().zip(truth) {
+        for i in 0..3 {
+            ce[i] += e[i] / n;
+            cg[i] += g[i] / n;
+        }
+    }
+    let (mut sxx, mut sxy) = (0.0, 0.0);
+    for (e, g) in est.iter().zip(truth) {
+        let (ex, ey) = (e[0] - ce[0], e[1] - ce[1]);
+        let (gx, gy) = (g[0] - cg[0], g[1] - cg[1]);
+        sxx += ex * gx + ey * gy;
+        sxy += ex * gy - ey * gx;
+    }
+    let th = sxy.atan2(sxx);
+    let (s, c) = th.sin_cos();
+    let t = [
+        cg[0] - (c * ce[0] - s * ce[1]),
+        cg[1] - (s * ce[0] + c * ce[1]),
+        cg[2] - ce[2],
+    ];
+    (th, t)
+}
+
+fn rot(th: f64, v: [f64; 3]) -> [f64; 3] {
+    let (s, c) = th.sin_cos();
+    [c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]]
+}
+
+/// RMSE after the best rotation + translation, and that rotation.
+fn fit(est: &[(usize, FootEstimate)], truth: &[[f64; 3]]) -> (f64, f64, [f64; 3]) {
+    let e: Vec<[f64; 3]> = est.iter().map(|(_, e)| e.position_m).collect();
+    let g: Vec<[f64; 3]> = est.iter().map(|(k, _)| truth[*k]).collect();
+    let (th, t) = align(&e, &g);
+    let mut se = 0.0;
+    for (a, b) in e.iter().zip(&g) {
+        let r = rot(th, *a);
+        se += (0..3).map(|i| (r[i] + t[i] - b[i]).powi(2)).sum::<f64>();
+    }
+    ((se / e.len() as f64).sqrt(), th, t)
+}
+
+pub fn score(trial: &Trial, est: &[(usize, FootEstimate)]) -> Outcome {
+    score_with_gait(trial, None, est)
+}
+
+fn score_with_gait(
+    trial: &Trial,
+    gait: Option<&[Option<GaitClass>]>,
+    est: &[(usize, FootEstimate)],
+) -> Outcome {
+    let Some(truth) = trial.rec.truth_m.as_ref() else {
+        return Outcome::default();
+    };
+    if est.len() < 2 {
+        return Outcome::default();
+    }
+    let (rmse, th, _) = fit(est, truth);
+    let e0 = est[0].1.position_m;
+    let e1 = est[est.len() - 1].1.position_m;
+    let de = rot(th, sub(e1, e0));
+    let dg = sub(truth[est[est.len() - 1].0], truth[est[0].0]);
+    let closure = norm(sub(de, dg)) / trial.path_m.max(1e-9) * 100.0;
+    let mut o = Outcome {
+        rmse_m: rmse,
+        closure_pct: closure,
+        zv_accuracy_pct: f64::NAN,
+        ..Default::default()
+    };
+    if let Some(r) = trial.rec.label(&trial.best) {
+        let mut ok = 0;
+        for (k, e) in est {
+            let c = gait.and_then(|g| g[*k]).unwrap_or(GaitClass::Walk) as usize;
+            o.zv_total[c] += 1;
+            if r[*k] == e.stance {
+                ok += 1;
+                o.zv_agree[c] += 1;
+            } else if e.stance {
+                o.false_stance[c] += 1;
+            }
+        }
+        o.zv_accuracy_pct = ok as f64 / est.len() as f64 * 100.0;
+    }
+    o.armse_2d_m = pyshoe_armse_2d(est, truth);
+    let last = est[est.len() - 1].1;
+    o.strides = last.strides;
+    o.distance_m = last.distance_m;
+    o
+}
+
+/// pyshoe's ARMSE (see [`Outcome::armse_2d_m`]).
+fn pyshoe_armse_2d(est: &[(usize, FootEstimate)], truth: &[[f64; 3]]) -> f64 {
+    let e0 = est[0].1.position_m;
+    let g0 = truth[est[0].0];
+    let e: Vec<[f64; 3]> = est.iter().map(|(_, x)| sub(x.position_m, e0)).collect();
+    let g: Vec<[f64; 3]> = est.iter().map(|(k, _)| sub(truth[*k], g0)).collect();
+    let ind = e
+        .iter()
+        .position(|p| p[0].hypot(p[1]) >= 0.8)
+        .unwrap_or(300.min(e.len() - 1));
+    let th = g[ind][1].atan2(g[ind][0]) - e[ind][1].atan2(e[ind][0]);
+    let sum: f64 = e
+        .iter()
+        .zip(&g)
+        .map(|(a, b)| {
+            let r = rot(th, *a);
+            // Per sample the RMS over the two axes, as `compute_error` does.
+            (r[0] - b[0]).hypot(r[1] - b[1]) * std::f64::consts::FRAC_1_SQRT_2
+        })
+        .sum();
+    sum / e.len() as f64
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn norm(a: [f64; 3]) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.retain(|x| x.is_finite());
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Geometric mean of the RMSEs (the tuning objective: every trial counts, none
+/// dominates).
+fn geo_mean(v: &[f64]) -> f64 {
+    let n = v.len().max(1) as f64;
+    (v.iter().map(|x| x.max(1e-6).ln()).sum::<f64>() / n).exp()
+}
+
+/// The SVM models of the cross-validation: model `f` is trained on every trial whose
+/// position modulo `folds` is not `f`.
+pub fn svm_folds(
+    trials: &[Trial],
+    stats: &[Vec<(usize, WindowStats)>],
+    folds: usize,
+) -> Result<Vec<stridekit_core::foot::SvmModel>, String> {
+    let p = train_zupt::TrainParams::default();
+    (0..folds)
+        .map(|f| {
+            let mut data = Vec::new();
+            for (i, (t, st)) in trials.iter().zip(stats).enumerate() {
+                if i % folds != f {
+                    data.extend(train_zupt::labelled_from(t, st)?);
+                }
+            }
+            train_zupt::train(
+                &data,
+                &p,
+                vec![format!("cross-validation fold {}/{folds}", f + 1)],
+            )
+        })
+        .collect()
+}
+
+struct Table {
+    names: Vec<String>,
+    /// results[trial][method]
+    results: Vec<Vec<Outcome>>,
+}
+
+fn summary(
+    out: &mut String,
+    title: &str,
+    infos: &[&TrialInfo],
+    names: &[String],
+    rows: &[&Vec<Outcome>],
+) {
+    out.push_str(&format!(
+        "\n{title} ({} trials: {} walk, {} run, {} other):\n\n",
+        rows.len(),
+        infos.iter().filter(|i| i.kind() == GaitClass::Walk).count(),
+        infos.iter().filter(|i| i.kind() == GaitClass::Run).count(),
+        infos
+            .iter()
+            .filter(|i| i.kind() == GaitClass::Other)
+            .count(),
+    ));
+    out.push_str("| method | pyshoe metric m all | RMSE m all | RMSE m walk | RMSE m run | RMSE m other | closure % walk | closure % run | ZV % walk samples | ZV % run samples | ZV % other samples | false stance % run samples |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for (j, name) in names.iter().enumerate() {
+        let col = |kind: Option<GaitClass>, f: fn(&Outcome) -> f64| {
+            median(
+                infos
+                    .iter()
+                    .zip(rows)
+                    .filter(|(i, _)| kind.is_none_or(|k| i.kind() == k))
+                    .map(|(_, row)| f(&row[j]))
+                    .collect(),
+            )
+        };
+        let pooled = |c: usize, num: fn(&Outcome, usize) -> usize| {
+            let a: usize = rows.iter().map(|r| num(&r[j], c)).sum();
+            let n: usize = rows.iter().map(|r| r[j].zv_total[c]).sum();
+            if n == 0 {
+                f64::NAN
+            } else {
+                a as f64 / n as f64 * 100.0
+            }
+        };
+        out.push_str(&format!(
+            "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.2} | {:.2} | {:.1} | {:.1} | {:.1} | {:.1} |\n",
+            col(None, |o| o.armse_2d_m),
+            col(None, |o| o.rmse_m),
+            col(Some(GaitClass::Walk), |o| o.rmse_m),
+            col(Some(GaitClass::Run), |o| o.rmse_m),
+            col(Some(GaitClass::Other), |o| o.rmse_m),
+            col(Some(GaitClass::Walk), |o| o.closure_pct),
+            col(Some(GaitClass::Run), |o| o.closure_pct),
+            pooled(0, |o, c| o.zv_agree[c]),
+            pooled(1, |o, c| o.zv_agree[c]),
+            pooled(2, |o, c| o.zv_agree[c]),
+            pooled(1, |o, c| o.false_stance[c]),
+        ));
+    }
+}
+
+/// Window statistics of every trial (what the detectors see with `config`).
+fn all_stats(
+    trials: &[Trial],
+    config: &FootConfig,
+) -> Result<Vec<Vec<(usize, WindowStats)>>, String> {
+    trials
+        .iter()
+        .map(|t| train_zupt::trial_stats(t, config))
+        .collect()
+}
+
+fn evaluate(
+    trials: &[Trial],
+    infos: &[TrialInfo],
+    svm: &[stridekit_core::foot::SvmModel],
+) -> Result<Table, String> {
+    let ms = methods();
+    let mut names: Vec<String> = ms.iter().map(|m| m.name.clone()).collect();
+    names.insert(2, format!("svm ({}-fold CV)", svm.len()));
+    let mut results = Vec::new();
+    for (i, (trial, info)) in trials.iter().zip(infos).enumerate() {
+        let mut row = Vec::new();
+        for m in &ms {
+            let est = replay(trial, m)?;
+            row.push(score_with_gait(trial, Some(&info.gait), &est));
+        }
+        let m = with(
+            "svm",
+            ZeroVelocityDetector::Svm(std::sync::Arc::new(svm[i % svm.len()].clone())),
+        );
+        let est = replay(trial, &m)?;
+        row.insert(2, score_with_gait(trial, Some(&info.gait), &est));
+        results.push(row);
+    }
+    Ok(Table { names, results })
+}
+
+/// The whole evaluation as markdown.
+pub fn run(dir: &Path) -> Result<String, String> {
+    let loaded = load_with_info(dir)?;
+    let (trials, infos): (Vec<Trial>, Vec<TrialInfo>) = loaded.into_iter().unzip();
+    let stats = all_stats(&trials, &base_config())?;
+    let svm = svm_folds(&trials, &stats, SVM_FOLDS)?;
+    let table = evaluate(&trials, &infos, &svm)?;
+    let Table { names, results } = table;
+    let oracle = names.iter().position(|n| n == "oracle labels").unwrap_or(0);
+
+    let mut out = String::new();
+    out.push_str(&format!(
+        "Foot-mounted navigation on {} trials of {} (one configuration per detector for all trials; SVM by {}-fold cross-validation over trials).\n\n",
+        trials.len(),
+        dir.display(),
+        svm.len()
+    ));
+    // Mirror check: the oracle-label run against the truth as recorded and mirrored.
+    let mut better_mirrored = 0;
+    let mut not_mirrored = Vec::new();
+    let (mut rm, mut rr) = (Vec::new(), Vec::new());
+    for (trial, info) in trials.iter().zip(&infos) {
+        let est = replay(
+            trial,
+            &Method {
+                name: "oracle".into(),
+                config: base_config(),
+                labels: Some("best".into()),
+            },
+        )?;
+        let (mirrored, _, _) = fit(&est, trial.rec.truth_m.as_deref().unwrap_or(&[]));
+        let (raw, _, _) = fit(&est, &info.raw_truth);
+        if mirrored < raw {
+            better_mirrored += 1;
+        } else {
+            not_mirrored.push(format!(
+                "{} ({:.3} m as recorded vs {:.3} m mirrored, path {:.1} m)",
+                trial.rec.name, raw, mirrored, trial.path_m
+            ));
+        }
+        rm.push(mirrored);
+        rr.push(raw);
+    }
+    out.push_str(&format!(
+        "Mirror check (oracle-label run fitted by rotation + translation): {better_mirrored} of {} trials fit better with the truth's y axis negated (median RMSE {:.3} m mirrored vs {:.3} m as recorded), so the truth is mirrored.{}\n\n",
+        trials.len(),
+        median(rm),
+        median(rr),
+        if not_mirrored.is_empty() {
+            String::new()
+        } else {
+            format!(" Not better mirrored: {}.", not_mirrored.join(", "))
+        }
+    ));
+    out.push_str(&format!(
+        "Gait per sample from the truth: horizontal foot path over ±0.5 s / 1 s > {RUN_SPEED_MPS} m/s = run, else walk; the stairs/crawling session {OTHER_PREFIX}* = other (see its height range, stance tilt and mean speed). Split: even positions in name order = training (defaults chosen there), odd = held-out.\n\n"
+    ));
+    out.push_str("Per trial: position RMSE after the best horizontal rotation + translation, m / loop-closure error, % of path / zero-velocity agreement with the best detector's labels, %.\n\n");
+    out.push_str(
+        "| trial | split | gait | run % | z range m | stance tilt ° | mean speed m/s | path m |",
+    );
+    for n in &names {
+        out.push_str(&format!(" {n} |"));
+    }
+    out.push_str("\n|---|---|---|---|---|---|---|---|");
+    for _ in &names {
+        out.push_str("---|");
+    }
+    out.push('\n');
+    for (i, ((trial, info), row)) in trials.iter().zip(&infos).zip(&results).enumerate() {
+        out.push_str(&format!(
+            "| {} | {} | {} | {:.0} | {:.2} | {:.0} | {:.2} | {:.1} |",
+            trial.rec.name,
+            if i % 2 == 0 { "train" } else { "held-out" },
+            info.kind().name(),
+            info.run_fraction * 100.0,
+            info.z_range_m,
+            info.stance_tilt_deg,
+            info.mean_speed_mps,
+            trial.path_m
+        ));
+        for o in row {
+            out.push_str(&format!(
+                " {:.3} / {:.2} / {:.1} |",
+                o.rmse_m, o.closure_pct, o.zv_accuracy_pct
+            ));
+        }
+        out.push('\n');
+    }
+    out.push_str("\nMedians of the per-trial RMSE and closure, grouped by the trial's majority gait; ZV agreement pooled over the samples of each gait (per sample gait); false stance = detector says stance where the reference says swing.\n");
+    let pick = |keep: &dyn Fn(usize) -> bool| -> (Vec<&TrialInfo>, Vec<&Vec<Outcome>>) {
+        (0..trials.len())
+            .filter(|&i| keep(i))
+            .map(|i| (&infos[i], &results[i]))
+            .unzip()
+    };
+    let (hi, hr) = pick(&|i| i % 2 == 1);
+    summary(&mut out, "Held-out split", &hi, &names, &hr);
+    let (ai, ar) = pick(&|_| true);
+    summary(&mut out, "All trials", &ai, &names, &ar);
+    let (ti, tr) = pick(&|i| i % 2 == 0);
+    summary(
+        &mut out,
+        "Training split (where the defaults were chosen)",
+        &ti,
+        &names,
+        &tr,
+    );
+    let med_oracle = median(results.iter().map(|r| r[oracle].rmse_m).collect());
+    let ours: Vec<f64> = results.iter().map(|r| r[oracle].armse_2d_m).collect();
+    let theirs: Vec<f64> = trials
+        .iter()
+        .map(|t| t.pyshoe_best_m.unwrap_or(f64::NAN))
+        .collect();
+    let better = ours.iter().zip(&theirs).filter(|(a, b)| a <= b).count();
+    out.push_str(&format!(
+        "\nFilter check against pyshoe (same labels, same metric — pyshoe's 2-D ARMSE with its own alignment): this navigator driven by each trial's best labels, median {:.3} m; pyshoe's filter on the same labels (`best_error_m` in `_summary.csv`), median {:.3} m; ours is as good or better on {better} of {} trials.\n",
+        median(ours),
+        median(theirs),
+        trials.len()
+    ));
+    out.push_str(&format!(
+        "\nTarget check (all trials): median RMSE ≤ oracle labels' {med_oracle:.3} m; ZV agreement ≥ 98 % on running samples; median loop closure ≤ 0.3 % on walking trials.\n"
+    ));
+    Ok(out)
+}
+
+/// `eval foot --tune`: the grid searches that chose the detector window and the
+/// detector defaults, on the training split only (objective: geometric mean of the
+/// trials' position RMSE). The SVM is scored by 3-fold cross-validation inside the
+/// training split.
+pub fn tune(dir: &Path, windows: &[f64]) -> Result<String, String> {
+    let loaded = load_with_info(dir)?;
+    let train: Vec<Trial> = loaded
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| i % 2 == 0)
+        .map(|(_, (t, _))| t.clone())
+        .collect();
+    let objective = |config: &FootConfig| -> Result<(f64, f64), String> {
+        let m = Method {
+            name: "tune".into(),
+            config: config.clone(),
+            labels: None,
+        };
+        let mut r = Vec::new();
+        for t in &train {
+            r.push(score(t, &replay(t, &m)?).rmse_m);
+        }
+        Ok((geo_mean(&r), median(r)))
+    };
+    let mut out = format!(
+        "Tuning on the training split ({} trials; objective: geometric mean of the position RMSE, m; median in brackets).\n",
+        train.len()
+    );
+    for &win in windows {
+        let base = FootConfig {
+            detector_window_s: win,
+            ..base_config()
+        };
+        out.push_str(&format!("\n## detector window {win} s\n\n"));
+        // SVM, 3-fold CV inside the training split.
+        let stats = all_stats(&train, &base)?;
+        for (gamma, c) in [(1.0, 1.0), (2.0, 10.0), (0.5, 1.0)] {
+            let p = train_zupt::TrainParams {
+                gamma,
+                c,
+                ..train_zupt::TrainParams::default()
+            };
+            let folds = 3;
+            let mut r = Vec::new();
+            for f in 0..folds {
+                let mut data = Vec::new();
+                for (i, (t, st)) in train.iter().zip(&stats).enumerate() {
+                    if i % folds != f {
+                        data.extend(train_zupt::labelled_from(t, st)?);
+                    }
+                }
+                let model = train_zupt::train(&data, &p, vec![])?;
+                let m = with("svm", ZeroVelocityDetector::Svm(std::sync::Arc::new(model)));
+                let m = Method {
+                    config: FootConfig {
+                        detector: m.config.detector,
+                        ..base.clone()
+                    },
+                    ..m
+                };
+                for (i, t) in train.iter().enumerate() {
+                    if i % folds == f {
+                        r.push(score(t, &replay(t, &m)?).rmse_m);
+                    }
+                }
+            }
+            out.push_str(&format!(
+                "svm γ {gamma} C {c} (3-fold CV): {:.3} ({:.3})\n",
+                geo_mean(&r),
+                median(r)
+            ));
+        }
+        // SHOE threshold.
+        let mut best_shoe = (f64::INFINITY, ShoeDetector::default());
+        for gamma in [3e4, 1e5, 3e5, 1e6, 3e6, 1e7] {
+            let d = ShoeDetector {
+                threshold: gamma,
+                ..ShoeDetector::default()
+            };
+            let (g, m) = objective(&FootConfig {
+                detector: ZeroVelocityDetector::Shoe(d),
+                ..base.clone()
+            })?;
+            out.push_str(&format!("shoe γ {gamma:e}: {g:.3} ({m:.3})\n"));
+            if g < best_shoe.0 {
+                best_shoe = (g, d);
+            }
+        }
+        out.push_str(&format!(
+            "→ shoe γ {:e}: {:.3}\n",
+            best_shoe.1.threshold, best_shoe.0
+        ));
+        // Fixed thresholds: full grid.
+        let mut rows = Vec::new();
+        for acc_dev in [1.0, 2.0, 4.0] {
+            for gyro in [0.3, 0.6, 1.2] {
+                for acc_std in [0.3, 0.8, 2.4] {
+                    for gyro_std in [0.1, 0.3, 0.9] {
+                        let d = FixedThresholds {
+                            acc_dev_mps2: acc_dev,
+                            gyro_rads: gyro,
+                            acc_std_mps2: acc_std,
+                            gyro_std_rads: gyro_std,
+                        };
+                        let (g, m) = objective(&FootConfig {
+                            detector: ZeroVelocityDetector::Fixed(d),
+                            ..base.clone()
+                        })?;
+                        rows.push((g, m, d));
+                    }
+                }
+            }
+        }
+        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+        out.push_str(&format!("fixed, best 3 of {}:\n", rows.len()));
+        for (g, m, d) in rows.iter().take(3) {
+            out.push_str(&format!("{d:?}: {g:.3} ({m:.3})\n"));
+        }
+        let best_fixed = (rows[0].0, rows[0].2);
+        out.push_str(&format!(
+            "→ fixed {:?}: {:.3}\n",
+            best_fixed.1, best_fixed.0
+        ));
+        // Adaptive: walk = the fixed choice; jog and run scaled versions of it, and the
+        // gait boundaries, by a grid over the scale factors and boundaries.
+        let scale = |d: FixedThresholds, k: f64| FixedThresholds {
+            acc_dev_mps2: d.acc_dev_mps2 * k,
+            gyro_rads: d.gyro_rads * k,
+            acc_std_mps2: d.acc_std_mps2 * k,
+            gyro_std_rads: d.gyro_std_rads * k,
+        };
+        let mut best_ad = (f64::INFINITY, AdaptiveThresholds::default());
+        for (jog_peak, run_peak) in [(40.0, 60.0), (50.0, 80.0)] {
+            for (kj, kr) in [
+                (1.0, 1.5),
+                (1.0, 2.0),
+                (1.5, 2.0),
+                (1.5, 3.0),
+                (2.0, 3.0),
+                (2.0, 4.0),
+            ] {
+                let d = AdaptiveThresholds {
+                    jog_peak_mps2: jog_peak,
+                    run_peak_mps2: run_peak,
+                    walk: best_fixed.1,
+                    jog: scale(best_fixed.1, kj),
+                    run: scale(best_fixed.1, kr),
+                };
+                let (g, m) = objective(&FootConfig {
+                    detector: ZeroVelocityDetector::Adaptive(d),
+                    ..base.clone()
+                })?;
+                out.push_str(&format!(
+                    "adaptive peaks {jog_peak}/{run_peak} m/s², jog ×{kj}, run ×{kr}: {g:.3} ({m:.3})\n"
+                ));
+                if g < best_ad.0 {
+                    best_ad = (g, d);
+                }
+            }
+        }
+        out.push_str(&format!("→ adaptive {:?}: {:.3}\n", best_ad.1, best_ad.0));
+    }
+    Ok(out)
+}
