@@ -63,8 +63,10 @@ pub struct Outcome {
     /// Position RMSE against truth after the best rotation about the vertical and
     /// translation, m.
     pub rmse_m: f64,
-    /// |(estimated − true) start→end displacement| / path length, %.
+    /// |(estimated − true) start→end displacement| / path length, %, 3-D.
     pub closure_pct: f64,
+    /// The same, horizontal only (the usual gait-tracker figure), %.
+    pub closure_h_pct: f64,
     /// Fraction of samples whose stance flag equals the reference labels, %.
     pub zv_accuracy_pct: f64,
     /// Per sample gait (walk, run, other): samples agreeing with the reference labels
@@ -437,9 +439,11 @@ fn score_with_gait(
     let de = rot(th, sub(e1, e0));
     let dg = sub(truth[est[est.len() - 1].0], truth[est[0].0]);
     let closure = norm(sub(de, dg)) / trial.path_m.max(1e-9) * 100.0;
+    let closure_h = (de[0] - dg[0]).hypot(de[1] - dg[1]) / trial.path_m.max(1e-9) * 100.0;
     let mut o = Outcome {
         rmse_m: rmse,
         closure_pct: closure,
+        closure_h_pct: closure_h,
         zv_accuracy_pct: f64::NAN,
         ..Default::default()
     };
@@ -563,7 +567,7 @@ fn summary(
             .filter(|i| i.kind() == GaitClass::Other)
             .count(),
     ));
-    out.push_str("| method | pyshoe metric m all | RMSE m all | RMSE m walk | RMSE m run | RMSE m other | closure % walk | closure % run | ZV % walk samples | ZV % run samples | ZV % other samples | false stance % run samples |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    out.push_str("| method | pyshoe metric m all | RMSE m all | RMSE m walk | RMSE m run | RMSE m other | closure % walk (horizontal) | closure % walk | closure % run | ZV % walk samples | ZV % run samples | ZV % other samples | false stance % run samples |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (j, name) in names.iter().enumerate() {
         let col = |kind: Option<GaitClass>, f: fn(&Outcome) -> f64| {
             median(
@@ -585,12 +589,13 @@ fn summary(
             }
         };
         out.push_str(&format!(
-            "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.2} | {:.2} | {:.1} | {:.1} | {:.1} | {:.1} |\n",
+            "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {:.1} | {:.1} |\n",
             col(None, |o| o.armse_2d_m),
             col(None, |o| o.rmse_m),
             col(Some(GaitClass::Walk), |o| o.rmse_m),
             col(Some(GaitClass::Run), |o| o.rmse_m),
             col(Some(GaitClass::Other), |o| o.rmse_m),
+            col(Some(GaitClass::Walk), |o| o.closure_h_pct),
             col(Some(GaitClass::Walk), |o| o.closure_pct),
             col(Some(GaitClass::Run), |o| o.closure_pct),
             pooled(0, |o, c| o.zv_agree[c]),
