@@ -371,10 +371,10 @@ pub fn replay(trial: &Trial, m: &Method) -> Result<Vec<(usize, FootEstimate)>, S
     Ok(out)
 }
 
-/// Best rotation about the vertical and translation of `est` onto `truth`:
-/// returns (θ, translation).
-fn align(est: &[[f64; 3]], truth: &[[f64; 3]]) -> (f64, [f64; 3]) {
-    let n = est.len() as f64;
+/// Best rotation θ about the vertical and translation `t` with `truth ≈ R(θ)·est + t`
+/// (least squares, horizontal rotation only). Also used by `stridekit foot`.
+pub fn align(est: &[[f64; 3]], truth: &[[f64; 3]]) -> (f64, [f64; 3]) {
+    let n = est.len().max(1) as f64;
     let mut ce = [0.0; 3];
     let mut cg = [0.0; 3];
     for (e, g) in est.iter().zip(truth) {

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use stridekit_core::foot::{FootConfig, FootEstimate};
 use stridekit_formats::read_foot_csv;
 
-use crate::eval_foot::{replay, Method, Trial};
+use crate::eval_foot::{align, replay, Method, Trial};
 use crate::report::{line_chart, track_chart, Chart, Series, Style};
 
 /// Plots keep at most about this many points per series (the CSV keeps all).
@@ -202,35 +202,6 @@ fn plot(
         },
     )
     .map_err(|e| format!("{}: {e}", height.display()))
-}
-
-/// Best rotation θ about the vertical and translation `t` with `truth ≈ R(θ)·est + t`
-/// (least squares, horizontal rotation only).
-fn align(est: &[[f64; 3]], truth: &[[f64; 3]]) -> (f64, [f64; 3]) {
-    let n = est.len().max(1) as f64;
-    let mut ce = [0.0; 3];
-    let mut cg = [0.0; 3];
-    for (e, g) in est.iter().zip(truth) {
-        for i in 0..3 {
-            ce[i] += e[i] / n;
-            cg[i] += g[i] / n;
-        }
-    }
-    let (mut sxx, mut sxy) = (0.0, 0.0);
-    for (e, g) in est.iter().zip(truth) {
-        let (ex, ey) = (e[0] - ce[0], e[1] - ce[1]);
-        let (gx, gy) = (g[0] - cg[0], g[1] - cg[1]);
-        sxx += ex * gx + ey * gy;
-        sxy += ex * gy - ey * gx;
-    }
-    let th = sxy.atan2(sxx);
-    let (s, c) = th.sin_cos();
-    let t = [
-        cg[0] - (c * ce[0] - s * ce[1]),
-        cg[1] - (s * ce[0] + c * ce[1]),
-        cg[2] - ce[2],
-    ];
-    (th, t)
 }
 
 /// A truth point in the estimate's frame: `R(−θ)·(g − t)`.
