@@ -19,32 +19,7 @@ fn detectors() -> [ZeroVelocityDetector; 4] {
 }
 
 fn finite_estimate(e: &FootEstimate) -> bool {
-    let scalars = [
-        e.t_s,
-        e.roll_rad,
-        e.pitch_rad,
-        e.yaw_rad,
-        e.heading_rad,
-        e.heading_std_rad,
-        e.distance_m,
-    ];
-    let stride_ok = e.stride.is_none_or(|s| {
-        [s.t_s, s.length_m, s.duration_s, s.speed_mps, s.climb_m]
-            .iter()
-            .all(|v| v.is_finite())
-    });
-    stride_ok
-        && e.position_m
-            .iter()
-            .chain(&e.velocity_mps)
-            .chain(&e.quaternion)
-            .chain(&e.position_std_m)
-            .chain(&e.velocity_std_mps)
-            .chain(&e.tilt_std_rad)
-            .chain(&e.accel_bias_mps2)
-            .chain(&e.gyro_bias_rads)
-            .chain(&scalars)
-            .all(|v| v.is_finite())
+    e.is_finite()
         && e.position_std_m.iter().all(|v| *v >= 0.0)
         && (e.quaternion.iter().map(|q| q * q).sum::<f64>() - 1.0).abs() < 1e-6
 }

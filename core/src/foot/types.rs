@@ -98,3 +98,37 @@ pub struct FootEstimate {
     /// The time step before this sample exceeded `max_gap_s` (see the navigator docs).
     pub gap: bool,
 }
+
+impl FootEstimate {
+    /// Every number in the estimate (and in its stride, if any) is finite. The
+    /// navigator guarantees it; apps and tests can check it cheaply.
+    pub fn is_finite(&self) -> bool {
+        let scalars = [
+            self.t_s,
+            self.roll_rad,
+            self.pitch_rad,
+            self.yaw_rad,
+            self.heading_rad,
+            self.heading_std_rad,
+            self.distance_m,
+        ];
+        let stride_ok = self.stride.is_none_or(|s| {
+            [s.t_s, s.length_m, s.duration_s, s.speed_mps, s.climb_m]
+                .iter()
+                .all(|v| v.is_finite())
+        });
+        stride_ok
+            && self
+                .position_m
+                .iter()
+                .chain(&self.velocity_mps)
+                .chain(&self.quaternion)
+                .chain(&self.position_std_m)
+                .chain(&self.velocity_std_mps)
+                .chain(&self.tilt_std_rad)
+                .chain(&self.accel_bias_mps2)
+                .chain(&self.gyro_bias_rads)
+                .chain(&scalars)
+                .all(|v| v.is_finite())
+    }
+}
