@@ -313,7 +313,7 @@ pub fn foot_detector_default(kind: FootDetectorKind) -> FootDetector {
 /// lines say how it was trained).
 #[uniffi::export]
 pub fn foot_shipped_svm_model() -> String {
-    core::SvmModel::shipped().to_text()
+    core::SvmModel::shared_shipped().to_text()
 }
 
 impl From<core::ZeroVelocityDetector> for FootDetector {
@@ -330,7 +330,7 @@ impl From<core::ZeroVelocityDetector> for FootDetector {
                 run: a.run.into(),
             },
             core::ZeroVelocityDetector::Svm(m) => Self::Svm {
-                model_text: (*m != core::SvmModel::shipped()).then(|| m.to_text()),
+                model_text: (!m.is_shipped()).then(|| m.to_text()),
             },
             core::ZeroVelocityDetector::Shoe(s) => Self::Shoe {
                 acc_noise_mps2: s.acc_noise_mps2,

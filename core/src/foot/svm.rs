@@ -183,7 +183,8 @@ impl SvmModel {
 
     /// This is the shipped model (same content).
     pub fn is_shipped(&self) -> bool {
-        *self == *Self::shared_shipped()
+        let shipped = Self::shared_shipped();
+        std::ptr::eq(self, &*shipped) || *self == *shipped
     }
 
     /// All six SVMs say stance.
