@@ -2,7 +2,7 @@
 
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::pace::{GnssFix, PaceConfig, PaceError, PaceTracker};
-use stridekit_core::sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
+use stridekit_core::sim::phone::{simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario};
 
 /// Accelerometer samples and fixes of a simulated walk, in time order.
 enum In {
@@ -17,21 +17,13 @@ fn walk(seconds: f64) -> Vec<In> {
         1.5,
         seconds,
     ));
-    let frame = LocalFrame::new(45.0, 7.0, 0.0);
-    let mut out = Vec::new();
-    let mut fi = 0;
-    for s in &sim.samples {
-        while fi < sim.fixes.len() && sim.fixes[fi].t_s <= s.t_s {
-            let f = sim.fixes[fi];
-            let (lat, lon) = frame.to_geodetic(f.east_m, f.north_m);
-            out.push(In::Fix(
-                GnssFix::new(f.t_s, lat, lon).with_accuracy(f.accuracy_m),
-            ));
-            fi += 1;
-        }
-        out.push(In::Accel(s.t_s, s.accel_mps2));
-    }
-    out
+    sim.timeline(&LocalFrame::new(45.0, 7.0, 0.0))
+        .into_iter()
+        .map(|e| match e {
+            PhoneEvent::Imu(s) => In::Accel(s.t_s, s.accel_mps2),
+            PhoneEvent::Fix(f) => In::Fix(f),
+        })
+        .collect()
 }
 
 fn feed(tr: &mut PaceTracker, xs: &[In]) -> Vec<stridekit_core::PaceEstimate> {

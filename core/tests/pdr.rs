@@ -6,7 +6,7 @@ use stridekit_core::ahrs::ImuSample;
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::pace::GnssFix;
 use stridekit_core::pdr::{NavEstimate, NavigatorConfig, PhoneNavigator};
-use stridekit_core::sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
+use stridekit_core::sim::phone::{simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario};
 
 enum Input {
     Imu(ImuSample),
@@ -20,26 +20,18 @@ fn inputs(seconds: f64) -> Vec<Input> {
         1.4,
         seconds,
     ));
-    let frame = LocalFrame::new(47.0, 8.0, 0.0);
-    let mut out = Vec::new();
-    let mut fi = 0;
-    for s in &sim.samples {
-        while fi < sim.fixes.len() && sim.fixes[fi].t_s <= s.t_s {
-            let f = sim.fixes[fi];
-            let (lat, lon) = frame.to_geodetic(f.east_m, f.north_m);
-            out.push(Input::Fix(
-                GnssFix::new(f.t_s, lat, lon).with_accuracy(f.accuracy_m),
-            ));
-            fi += 1;
-        }
-        out.push(Input::Imu(ImuSample {
-            t_s: s.t_s,
-            gyro_rads: s.gyro_radps,
-            accel_mps2: s.accel_mps2,
-            mag_ut: Some(s.mag_ut),
-        }));
-    }
-    out
+    sim.timeline(&LocalFrame::new(47.0, 8.0, 0.0))
+        .into_iter()
+        .map(|e| match e {
+            PhoneEvent::Imu(s) => Input::Imu(ImuSample {
+                t_s: s.t_s,
+                gyro_rads: s.gyro_radps,
+                accel_mps2: s.accel_mps2,
+                mag_ut: Some(s.mag_ut),
+            }),
+            PhoneEvent::Fix(f) => Input::Fix(f),
+        })
+        .collect()
 }
 
 fn feed(nav: &mut PhoneNavigator, xs: &[Input]) -> Vec<NavEstimate> {

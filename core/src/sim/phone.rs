@@ -292,7 +292,32 @@ pub struct SimulatedPhone {
     pub person_factor: f64,
 }
 
+/// One input of a simulated phone recording (see [`SimulatedPhone::timeline`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PhoneEvent<'a> {
+    Imu(&'a ImuSample),
+    Fix(crate::pace::GnssFix),
+}
+
 impl SimulatedPhone {
+    /// The IMU samples and the GNSS fixes (as WGS84 fixes through `frame`, with their
+    /// accuracy) merged in time order, as an app would push them: a fix goes before
+    /// the IMU sample with the same time; fixes after the last sample are left out.
+    pub fn timeline(&self, frame: &crate::geo::LocalFrame) -> Vec<PhoneEvent<'_>> {
+        let mut out = Vec::with_capacity(self.samples.len() + self.fixes.len());
+        let mut fixes = self.fixes.iter().peekable();
+        for s in &self.samples {
+            while let Some(f) = fixes.next_if(|f| f.t_s <= s.t_s) {
+                let (lat, lon) = frame.to_geodetic(f.east_m, f.north_m);
+                out.push(PhoneEvent::Fix(
+                    crate::pace::GnssFix::new(f.t_s, lat, lon).with_accuracy(f.accuracy_m),
+                ));
+            }
+            out.push(PhoneEvent::Imu(s));
+        }
+        out
+    }
+
     /// Step events at the true heel strikes with the features a detector would
     /// compute over each step (previous heel strike, this one] from the simulated
     /// acceleration magnitude. Duration is `NaN` for the first step of a bout.
