@@ -272,6 +272,16 @@ pub enum FootDetector {
     /// a model file written by `stridekit train zupt` (a bad text is
     /// `FootException.InvalidModel` when the navigator is built).
     Svm { model_text: Option<String> },
+    /// The SVM while walking (peak ‖f‖ below `jog_peak_mps2`), the jog and run
+    /// thresholds above it. `model_text` as for `Svm`. Measured best on the real
+    /// VICON trials (docs/foot.md).
+    SvmAdaptive {
+        model_text: Option<String>,
+        jog_peak_mps2: f64,
+        run_peak_mps2: f64,
+        jog: FootThresholds,
+        run: FootThresholds,
+    },
     /// The SHOE / GLRT detector (Skog et al. 2010, as in OpenShoe and pyshoe).
     Shoe {
         /// Accelerometer noise σ_a, m/s².
@@ -289,6 +299,7 @@ pub enum FootDetectorKind {
     Fixed,
     Adaptive,
     Svm,
+    SvmAdaptive,
     Shoe,
 }
 
@@ -303,6 +314,9 @@ pub fn foot_detector_default(kind: FootDetectorKind) -> FootDetector {
             core::ZeroVelocityDetector::Adaptive(core::AdaptiveThresholds::default()).into()
         }
         FootDetectorKind::Svm => FootDetector::Svm { model_text: None },
+        FootDetectorKind::SvmAdaptive => {
+            core::ZeroVelocityDetector::SvmAdaptive(core::SvmAdaptive::default()).into()
+        }
         FootDetectorKind::Shoe => {
             core::ZeroVelocityDetector::Shoe(core::ShoeDetector::default()).into()
         }
@@ -331,6 +345,13 @@ impl From<core::ZeroVelocityDetector> for FootDetector {
             },
             core::ZeroVelocityDetector::Svm(m) => Self::Svm {
                 model_text: (!m.is_shipped()).then(|| m.to_text()),
+            },
+            core::ZeroVelocityDetector::SvmAdaptive(d) => Self::SvmAdaptive {
+                model_text: (!d.svm.is_shipped()).then(|| d.svm.to_text()),
+                jog_peak_mps2: d.jog_peak_mps2,
+                run_peak_mps2: d.run_peak_mps2,
+                jog: d.jog.into(),
+                run: d.run.into(),
             },
             core::ZeroVelocityDetector::Shoe(s) => Self::Shoe {
                 acc_noise_mps2: s.acc_noise_mps2,
@@ -363,6 +384,22 @@ impl TryFrom<FootDetector> for core::ZeroVelocityDetector {
             FootDetector::Svm {
                 model_text: Some(text),
             } => Self::Svm(Arc::new(core::SvmModel::parse(&text)?)),
+            FootDetector::SvmAdaptive {
+                model_text,
+                jog_peak_mps2,
+                run_peak_mps2,
+                jog,
+                run,
+            } => Self::SvmAdaptive(core::SvmAdaptive {
+                svm: match model_text {
+                    None => core::SvmModel::shared_shipped(),
+                    Some(text) => Arc::new(core::SvmModel::parse(&text)?),
+                },
+                jog_peak_mps2,
+                run_peak_mps2,
+                jog: jog.into(),
+                run: run.into(),
+            }),
             FootDetector::Shoe {
                 acc_noise_mps2,
                 gyro_noise_rads,
@@ -405,11 +442,12 @@ impl From<FootCorrection> for core::Correction {
 
 /// Configuration of a [`FootNavigator`]: every core setting. The literal defaults
 /// below are the core's (`stridekit_core::foot::FootConfig::default()`);
-/// `footConfigDefault()` returns the whole default record (SHOE detector, full
-/// correction), and a test checks that both agree.
+/// `footConfigDefault()` returns the whole default record (SVM + adaptive detector,
+/// full correction), and a test checks that both agree.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct FootConfig {
-    /// Zero-velocity detector (default: SHOE, `footDetectorDefault(SHOE)`).
+    /// Zero-velocity detector (default: the SVM while walking + adaptive thresholds
+    /// when running, `footDetectorDefault(SVM_ADAPTIVE)`).
     pub detector: FootDetector,
     /// Which error states an update corrects (default: `FULL`).
     pub correction: FootCorrection,
@@ -524,7 +562,7 @@ impl TryFrom<FootConfig> for core::FootConfig {
     }
 }
 
-/// The core's default configuration (identity axes, SHOE detector, full correction).
+/// The core's default configuration (identity axes, SVM + adaptive detector, full correction).
 #[uniffi::export]
 pub fn foot_config_default() -> FootConfig {
     core::FootConfig::default().into()
@@ -944,7 +982,7 @@ impl FootNavigator {
         guard(|| Ok(Self::wrap(core::FootNavigator::restore(&snapshot)?)))
     }
 
-    /// A navigator with the default configuration (identity axes, SHOE detector).
+    /// A navigator with the default configuration (identity axes, SVM + adaptive detector).
     #[uniffi::constructor]
     pub fn with_defaults() -> Arc<Self> {
         Self::wrap(
@@ -1061,6 +1099,7 @@ mod tests {
             FootDetectorKind::Fixed,
             FootDetectorKind::Adaptive,
             FootDetectorKind::Svm,
+            FootDetectorKind::SvmAdaptive,
             FootDetectorKind::Shoe,
         ] {
             let det = foot_detector_default(kind);

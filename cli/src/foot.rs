@@ -34,6 +34,7 @@ pub fn run(
     }
     let trial = Trial {
         best: "shoe_opt".into(),
+        runner_up: None,
         pyshoe_best_m: None,
         run: false,
         path_m: 0.0,

@@ -18,7 +18,7 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use stridekit_core::foot::{
-    AdaptiveThresholds, FixedThresholds, FootConfig, FootNavigator, FootSample,
+    AdaptiveThresholds, FixedThresholds, FootConfig, FootNavigator, FootSample, ShoeDetector,
     ZeroVelocityDetector,
 };
 use stridekit_core::sim::{simulate_foot, FootScenario};
@@ -42,15 +42,16 @@ fn samples(n: usize) -> Vec<FootSample> {
         .collect()
 }
 
-fn detectors() -> [(&'static str, ZeroVelocityDetector); 4] {
+fn detectors() -> [(&'static str, ZeroVelocityDetector); 5] {
     [
-        ("shoe", ZeroVelocityDetector::default()),
+        ("shoe", ZeroVelocityDetector::Shoe(ShoeDetector::default())),
         ("fixed", ZeroVelocityDetector::Fixed(FixedThresholds::WALK)),
         (
             "adaptive",
             ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
         ),
         ("svm", ZeroVelocityDetector::default_svm()),
+        ("svm+adaptive", ZeroVelocityDetector::default()),
     ]
 }
 

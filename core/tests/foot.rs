@@ -2,10 +2,12 @@
 //! static alignment, sample rates, jitter and dropped samples, sensor axes, and
 //! snapshot/restore splitting a replay anywhere.
 
+use std::sync::Arc;
 use stridekit_core::foot::{
     AdaptiveThresholds, FixedThresholds, FootConfig, FootError, FootEstimate, FootNavigator,
-    ZeroVelocityDetector,
+    ShoeDetector, SvmAdaptive, SvmModel, WindowStats, ZeroVelocityDetector,
 };
+
 use stridekit_core::sim::{simulate_foot, FootScenario, SimulatedFoot};
 use stridekit_core::snapshot::SnapshotError;
 
@@ -73,7 +75,8 @@ fn simulated_walk_closes_its_loop_with_every_detector() {
     let sim = simulate_foot(&FootScenario::walk(1, 2));
     assert_eq!(sim.strides.len(), 84);
     for det in [
-        ZeroVelocityDetector::default(),
+        ZeroVelocityDetector::default(), // svm+adaptive
+        ZeroVelocityDetector::Shoe(ShoeDetector::default()),
         ZeroVelocityDetector::Fixed(FixedThresholds::WALK),
         ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
     ] {
@@ -114,7 +117,8 @@ fn simulated_walk_closes_its_loop_with_every_detector() {
 fn simulated_run_closes_its_loop() {
     let sim = simulate_foot(&FootScenario::run(2, 2));
     for det in [
-        ZeroVelocityDetector::default(),
+        ZeroVelocityDetector::default(), // svm+adaptive
+        ZeroVelocityDetector::Shoe(ShoeDetector::default()),
         ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
     ] {
         let name = det.name();
@@ -376,14 +380,18 @@ fn snapshot_restore_splits_anywhere() {
         ..FootConfig::default()
     };
     for det in [
-        ZeroVelocityDetector::default(),
+        ZeroVelocityDetector::default(), // svm+adaptive
+        ZeroVelocityDetector::Shoe(ShoeDetector::default()),
         ZeroVelocityDetector::Fixed(FixedThresholds::WALK),
         ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
         ZeroVelocityDetector::default_svm(),
     ] {
         // Restoring the SVM detector loads its model (builds the decision tables):
         // fewer split points.
-        let svm = matches!(det, ZeroVelocityDetector::Svm(_));
+        let svm = matches!(
+            det,
+            ZeroVelocityDetector::Svm(_) | ZeroVelocityDetector::SvmAdaptive(_)
+        );
         split_everywhere(
             FootConfig {
                 detector: det,
@@ -439,4 +447,44 @@ fn snapshot_rejects_garbage() {
     for n in 0..bytes.len() {
         assert!(FootNavigator::restore(&bytes[..n]).is_err());
     }
+}
+
+#[test]
+fn svm_adaptive_switches_by_gait_and_snapshots_a_custom_model() {
+    // Below the jog boundary the SVM decides, above it the jog / run thresholds.
+    let d = SvmAdaptive::default();
+    let mut s = WindowStats {
+        acc_norm_mps2: 10.0,
+        acc_dev_mps2: 3.5,
+        gyro_norm_rads: 1.0,
+        acc_std_mps2: [1.0; 3],
+        gyro_std_rads: [0.4; 3],
+        peak_acc_norm_mps2: 90.0,
+        n: 5,
+        ..Default::default()
+    };
+    assert!(d.is_stance(&s) && d.run.is_stance(&s) && !d.jog.is_stance(&s));
+    s.peak_acc_norm_mps2 = 60.0;
+    assert!(!d.is_stance(&s));
+    for peak in [10.0, 20.0, 30.0, 45.0] {
+        s.peak_acc_norm_mps2 = peak;
+        for std in [0.01, 0.1, 1.0] {
+            s.acc_std_mps2 = [std; 3];
+            s.gyro_std_rads = [std; 3];
+            assert_eq!(d.is_stance(&s), d.svm.is_stance(&s), "peak {peak}, σ {std}");
+        }
+    }
+
+    // A model that is not the shipped one travels in the snapshot as its text.
+    let shipped = SvmModel::shared_shipped().to_text();
+    let (head, rest) = shipped.split_once('\n').unwrap();
+    let text = format!("{head}\n# a user's copy\n{rest}");
+    let model = Arc::new(SvmModel::parse(&text).unwrap());
+    assert!(!model.is_shipped());
+    let config = FootConfig {
+        detector: ZeroVelocityDetector::SvmAdaptive(SvmAdaptive::with_model(model)),
+        ..FootConfig::default()
+    };
+    let sim = simulate_foot(&FootScenario::walk(12, 1));
+    split_everywhere(config, &sim, 499, 120, 2);
 }

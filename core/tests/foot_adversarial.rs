@@ -5,13 +5,14 @@
 
 use stridekit_core::foot::{
     AdaptiveThresholds, FixedThresholds, FootConfig, FootError, FootEstimate, FootNavigator,
-    FootSample, ZeroVelocityDetector,
+    FootSample, ShoeDetector, ZeroVelocityDetector,
 };
 use stridekit_core::sim::{simulate_foot, FootScenario, Rng};
 
-fn detectors() -> [ZeroVelocityDetector; 4] {
+fn detectors() -> [ZeroVelocityDetector; 5] {
     [
-        ZeroVelocityDetector::default(),
+        ZeroVelocityDetector::default(), // svm+adaptive
+        ZeroVelocityDetector::Shoe(ShoeDetector::default()),
         ZeroVelocityDetector::Fixed(FixedThresholds::WALK),
         ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
         ZeroVelocityDetector::default_svm(),

@@ -9,6 +9,8 @@
 //!   (walk / jog / run), the gait classified by the peak ‖f‖ over the last stride.
 //! - [`SvmModel`](super::svm::SvmModel): six Gaussian-kernel SVMs on
 //!   (peak ‖f‖, σ of one axis) pairs; stance only if all six agree (paper).
+//! - [`SvmAdaptive`]: the SVM while walking, the adaptive detector's jog and run
+//!   thresholds from the jog boundary up (the SVM's features overlap in running).
 //! - [`ShoeDetector`]: the SHOE / GLRT detector of Skog et al. (2010), as in
 //!   OpenShoe and pyshoe, as a reference.
 
@@ -177,6 +179,66 @@ impl AdaptiveThresholds {
     }
 }
 
+/// The SVM while walking and the gait-adaptive thresholds when jogging or running:
+/// the gait is classified by the peak ‖f‖ over the gait window as in
+/// [`AdaptiveThresholds`]; below `jog_peak_mps2` the SVM decides, above it the jog
+/// or run thresholds do. The SVM's (peak ‖f‖, σ) features separate walking stance
+/// well but overlap in running, where "all six agree" misses whole stances
+/// (docs/foot.md).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SvmAdaptive {
+    /// The walking detector; shared, immutable.
+    pub svm: Arc<SvmModel>,
+    /// Peak ‖f‖ from which the gait is a jog, m/s².
+    pub jog_peak_mps2: f64,
+    /// Peak ‖f‖ from which the gait is a run, m/s².
+    pub run_peak_mps2: f64,
+    pub jog: FixedThresholds,
+    pub run: FixedThresholds,
+}
+
+impl Default for SvmAdaptive {
+    /// The shipped SVM model and the jog / run part of [`AdaptiveThresholds::default`].
+    fn default() -> Self {
+        Self::with_model(SvmModel::shared_shipped())
+    }
+}
+
+impl SvmAdaptive {
+    /// `svm` with the jog / run part of [`AdaptiveThresholds::default`].
+    pub fn with_model(svm: Arc<SvmModel>) -> Self {
+        let a = AdaptiveThresholds::default();
+        Self {
+            svm,
+            jog_peak_mps2: a.jog_peak_mps2,
+            run_peak_mps2: a.run_peak_mps2,
+            jog: a.jog,
+            run: a.run,
+        }
+    }
+
+    pub fn is_stance(&self, s: &WindowStats) -> bool {
+        if s.peak_acc_norm_mps2 >= self.run_peak_mps2 {
+            self.run.is_stance(s)
+        } else if s.peak_acc_norm_mps2 >= self.jog_peak_mps2 {
+            self.jog.is_stance(s)
+        } else {
+            self.svm.is_stance(s)
+        }
+    }
+
+    fn validate(&self) -> Result<(), FootError> {
+        AdaptiveThresholds {
+            jog_peak_mps2: self.jog_peak_mps2,
+            run_peak_mps2: self.run_peak_mps2,
+            walk: FixedThresholds::WALK,
+            jog: self.jog,
+            run: self.run,
+        }
+        .validate()
+    }
+}
+
 /// SHOE (stance hypothesis optimal estimation) / GLRT detector:
 /// `T = (1/W) Σ_k ( ‖f_k − g·f̄/‖f̄‖‖² / σ_a² + ‖ω_k‖² / σ_ω² ) < γ`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -230,12 +292,14 @@ pub enum ZeroVelocityDetector {
     Adaptive(AdaptiveThresholds),
     /// Six Gaussian-kernel SVMs on (peak ‖f‖, σ of one axis); shared, immutable.
     Svm(Arc<SvmModel>),
+    /// The SVM while walking, adaptive thresholds when jogging or running.
+    SvmAdaptive(SvmAdaptive),
     Shoe(ShoeDetector),
 }
 
 impl Default for ZeroVelocityDetector {
     fn default() -> Self {
-        ZeroVelocityDetector::Shoe(ShoeDetector::default())
+        ZeroVelocityDetector::SvmAdaptive(SvmAdaptive::default())
     }
 }
 
@@ -255,6 +319,7 @@ impl ZeroVelocityDetector {
             ZeroVelocityDetector::Fixed(d) => d.is_stance(s),
             ZeroVelocityDetector::Adaptive(d) => d.is_stance(s),
             ZeroVelocityDetector::Svm(m) => m.is_stance(s),
+            ZeroVelocityDetector::SvmAdaptive(d) => d.is_stance(s),
             ZeroVelocityDetector::Shoe(d) => d.is_stance(s),
         }
     }
@@ -264,6 +329,7 @@ impl ZeroVelocityDetector {
             ZeroVelocityDetector::Fixed(d) => d.validate(),
             ZeroVelocityDetector::Adaptive(d) => d.validate(),
             ZeroVelocityDetector::Svm(_) => Ok(()),
+            ZeroVelocityDetector::SvmAdaptive(d) => d.validate(),
             ZeroVelocityDetector::Shoe(d) => d.validate(),
         }
     }
@@ -274,6 +340,7 @@ impl ZeroVelocityDetector {
             ZeroVelocityDetector::Fixed(_) => "fixed",
             ZeroVelocityDetector::Adaptive(_) => "adaptive",
             ZeroVelocityDetector::Svm(_) => "svm",
+            ZeroVelocityDetector::SvmAdaptive(_) => "svm+adaptive",
             ZeroVelocityDetector::Shoe(_) => "shoe",
         }
     }

@@ -1,6 +1,7 @@
 //! Foot-mounted inertial navigation (paper seed 001; OpenShoe / pyshoe lineage):
 //! [`FootNavigator`] runs a sliding median pre-filter, a zero-velocity detector
-//! ([`ZeroVelocityDetector`]: fixed thresholds, gait-adaptive thresholds, SVM, SHOE),
+//! ([`ZeroVelocityDetector`]: fixed thresholds, gait-adaptive thresholds, SVM, SVM
+//! while walking + adaptive thresholds when running, SHOE),
 //! strapdown mechanisation in a local level ENU frame and a 15-state error-state
 //! Kalman filter with zero-velocity updates. See `docs/foot.md`.
 
@@ -15,7 +16,8 @@ pub mod types;
 
 pub use config::{Correction, FootConfig};
 pub use detect::{
-    AdaptiveThresholds, FixedThresholds, Gait, ShoeDetector, WindowStats, ZeroVelocityDetector,
+    AdaptiveThresholds, FixedThresholds, Gait, ShoeDetector, SvmAdaptive, WindowStats,
+    ZeroVelocityDetector,
 };
 pub use error::FootError;
 pub use navigator::{FootBatchOutcome, FootNavigator, FootRejection};

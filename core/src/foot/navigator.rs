@@ -33,7 +33,8 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use super::config::{Correction, FootConfig, MAX_DETECTOR_WINDOW};
 use super::detect::{
-    AdaptiveThresholds, FixedThresholds, ShoeDetector, WindowStats, ZeroVelocityDetector, G_MPS2,
+    AdaptiveThresholds, FixedThresholds, ShoeDetector, SvmAdaptive, WindowStats,
+    ZeroVelocityDetector, G_MPS2,
 };
 use super::ekf::{Cov, Noise, Strapdown, IA, IP, IV};
 use super::error::{finite3, FootError};
@@ -707,6 +708,24 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
             w.u8(2);
             w.bytes(m.to_text().as_bytes());
         }
+        ZeroVelocityDetector::SvmAdaptive(d) => {
+            let SvmAdaptive {
+                svm,
+                jog_peak_mps2,
+                run_peak_mps2,
+                jog,
+                run,
+            } = d;
+            if svm.is_shipped() {
+                w.u8(6);
+            } else {
+                w.u8(5);
+                w.bytes(svm.to_text().as_bytes());
+            }
+            w.f64s(&[*jog_peak_mps2, *run_peak_mps2]);
+            fixed(w, jog);
+            fixed(w, run);
+        }
         ZeroVelocityDetector::Shoe(d) => {
             let ShoeDetector {
                 acc_noise_mps2,
@@ -768,6 +787,24 @@ fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
             ZeroVelocityDetector::Svm(Arc::new(SvmModel::parse(text)?))
         }
         4 => ZeroVelocityDetector::Svm(SvmModel::shared_shipped()),
+        tag @ (5 | 6) => {
+            let svm = if tag == 6 {
+                SvmModel::shared_shipped()
+            } else {
+                let text = std::str::from_utf8(r.bytes()?)
+                    .map_err(|_| SnapshotError::Invalid("detector model text"))?;
+                Arc::new(SvmModel::parse(text)?)
+            };
+            let mut p = [0.0; 2];
+            r.f64s(&mut p)?;
+            ZeroVelocityDetector::SvmAdaptive(SvmAdaptive {
+                svm,
+                jog_peak_mps2: p[0],
+                run_peak_mps2: p[1],
+                jog: fixed(r)?,
+                run: fixed(r)?,
+            })
+        }
         3 => {
             let mut p = [0.0; 3];
             r.f64s(&mut p)?;

@@ -127,8 +127,9 @@ class FootTest {
             val closure = end.horizontal() / end.distanceM
             println("FootTest: ${walk.name}: ${end.strides} strides, ${"%.2f".format(end.distanceM)} m (truth ${"%.2f".format(walk.truthPathM)} m), " +
                 "end ${"%.3f".format(end.horizontal())} m from start (${"%.2f".format(100 * closure)} %; truth ${"%.3f".format(walk.truthEndM)} m)")
-            // The default SHOE detector closes walking trials to 1.75 % (median) and this
-            // trial to about 3 % (docs/foot.md, `stridekit eval foot`); 5 % catches a
+            // The default detector (SVM while walking + adaptive when running) closes
+            // walking trials to 0.62 % (median, 3-D) and this trial to about 0.7 % with the
+            // calibrated-IMU profile (docs/foot.md, `stridekit eval foot`); 5 % catches a
             // broken pipeline without asserting accuracy the detector does not have.
             assertTrue(closure < 0.05, "loop closure ${100 * closure} % of ${end.distanceM} m")
             assertTrue(listOf(end.positionM.east, end.velocityMps.up, end.yawRad).all { it.isFinite() })
@@ -235,8 +236,9 @@ class FootTest {
 
     @Test
     fun `configuration defaults, validation and round trip`() {
-        val shoe = footDetectorDefault(FootDetectorKind.SHOE)
-        assertEquals(footConfigDefault(), FootConfig(detector = shoe, correction = FootCorrection.FULL))
+        val svmAdaptive = footDetectorDefault(FootDetectorKind.SVM_ADAPTIVE)
+        assertEquals(footConfigDefault(), FootConfig(detector = svmAdaptive, correction = FootCorrection.FULL))
+        assertTrue(svmAdaptive is FootDetector.SvmAdaptive && svmAdaptive.modelText == null, "$svmAdaptive")
         FootNavigator.withDefaults().use { assertEquals(footConfigDefault(), it.config()) }
 
         val svm = footConfigDefault().copy(
