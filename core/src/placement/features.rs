@@ -32,8 +32,9 @@
 
 use super::resample::BIN_S;
 
-/// Bins per window (5.12 s).
+/// Bins per window (5.12 s; a power of two, the DFT indexes its table with a mask).
 pub const WINDOW: usize = 256;
+const _: () = assert!(WINDOW.is_power_of_two());
 /// Number of features.
 pub const FEATURES: usize = 23;
 
@@ -217,11 +218,13 @@ pub fn window_features(tables: &FeatureTables, window: &[[f64; 3]; WINDOW]) -> F
             continue;
         };
         let (mut re, mut im) = (0.0, 0.0);
-        for (n, x) in norm.iter().enumerate() {
-            let i = (kf * n) % WINDOW;
+        // Table indices of kf·n and kf·n − N/4 (sin θ = cos(θ − π/2)), modulo N.
+        let (mut i, mut j) = (0usize, 3 * WINDOW / 4);
+        for x in &norm {
             re += x * tables.cos[i];
-            // sin(θ) = cos(θ − π/2): a quarter-table shift.
-            im += x * tables.cos[(i + 3 * WINDOW / 4) % WINDOW];
+            im += x * tables.cos[j];
+            i = (i + kf) & (WINDOW - 1);
+            j = (j + kf) & (WINDOW - 1);
         }
         bands[b] += re * re + im * im;
     }
