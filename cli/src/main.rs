@@ -9,6 +9,7 @@ mod eval_steplength;
 mod eval_steps;
 mod foot;
 mod placement;
+mod placement_mlp;
 mod replay;
 mod report;
 mod train_zupt;
@@ -68,10 +69,13 @@ USAGE:
       every Oxford Step Counter trace in DIR (default: ../shared/data/steps/oxford)
       and write a model file (default placement_lr_v1.txt, format in
       core/src/placement/model.rs).
-  stridekit eval placement [--data DIR]
+  stridekit eval placement [--data DIR] [--drop NAME,NAME...] [--l2 X] [--mlp]
       Phone-placement classifier, leave-one-user-out on the Oxford traces: window,
       smoothed and per-trace (majority vote) accuracy, confusion matrices, per-user
       accuracy, model size and cost; and the real-data model on simulated walks.
+      --drop neutralises features (ablation; names in core/src/placement/features.rs),
+      --l2 changes the training penalty (default 0.01); --mlp adds the same
+      protocol for a small MLP (comparison only, not shipped).
   stridekit help
 ";
 
@@ -189,7 +193,12 @@ fn main() -> ExitCode {
                     let line = format!("stridekit {}", args.join(" "));
                     placement::train_cmd(&d, &PathBuf::from(out), &line)
                 } else {
-                    placement::eval_cmd(&d)
+                    placement::eval_cmd(
+                        &d,
+                        flag(&args, "--drop").as_deref(),
+                        flag(&args, "--l2").and_then(|v| v.parse().ok()),
+                        args.iter().any(|a| a == "--mlp"),
+                    )
                 }
                 .map(|t| println!("{t}")),
                 _ => Err("Oxford traces not found: pass --data DIR or set STRIDEKIT_DATA".into()),

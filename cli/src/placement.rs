@@ -18,7 +18,7 @@ use stridekit_core::placement::resample::BinAverager;
 use stridekit_core::placement::train::predict;
 use stridekit_core::placement::{
     trace_features, train, Features, Placement, PlacementClassifier, PlacementModel, TrainParams,
-    CLASSES, FEATURES, WINDOW,
+    CLASSES, FEATURES, FEATURE_NAMES, WINDOW,
 };
 use stridekit_core::sim::{simulate_phone, PhonePlacement, PhoneScenario};
 use stridekit_formats::{list_oxford_traces, read_oxford_trace};
@@ -36,7 +36,7 @@ pub struct TraceWindows {
 }
 
 /// Features of every Oxford trace under `dir`, and the extraction time.
-pub fn load(dir: &Path) -> Result<(Vec<TraceWindows>, f64), String> {
+pub fn load(dir: &Path, drop: &[usize]) -> Result<(Vec<TraceWindows>, f64), String> {
     let mut out = Vec::new();
     let mut secs = 0.0;
     for path in list_oxford_traces(dir).map_err(|e| e.to_string())? {
@@ -44,8 +44,13 @@ pub fn load(dir: &Path) -> Result<(Vec<TraceWindows>, f64), String> {
         let label = Placement::from_oxford_position(t.position.name())
             .ok_or_else(|| format!("{}: no placement class", t.name))?;
         let start = Instant::now();
-        let features = trace_features(t.accel.iter().map(|a| (a.t_s, a.accel_mps2)));
+        let mut features = trace_features(t.accel.iter().map(|a| (a.t_s, a.accel_mps2)));
         secs += start.elapsed().as_secs_f64();
+        for f in &mut features {
+            for &i in drop {
+                f[i] = 0.0;
+            }
+        }
         out.push(TraceWindows {
             name: t.name,
             user: t.user,
@@ -124,7 +129,7 @@ fn provenance(line: &str, traces: &[TraceWindows], params: &TrainParams) -> Vec<
 
 /// `stridekit train placement`: train on every trace, write the model file.
 pub fn train_cmd(dir: &Path, out: &Path, line: &str) -> Result<String, String> {
-    let (traces, _) = load(dir)?;
+    let (traces, _) = load(dir, &[])?;
     let params = TrainParams::default();
     let data = labelled(traces.iter());
     let model =
@@ -186,9 +191,35 @@ fn timing(dir: &Path, model: &PlacementModel) -> Result<(f64, f64, f64), String>
 }
 
 /// `stridekit eval placement`.
-pub fn eval_cmd(dir: &Path) -> Result<String, String> {
-    let (traces, extract_s) = load(dir)?;
-    let params = TrainParams::default();
+/// `drop`: feature names to neutralise (set to 0 in training and test), for ablation.
+pub fn eval_cmd(
+    dir: &Path,
+    drop: Option<&str>,
+    l2: Option<f64>,
+    mlp: bool,
+) -> Result<String, String> {
+    let drop: Vec<usize> = match drop {
+        None => Vec::new(),
+        Some(list) => list
+            .split(',')
+            .map(|n| {
+                FEATURE_NAMES
+                    .iter()
+                    .position(|f| *f == n.trim())
+                    .ok_or_else(|| {
+                        format!(
+                            "unknown feature {n:?}; features: {}",
+                            FEATURE_NAMES.join(" ")
+                        )
+                    })
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    let (traces, extract_s) = load(dir, &drop)?;
+    let mut params = TrainParams::default();
+    if let Some(l2) = l2 {
+        params.l2 = l2;
+    }
     let mut users: Vec<String> = traces.iter().map(|t| t.user.clone()).collect();
     users.sort();
     users.dedup();
@@ -288,6 +319,45 @@ pub fn eval_cmd(dir: &Path) -> Result<String, String> {
         pct(ok_s, n_w),
         pct(ok_t, n_t)
     );
+    if mlp {
+        let _ = writeln!(
+            out,
+            "Comparison, same protocol: one-hidden-layer MLP (16 tanh units, {} bytes of parameters), L2 {}:\n",
+            crate::placement_mlp::Mlp::parameter_bytes(),
+            params.l2
+        );
+        let _ = writeln!(
+            out,
+            "| held-out user | MLP window acc. | MLP trace acc. (vote) |"
+        );
+        let _ = writeln!(out, "|---|---|---|");
+        let (mut ok, mut n, mut okt, mut nt) = (0, 0, 0, 0);
+        for user in &users {
+            let train_set = labelled(traces.iter().filter(|t| &t.user != user));
+            let m = crate::placement_mlp::train(&train_set, params.l2)?;
+            let (mut uo, mut un, mut uot, mut unt) = (0, 0, 0, 0);
+            for t in traces.iter().filter(|t| &t.user == user) {
+                let pred: Vec<Placement> = t.features.iter().map(|f| m.predict(f)).collect();
+                uo += pred.iter().filter(|p| **p == t.label).count();
+                un += pred.len();
+                if let Some(v) = vote(&pred) {
+                    unt += 1;
+                    uot += (v == t.label) as usize;
+                }
+            }
+            let _ = writeln!(out, "| {user} | {} | {} |", pct(uo, un), pct(uot, unt));
+            ok += uo;
+            n += un;
+            okt += uot;
+            nt += unt;
+        }
+        let _ = writeln!(
+            out,
+            "| **all** | **{}** | **{}** |\n",
+            pct(ok, n),
+            pct(okt, nt)
+        );
+    }
     let _ = writeln!(
         out,
         "Without the held-out traces whose class the training users never recorded: window accuracy {} ({n_w_seen} windows), trace accuracy {} ({n_t_seen} traces).\n",

@@ -9,7 +9,7 @@ use super::error::PlacementError;
 use super::features::{Features, FEATURES};
 use super::model::PlacementModel;
 
-/// Training hyper-parameters.
+/// Training hyper-parameters. The step actually taken is `step / (1 + 2·l2)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrainParams {
     /// L2 penalty on the weights (per unit of mean class-balanced loss).
@@ -116,6 +116,8 @@ pub fn train(
         }
         g
     };
+    // The penalty adds l2 to the curvature: shrink the step so descent stays stable.
+    let step = params.step / (1.0 + 2.0 * params.l2.max(0.0));
     for _ in 0..params.iterations {
         let mut look = w;
         for k in 0..CLASSES {
@@ -126,10 +128,15 @@ pub fn train(
         let g = gradient(&look);
         for k in 0..CLASSES {
             for i in 0..=FEATURES {
-                vel[k][i] = params.momentum * vel[k][i] - params.step * g[k][i];
+                vel[k][i] = params.momentum * vel[k][i] - step * g[k][i];
                 w[k][i] += vel[k][i];
             }
         }
+    }
+    if !w.iter().flatten().all(|v| v.is_finite()) {
+        return Err(PlacementError::Training {
+            reason: "gradient descent diverged (lower the step)".into(),
+        });
     }
     for k in 0..CLASSES {
         if count[k] == 0 {
