@@ -331,3 +331,51 @@ fn leave_one_user_out_accuracy_on_real_traces() {
     // the exact figure.
     assert!(acc > 0.70, "LOUO window accuracy {acc}");
 }
+
+#[test]
+fn snapshot_restore_continues_identically() {
+    let samples = walk(9, PhonePlacement::NeckPouch, 150.0, 30.0);
+    let mut whole = PlacementClassifier::shipped();
+    let expected: Vec<Option<PlacementEstimate>> = samples
+        .iter()
+        .map(|&(t, a)| whole.push(t, a).unwrap())
+        .collect();
+    assert!(expected.iter().flatten().count() > 10);
+    for split in (0..samples.len()).step_by(331).chain([samples.len() - 1]) {
+        let mut a = PlacementClassifier::shipped();
+        for &(t, x) in &samples[..split] {
+            a.push(t, x).unwrap();
+        }
+        let bytes = a.snapshot();
+        let mut b = PlacementClassifier::restore(&bytes).unwrap();
+        assert_eq!(b.estimate(), a.estimate());
+        for (k, &(t, x)) in samples.iter().enumerate().skip(split) {
+            assert_eq!(
+                b.push(t, x).unwrap(),
+                expected[k],
+                "split {split} sample {k}"
+            );
+        }
+    }
+    // Corrupt, truncated and foreign snapshots are typed errors.
+    let bytes = whole.snapshot();
+    for cut in [0, 4, 10, bytes.len() / 2, bytes.len() - 1] {
+        assert!(matches!(
+            PlacementClassifier::restore(&bytes[..cut]),
+            Err(PlacementError::Snapshot(_))
+        ));
+    }
+    let mut flipped = bytes.clone();
+    flipped[bytes.len() / 3] ^= 0x40;
+    assert!(matches!(
+        PlacementClassifier::restore(&flipped),
+        Err(PlacementError::Snapshot(_))
+    ));
+    let steps = stridekit_core::stepdetect::StepDetector::new(Default::default())
+        .unwrap()
+        .snapshot();
+    assert!(matches!(
+        PlacementClassifier::restore(&steps),
+        Err(PlacementError::Snapshot(_))
+    ));
+}

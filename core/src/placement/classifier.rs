@@ -4,12 +4,19 @@
 //! over the last `smoothing_windows` windows (default 8, about 10 s of walking).
 //! Errors and door checks are those of [`FeatureStream`]: a rejected sample leaves
 //! the classifier exactly as it was. No heap allocation per sample.
+//! `snapshot()` / `restore()` (engine kind byte 7) continue bit-exactly.
 
 use super::class::{Placement, CLASSES};
 use super::error::PlacementError;
 use super::model::PlacementModel;
 use super::stream::FeatureStream;
 use crate::signal::Ring;
+use crate::snapshot::{Reader, SnapshotError, Writer};
+
+/// Snapshot engine kind byte of the placement classifier.
+const SNAPSHOT_KIND: u8 = 7;
+/// Snapshot format version written by this build.
+const SNAPSHOT_VERSION: u16 = 1;
 
 /// Largest smoothing length, windows.
 pub const MAX_SMOOTHING: usize = 32;
@@ -122,6 +129,77 @@ impl PlacementClassifier {
             }
         }
         out
+    }
+
+    /// The whole state as bytes (versioned, checksummed; the model is included as
+    /// its text file, so a snapshot restores on its own).
+    pub fn snapshot(&self) -> Vec<u8> {
+        let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
+        w.bytes(self.model.to_text().as_bytes());
+        w.u64(self.smoothing as u64);
+        self.stream.write(&mut w);
+        w.u64(self.recent_log_p.len() as u64);
+        for v in self.recent_log_p.iter() {
+            w.f64s(&v);
+        }
+        w.bool(self.latest.is_some());
+        if let Some(e) = &self.latest {
+            w.f64(e.t_s);
+            w.u8(e.placement.index() as u8);
+            w.f64(e.confidence);
+            w.f64s(&e.probabilities);
+            w.f64s(&e.window_probabilities);
+            w.u64(e.windows);
+        }
+        w.u64(self.windows);
+        w.finish()
+    }
+
+    /// A classifier continuing exactly where the snapshot was taken.
+    pub fn restore(bytes: &[u8]) -> Result<Self, PlacementError> {
+        let (mut r, _version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let text = std::str::from_utf8(r.bytes()?).map_err(|_| SnapshotError::Invalid("model"))?;
+        let model = PlacementModel::parse(text)?;
+        let smoothing = r.len(MAX_SMOOTHING)?.max(1);
+        let stream = FeatureStream::read(&mut r)?;
+        let mut recent_log_p = Ring::new();
+        for _ in 0..r.len(MAX_SMOOTHING)? {
+            let mut v = [0.0; CLASSES];
+            r.f64s(&mut v)?;
+            recent_log_p.push(v);
+        }
+        let latest = if r.bool()? {
+            let t_s = r.f64()?;
+            let placement = *Placement::ALL
+                .get(r.u8()? as usize)
+                .ok_or(SnapshotError::Invalid("placement"))?;
+            let confidence = r.f64()?;
+            let mut probabilities = [0.0; CLASSES];
+            r.f64s(&mut probabilities)?;
+            let mut window_probabilities = [0.0; CLASSES];
+            r.f64s(&mut window_probabilities)?;
+            let windows = r.u64()?;
+            Some(PlacementEstimate {
+                t_s,
+                placement,
+                confidence,
+                probabilities,
+                window_probabilities,
+                windows,
+            })
+        } else {
+            None
+        };
+        let windows = r.u64()?;
+        r.end()?;
+        Ok(Self {
+            model,
+            smoothing,
+            stream,
+            recent_log_p,
+            latest,
+            windows,
+        })
     }
 
     fn classify(&mut self, t_s: f64, f: &super::features::Features) -> PlacementEstimate {

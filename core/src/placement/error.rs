@@ -35,6 +35,9 @@ pub enum PlacementError {
     /// The model file is corrupt (1-based line number; 0 = the file as a whole).
     #[error("placement model line {line}: {reason}")]
     Model { line: usize, reason: String },
+    /// A snapshot could not be restored.
+    #[error("cannot restore snapshot: {0}")]
+    Snapshot(#[from] crate::snapshot::SnapshotError),
     /// Training data cannot produce a model.
     #[error("cannot train: {reason}")]
     Training { reason: String },

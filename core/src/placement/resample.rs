@@ -97,6 +97,32 @@ impl BinAverager {
         out
     }
 
+    pub(crate) fn write(&self, w: &mut crate::snapshot::Writer) {
+        w.bool(self.prev.is_some());
+        let (t, a) = self.prev.unwrap_or_default();
+        w.f64(t);
+        w.f64s(&a);
+        w.f64(self.bin_end_s);
+        w.f64s(&self.acc);
+    }
+
+    pub(crate) fn read(
+        r: &mut crate::snapshot::Reader<'_>,
+    ) -> Result<Self, crate::snapshot::SnapshotError> {
+        let some = r.bool()?;
+        let t = r.f64()?;
+        let mut a = [0.0; 3];
+        r.f64s(&mut a)?;
+        let bin_end_s = r.f64()?;
+        let mut acc = [0.0; 3];
+        r.f64s(&mut acc)?;
+        Ok(Self {
+            prev: some.then_some((t, a)),
+            bin_end_s,
+            acc,
+        })
+    }
+
     fn start(&mut self, t_s: f64, a: [f64; 3]) {
         self.prev = Some((t_s, a));
         self.bin_end_s = t_s + BIN_S;

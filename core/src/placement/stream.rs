@@ -16,6 +16,7 @@ use super::error::PlacementError;
 use super::features::{window_features, FeatureTables, Features, WINDOW};
 use super::resample::BinAverager;
 use crate::signal::Ring;
+use crate::snapshot::SnapshotError;
 
 /// Bins between two feature windows (1.28 s).
 pub const HOP: usize = 64;
@@ -116,6 +117,38 @@ impl FeatureStream {
             }
         }
         Ok(if due { self.current_features() } else { None })
+    }
+
+    pub(crate) fn write(&self, w: &mut crate::snapshot::Writer) {
+        self.bins.write(w);
+        w.u64(self.window.len() as u64);
+        for v in self.window.iter() {
+            w.f64s(&v);
+        }
+        w.u64(self.since_window as u64);
+        w.opt_f64(self.last_t_s);
+        w.f64(self.units_mean_mps2);
+    }
+
+    pub(crate) fn read(r: &mut crate::snapshot::Reader<'_>) -> Result<Self, SnapshotError> {
+        let bins = BinAverager::read(r)?;
+        let mut window = Ring::new();
+        for _ in 0..r.len(WINDOW)? {
+            let mut v = [0.0; 3];
+            r.f64s(&mut v)?;
+            window.push(v);
+        }
+        let since_window = r.len(u32::MAX as usize)?;
+        let last_t_s = r.opt_f64()?;
+        let units_mean_mps2 = r.f64()?;
+        Ok(Self {
+            tables: FeatureTables::default(),
+            bins,
+            window,
+            since_window,
+            last_t_s,
+            units_mean_mps2,
+        })
     }
 
     /// Features of the current window (`None` until the window is full).
