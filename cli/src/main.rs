@@ -8,6 +8,8 @@ mod eval_pdr;
 mod eval_steplength;
 mod eval_steps;
 mod foot;
+mod placement;
+mod placement_mlp;
 mod replay;
 mod report;
 mod train_zupt;
@@ -62,6 +64,18 @@ USAGE:
       Train the SVM zero-velocity detector (six Gaussian-kernel SVMs) on the trials
       in DIR (default: all; --split K/N leaves out fold K of N, by position modulo N)
       and write a model file (format v1, see core/src/foot/svm.rs).
+  stridekit train placement [--data DIR] [--out FILE]
+      Train the phone-placement classifier (logistic regression, core::placement) on
+      every Oxford Step Counter trace in DIR (default: ../shared/data/steps/oxford)
+      and write a model file (default placement_lr_v1.txt, format in
+      core/src/placement/model.rs).
+  stridekit eval placement [--data DIR] [--drop NAME,NAME...] [--l2 X] [--mlp]
+      Phone-placement classifier, leave-one-user-out on the Oxford traces: window,
+      smoothed and per-trace (majority vote) accuracy, confusion matrices, per-user
+      accuracy, model size and cost; and the real-data model on simulated walks.
+      --drop neutralises features (ablation; names in core/src/placement/features.rs),
+      --l2 changes the training penalty (default 0.01); --mlp adds the same
+      protocol for a small MLP (comparison only, not shipped).
   stridekit help
 ";
 
@@ -167,6 +181,27 @@ fn main() -> ExitCode {
                 )
                 .map(|t| println!("{t}")),
                 _ => Err("foot trials not found: pass --data DIR or set STRIDEKIT_DATA".into()),
+            }
+        }
+        Some("train" | "eval") if args.get(1).map(String::as_str) == Some("placement") => {
+            let dir = flag(&args, "--data")
+                .map(PathBuf::from)
+                .or_else(|| stridekit_formats::data_dir().map(|d| d.join("steps/oxford")));
+            match dir {
+                Some(d) if d.is_dir() => if args[0] == "train" {
+                    let out = flag(&args, "--out").unwrap_or_else(|| "placement_lr_v1.txt".into());
+                    let line = format!("stridekit {}", args.join(" "));
+                    placement::train_cmd(&d, &PathBuf::from(out), &line)
+                } else {
+                    placement::eval_cmd(
+                        &d,
+                        flag(&args, "--drop").as_deref(),
+                        flag(&args, "--l2").and_then(|v| v.parse().ok()),
+                        args.iter().any(|a| a == "--mlp"),
+                    )
+                }
+                .map(|t| println!("{t}")),
+                _ => Err("Oxford traces not found: pass --data DIR or set STRIDEKIT_DATA".into()),
             }
         }
         Some("eval") if args.get(1).map(String::as_str) == Some("pdr") => {

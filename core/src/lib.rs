@@ -14,6 +14,7 @@ pub mod foot;
 pub mod geo;
 pub mod pace;
 pub mod pdr;
+pub mod placement;
 pub mod signal;
 pub mod sim;
 pub mod snapshot;

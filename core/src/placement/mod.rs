@@ -1,0 +1,32 @@
+//! Phone placement classifier: where the phone is carried (in the hand, in a trouser
+//! pocket, in a bag, in a neck pouch, on an armband, in a swinging hand), from the
+//! accelerometer alone, at any sampling rate and phone orientation.
+//!
+//! - [`class`]: the [`Placement`] classes and their mapping from the Oxford Step
+//!   Counter positions and the simulator's placements;
+//! - [`resample`]: rate-independent 20-ms bin means;
+//! - [`features`]: 23 window features (5.12 s windows every 1.28 s);
+//! - [`stream`]: [`FeatureStream`], door checks + bins + window ring;
+//! - [`model`]: [`PlacementModel`], multinomial logistic regression and its
+//!   versioned text file (`core/models/placement_lr_v1.txt` ships, [`PlacementModel::shipped`]);
+//! - [`train`]: class-balanced training of the model;
+//! - [`classifier`]: [`PlacementClassifier`], the streaming engine apps use.
+//!
+//! Accuracy (leave-one-user-out on the Oxford traces) and limits: docs/odometry.md.
+
+pub mod class;
+pub mod classifier;
+mod error;
+pub mod features;
+pub mod model;
+pub mod resample;
+pub mod stream;
+pub mod train;
+
+pub use class::{Placement, CLASSES};
+pub use classifier::{PlacementBatch, PlacementClassifier, PlacementEstimate, PlacementRejection};
+pub use error::PlacementError;
+pub use features::{Features, FEATURES, FEATURE_NAMES, WINDOW};
+pub use model::PlacementModel;
+pub use stream::{trace_features, FeatureStream, HOP};
+pub use train::{train, TrainParams};
