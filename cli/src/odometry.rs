@@ -202,6 +202,14 @@ pub fn eval(model: Option<&Path>, seeds: u64, placement_known: bool) -> Result<S
     fmt_scores(&mut out, "**all**", &total);
     let _ = writeln!(
         out,
+        "\nModel: {} bytes of weights ({} regressors); engine state (size_of PhoneOdometry, \
+         heap model included in the weights figure): {} bytes.",
+        model.size_bytes(),
+        model.regressors.iter().flatten().count(),
+        std::mem::size_of::<stridekit_core::odometry::PhoneOdometry>()
+    );
+    let _ = writeln!(
+        out,
         "\nPer window (same walks): speed RMSE and direction RMSE of the regressor \
          (windows faster than 0.3 m/s).\n\n| placement | speed RMSE m/s | direction RMSE ° |\n|---|---|---|\n{diag_rows}"
     );
