@@ -64,6 +64,7 @@ USAGE:
       in DIR (default: all; --split K/N leaves out fold K of N, by position modulo N)
       and write a model file (format v1, see core/src/foot/svm.rs).
   stridekit train odometry [--sim-seeds N | --ridi DIR | --ronin DIR] [--out FILE]
+                           [--window SAMPLES] [--lambda L]
       Fit the learned phone odometry (one velocity regressor per placement and a
       general one) on N simulated walks per placement (default 8), or on RIDI
       sequences / RoNIN CSV exports in DIR; write a model file (format v1, see
@@ -222,7 +223,14 @@ fn main() -> ExitCode {
                         .unwrap_or(8),
                 },
             };
-            odometry::train(src, &PathBuf::from(out), &line).map(|t| println!("{t}"))
+            let mut params = stridekit_core::odometry::PipelineParams::default();
+            if let Some(w) = flag(&args, "--window").and_then(|s| s.parse().ok()) {
+                params.window = w;
+            }
+            if let Some(l) = flag(&args, "--lambda").and_then(|s| s.parse().ok()) {
+                params.lambda = l;
+            }
+            odometry::train(src, params, &PathBuf::from(out), &line).map(|t| println!("{t}"))
         }
         Some("eval") if args.get(1).map(String::as_str) == Some("odometry") => {
             let seeds = flag(&args, "--seeds")

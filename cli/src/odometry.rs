@@ -78,8 +78,13 @@ pub enum TrainSource<'a> {
 }
 
 /// Train and write the model; returns a summary.
-pub fn train(src: TrainSource, out: &Path, command: &str) -> Result<String, String> {
-    let params = PipelineParams::default();
+pub fn train(
+    src: TrainSource,
+    params: PipelineParams,
+    out: &Path,
+    command: &str,
+) -> Result<String, String> {
+    params.validate()?;
     let started = Instant::now();
     let (windows, what): (Vec<LabelledWindow>, String) = match src {
         TrainSource::Sim { seeds } => (
