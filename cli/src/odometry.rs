@@ -244,10 +244,27 @@ pub fn replay(file: &str, model: Option<&Path>, svg: &Path) -> Result<String, St
         color: Some((0, 0, 0)),
         style: Default::default(),
     }];
+    // The naive baselines drift thousands of metres: draw them only until they leave
+    // a frame of twice the truth's extent, so the truth and the learned track stay
+    // readable.
+    let (mut lo, mut hi) = ((f64::MAX, f64::MAX), (f64::MIN, f64::MIN));
+    for p in &tracks.truth {
+        lo = (lo.0.min(p.1), lo.1.min(p.2));
+        hi = (hi.0.max(p.1), hi.1.max(p.2));
+    }
+    let centre = (0.5 * (lo.0 + hi.0), 0.5 * (lo.1 + hi.1));
+    let reach = (hi.0 - lo.0).max(hi.1 - lo.1).max(10.0);
+    let inside = |p: &(f64, f64)| (p.0 - centre.0).abs() < reach && (p.1 - centre.1).abs() < reach;
     for (k, m) in tracks.methods.iter().enumerate() {
+        let mut points = xy(m);
+        let mut name = METHODS[k].to_string();
+        if let Some(cut) = points.iter().position(|p| !inside(p)) {
+            points.truncate(cut);
+            name.push_str(" (until off the frame)");
+        }
         series.push(Series {
-            name: METHODS[k].into(),
-            points: xy(m),
+            name,
+            points,
             color: None,
             style: Default::default(),
         });
