@@ -229,6 +229,14 @@ fn snapshot_split_and_restore_gives_identical_output() {
         run(&mut restored, &samples[split..], &mut out);
         assert_eq!(out, whole, "split at {split}");
     }
+    // Every sample a split point: snapshot and restore before each push.
+    let mut eng = PhoneOdometry::shipped(cfg).unwrap();
+    let mut out = Vec::new();
+    for x in samples {
+        eng = PhoneOdometry::restore(&eng.snapshot()).unwrap();
+        run(&mut eng, std::slice::from_ref(x), &mut out);
+    }
+    assert_eq!(out, whole, "restored before every sample");
     // Corrupt snapshots are typed errors.
     let bytes = PhoneOdometry::shipped(cfg).unwrap().snapshot();
     let mut bad = bytes.clone();
