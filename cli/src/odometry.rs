@@ -19,6 +19,9 @@ use stridekit_formats::{
 
 use crate::report::{track_chart, Series};
 
+/// Span over which recordings without an ENU heading are aligned, s.
+const HEADING_FIT_S: f64 = 20.0;
+
 /// Truth of a recording: linear interpolation of its positions.
 struct RecTruth<'a>(&'a Recording);
 
@@ -236,7 +239,16 @@ pub fn replay(file: &str, model: Option<&Path>, svg: &Path) -> Result<String, St
         read_inertial(Path::new(file)).map_err(|e| e.to_string())?
     };
     let samples = samples_of(&rec);
-    let tracks = run_methods(&samples, &RecTruth(&rec), &model, placement_of(&rec));
+    let mut tracks = run_methods(&samples, &RecTruth(&rec), &model, placement_of(&rec));
+    let has_mag = samples.iter().all(|s| s.mag_ut.is_some());
+    let mut note = String::new();
+    if !has_mag || !file.starts_with("sim:") {
+        // Truth frame not ENU (Tango) or heading relative to the start: align it.
+        tracks.align_heading(HEADING_FIT_S);
+        note = format!(
+            "tracks rotated about their start to the truth's heading over the first {HEADING_FIT_S} s\n"
+        );
+    }
     let xy = |v: &[(f64, f64, f64)]| v.iter().map(|p| (p.1, p.2)).collect::<Vec<_>>();
     let mut series = vec![Series {
         name: "truth".into(),
@@ -277,6 +289,7 @@ pub fn replay(file: &str, model: Option<&Path>, svg: &Path) -> Result<String, St
         samples.len(),
         tracks.truth.len()
     );
+    out.push_str(&note);
     for (k, (a, r)) in tracks.scores().iter().enumerate() {
         let _ = writeln!(out, "{:<30} ATE {a:8.2} m  RTE {r:8.2} m", METHODS[k]);
     }

@@ -284,3 +284,21 @@ fn pushing_samples_does_not_allocate() {
         assert!(estimates > 1000, "{estimates}");
     }
 }
+
+#[test]
+fn heading_alignment_undoes_a_frame_rotation() {
+    use stridekit_core::odometry::evaluate::Tracks;
+    let truth: Vec<(f64, f64, f64)> = (0..300)
+        .map(|i| (i as f64 * 0.1, i as f64 * 0.1, 0.0))
+        .collect();
+    // The same walk in a frame turned by 70°.
+    let (s, c) = 70f64.to_radians().sin_cos();
+    let turned: Vec<_> = truth.iter().map(|p| (p.0, c * p.1, s * p.1)).collect();
+    let mut tracks = Tracks {
+        truth: truth.clone(),
+        methods: [turned.clone(), turned.clone(), turned.clone(), turned],
+    };
+    assert!(tracks.scores()[0].0 > 5.0);
+    tracks.align_heading(20.0);
+    assert!(tracks.scores()[0].0 < 1e-9);
+}

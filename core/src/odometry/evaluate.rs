@@ -28,6 +28,34 @@ pub struct Tracks {
 pub type Scores = [(f64, f64); 4];
 
 impl Tracks {
+    /// Rotate every method's track about its start point so that its displacement
+    /// at `fit_s` after the start points the same way as the truth's. For
+    /// recordings whose truth frame is not ENU or whose heading is relative (no
+    /// magnetometer): the rotation between the two frames is unknown otherwise.
+    /// Uses the truth, so it is an evaluation aid, not part of the pipeline.
+    pub fn align_heading(&mut self, fit_s: f64) {
+        let Some(t0) = self.truth.first().copied() else {
+            return;
+        };
+        let k = self.truth.partition_point(|p| p.0 < t0.0 + fit_s);
+        let Some(tk) = self.truth.get(k).copied() else {
+            return;
+        };
+        let want = (tk.2 - t0.2).atan2(tk.1 - t0.1);
+        for m in self.methods.iter_mut() {
+            let (Some(m0), Some(mk)) = (m.first().copied(), m.get(k).copied()) else {
+                continue;
+            };
+            let have = (mk.2 - m0.2).atan2(mk.1 - m0.1);
+            let (s, c) = (want - have).sin_cos();
+            for p in m.iter_mut() {
+                let (dx, dy) = (p.1 - m0.1, p.2 - m0.2);
+                p.1 = m0.1 + c * dx - s * dy;
+                p.2 = m0.2 + s * dx + c * dy;
+            }
+        }
+    }
+
     pub fn scores(&self) -> Scores {
         let mut s = [(f64::NAN, f64::NAN); 4];
         for (k, m) in self.methods.iter().enumerate() {
