@@ -1,7 +1,9 @@
 //! Resampling onto the model's rate: linear interpolation of the stabilised
 //! channels between consecutive input samples at the grid times `t0 + k / rate`.
-//! Input faster than the model is decimated by interpolation (the Gaussian smoothing
-//! that follows is the anti-alias filter), slower input is interpolated.
+//! Input faster than the model is decimated by interpolation *without* an
+//! anti-alias filter (the Gaussian smoothing comes after the resampling): content
+//! above the model's Nyquist frequency (50 Hz at 100 Hz) folds back. Gait content
+//! is far below it; sensor noise aliases. Slower input is interpolated.
 
 /// Gyro (ENU, rad/s) then linear acceleration (ENU, m/s²).
 pub type Channels = [f64; 6];
