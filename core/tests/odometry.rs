@@ -302,3 +302,29 @@ fn heading_alignment_undoes_a_frame_rotation() {
     tracks.align_heading(20.0);
     assert!(tracks.scores()[0].0 < 1e-9);
 }
+
+#[test]
+fn external_attitude_is_checked_and_used() {
+    let (sim, samples) = walk(FIRST_EVAL_SEED + 12, PhonePlacement::InHand);
+    let mut eng = PhoneOdometry::shipped(OdometryConfig::default()).unwrap();
+    let before = eng.snapshot();
+    assert!(matches!(
+        eng.push_with_attitude(&samples[0], [f64::NAN, 0.0, 0.0, 0.0]),
+        Err(OdometryError::NonFinite { .. })
+    ));
+    assert!(matches!(
+        eng.push_with_attitude(&samples[0], [0.0; 4]),
+        Err(OdometryError::OutOfRange { .. })
+    ));
+    assert_eq!(eng.snapshot(), before);
+    // The simulator's true attitude (10 Hz, nearest earlier) gives finite output.
+    let mut n = 0;
+    for s in &samples[..3000] {
+        let q = sim.truth_at(s.t_s).attitude_wxyz;
+        if let Some(e) = eng.push_with_attitude(s, q).unwrap() {
+            assert!(e.is_finite());
+            n += 1;
+        }
+    }
+    assert!(n > 200);
+}

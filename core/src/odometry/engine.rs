@@ -157,13 +157,48 @@ impl PhoneOdometry {
     /// One sample. Returns the new estimate when a window completed. On error the
     /// state is unchanged.
     pub fn push(&mut self, s: &OdometrySample) -> Result<Option<OdometryEstimate>, OdometryError> {
+        self.push_inner(s, None)
+    }
+
+    /// One sample with the attitude from outside (body → ENU quaternion `[w, x, y, z]`,
+    /// e.g. the OS's rotation vector, as RIDI and RoNIN use; or the truth, for
+    /// diagnosis) instead of the internal AHRS, which is not advanced. The
+    /// quaternion is normalised; a norm outside 0.5..2 or a non-finite component is
+    /// an error.
+    pub fn push_with_attitude(
+        &mut self,
+        s: &OdometrySample,
+        attitude_wxyz: [f64; 4],
+    ) -> Result<Option<OdometryEstimate>, OdometryError> {
+        if !attitude_wxyz.iter().all(|v| v.is_finite()) {
+            return Err(OdometryError::NonFinite {
+                field: "attitude_wxyz",
+            });
+        }
+        let n = attitude_wxyz.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !(0.5..=2.0).contains(&n) {
+            return Err(OdometryError::OutOfRange {
+                field: "attitude_wxyz",
+                value: n,
+            });
+        }
+        self.push_inner(s, Some(attitude_wxyz.map(|v| v / n)))
+    }
+
+    fn push_inner(
+        &mut self,
+        s: &OdometrySample,
+        attitude: Option<[f64; 4]>,
+    ) -> Result<Option<OdometryEstimate>, OdometryError> {
         check(s, self.last_t_s)?;
         let mag = if self.config.use_magnetometer {
             s.mag_ut
         } else {
             None
         };
-        self.ahrs.update(s.t_s, s.gyro_rads, s.accel_mps2, mag)?;
+        if attitude.is_none() {
+            self.ahrs.update(s.t_s, s.gyro_rads, s.accel_mps2, mag)?;
+        }
         // Nothing below fails.
         if let Some(last) = self.last_t_s {
             if s.t_s - last > self.config.ahrs.max_gap_s {
@@ -176,7 +211,9 @@ impl PhoneOdometry {
             }
         }
         self.last_t_s = Some(s.t_s);
-        let q = self.ahrs.quaternion().unwrap_or([1.0, 0.0, 0.0, 0.0]);
+        let q = attitude
+            .or_else(|| self.ahrs.quaternion())
+            .unwrap_or([1.0, 0.0, 0.0, 0.0]);
         let st = stabilise(
             s.t_s,
             &q,
