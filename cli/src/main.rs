@@ -8,6 +8,7 @@ mod eval_pdr;
 mod eval_steplength;
 mod eval_steps;
 mod foot;
+mod odometry;
 mod placement;
 mod placement_mlp;
 mod replay;
@@ -76,6 +77,20 @@ USAGE:
       --drop neutralises features (ablation; names in core/src/placement/features.rs),
       --l2 changes the training penalty (default 0.01); --mlp adds the same
       protocol for a small MLP (comparison only, not shipped).
+  stridekit train odometry [--sim-seeds N | --ridi DIR | --ronin DIR] [--out FILE]
+                           [--window SAMPLES] [--lambda L]
+      Fit the learned phone odometry (one velocity regressor per placement and a
+      general one) on N simulated walks per placement (default 8), or on RIDI
+      sequences / RoNIN CSV exports in DIR; write a model file (format v1, see
+      core/src/odometry/model.rs; default odometry_v1.txt).
+  stridekit eval odometry [--model FILE] [--seeds N] [--unknown-placement]
+      ATE / RTE (RoNIN's definitions) per placement of the learned pipeline, without
+      bias correction, and naive double integration with fixed and AHRS orientation,
+      on N held-out simulated walks per placement (default 5; seeds from 10000).
+  stridekit odometry FILE|DIR|sim:SEED:PLACEMENT [--model M] [--out traj.svg]
+      Replay a recording (RIDI sequence, RIDI data.csv, RoNIN CSV export or a
+      simulator walk) through the learned pipeline and the baselines; print ATE / RTE
+      and write an SVG of the trajectories against the truth.
   stridekit help
 ";
 
@@ -229,6 +244,46 @@ fn main() -> ExitCode {
                 _ => Err("Oxford traces not found: pass --data DIR or set STRIDEKIT_DATA".into()),
             }
         }
+        Some("train") if args.get(1).map(String::as_str) == Some("odometry") => {
+            let out = flag(&args, "--out").unwrap_or_else(|| "odometry_v1.txt".into());
+            let line = format!("stridekit {}", args.join(" "));
+            let ridi = flag(&args, "--ridi").map(PathBuf::from);
+            let ronin = flag(&args, "--ronin").map(PathBuf::from);
+            let src = match (&ridi, &ronin) {
+                (Some(d), _) => odometry::TrainSource::Ridi(d),
+                (_, Some(d)) => odometry::TrainSource::Ronin(d),
+                _ => odometry::TrainSource::Sim {
+                    seeds: flag(&args, "--sim-seeds")
+                        .and_then(|s| s.parse().ok())
+                        .unwrap_or(8),
+                },
+            };
+            let mut params = stridekit_core::odometry::PipelineParams::default();
+            if let Some(w) = flag(&args, "--window").and_then(|s| s.parse().ok()) {
+                params.window = w;
+            }
+            if let Some(l) = flag(&args, "--lambda").and_then(|s| s.parse().ok()) {
+                params.lambda = l;
+            }
+            odometry::train(src, params, &PathBuf::from(out), &line).map(|t| println!("{t}"))
+        }
+        Some("eval") if args.get(1).map(String::as_str) == Some("odometry") => {
+            let seeds = flag(&args, "--seeds")
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(5);
+            let model = flag(&args, "--model").map(PathBuf::from);
+            let known = !args.iter().any(|a| a == "--unknown-placement");
+            odometry::eval(model.as_deref(), seeds, known).map(|t| println!("{t}"))
+        }
+        Some("odometry") => match args.get(1) {
+            Some(file) => {
+                let model = flag(&args, "--model").map(PathBuf::from);
+                let out = flag(&args, "--out").unwrap_or_else(|| "odometry.svg".into());
+                odometry::replay(file, model.as_deref(), &PathBuf::from(out))
+                    .map(|t| println!("{t}"))
+            }
+            None => Err("odometry needs a FILE".into()),
+        },
         Some("help" | "--help" | "-h") => {
             print!("{USAGE}");
             Ok(())

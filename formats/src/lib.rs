@@ -14,8 +14,11 @@ mod error;
 mod fit;
 mod foot;
 mod gpx;
+mod inertial;
 mod oxford;
 mod record;
+mod ridi;
+mod ronin;
 mod tcx;
 mod xml;
 
@@ -27,10 +30,13 @@ pub use crate::error::FormatError;
 pub use crate::fit::read_fit;
 pub use crate::foot::{list_foot_trials, read_foot_csv, FootRecording};
 pub use crate::gpx::read_gpx;
+pub use crate::inertial::{read_inertial, read_inertial_dir, InertialRecording, InertialSample};
 pub use crate::oxford::{
     list_oxford_traces, read_oxford_trace, OxfordAccel, OxfordPosition, OxfordTrace,
 };
 pub use crate::record::{Activity, Record};
+pub use crate::ridi::{parse_ridi_csv, ridi_placement};
+pub use crate::ronin::parse_ronin_csv;
 pub use crate::tcx::read_tcx;
 
 /// Reads an activity file, choosing the reader from the file extension (case-insensitive):

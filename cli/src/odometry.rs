@@ -1,0 +1,365 @@
+//! `stridekit train odometry`, `stridekit eval odometry` and `stridekit odometry FILE`:
+//! the learned phone inertial odometry (core/src/odometry) on the simulator and on
+//! recordings in the RIDI / RoNIN layouts (stridekit-formats).
+
+use std::fmt::Write;
+use std::path::Path;
+use std::time::Instant;
+
+use stridekit_core::odometry::evaluate::{run_methods, Scores, METHODS};
+use stridekit_core::odometry::train::{
+    fit_model, labelled_windows, sim_scenario, simulated_windows, LabelledWindow, Truth,
+    FIRST_EVAL_SEED,
+};
+use stridekit_core::odometry::{OdometryModel, OdometrySample, PipelineParams};
+use stridekit_core::sim::{simulate_phone, PhonePlacement};
+use stridekit_formats::{
+    read_inertial, read_inertial_dir, InertialRecording as Recording, InertialSample,
+};
+
+use crate::report::{track_chart, Series};
+
+/// Span over which recordings without an ENU heading are aligned, s.
+const HEADING_FIT_S: f64 = 20.0;
+
+/// Truth of a recording: linear interpolation of its positions.
+struct RecTruth<'a>(&'a Recording);
+
+impl Truth for RecTruth<'_> {
+    fn position_at(&self, t: f64) -> (f64, f64) {
+        self.0.position_at(t)
+    }
+}
+
+fn placement_of(rec: &Recording) -> Option<PhonePlacement> {
+    rec.placement
+        .as_deref()
+        .and_then(stridekit_core::odometry::model::placement_from_name)
+        .flatten()
+}
+
+/// The simulator's output as a recording.
+fn from_sim(sim: &stridekit_core::sim::SimulatedPhone, p: PhonePlacement) -> Recording {
+    Recording {
+        name: format!("sim seed {}", sim.scenario.seed),
+        placement: Some(stridekit_core::odometry::model::placement_name(Some(p)).into()),
+        samples: sim
+            .samples
+            .iter()
+            .map(|s| InertialSample {
+                t_s: s.t_s,
+                accel_mps2: s.accel_mps2,
+                gyro_rads: s.gyro_radps,
+                mag_ut: Some(s.mag_ut),
+            })
+            .collect(),
+        truth: sim
+            .truth
+            .iter()
+            .map(|t| (t.t_s, t.east_m, t.north_m))
+            .collect(),
+    }
+}
+
+fn samples_of(rec: &Recording) -> Vec<OdometrySample> {
+    rec.samples
+        .iter()
+        .map(|s| OdometrySample {
+            t_s: s.t_s,
+            accel_mps2: s.accel_mps2,
+            gyro_rads: s.gyro_rads,
+            mag_ut: s.mag_ut,
+        })
+        .collect()
+}
+
+/// Source of training data.
+pub enum TrainSource<'a> {
+    Sim { seeds: u64 },
+    Ridi(&'a Path),
+    Ronin(&'a Path),
+}
+
+/// Train and write the model; returns a summary.
+pub fn train(
+    src: TrainSource,
+    params: PipelineParams,
+    out: &Path,
+    command: &str,
+) -> Result<String, String> {
+    params.validate()?;
+    let started = Instant::now();
+    let (windows, what): (Vec<LabelledWindow>, String) = match src {
+        TrainSource::Sim { seeds } => (
+            simulated_windows(seeds, params),
+            format!(
+                "simulator: seeds 1..={seeds} for each of the 7 placements (core::odometry::train::sim_scenario)"
+            ),
+        ),
+        TrainSource::Ridi(dir) | TrainSource::Ronin(dir) => {
+            let recs = read_inertial_dir(dir).map_err(|e| e.to_string())?;
+            let mut w = Vec::new();
+            for r in &recs {
+                w.extend(labelled_windows(&samples_of(r), &RecTruth(r), placement_of(r), params));
+            }
+            (w, format!("{} recordings in {}", recs.len(), dir.display()))
+        }
+    };
+    let comments = vec![
+        format!("trained by: {command}"),
+        format!("data: {what}; {} windows", windows.len()),
+        "features: core/src/odometry/features.rs (scalars sd_az sqrt_sd_az sd_ah sd_gz sd_gh zc_hz zc_hz2 zc_sqrt_sd_az ln_sd_az mean_g_norm)".into(),
+    ];
+    let model = fit_model(&windows, params, comments).ok_or("too few windows to fit")?;
+    std::fs::write(out, model.to_text()).map_err(|e| format!("{}: {e}", out.display()))?;
+    Ok(format!(
+        "{} windows, {} regressors, {} bytes of weights, {:.1} s; wrote {}",
+        windows.len(),
+        model.regressors.iter().flatten().count(),
+        model.size_bytes(),
+        started.elapsed().as_secs_f64(),
+        out.display()
+    ))
+}
+
+fn load_model(path: Option<&Path>) -> Result<OdometryModel, String> {
+    match path {
+        None => Ok(OdometryModel::shipped()),
+        Some(p) => {
+            let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+            OdometryModel::parse(&text).map_err(|e| format!("{}: {e}", p.display()))
+        }
+    }
+}
+
+fn fmt_scores(out: &mut String, name: &str, s: &Scores) {
+    let _ = write!(out, "| {name} |");
+    for (a, r) in s {
+        let _ = write!(out, " {a:.1} / {r:.1} |");
+    }
+    out.push('\n');
+}
+
+/// The simulator's attitude at `t`: normalised linear interpolation of the 10 Hz
+/// truth quaternions (sign-aligned).
+fn true_attitude(sim: &stridekit_core::sim::SimulatedPhone, t: f64) -> [f64; 4] {
+    let tr = &sim.truth;
+    let x = (t / 0.1).max(0.0);
+    let i = (x.floor() as usize).min(tr.len() - 1);
+    let j = (i + 1).min(tr.len() - 1);
+    let f = (x - i as f64).clamp(0.0, 1.0);
+    let (a, mut b) = (tr[i].attitude_wxyz, tr[j].attitude_wxyz);
+    if a.iter().zip(&b).map(|(u, v)| u * v).sum::<f64>() < 0.0 {
+        b = b.map(|v| -v);
+    }
+    let q: Vec<f64> = (0..4).map(|k| a[k] + f * (b[k] - a[k])).collect();
+    let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    [q[0] / n, q[1] / n, q[2] / n, q[3] / n]
+}
+
+/// ATE / RTE of the learned pipeline fed the true attitude.
+fn true_attitude_scores(
+    sim: &stridekit_core::sim::SimulatedPhone,
+    samples: &[OdometrySample],
+    model: &OdometryModel,
+    placement: Option<PhonePlacement>,
+) -> (f64, f64) {
+    use stridekit_core::odometry::metrics::{align_start, ate, rte};
+    let mut eng = stridekit_core::odometry::PhoneOdometry::new(
+        stridekit_core::odometry::OdometryConfig {
+            placement,
+            ..Default::default()
+        },
+        model.clone(),
+    )
+    .expect("valid model");
+    let mut est = Vec::new();
+    for s in samples {
+        if let Ok(Some(e)) = eng.push_with_attitude(s, true_attitude(sim, s.t_s)) {
+            est.push((e.t_s, e.position_m[0], e.position_m[1]));
+        }
+    }
+    let truth: Vec<_> = est
+        .iter()
+        .map(|p| {
+            let (e, n) = sim.position_at(p.0);
+            (p.0, e, n)
+        })
+        .collect();
+    align_start(&mut est, &truth);
+    (ate(&est, &truth), rte(&est, &truth, 60.0))
+}
+
+/// Per placement (ATE / RTE) of each method on held-out simulator seeds.
+pub fn eval(model: Option<&Path>, seeds: u64, placement_known: bool) -> Result<String, String> {
+    let model = load_model(model)?;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "Held-out simulator walks (seeds {FIRST_EVAL_SEED}..{}, 250 s each, \
+         core::odometry::train::sim_scenario), mean over seeds of ATE / RTE (1 min), metres; \
+         regressor: {}.\n",
+        FIRST_EVAL_SEED + seeds,
+        if placement_known {
+            "the placement's own"
+        } else {
+            "general (placement unknown)"
+        }
+    );
+    let _ = write!(out, "| placement |");
+    for m in METHODS {
+        let _ = write!(out, " {m} |");
+    }
+    out.push('\n');
+    out.push_str("|---|---|---|---|---|\n");
+    let mut total = [(0.0, 0.0); 4];
+    let mut n_total = 0.0;
+    let mut diag_rows = String::new();
+    let mut oracle_rows = String::new();
+    for p in PhonePlacement::ALL {
+        let mut diag = (0.0, 0.0, 0.0, 0.0);
+        let mut oracle = (0.0, 0.0);
+        let mut mean = [(0.0, 0.0); 4];
+        let reg = *model.regressor(placement_known.then_some(p));
+        for seed in FIRST_EVAL_SEED..FIRST_EVAL_SEED + seeds {
+            let sim = simulate_phone(&sim_scenario(seed, p));
+            let samples: Vec<OdometrySample> = sim.samples.iter().map(Into::into).collect();
+            let (a, r) = true_attitude_scores(&sim, &samples, &model, placement_known.then_some(p));
+            oracle.0 += a;
+            oracle.1 += r;
+            for w in labelled_windows(&samples, &sim, Some(p), model.params) {
+                let v = w.velocity_s_mps;
+                let s = (v[0] * v[0] + v[1] * v[1]).sqrt();
+                let est = reg.predict(&w.features);
+                diag.0 += (reg.speed(&w.features) - s).powi(2);
+                diag.1 += 1.0;
+                if s > 0.3 {
+                    let d = (est[1].atan2(est[0]) - v[1].atan2(v[0]) + std::f64::consts::PI)
+                        .rem_euclid(std::f64::consts::TAU)
+                        - std::f64::consts::PI;
+                    diag.2 += d * d;
+                    diag.3 += 1.0;
+                }
+            }
+            let tracks = run_methods(&samples, &sim, &model, placement_known.then_some(p));
+            for (k, s) in tracks.scores().iter().enumerate() {
+                mean[k].0 += s.0 / seeds as f64;
+                mean[k].1 += s.1 / seeds as f64;
+            }
+        }
+        for k in 0..4 {
+            total[k].0 += mean[k].0;
+            total[k].1 += mean[k].1;
+        }
+        n_total += 1.0;
+        let name = stridekit_core::odometry::model::placement_name(Some(p));
+        fmt_scores(&mut out, name, &mean);
+        let _ = writeln!(
+            oracle_rows,
+            "| {name} | {:.1} / {:.1} |",
+            oracle.0 / seeds as f64,
+            oracle.1 / seeds as f64
+        );
+        let _ = writeln!(
+            diag_rows,
+            "| {name} | {:.3} | {:.1} |",
+            (diag.0 / diag.1).sqrt(),
+            (diag.2 / diag.3).sqrt().to_degrees()
+        );
+    }
+    let total = total.map(|(a, r)| (a / n_total, r / n_total));
+    fmt_scores(&mut out, "**all**", &total);
+    let _ = writeln!(
+        out,
+        "\nDiagnosis: the learned pipeline (same model) fed the simulator's true attitude \
+         instead of the AHRS (`PhoneOdometry::push_with_attitude`), ATE / RTE, metres.\n\n\
+         | placement | learned, true attitude |\n|---|---|\n{oracle_rows}"
+    );
+    let _ = writeln!(
+        out,
+        "\nModel: {} bytes of weights ({} regressors); engine state (size_of PhoneOdometry, \
+         heap model included in the weights figure): {} bytes.",
+        model.size_bytes(),
+        model.regressors.iter().flatten().count(),
+        std::mem::size_of::<stridekit_core::odometry::PhoneOdometry>()
+    );
+    let _ = writeln!(
+        out,
+        "\nPer window (same walks): speed RMSE and direction RMSE of the regressor \
+         (windows faster than 0.3 m/s).\n\n| placement | speed RMSE m/s | direction RMSE ° |\n|---|---|---|\n{diag_rows}"
+    );
+    Ok(out)
+}
+
+/// Replay a recording (RIDI / RoNIN CSV or a simulator seed `sim:SEED:PLACEMENT`),
+/// write an SVG of the trajectories and print the errors.
+pub fn replay(file: &str, model: Option<&Path>, svg: &Path) -> Result<String, String> {
+    let model = load_model(model)?;
+    let rec = if let Some(spec) = file.strip_prefix("sim:") {
+        let (seed, place) = spec.split_once(':').unwrap_or((spec, "in_hand"));
+        let seed: u64 = seed.parse().map_err(|_| format!("bad seed in {file}"))?;
+        let p = stridekit_core::odometry::model::placement_from_name(place)
+            .flatten()
+            .ok_or_else(|| format!("unknown placement {place}"))?;
+        from_sim(&simulate_phone(&sim_scenario(seed, p)), p)
+    } else {
+        read_inertial(Path::new(file)).map_err(|e| e.to_string())?
+    };
+    let samples = samples_of(&rec);
+    let mut tracks = run_methods(&samples, &RecTruth(&rec), &model, placement_of(&rec));
+    let has_mag = samples.iter().all(|s| s.mag_ut.is_some());
+    let mut note = String::new();
+    if !has_mag || !file.starts_with("sim:") {
+        // Truth frame not ENU (Tango) or heading relative to the start: align it.
+        tracks.align_heading(HEADING_FIT_S);
+        note = format!(
+            "tracks rotated about their start to the truth's heading over the first {HEADING_FIT_S} s\n"
+        );
+    }
+    let xy = |v: &[(f64, f64, f64)]| v.iter().map(|p| (p.1, p.2)).collect::<Vec<_>>();
+    let mut series = vec![Series {
+        name: "truth".into(),
+        points: xy(&tracks.truth),
+        color: Some((0, 0, 0)),
+        style: Default::default(),
+    }];
+    // The naive baselines drift thousands of metres: draw them only until they leave
+    // a frame of twice the truth's extent, so the truth and the learned track stay
+    // readable.
+    let (mut lo, mut hi) = ((f64::MAX, f64::MAX), (f64::MIN, f64::MIN));
+    for p in &tracks.truth {
+        lo = (lo.0.min(p.1), lo.1.min(p.2));
+        hi = (hi.0.max(p.1), hi.1.max(p.2));
+    }
+    let centre = (0.5 * (lo.0 + hi.0), 0.5 * (lo.1 + hi.1));
+    let reach = (hi.0 - lo.0).max(hi.1 - lo.1).max(10.0);
+    let inside = |p: &(f64, f64)| (p.0 - centre.0).abs() < reach && (p.1 - centre.1).abs() < reach;
+    for (k, m) in tracks.methods.iter().enumerate() {
+        let mut points = xy(m);
+        let mut name = METHODS[k].to_string();
+        if let Some(cut) = points.iter().position(|p| !inside(p)) {
+            points.truncate(cut);
+            name.push_str(" (until off the frame)");
+        }
+        series.push(Series {
+            name,
+            points,
+            color: None,
+            style: Default::default(),
+        });
+    }
+    track_chart(svg, &format!("odometry: {file}"), &series).map_err(|e| e.to_string())?;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{} samples, {} estimates",
+        samples.len(),
+        tracks.truth.len()
+    );
+    out.push_str(&note);
+    for (k, (a, r)) in tracks.scores().iter().enumerate() {
+        let _ = writeln!(out, "{:<30} ATE {a:8.2} m  RTE {r:8.2} m", METHODS[k]);
+    }
+    let _ = writeln!(out, "wrote {}", svg.display());
+    Ok(out)
+}

@@ -1,0 +1,449 @@
+//! [`PhoneOdometry`]: the learned pipeline as one engine.
+//!
+//! sample → door checks → AHRS → stabilised ENU rate and linear acceleration →
+//! resampling onto the model's rate → Gaussian smoothing → feature window → every
+//! `hop` grid samples: regressor (per placement) → bias correction → position.
+//!
+//! The estimate refers to the centre of the newest window (window/2 + smoothing
+//! delay behind the newest sample: 1.06 s with the shipped model).
+
+use super::bias::{BiasCorrector, Entry};
+use super::error::OdometryError;
+use super::features::{FeatureWindow, WindowFeatures, MAX_WINDOW};
+use super::model::{slot, OdometryModel};
+use super::resample::{Channels, Resampler};
+use super::sample::{check, OdometrySample};
+use super::smooth::{Gaussian, MAX_TAPS};
+use super::stabilise::stabilise;
+use crate::ahrs::{Ahrs, AhrsSettings};
+use crate::sim::PhonePlacement;
+use crate::snapshot::{Reader, SnapshotError, Writer};
+
+/// Snapshot engine kind of [`PhoneOdometry`].
+pub const SNAPSHOT_KIND: u8 = 8;
+const SNAPSHOT_VERSION: u16 = 1;
+
+/// Settings of the engine (the model carries the pipeline's parameters).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OdometryConfig {
+    pub ahrs: AhrsSettings,
+    /// Use the magnetometer when a sample has one (absolute heading).
+    pub use_magnetometer: bool,
+    /// Apply the bias correction (off: integrate the regressed velocity).
+    pub bias_correction: bool,
+    /// Where the phone is carried; `None` = unknown (general regressor).
+    pub placement: Option<PhonePlacement>,
+}
+
+impl Default for OdometryConfig {
+    fn default() -> Self {
+        Self {
+            ahrs: AhrsSettings::default(),
+            use_magnetometer: true,
+            bias_correction: true,
+            placement: None,
+        }
+    }
+}
+
+/// What the engine knows after a window.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct OdometryEstimate {
+    /// Time the estimate refers to (centre of the window), s.
+    pub t_s: f64,
+    /// Horizontal velocity, ENU, m/s (after the bias correction when on).
+    pub velocity_mps: [f64; 2],
+    /// Regressed velocity before the correction, ENU, m/s.
+    pub regressed_mps: [f64; 2],
+    /// Position, ENU, m, from the origin at the first window.
+    pub position_m: [f64; 2],
+    /// Features of the window (training and diagnostics).
+    pub features: WindowFeatures,
+}
+
+impl OdometryEstimate {
+    pub fn is_finite(&self) -> bool {
+        self.t_s.is_finite()
+            && self.velocity_mps.iter().all(|v| v.is_finite())
+            && self.regressed_mps.iter().all(|v| v.is_finite())
+            && self.position_m.iter().all(|v| v.is_finite())
+    }
+}
+
+/// Counts of a batch.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct OdometryBatch {
+    pub accepted: usize,
+    pub rejected: usize,
+    pub estimates: usize,
+}
+
+/// Learned phone inertial odometry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhoneOdometry {
+    config: OdometryConfig,
+    model: OdometryModel,
+    ahrs: Ahrs,
+    last_t_s: Option<f64>,
+    resampler: Resampler,
+    smoother: Gaussian,
+    window: FeatureWindow,
+    hop_count: usize,
+    bias: BiasCorrector,
+    yaw_rad: f64,
+    started: bool,
+    position_m: [f64; 2],
+    latest: Option<OdometryEstimate>,
+    /// Set when the last push produced an estimate.
+    fresh: bool,
+}
+
+impl PhoneOdometry {
+    pub fn new(config: OdometryConfig, model: OdometryModel) -> Result<Self, OdometryError> {
+        model.validate()?;
+        let p = model.params;
+        Ok(Self {
+            ahrs: Ahrs::new(config.ahrs)?,
+            last_t_s: None,
+            resampler: Resampler::new(p.rate_hz),
+            smoother: Gaussian::new(p.sigma_samples),
+            window: FeatureWindow::new(p.window),
+            hop_count: 0,
+            bias: BiasCorrector::new(p.lambda),
+            yaw_rad: 0.0,
+            started: false,
+            position_m: [0.0; 2],
+            latest: None,
+            fresh: false,
+            config,
+            model,
+        })
+    }
+
+    /// The shipped model with `config`.
+    pub fn shipped(config: OdometryConfig) -> Result<Self, OdometryError> {
+        Self::new(config, OdometryModel::shipped())
+    }
+
+    pub fn config(&self) -> &OdometryConfig {
+        &self.config
+    }
+
+    pub fn model(&self) -> &OdometryModel {
+        &self.model
+    }
+
+    /// Change the placement (e.g. from a placement classifier); takes effect at the
+    /// next window.
+    pub fn set_placement(&mut self, placement: Option<PhonePlacement>) {
+        self.config.placement = placement;
+    }
+
+    /// The latest estimate (`None` before the first full window).
+    pub fn estimate(&self) -> Option<OdometryEstimate> {
+        self.latest
+    }
+
+    /// Current horizontal velocity, ENU, m/s (0 before the first window).
+    pub fn velocity_mps(&self) -> [f64; 2] {
+        self.latest.map_or([0.0; 2], |e| e.velocity_mps)
+    }
+
+    /// Current position, ENU, m.
+    pub fn position_m(&self) -> [f64; 2] {
+        self.position_m
+    }
+
+    /// One sample. Returns the new estimate when a window completed. On error the
+    /// state is unchanged.
+    pub fn push(&mut self, s: &OdometrySample) -> Result<Option<OdometryEstimate>, OdometryError> {
+        self.push_inner(s, None)
+    }
+
+    /// One sample with the attitude from outside (body → ENU quaternion `[w, x, y, z]`,
+    /// e.g. the OS's rotation vector, as RIDI and RoNIN use; or the truth, for
+    /// diagnosis) instead of the internal AHRS, which is not advanced. The
+    /// quaternion is normalised; a norm outside 0.5..2 or a non-finite component is
+    /// an error.
+    pub fn push_with_attitude(
+        &mut self,
+        s: &OdometrySample,
+        attitude_wxyz: [f64; 4],
+    ) -> Result<Option<OdometryEstimate>, OdometryError> {
+        if !attitude_wxyz.iter().all(|v| v.is_finite()) {
+            return Err(OdometryError::NonFinite {
+                field: "attitude_wxyz",
+            });
+        }
+        let n = attitude_wxyz.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !(0.5..=2.0).contains(&n) {
+            return Err(OdometryError::OutOfRange {
+                field: "attitude_wxyz",
+                value: n,
+            });
+        }
+        self.push_inner(s, Some(attitude_wxyz.map(|v| v / n)))
+    }
+
+    fn push_inner(
+        &mut self,
+        s: &OdometrySample,
+        attitude: Option<[f64; 4]>,
+    ) -> Result<Option<OdometryEstimate>, OdometryError> {
+        check(s, self.last_t_s)?;
+        let mag = if self.config.use_magnetometer {
+            s.mag_ut
+        } else {
+            None
+        };
+        if attitude.is_none() {
+            self.ahrs.update(s.t_s, s.gyro_rads, s.accel_mps2, mag)?;
+        }
+        // Nothing below fails.
+        if let Some(last) = self.last_t_s {
+            if s.t_s - last > self.config.ahrs.max_gap_s {
+                // The motion during a gap is unknown: restart the signal chain.
+                self.resampler.reset();
+                self.smoother.reset();
+                self.window.reset();
+                self.bias.reset();
+                self.hop_count = 0;
+            }
+        }
+        self.last_t_s = Some(s.t_s);
+        let q = attitude
+            .or_else(|| self.ahrs.quaternion())
+            .unwrap_or([1.0, 0.0, 0.0, 0.0]);
+        let st = stabilise(
+            s.t_s,
+            &q,
+            &s.gyro_rads,
+            &s.accel_mps2,
+            self.config.ahrs.gravity_mps2,
+        );
+        self.yaw_rad = st.yaw_rad;
+        let x: Channels = [
+            st.gyro_enu_rads[0],
+            st.gyro_enu_rads[1],
+            st.gyro_enu_rads[2],
+            st.accel_enu_mps2[0],
+            st.accel_enu_mps2[1],
+            st.accel_enu_mps2[2],
+        ];
+        self.fresh = false;
+        let mut rs = self.resampler;
+        rs.push(s.t_s, x, |t, y| self.on_grid(t, y));
+        self.resampler = rs;
+        Ok(if self.fresh { self.latest } else { None })
+    }
+
+    fn on_grid(&mut self, t: f64, y: &Channels) {
+        let Some((ts, ys)) = self.smoother.push(t, y) else {
+            return;
+        };
+        self.window.push(ts, &ys);
+        self.hop_count += 1;
+        let hop = self.model.params.hop;
+        if !self.window.is_full() || self.hop_count < hop {
+            return;
+        }
+        self.hop_count = 0;
+        let Some(f) = self.window.features(self.yaw_rad) else {
+            return;
+        };
+        if !f.is_finite() {
+            return;
+        }
+        let reg = self.model.regressor(self.config.placement);
+        let v_s = reg.predict(&f);
+        let (sn, cs) = f.yaw_rad.sin_cos();
+        let v_r = [cs * v_s[0] - sn * v_s[1], sn * v_s[0] + cs * v_s[1]];
+        // Raw increment over the hop ending at the window's centre.
+        let n = self.window.ring.len();
+        let centre = n - self.model.params.window / 2;
+        let dt = 1.0 / self.model.params.rate_hz;
+        let mut d = [0.0; 2];
+        for i in centre.saturating_sub(hop)..centre {
+            let (_, x) = self.window.ring.get(i).unwrap_or_default();
+            d[0] += x[3] * dt;
+            d[1] += x[4] * dt;
+        }
+        let v = if self.config.bias_correction {
+            self.bias.push(v_r, d)
+        } else {
+            v_r
+        };
+        let v = if v.iter().all(|x| x.is_finite()) {
+            v
+        } else {
+            [0.0; 2]
+        };
+        if self.started {
+            let h = self.model.params.hop_s();
+            self.position_m[0] += v[0] * h;
+            self.position_m[1] += v[1] * h;
+        }
+        self.started = true;
+        self.latest = Some(OdometryEstimate {
+            t_s: 0.5 * (f.t_start_s + f.t_end_s),
+            velocity_mps: v,
+            regressed_mps: v_r,
+            position_m: self.position_m,
+            features: f,
+        });
+        self.fresh = true;
+    }
+
+    /// Many samples in order; bad samples are skipped and counted, `on_estimate`
+    /// gets every estimate.
+    pub fn push_batch(
+        &mut self,
+        samples: &[OdometrySample],
+        mut on_estimate: impl FnMut(&OdometryEstimate),
+    ) -> OdometryBatch {
+        let mut b = OdometryBatch::default();
+        for s in samples {
+            match self.push(s) {
+                Ok(e) => {
+                    b.accepted += 1;
+                    if let Some(e) = e {
+                        b.estimates += 1;
+                        on_estimate(&e);
+                    }
+                }
+                Err(_) => b.rejected += 1,
+            }
+        }
+        b
+    }
+
+    /// The whole state (model included) as bytes; restoring continues bit-exactly.
+    pub fn snapshot(&self) -> Vec<u8> {
+        let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
+        w.bytes(self.model.to_text().as_bytes());
+        w.bytes(&self.ahrs.snapshot());
+        w.bool(self.config.use_magnetometer);
+        w.bool(self.config.bias_correction);
+        w.u8(slot(self.config.placement) as u8);
+        w.opt_f64(self.last_t_s);
+        // Resampler.
+        let r = &self.resampler;
+        w.bool(r.prev.is_some());
+        let (tp, xp) = r.prev.unwrap_or_default();
+        w.f64(tp);
+        w.f64s(&xp);
+        w.f64(r.t0_s);
+        w.u64(r.k);
+        // Smoother history, window, bias block.
+        w.u64(self.smoother.hist.len() as u64);
+        for (t, x) in self.smoother.hist.iter() {
+            w.f64(t);
+            w.f64s(&x);
+        }
+        w.u64(self.window.ring.len() as u64);
+        for (t, x) in self.window.ring.iter() {
+            w.f64(t);
+            w.f64s(&x);
+        }
+        w.u64(self.hop_count as u64);
+        w.u64(self.bias.hist.len() as u64);
+        for (a, b, c) in self.bias.hist.iter() {
+            w.f64s(&a);
+            w.f64s(&b);
+            w.f64s(&c);
+        }
+        w.f64(self.yaw_rad);
+        w.bool(self.started);
+        w.f64s(&self.position_m);
+        w.bool(self.latest.is_some());
+        let e = self.latest.unwrap_or_default();
+        w.f64(e.t_s);
+        w.f64s(&e.velocity_mps);
+        w.f64s(&e.regressed_mps);
+        w.f64s(&e.position_m);
+        let f = &e.features;
+        w.f64(f.t_start_s);
+        w.f64(f.t_end_s);
+        w.f64(f.yaw_rad);
+        w.f64s(&f.scalars);
+        for v in &f.vectors {
+            w.f64s(v);
+        }
+        w.finish()
+    }
+
+    /// An engine continuing exactly where the snapshot was taken.
+    pub fn restore(bytes: &[u8]) -> Result<Self, OdometryError> {
+        let (mut r, _) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let text = std::str::from_utf8(r.bytes()?).map_err(|_| SnapshotError::Invalid("model"))?;
+        let model = OdometryModel::parse(text).map_err(|_| SnapshotError::Invalid("model"))?;
+        let ahrs = Ahrs::restore(r.bytes()?)?;
+        let use_magnetometer = r.bool()?;
+        let bias_correction = r.bool()?;
+        let slot_v = r.u8()? as usize;
+        let placement = match slot_v {
+            0 => None,
+            1..=7 => Some(PhonePlacement::ALL[slot_v - 1]),
+            _ => return Err(SnapshotError::Invalid("placement").into()),
+        };
+        let config = OdometryConfig {
+            ahrs: *ahrs.settings(),
+            use_magnetometer,
+            bias_correction,
+            placement,
+        };
+        let mut e = Self::new(config, model)?;
+        e.ahrs = ahrs;
+        e.last_t_s = r.opt_f64()?;
+        let has_prev = r.bool()?;
+        let tp = r.f64()?;
+        let mut xp = [0.0; 6];
+        r.f64s(&mut xp)?;
+        e.resampler.prev = has_prev.then_some((tp, xp));
+        e.resampler.t0_s = r.f64()?;
+        e.resampler.k = r.u64()?;
+        let n = r.len(MAX_TAPS)?;
+        for _ in 0..n {
+            let t = r.f64()?;
+            let mut x = [0.0; 6];
+            r.f64s(&mut x)?;
+            e.smoother.hist.push((t, x));
+        }
+        let n = r.len(MAX_WINDOW)?;
+        for _ in 0..n {
+            let t = r.f64()?;
+            let mut x = [0.0; 6];
+            r.f64s(&mut x)?;
+            e.window.ring.push((t, x));
+        }
+        e.hop_count = r.len(MAX_WINDOW)?;
+        let n = r.len(super::bias::BLOCK + 1)?;
+        for _ in 0..n {
+            let mut v = [0.0; 6];
+            r.f64s(&mut v)?;
+            let entry: Entry = ([v[0], v[1]], [v[2], v[3]], [v[4], v[5]]);
+            e.bias.hist.push(entry);
+        }
+        e.yaw_rad = r.f64()?;
+        e.started = r.bool()?;
+        r.f64s(&mut e.position_m)?;
+        let has_latest = r.bool()?;
+        let mut est = OdometryEstimate {
+            t_s: r.f64()?,
+            ..OdometryEstimate::default()
+        };
+        r.f64s(&mut est.velocity_mps)?;
+        r.f64s(&mut est.regressed_mps)?;
+        r.f64s(&mut est.position_m)?;
+        est.features.t_start_s = r.f64()?;
+        est.features.t_end_s = r.f64()?;
+        est.features.yaw_rad = r.f64()?;
+        r.f64s(&mut est.features.scalars)?;
+        for v in est.features.vectors.iter_mut() {
+            r.f64s(v)?;
+        }
+        e.latest = has_latest.then_some(est);
+        r.end()?;
+        Ok(e)
+    }
+}

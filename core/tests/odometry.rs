@@ -1,0 +1,330 @@
+//! Learned phone inertial odometry: accuracy against the baselines on held-out
+//! simulated walks, the model file, adversarial input, snapshots and allocation.
+
+mod common;
+use common::allocations_in;
+
+use stridekit_core::odometry::evaluate::run_methods;
+use stridekit_core::odometry::train::{sim_scenario, FIRST_EVAL_SEED};
+use stridekit_core::odometry::{
+    OdometryConfig, OdometryError, OdometryModel, OdometrySample, PhoneOdometry,
+};
+use stridekit_core::sim::{simulate_phone, PhonePlacement, Rng};
+
+fn walk(
+    seed: u64,
+    p: PhonePlacement,
+) -> (stridekit_core::sim::SimulatedPhone, Vec<OdometrySample>) {
+    let sim = simulate_phone(&sim_scenario(seed, p));
+    let samples = sim.samples.iter().map(Into::into).collect();
+    (sim, samples)
+}
+
+#[test]
+fn learned_pipeline_beats_both_baselines_by_a_wide_margin() {
+    let model = OdometryModel::shipped();
+    for (seed, p) in [
+        (FIRST_EVAL_SEED + 7, PhonePlacement::InHand),
+        (FIRST_EVAL_SEED + 8, PhonePlacement::FrontPocket),
+        (FIRST_EVAL_SEED + 9, PhonePlacement::Bag),
+    ] {
+        let (sim, samples) = walk(seed, p);
+        let tracks = run_methods(&samples, &sim, &model, Some(p));
+        let s = tracks.scores();
+        let walked = sim.truth.last().unwrap().distance_m;
+        let (learned, nobias, fixed, ahrs) = (s[0], s[1], s[2], s[3]);
+        eprintln!("{p:?}: walked {walked:.0} m, ATE/RTE {s:?}");
+        assert!(learned.0.is_finite() && learned.1.is_finite());
+        // Wide margin: at least 20× better than either naive integration.
+        assert!(learned.0 * 20.0 < fixed.0.min(ahrs.0), "{p:?} ATE {s:?}");
+        assert!(learned.1 * 20.0 < fixed.1.min(ahrs.1), "{p:?} RTE {s:?}");
+        // And useful in absolute terms: RTE below 60 % of a minute's walk (the AHRS
+        // heading error, 10–30° on the simulator, dominates; docs/odometry-pipeline.md).
+        let per_minute = walked / sim.truth.last().unwrap().t_s * 60.0;
+        assert!(
+            learned.1 < 0.6 * per_minute,
+            "{p:?}: RTE {} vs {per_minute}",
+            learned.1
+        );
+        assert!(nobias.0.is_finite());
+    }
+}
+
+#[test]
+fn other_input_rates_are_resampled() {
+    let model = OdometryModel::shipped();
+    let mut sc = sim_scenario(FIRST_EVAL_SEED + 11, PhonePlacement::InHand);
+    let mut ate = Vec::new();
+    for rate in [100.0, 200.0, 50.0] {
+        sc.sample_rate_hz = rate;
+        let sim = simulate_phone(&sc);
+        let samples: Vec<OdometrySample> = sim.samples.iter().map(Into::into).collect();
+        let s = run_methods(&samples, &sim, &model, Some(PhonePlacement::InHand)).scores();
+        ate.push(s[0].0);
+    }
+    eprintln!("ATE at 100, 200, 50 Hz: {ate:?}");
+    assert!(ate.iter().all(|a| a.is_finite()));
+    assert!(
+        ate[1] < 2.0 * ate[0] + 10.0 && ate[2] < 2.0 * ate[0] + 10.0,
+        "{ate:?}"
+    );
+}
+
+#[test]
+fn model_round_trip_and_typed_errors() {
+    let m = OdometryModel::shipped();
+    let text = m.to_text();
+    let back = OdometryModel::parse(&text).unwrap();
+    assert_eq!(back, m);
+    assert_eq!(back.to_text(), text);
+    assert!(m.regressors.iter().all(Option::is_some));
+    let bad = |t: &str| match OdometryModel::parse(t) {
+        Err(OdometryError::InvalidModel { line, reason }) => (line, reason),
+        other => panic!("expected InvalidModel, got {other:?}"),
+    };
+    // Wrong version.
+    let (line, reason) = bad(&text.replacen("stridekit-odometry 1", "stridekit-odometry 2", 1));
+    assert_eq!(line, 1);
+    assert!(reason.contains("version 2"), "{reason}");
+    // Not a model at all, empty.
+    bad("hello\n");
+    bad("");
+    // Truncated: the regressor lines cut off.
+    let cut = &text[..text.find("regressor general").unwrap() + 40];
+    bad(cut);
+    // Wrong dimensions: one number less in `speed`.
+    let general = text
+        .lines()
+        .find(|l| l.starts_with("regressor general"))
+        .unwrap();
+    let mut toks: Vec<&str> = general.split_whitespace().collect();
+    let sp = toks.iter().position(|t| *t == "speed").unwrap();
+    toks.remove(sp + 1);
+    let fewer = text.replace(general, &toks.join(" "));
+    let (_, reason) = bad(&fewer);
+    assert!(reason.contains("speed"), "{reason}");
+    // Non-finite number, zero sd, missing general, unknown placement, duplicates.
+    bad(&text.replacen(" speed ", " speed NaN ", 1));
+    let sd = toks.iter().position(|t| *t == "sd").unwrap();
+    let mut zero = general.split_whitespace().collect::<Vec<_>>();
+    zero[sd + 1] = "0";
+    bad(&text.replace(general, &zero.join(" ")));
+    bad(&text.replace(general, ""));
+    bad(&text.replace("regressor bag", "regressor pocket"));
+    bad(&format!("{text}{general}\n"));
+    bad(&text.replace("window 200", "window 4000"));
+    bad(&text.replace("pipeline", "# pipeline"));
+}
+
+#[test]
+fn adversarial_input_never_panics_and_never_yields_nan() {
+    let (_, samples) = walk(FIRST_EVAL_SEED + 3, PhonePlacement::SwingingArm);
+    let mut rng = Rng::new(99);
+    let mut eng = PhoneOdometry::shipped(OdometryConfig::default()).unwrap();
+    let mut t = 0.0;
+    let mut estimates = 0;
+    for (i, s) in samples.iter().take(20_000).enumerate() {
+        t += 0.01;
+        let mut x = OdometrySample { t_s: t, ..*s };
+        match i % 97 {
+            1 => x.accel_mps2[0] = f64::NAN,
+            2 => x.gyro_rads[2] = f64::INFINITY,
+            3 => x.t_s = t - 5.0,
+            4 => x.accel_mps2 = [1e300, -1e300, 1e300],
+            5 => x.mag_ut = Some([f64::NAN; 3]),
+            6 => x.accel_mps2 = [rng.range(-1500.0, 1500.0); 3],
+            7 => x.gyro_rads = [rng.range(-150.0, 150.0); 3],
+            8 if i % (97 * 20) == 8 => t += 3.0, // a gap now and then
+            9 => x.t_s = -1e300,
+            _ => {}
+        }
+        if i % (97 * 20) == 8 {
+            x.t_s = t;
+        }
+        let before = eng.snapshot();
+        match eng.push(&x) {
+            Ok(Some(e)) => {
+                estimates += 1;
+                assert!(e.is_finite(), "{e:?}");
+            }
+            Ok(None) => {}
+            Err(_) => assert_eq!(
+                eng.snapshot(),
+                before,
+                "a rejected sample changed the state"
+            ),
+        }
+        let p = eng.position_m();
+        let v = eng.velocity_mps();
+        assert!(p.iter().chain(v.iter()).all(|x| x.is_finite()));
+    }
+    assert!(estimates > 100, "{estimates}");
+    // Typed errors.
+    let mut eng = PhoneOdometry::shipped(OdometryConfig::default()).unwrap();
+    let s = samples[0];
+    assert!(matches!(
+        eng.push(&OdometrySample { t_s: f64::NAN, ..s }),
+        Err(OdometryError::NonFinite { field: "t_s" })
+    ));
+    assert!(matches!(
+        eng.push(&OdometrySample {
+            gyro_rads: [1e4, 0.0, 0.0],
+            ..s
+        }),
+        Err(OdometryError::OutOfRange { .. })
+    ));
+    eng.push(&s).unwrap();
+    assert!(matches!(
+        eng.push(&s),
+        Err(OdometryError::TimeNotIncreasing { .. })
+    ));
+    // Accelerations in g at rest.
+    let mut eng = PhoneOdometry::shipped(OdometryConfig::default()).unwrap();
+    let g = OdometrySample {
+        t_s: 0.0,
+        accel_mps2: [0.0, 0.0, 1.0],
+        gyro_rads: [0.0; 3],
+        mag_ut: None,
+    };
+    assert!(matches!(
+        eng.push(&g),
+        Err(OdometryError::AccelerationNotInMps2 { .. })
+    ));
+}
+
+#[test]
+fn snapshot_split_and_restore_gives_identical_output() {
+    let (_, samples) = walk(FIRST_EVAL_SEED + 4, PhonePlacement::Armband);
+    let samples = &samples[..8000];
+    let run = |eng: &mut PhoneOdometry, s: &[OdometrySample], out: &mut Vec<[u64; 4]>| {
+        for x in s {
+            if let Ok(Some(e)) = eng.push(x) {
+                out.push([
+                    e.position_m[0].to_bits(),
+                    e.position_m[1].to_bits(),
+                    e.velocity_mps[0].to_bits(),
+                    e.t_s.to_bits(),
+                ]);
+            }
+        }
+    };
+    let cfg = OdometryConfig {
+        placement: Some(PhonePlacement::Armband),
+        ..OdometryConfig::default()
+    };
+    let mut whole = Vec::new();
+    run(
+        &mut PhoneOdometry::shipped(cfg).unwrap(),
+        samples,
+        &mut whole,
+    );
+    assert!(whole.len() > 500);
+    for split in (0..samples.len()).step_by(617).chain([1, 2, 250, 251]) {
+        let mut eng = PhoneOdometry::shipped(cfg).unwrap();
+        let mut out = Vec::new();
+        run(&mut eng, &samples[..split], &mut out);
+        let bytes = eng.snapshot();
+        let mut restored = PhoneOdometry::restore(&bytes).unwrap();
+        assert_eq!(restored.snapshot(), bytes, "split {split}");
+        run(&mut restored, &samples[split..], &mut out);
+        assert_eq!(out, whole, "split at {split}");
+    }
+    // Every sample a split point: snapshot and restore before each push.
+    let mut eng = PhoneOdometry::shipped(cfg).unwrap();
+    let mut out = Vec::new();
+    for x in samples {
+        eng = PhoneOdometry::restore(&eng.snapshot()).unwrap();
+        run(&mut eng, std::slice::from_ref(x), &mut out);
+    }
+    assert_eq!(out, whole, "restored before every sample");
+    // Corrupt snapshots are typed errors.
+    let bytes = PhoneOdometry::shipped(cfg).unwrap().snapshot();
+    let mut bad = bytes.clone();
+    bad[20] ^= 0xff;
+    assert!(matches!(
+        PhoneOdometry::restore(&bad),
+        Err(OdometryError::Snapshot(_))
+    ));
+    assert!(PhoneOdometry::restore(&bytes[..bytes.len() - 9]).is_err());
+}
+
+#[test]
+fn pushing_samples_does_not_allocate() {
+    let (_, samples) = walk(FIRST_EVAL_SEED + 5, PhonePlacement::BackPocket);
+    for bias_correction in [true, false] {
+        let mut eng = PhoneOdometry::shipped(OdometryConfig {
+            bias_correction,
+            ..OdometryConfig::default()
+        })
+        .unwrap();
+        let (warm, rest) = samples.split_at(1000);
+        for s in warm {
+            eng.push(s).unwrap();
+        }
+        let (a, b) = rest.split_at(rest.len() / 2);
+        let mut estimates = 0;
+        let (n, _) = allocations_in(|| {
+            for s in a {
+                if let Ok(Some(e)) = eng.push(s) {
+                    estimates += 1;
+                    std::hint::black_box(e);
+                }
+            }
+            let _ = eng.push(&OdometrySample {
+                t_s: f64::NAN,
+                ..b[0]
+            });
+            let out = eng.push_batch(b, |e| {
+                std::hint::black_box(e);
+            });
+            estimates += out.estimates;
+            std::hint::black_box(eng.estimate());
+        });
+        assert_eq!(n, 0, "allocations on the per-sample path");
+        assert!(estimates > 1000, "{estimates}");
+    }
+}
+
+#[test]
+fn heading_alignment_undoes_a_frame_rotation() {
+    use stridekit_core::odometry::evaluate::Tracks;
+    let truth: Vec<(f64, f64, f64)> = (0..300)
+        .map(|i| (i as f64 * 0.1, i as f64 * 0.1, 0.0))
+        .collect();
+    // The same walk in a frame turned by 70°.
+    let (s, c) = 70f64.to_radians().sin_cos();
+    let turned: Vec<_> = truth.iter().map(|p| (p.0, c * p.1, s * p.1)).collect();
+    let mut tracks = Tracks {
+        truth: truth.clone(),
+        methods: [turned.clone(), turned.clone(), turned.clone(), turned],
+    };
+    assert!(tracks.scores()[0].0 > 5.0);
+    tracks.align_heading(20.0);
+    assert!(tracks.scores()[0].0 < 1e-9);
+}
+
+#[test]
+fn external_attitude_is_checked_and_used() {
+    let (sim, samples) = walk(FIRST_EVAL_SEED + 12, PhonePlacement::InHand);
+    let mut eng = PhoneOdometry::shipped(OdometryConfig::default()).unwrap();
+    let before = eng.snapshot();
+    assert!(matches!(
+        eng.push_with_attitude(&samples[0], [f64::NAN, 0.0, 0.0, 0.0]),
+        Err(OdometryError::NonFinite { .. })
+    ));
+    assert!(matches!(
+        eng.push_with_attitude(&samples[0], [0.0; 4]),
+        Err(OdometryError::OutOfRange { .. })
+    ));
+    assert_eq!(eng.snapshot(), before);
+    // The simulator's true attitude (10 Hz, nearest earlier) gives finite output.
+    let mut n = 0;
+    for s in &samples[..3000] {
+        let q = sim.truth_at(s.t_s).attitude_wxyz;
+        if let Some(e) = eng.push_with_attitude(s, q).unwrap() {
+            assert!(e.is_finite());
+            n += 1;
+        }
+    }
+    assert!(n > 200);
+}

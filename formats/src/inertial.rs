@@ -1,0 +1,158 @@
+//! The common recording of phone inertial odometry data: IMU samples in the
+//! device frame and ground-truth positions, whatever the source (RIDI CSV, RoNIN
+//! CSV export, the simulator through the CLI).
+
+use std::path::Path;
+
+use crate::error::FormatError;
+
+/// One IMU sample, device frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct InertialSample {
+    pub t_s: f64,
+    /// Specific force, gravity included, m/s².
+    pub accel_mps2: [f64; 3],
+    pub gyro_rads: [f64; 3],
+    pub mag_ut: Option<[f64; 3]>,
+}
+
+/// IMU samples and true positions (x, y horizontal, z up, metres; the truth's own
+/// frame: ENU for the simulator, the Tango frame for RIDI / RoNIN).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct InertialRecording {
+    pub name: String,
+    /// Placement name when known (`in_hand`, `bag`, …, as in the odometry model).
+    pub placement: Option<String>,
+    pub samples: Vec<InertialSample>,
+    /// (t s, x m, y m).
+    pub truth: Vec<(f64, f64, f64)>,
+}
+
+impl InertialRecording {
+    /// True horizontal position at `t` (linear interpolation, clamped at the ends).
+    pub fn position_at(&self, t: f64) -> (f64, f64) {
+        let tr = &self.truth;
+        if tr.is_empty() {
+            return (0.0, 0.0);
+        }
+        let i = tr.partition_point(|p| p.0 <= t);
+        if i == 0 {
+            return (tr[0].1, tr[0].2);
+        }
+        if i >= tr.len() {
+            let p = tr[tr.len() - 1];
+            return (p.1, p.2);
+        }
+        let (a, b) = (tr[i - 1], tr[i]);
+        let f = ((t - a.0) / (b.0 - a.0).max(1e-12)).clamp(0.0, 1.0);
+        (a.1 + f * (b.1 - a.1), a.2 + f * (b.2 - a.2))
+    }
+}
+
+/// Columns of a header, by name.
+pub(crate) struct Columns<'a>(pub Vec<&'a str>);
+
+impl Columns<'_> {
+    pub(crate) fn get(&self, name: &'static str) -> Result<usize, FormatError> {
+        self.0
+            .iter()
+            .position(|h| *h == name)
+            .ok_or(FormatError::MissingColumn(name))
+    }
+    pub(crate) fn opt(&self, name: &'static str) -> Option<usize> {
+        self.0.iter().position(|h| *h == name)
+    }
+}
+
+/// Parse a CSV body into samples and truth with a column map.
+#[allow(clippy::type_complexity)]
+pub(crate) fn parse_rows(
+    format: &'static str,
+    text: &str,
+    time_scale: f64,
+    cols: impl Fn(
+        &Columns,
+    ) -> Result<
+        (
+            usize,
+            [usize; 3],
+            [usize; 3],
+            Option<[usize; 3]>,
+            [usize; 2],
+        ),
+        FormatError,
+    >,
+) -> Result<(Vec<InertialSample>, Vec<(f64, f64, f64)>), FormatError> {
+    let mut lines = text.lines();
+    let header = lines.next().ok_or(FormatError::Empty)?;
+    let header = Columns(
+        header
+            .split(',')
+            .map(|h| h.trim().trim_matches('"'))
+            .collect(),
+    );
+    let (t, acc, gyr, mag, pos) = cols(&header)?;
+    let mut samples = Vec::new();
+    let mut truth = Vec::new();
+    for (n, line) in lines.enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let f: Vec<&str> = line.split(',').collect();
+        let num = |i: usize| -> Result<f64, FormatError> {
+            f.get(i)
+                .and_then(|s| s.trim().parse::<f64>().ok())
+                .ok_or_else(|| FormatError::parse(format, format!("line {}: column {i}", n + 2)))
+        };
+        let t_s = num(t)? * time_scale;
+        let v3 = |c: [usize; 3]| -> Result<[f64; 3], FormatError> {
+            Ok([num(c[0])?, num(c[1])?, num(c[2])?])
+        };
+        samples.push(InertialSample {
+            t_s,
+            accel_mps2: v3(acc)?,
+            gyro_rads: v3(gyr)?,
+            mag_ut: mag.map(v3).transpose()?,
+        });
+        truth.push((t_s, num(pos[0])?, num(pos[1])?));
+    }
+    if samples.is_empty() {
+        return Err(FormatError::Empty);
+    }
+    Ok((samples, truth))
+}
+
+/// Reads a RIDI or RoNIN-export recording: a `.csv` whose header has `time_s` is a
+/// RoNIN export, one with `time` a RIDI file; a directory holding
+/// `processed/data.csv` is a RIDI sequence.
+pub fn read_inertial(path: &Path) -> Result<InertialRecording, FormatError> {
+    let file = if path.is_dir() {
+        path.join("processed").join("data.csv")
+    } else {
+        path.to_path_buf()
+    };
+    let text = std::fs::read_to_string(&file)?;
+    let first = text.lines().next().unwrap_or("");
+    let name = if path.is_dir() { path } else { file.as_path() }
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    if first.split(',').any(|h| h.trim() == "time_s") {
+        crate::ronin::parse_ronin_csv(&name, &text)
+    } else {
+        crate::ridi::parse_ridi_csv(&name, &text)
+    }
+}
+
+/// Every recording in a folder: RIDI sequence folders and `.csv` files, sorted by name.
+pub fn read_inertial_dir(dir: &Path) -> Result<Vec<InertialRecording>, FormatError> {
+    let mut paths: Vec<_> = std::fs::read_dir(dir)?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.join("processed/data.csv").is_file()
+                || p.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv"))
+        })
+        .collect();
+    paths.sort();
+    paths.iter().map(|p| read_inertial(p)).collect()
+}

@@ -1,0 +1,60 @@
+//! Reader for RoNIN (Herath, Yan, Furukawa 2020) recordings as a CSV export.
+//!
+//! The original files are HDF5 (`data.hdf5`: `synced/time`, `synced/gyro`,
+//! `synced/acce`, `synced/magnet`, `pose/tango_pos`, ...). An HDF5 reader needs the C
+//! library (the `hdf5` crate) — too heavy for this crate — so this reads a CSV
+//! export of the same fields, one row per synced sample:
+//!
+//! ```text
+//! time_s,gyro_x,gyro_y,gyro_z,acce_x,acce_y,acce_z[,magnet_x,magnet_y,magnet_z],pos_x,pos_y,pos_z
+//! ```
+//!
+//! (`time_s` seconds, rad/s, m/s² with gravity, µT, Tango position m). E.g. with
+//! h5py: `np.column_stack([f['synced/time'], f['synced/gyro'], f['synced/acce'],
+//! f['synced/magnet'], f['pose/tango_pos']])` written with that header. Optional
+//! column `placement` is not read; the placement is unknown (`None`).
+
+use crate::error::FormatError;
+use crate::inertial::{parse_rows, InertialRecording};
+
+const FORMAT: &str = "RoNIN CSV export";
+
+/// Parse the text of a RoNIN CSV export.
+pub fn parse_ronin_csv(name: &str, text: &str) -> Result<InertialRecording, FormatError> {
+    let (samples, truth) = parse_rows(FORMAT, text, 1.0, |c| {
+        let mag = match (c.opt("magnet_x"), c.opt("magnet_y"), c.opt("magnet_z")) {
+            (Some(x), Some(y), Some(z)) => Some([x, y, z]),
+            _ => None,
+        };
+        Ok((
+            c.get("time_s")?,
+            [c.get("acce_x")?, c.get("acce_y")?, c.get("acce_z")?],
+            [c.get("gyro_x")?, c.get("gyro_y")?, c.get("gyro_z")?],
+            mag,
+            [c.get("pos_x")?, c.get("pos_y")?],
+        ))
+    })?;
+    Ok(InertialRecording {
+        name: name.to_string(),
+        placement: None,
+        samples,
+        truth,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_a_small_export() {
+        let text = "time_s,gyro_x,gyro_y,gyro_z,acce_x,acce_y,acce_z,magnet_x,magnet_y,magnet_z,pos_x,pos_y,pos_z\n\
+                    0.0,0,0,0,0,0,9.8,10,20,-40,0,0,0\n\
+                    0.005,0,0,0,0,0,9.8,10,20,-40,0.01,0,0\n";
+        let r = parse_ronin_csv("a000_1", text).unwrap();
+        assert_eq!(r.samples.len(), 2);
+        assert_eq!(r.samples[0].mag_ut, Some([10.0, 20.0, -40.0]));
+        assert_eq!(r.truth[1], (0.005, 0.01, 0.0));
+        assert!(parse_ronin_csv("x", "time_s\n").is_err());
+    }
+}
