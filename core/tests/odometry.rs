@@ -146,7 +146,12 @@ fn model_round_trip_and_typed_errors() {
 fn adversarial_input_never_panics_and_never_yields_nan() {
     let (_, samples) = walk(FIRST_EVAL_SEED + 3, PhonePlacement::SwingingArm);
     let mut rng = Rng::new(99);
-    let mut eng = PhoneOdometry::shipped(OdometryConfig::default()).unwrap();
+    // Auto: the embedded placement classifier sees the garbage too.
+    let mut eng = PhoneOdometry::shipped(OdometryConfig {
+        placement: PlacementSource::Auto,
+        ..OdometryConfig::default()
+    })
+    .unwrap();
     let mut t = 0.0;
     let mut estimates = 0;
     for (i, s) in samples.iter().take(20_000).enumerate() {
@@ -436,14 +441,22 @@ fn fixed_and_unknown_sources_use_their_regressor() {
 
 #[test]
 fn auto_source_runs_the_classifier_and_stays_finite() {
-    assert_eq!(OdometryConfig::default().placement, PlacementSource::Auto);
+    // Unknown is the default by measurement (see PlacementSource).
+    assert_eq!(
+        OdometryConfig::default().placement,
+        PlacementSource::Unknown
+    );
     let model = OdometryModel::shipped();
     for (seed, p) in [
         (FIRST_EVAL_SEED + 14, PhonePlacement::InHand),
         (FIRST_EVAL_SEED + 15, PhonePlacement::BackPocket),
     ] {
         let (_, samples) = walk(seed, p);
-        let mut eng = PhoneOdometry::new(OdometryConfig::default(), model.clone()).unwrap();
+        let auto = OdometryConfig {
+            placement: PlacementSource::Auto,
+            ..OdometryConfig::default()
+        };
+        let mut eng = PhoneOdometry::new(auto, model.clone()).unwrap();
         let (mut n, mut detected, mut own) = (0, 0, 0);
         for s in &samples {
             let Some(e) = eng.push(s).unwrap() else {
