@@ -20,13 +20,15 @@
 //! The other engines follow the same pattern with their own error type:
 //! [`navigator::PhoneNavigator`] (`NavError`), [`foot::FootNavigator`] (`FootError`,
 //! Kotlin `FootException`; packed 56-byte IMU records, see the [`foot`] module docs) and
-//! [`placement::PlacementClassifier`] (`PlacementError`).
+//! [`placement::PlacementClassifier`] (`PlacementError`) and [`odometry::PhoneOdometry`]
+//! (`OdometryError`).
 
 uniffi::setup_scaffolding!();
 
 mod error;
 pub mod foot;
 pub mod navigator;
+pub mod odometry;
 pub mod packed;
 pub mod placement;
 mod sim;
