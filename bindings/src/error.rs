@@ -110,23 +110,38 @@ impl From<core::PaceError> for PaceError {
     }
 }
 
+/// The message of a caught panic payload (logged: a panic at the boundary is a bug).
+pub(crate) fn panic_reason(payload: Box<dyn std::any::Any + Send>) -> String {
+    let reason = if let Some(s) = payload.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "panic with a non-string payload".to_string()
+    };
+    log::error!("stridekit: caught a panic at the FFI boundary: {reason}");
+    reason
+}
+
+/// Run `f`; a panic becomes the error `internal(reason)` of the caller's error type.
+pub(crate) fn guard_with<T, E>(
+    f: impl FnOnce() -> Result<T, E>,
+    internal: impl FnOnce(String) -> E,
+) -> Result<T, E> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f))
+        .unwrap_or_else(|p| Err(internal(panic_reason(p))))
+}
+
 impl PaceError {
     /// The error for a caught panic payload.
     pub(crate) fn from_panic(payload: Box<dyn std::any::Any + Send>) -> Self {
-        let reason = if let Some(s) = payload.downcast_ref::<&str>() {
-            (*s).to_string()
-        } else if let Some(s) = payload.downcast_ref::<String>() {
-            s.clone()
-        } else {
-            "panic with a non-string payload".to_string()
-        };
-        log::error!("stridekit: caught a panic at the FFI boundary: {reason}");
-        Self::Internal { reason }
+        Self::Internal {
+            reason: panic_reason(payload),
+        }
     }
 }
 
 /// Run `f`, turning a panic into [`PaceError::Internal`].
 pub(crate) fn guard<T>(f: impl FnOnce() -> Result<T, PaceError>) -> Result<T, PaceError> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f))
-        .unwrap_or_else(|p| Err(PaceError::from_panic(p)))
+    guard_with(f, |reason| PaceError::Internal { reason })
 }

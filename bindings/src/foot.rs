@@ -133,15 +133,9 @@ impl From<core::FootError> for FootError {
 
 impl FootError {
     fn from_panic(payload: Box<dyn std::any::Any + Send>) -> Self {
-        let reason = if let Some(s) = payload.downcast_ref::<&str>() {
-            (*s).to_string()
-        } else if let Some(s) = payload.downcast_ref::<String>() {
-            s.clone()
-        } else {
-            "panic with a non-string payload".to_string()
-        };
-        log::error!("stridekit: caught a panic at the FFI boundary: {reason}");
-        Self::Internal { reason }
+        Self::Internal {
+            reason: crate::error::panic_reason(payload),
+        }
     }
 }
 

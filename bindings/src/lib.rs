@@ -18,8 +18,9 @@
 //! ```
 //!
 //! The other engines follow the same pattern with their own error type:
-//! [`navigator::PhoneNavigator`] (`NavError`) and [`foot::FootNavigator`] (`FootError`,
-//! Kotlin `FootException`; packed 56-byte IMU records, see the [`foot`] module docs).
+//! [`navigator::PhoneNavigator`] (`NavError`), [`foot::FootNavigator`] (`FootError`,
+//! Kotlin `FootException`; packed 56-byte IMU records, see the [`foot`] module docs) and
+//! [`placement::PlacementClassifier`] (`PlacementError`).
 
 uniffi::setup_scaffolding!();
 
@@ -27,6 +28,7 @@ mod error;
 pub mod foot;
 pub mod navigator;
 pub mod packed;
+pub mod placement;
 mod sim;
 mod tracker;
 mod types;

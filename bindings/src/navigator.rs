@@ -39,14 +39,7 @@ pub enum NavError {
 }
 
 fn guard<T>(f: impl FnOnce() -> Result<T, NavError>) -> Result<T, NavError> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|p| {
-        let reason = p
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| p.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "panic".into());
-        Err(NavError::Internal { reason })
-    })
+    crate::error::guard_with(f, |reason| NavError::Internal { reason })
 }
 
 /// Where the pedestrian is (see the core `NavEstimate`).

@@ -11,7 +11,11 @@ use stridekit_core::odometry::train::{
     fit_model, labelled_windows, sim_scenario, simulated_windows, LabelledWindow, Truth,
     FIRST_EVAL_SEED,
 };
-use stridekit_core::odometry::{OdometryModel, OdometrySample, PipelineParams};
+use stridekit_core::odometry::{
+    OdometryConfig, OdometryModel, OdometrySample, PhoneOdometry, PipelineParams, PlacementSource,
+    AUTO_MIN_CONFIDENCE,
+};
+use stridekit_core::placement::{Placement, CLASSES};
 use stridekit_core::sim::{simulate_phone, PhonePlacement};
 use stridekit_formats::{
     read_inertial, read_inertial_dir, InertialRecording as Recording, InertialSample,
@@ -31,18 +35,42 @@ impl Truth for RecTruth<'_> {
     }
 }
 
-fn placement_of(rec: &Recording) -> Option<PhonePlacement> {
-    rec.placement
-        .as_deref()
-        .and_then(stridekit_core::odometry::model::placement_from_name)
+/// Name of a simulator placement (`sim:SEED:NAME`, recordings from the simulator).
+fn sim_name(p: PhonePlacement) -> &'static str {
+    match p {
+        PhonePlacement::InHand => "in_hand",
+        PhonePlacement::FrontPocket => "front_pocket",
+        PhonePlacement::BackPocket => "back_pocket",
+        PhonePlacement::Bag => "bag",
+        PhonePlacement::NeckPouch => "neck_pouch",
+        PhonePlacement::Armband => "armband",
+        PhonePlacement::SwingingArm => "swinging_arm",
+    }
+}
+
+fn sim_from_name(s: &str) -> Option<PhonePlacement> {
+    PhonePlacement::ALL.into_iter().find(|&p| sim_name(p) == s)
+}
+
+/// Placement class of a recording: a model-file name (`pocket`, …) or a simulator
+/// placement name (`front_pocket`, as the RIDI reader guesses).
+fn placement_of(rec: &Recording) -> Option<Placement> {
+    let name = rec.placement.as_deref()?;
+    stridekit_core::odometry::model::placement_from_name(name)
         .flatten()
+        .or_else(|| sim_from_name(name).map(Placement::from))
+}
+
+/// The source of a recording's replay: its placement when known, else unknown.
+fn source_of(rec: &Recording) -> PlacementSource {
+    placement_of(rec).map_or(PlacementSource::Unknown, PlacementSource::Fixed)
 }
 
 /// The simulator's output as a recording.
 fn from_sim(sim: &stridekit_core::sim::SimulatedPhone, p: PhonePlacement) -> Recording {
     Recording {
         name: format!("sim seed {}", sim.scenario.seed),
-        placement: Some(stridekit_core::odometry::model::placement_name(Some(p)).into()),
+        placement: Some(sim_name(p).into()),
         samples: sim
             .samples
             .iter()
@@ -93,7 +121,7 @@ pub fn train(
         TrainSource::Sim { seeds } => (
             simulated_windows(seeds, params),
             format!(
-                "simulator: seeds 1..={seeds} for each of the 7 placements (core::odometry::train::sim_scenario)"
+                "simulator: seeds 1..={seeds} for each of the 7 simulated placements (core::odometry::train::sim_scenario; front and back pocket both train `pocket`)"
             ),
         ),
         TrainSource::Ridi(dir) | TrainSource::Ronin(dir) => {
@@ -132,6 +160,29 @@ fn load_model(path: Option<&Path>) -> Result<OdometryModel, String> {
     }
 }
 
+fn fmt_source_row(out: &mut String, name: &str, s: &[(f64, f64); 3], auto: &[usize; 4 + CLASSES]) {
+    let _ = write!(out, "| {name} |");
+    for (a, r) in s {
+        let _ = write!(out, " {a:.1} / {r:.1} |");
+    }
+    let pct = |k: usize| 100.0 * auto[k] as f64 / auto[0].max(1) as f64;
+    let mut best = 0;
+    for k in 0..CLASSES {
+        if auto[4 + k] > auto[4 + best] {
+            best = k;
+        }
+    }
+    let _ = writeln!(
+        out,
+        " {:.0} % | {:.0} % / {:.0} % | {} ({:.0} %) |",
+        pct(1),
+        pct(2),
+        pct(3),
+        Placement::ALL[best],
+        pct(4 + best)
+    );
+}
+
 fn fmt_scores(out: &mut String, name: &str, s: &Scores) {
     let _ = write!(out, "| {name} |");
     for (a, r) in s {
@@ -162,11 +213,11 @@ fn true_attitude_scores(
     sim: &stridekit_core::sim::SimulatedPhone,
     samples: &[OdometrySample],
     model: &OdometryModel,
-    placement: Option<PhonePlacement>,
+    placement: PlacementSource,
 ) -> (f64, f64) {
     use stridekit_core::odometry::metrics::{align_start, ate, rte};
-    let mut eng = stridekit_core::odometry::PhoneOdometry::new(
-        stridekit_core::odometry::OdometryConfig {
+    let mut eng = PhoneOdometry::new(
+        OdometryConfig {
             placement,
             ..Default::default()
         },
@@ -188,6 +239,47 @@ fn true_attitude_scores(
         .collect();
     align_start(&mut est, &truth);
     (ate(&est, &truth), rte(&est, &truth, 60.0))
+}
+
+/// The learned pipeline alone with `source`: (ATE, RTE), and over its estimates
+/// the counts (estimates, detected placement = `truth`, own regressor of `truth`
+/// used, general regressor used, then estimates per detected class).
+fn learned_run(
+    samples: &[OdometrySample],
+    truth: &dyn Truth,
+    model: &OdometryModel,
+    source: PlacementSource,
+    class: Placement,
+) -> ((f64, f64), [usize; 4 + CLASSES]) {
+    use stridekit_core::odometry::metrics::{align_start, ate, rte};
+    let cfg = OdometryConfig {
+        placement: source,
+        ..Default::default()
+    };
+    let mut eng = PhoneOdometry::new(cfg, model.clone()).expect("valid model");
+    let mut est = Vec::new();
+    let mut c = [0; 4 + CLASSES];
+    for s in samples {
+        if let Ok(Some(e)) = eng.push(s) {
+            est.push((e.t_s, e.position_m[0], e.position_m[1]));
+            c[0] += 1;
+            c[1] += usize::from(e.detected_placement == Some(class));
+            c[2] += usize::from(e.regressor_placement == Some(class));
+            c[3] += usize::from(e.regressor_placement.is_none());
+            if let Some(d) = e.detected_placement {
+                c[4 + d.index()] += 1;
+            }
+        }
+    }
+    let truth: Vec<_> = est
+        .iter()
+        .map(|p| {
+            let (e, n) = truth.position_at(p.0);
+            (p.0, e, n)
+        })
+        .collect();
+    align_start(&mut est, &truth);
+    ((ate(&est, &truth), rte(&est, &truth, 60.0)), c)
 }
 
 /// Per placement (ATE / RTE) of each method on held-out simulator seeds.
@@ -216,18 +308,35 @@ pub fn eval(model: Option<&Path>, seeds: u64, placement_known: bool) -> Result<S
     let mut n_total = 0.0;
     let mut diag_rows = String::new();
     let mut oracle_rows = String::new();
+    let mut source_rows = String::new();
+    // Sums over placements of the mean (ATE, RTE) per source, and the Auto counts.
+    let mut source_total = [(0.0, 0.0); 3];
+    let mut auto_total = [0usize; 4 + CLASSES];
     for p in PhonePlacement::ALL {
+        let class = Placement::from(p);
+        let sources = [
+            PlacementSource::Fixed(class),
+            PlacementSource::Unknown,
+            PlacementSource::Auto,
+        ];
+        let mut by_source = [(0.0, 0.0); 3];
+        let mut auto = [0usize; 4 + CLASSES];
+        let source = if placement_known {
+            PlacementSource::Fixed(class)
+        } else {
+            PlacementSource::Unknown
+        };
         let mut diag = (0.0, 0.0, 0.0, 0.0);
         let mut oracle = (0.0, 0.0);
         let mut mean = [(0.0, 0.0); 4];
-        let reg = *model.regressor(placement_known.then_some(p));
+        let reg = *model.regressor(placement_known.then_some(class));
         for seed in FIRST_EVAL_SEED..FIRST_EVAL_SEED + seeds {
             let sim = simulate_phone(&sim_scenario(seed, p));
             let samples: Vec<OdometrySample> = sim.samples.iter().map(Into::into).collect();
-            let (a, r) = true_attitude_scores(&sim, &samples, &model, placement_known.then_some(p));
+            let (a, r) = true_attitude_scores(&sim, &samples, &model, source);
             oracle.0 += a;
             oracle.1 += r;
-            for w in labelled_windows(&samples, &sim, Some(p), model.params) {
+            for w in labelled_windows(&samples, &sim, Some(class), model.params) {
                 let v = w.velocity_s_mps;
                 let s = (v[0] * v[0] + v[1] * v[1]).sqrt();
                 let est = reg.predict(&w.features);
@@ -241,7 +350,17 @@ pub fn eval(model: Option<&Path>, seeds: u64, placement_known: bool) -> Result<S
                     diag.3 += 1.0;
                 }
             }
-            let tracks = run_methods(&samples, &sim, &model, placement_known.then_some(p));
+            let tracks = run_methods(&samples, &sim, &model, source);
+            for (k, &src) in sources.iter().enumerate() {
+                let ((a, r), c) = learned_run(&samples, &sim, &model, src, class);
+                by_source[k].0 += a / seeds as f64;
+                by_source[k].1 += r / seeds as f64;
+                if src == PlacementSource::Auto {
+                    for i in 0..c.len() {
+                        auto[i] += c[i];
+                    }
+                }
+            }
             for (k, s) in tracks.scores().iter().enumerate() {
                 mean[k].0 += s.0 / seeds as f64;
                 mean[k].1 += s.1 / seeds as f64;
@@ -252,8 +371,16 @@ pub fn eval(model: Option<&Path>, seeds: u64, placement_known: bool) -> Result<S
             total[k].1 += mean[k].1;
         }
         n_total += 1.0;
-        let name = stridekit_core::odometry::model::placement_name(Some(p));
+        let name = sim_name(p);
         fmt_scores(&mut out, name, &mean);
+        for k in 0..3 {
+            source_total[k].0 += by_source[k].0;
+            source_total[k].1 += by_source[k].1;
+        }
+        for i in 0..auto.len() {
+            auto_total[i] += auto[i];
+        }
+        fmt_source_row(&mut source_rows, name, &by_source, &auto);
         let _ = writeln!(
             oracle_rows,
             "| {name} | {:.1} / {:.1} |",
@@ -269,6 +396,20 @@ pub fn eval(model: Option<&Path>, seeds: u64, placement_known: bool) -> Result<S
     }
     let total = total.map(|(a, r)| (a / n_total, r / n_total));
     fmt_scores(&mut out, "**all**", &total);
+    let source_total = source_total.map(|(a, r)| (a / n_total, r / n_total));
+    fmt_source_row(&mut source_rows, "**all**", &source_total, &auto_total);
+    let _ = writeln!(
+        out,
+        "\nPlacement source (`OdometryConfig::placement`), learned pipeline, same walks, \
+         ATE / RTE, metres. Known = `Fixed(class)`, unknown = general regressor, auto = the \
+         embedded placement classifier (shipped model, trained on real Oxford traces), its \
+         class's regressor at confidence ≥ {AUTO_MIN_CONFIDENCE}. Auto's placement accuracy: \
+         share of estimates whose detected placement is the true class; own / general: share \
+         of estimates that used the true class's regressor / the general one; most detected: \
+         the class the classifier output most often (share of estimates).\n\n\
+         | placement | known | unknown | auto | auto: placement accuracy | auto: own / general regressor | auto: most detected |\n\
+         |---|---|---|---|---|---|---|\n{source_rows}"
+    );
     let _ = writeln!(
         out,
         "\nDiagnosis: the learned pipeline (same model) fed the simulator's true attitude \
@@ -298,15 +439,13 @@ pub fn replay(file: &str, model: Option<&Path>, svg: &Path) -> Result<String, St
     let rec = if let Some(spec) = file.strip_prefix("sim:") {
         let (seed, place) = spec.split_once(':').unwrap_or((spec, "in_hand"));
         let seed: u64 = seed.parse().map_err(|_| format!("bad seed in {file}"))?;
-        let p = stridekit_core::odometry::model::placement_from_name(place)
-            .flatten()
-            .ok_or_else(|| format!("unknown placement {place}"))?;
+        let p = sim_from_name(place).ok_or_else(|| format!("unknown placement {place}"))?;
         from_sim(&simulate_phone(&sim_scenario(seed, p)), p)
     } else {
         read_inertial(Path::new(file)).map_err(|e| e.to_string())?
     };
     let samples = samples_of(&rec);
-    let mut tracks = run_methods(&samples, &RecTruth(&rec), &model, placement_of(&rec));
+    let mut tracks = run_methods(&samples, &RecTruth(&rec), &model, source_of(&rec));
     let has_mag = samples.iter().all(|s| s.mag_ut.is_some());
     let mut note = String::new();
     if !has_mag || !file.starts_with("sim:") {

@@ -6,7 +6,8 @@
 //!
 //! Input: a held-out simulated walk (100 Hz). `pipeline/block_of_2000` pushes 2 000
 //! samples (20 s, 200 windows) into a clone of a warmed-up engine (clone not
-//! timed); divide by 2 000 for ns per sample. `window/features_regress` times one
+//! timed); divide by 2 000 for ns per sample; `learned_auto` adds the embedded
+//! placement classifier (`PlacementSource::Auto`). `window/features_regress` times one
 //! window's features and regression; `window/bias_block` one bias-correction solve.
 //!
 //! Run: `cargo bench -p stridekit-core --bench odometry` (add `-- --quick`).
@@ -19,6 +20,7 @@ use stridekit_core::odometry::features::FeatureWindow;
 use stridekit_core::odometry::train::{sim_scenario, FIRST_EVAL_SEED};
 use stridekit_core::odometry::{
     NaiveMode, NaiveOdometry, OdometryConfig, OdometryModel, OdometrySample, PhoneOdometry,
+    PlacementSource,
 };
 use stridekit_core::sim::{simulate_phone, PhonePlacement};
 
@@ -38,21 +40,22 @@ fn pipeline(c: &mut Criterion) {
     let data = data();
     let mut group = c.benchmark_group("odometry_pipeline");
     group.throughput(Throughput::Elements(BLOCK as u64));
-    for bias_correction in [true, false] {
+    let in_hand = PlacementSource::Fixed(PhonePlacement::InHand.into());
+    for (name, bias_correction, placement) in [
+        ("learned", true, in_hand),
+        ("learned_no_bias", false, in_hand),
+        // The embedded placement classifier runs on every sample.
+        ("learned_auto", true, PlacementSource::Auto),
+    ] {
         let mut eng = PhoneOdometry::shipped(OdometryConfig {
             bias_correction,
-            placement: Some(PhonePlacement::InHand),
+            placement,
             ..OdometryConfig::default()
         })
         .unwrap();
         for s in &data[..WARM] {
             eng.push(s).unwrap();
         }
-        let name = if bias_correction {
-            "learned"
-        } else {
-            "learned_no_bias"
-        };
         group.bench_function(format!("{name}/block_of_{BLOCK}"), |b| {
             b.iter_batched_ref(
                 || eng.clone(),
@@ -99,7 +102,7 @@ fn window(c: &mut Criterion) {
         }
     }
     let f = feats[feats.len() / 2];
-    let reg = *model.regressor(Some(PhonePlacement::InHand));
+    let reg = *model.regressor(Some(PhonePlacement::InHand.into()));
     let mut group = c.benchmark_group("odometry_window");
     let mut win = FeatureWindow::new(model.params.window);
     for (i, s) in data.iter().enumerate().take(400) {

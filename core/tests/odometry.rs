@@ -7,9 +7,15 @@ use common::allocations_in;
 use stridekit_core::odometry::evaluate::run_methods;
 use stridekit_core::odometry::train::{sim_scenario, FIRST_EVAL_SEED};
 use stridekit_core::odometry::{
-    OdometryConfig, OdometryError, OdometryModel, OdometrySample, PhoneOdometry,
+    OdometryConfig, OdometryError, OdometryModel, OdometrySample, PhoneOdometry, PlacementSource,
+    AUTO_MIN_CONFIDENCE,
 };
+use stridekit_core::placement::Placement;
 use stridekit_core::sim::{simulate_phone, PhonePlacement, Rng};
+
+fn fixed(p: PhonePlacement) -> PlacementSource {
+    PlacementSource::Fixed(p.into())
+}
 
 fn walk(
     seed: u64,
@@ -29,7 +35,7 @@ fn learned_pipeline_beats_both_baselines_by_a_wide_margin() {
         (FIRST_EVAL_SEED + 9, PhonePlacement::Bag),
     ] {
         let (sim, samples) = walk(seed, p);
-        let tracks = run_methods(&samples, &sim, &model, Some(p));
+        let tracks = run_methods(&samples, &sim, &model, fixed(p));
         let s = tracks.scores();
         let walked = sim.truth.last().unwrap().distance_m;
         let (learned, nobias, fixed, ahrs) = (s[0], s[1], s[2], s[3]);
@@ -59,7 +65,7 @@ fn other_input_rates_are_resampled() {
         sc.sample_rate_hz = rate;
         let sim = simulate_phone(&sc);
         let samples: Vec<OdometrySample> = sim.samples.iter().map(Into::into).collect();
-        let s = run_methods(&samples, &sim, &model, Some(PhonePlacement::InHand)).scores();
+        let s = run_methods(&samples, &sim, &model, fixed(PhonePlacement::InHand)).scores();
         ate.push(s[0].0);
     }
     eprintln!("ATE at 100, 200, 50 Hz: {ate:?}");
@@ -82,10 +88,30 @@ fn model_round_trip_and_typed_errors() {
         Err(OdometryError::InvalidModel { line, reason }) => (line, reason),
         other => panic!("expected InvalidModel, got {other:?}"),
     };
-    // Wrong version.
-    let (line, reason) = bad(&text.replacen("stridekit-odometry 1", "stridekit-odometry 2", 1));
-    assert_eq!(line, 1);
-    assert!(reason.contains("version 2"), "{reason}");
+    assert_eq!(m.regressors.len(), 1 + Placement::ALL.len());
+    // A version-1 file (regressors keyed by the simulator's placements) and any other
+    // version: typed error.
+    for v in [1, 3] {
+        let old = text.replacen(
+            "stridekit-odometry 2",
+            &format!("stridekit-odometry {v}"),
+            1,
+        );
+        assert_eq!(
+            OdometryModel::parse(&old),
+            Err(OdometryError::ModelVersion {
+                found: v,
+                supported: 2
+            })
+        );
+    }
+    let v1 = "stridekit-odometry 1\npipeline rate_hz 100 window 200 hop 10 sigma 2 lambda 1\n";
+    assert!(matches!(
+        OdometryModel::parse(v1),
+        Err(OdometryError::ModelVersion { found: 1, .. })
+    ));
+    // Version-1 placement names are unknown in version 2.
+    bad(&text.replace("regressor pocket", "regressor front_pocket"));
     // Not a model at all, empty.
     bad("hello\n");
     bad("");
@@ -196,7 +222,8 @@ fn adversarial_input_never_panics_and_never_yields_nan() {
 fn snapshot_split_and_restore_gives_identical_output() {
     let (_, samples) = walk(FIRST_EVAL_SEED + 4, PhonePlacement::Armband);
     let samples = &samples[..8000];
-    let run = |eng: &mut PhoneOdometry, s: &[OdometrySample], out: &mut Vec<[u64; 4]>| {
+    let run = |eng: &mut PhoneOdometry, s: &[OdometrySample], out: &mut Vec<[u64; 7]>| {
+        let code = |p: Option<Placement>| p.map_or(0, |p| 1 + p.index() as u64);
         for x in s {
             if let Ok(Some(e)) = eng.push(x) {
                 out.push([
@@ -204,12 +231,34 @@ fn snapshot_split_and_restore_gives_identical_output() {
                     e.position_m[1].to_bits(),
                     e.velocity_mps[0].to_bits(),
                     e.t_s.to_bits(),
+                    e.placement_confidence.to_bits(),
+                    code(e.regressor_placement),
+                    code(e.detected_placement),
                 ]);
             }
         }
     };
+    for placement in [fixed(PhonePlacement::Armband), PlacementSource::Auto] {
+        snapshot_case(samples, run, placement);
+    }
+    // Version-1 snapshots (no placement source and classifier) are typed errors.
+    use stridekit_core::snapshot::{SnapshotError, Writer};
+    let mut w = Writer::new(stridekit_core::odometry::engine::SNAPSHOT_KIND, 1);
+    w.bytes(OdometryModel::shipped().to_text().as_bytes());
+    assert_eq!(
+        PhoneOdometry::restore(&w.finish()),
+        Err(OdometryError::Snapshot(SnapshotError::UnsupportedVersion {
+            found: 1,
+            supported: 2
+        }))
+    );
+}
+
+type Run = fn(&mut PhoneOdometry, &[OdometrySample], &mut Vec<[u64; 7]>);
+
+fn snapshot_case(samples: &[OdometrySample], run: Run, placement: PlacementSource) {
     let cfg = OdometryConfig {
-        placement: Some(PhonePlacement::Armband),
+        placement,
         ..OdometryConfig::default()
     };
     let mut whole = Vec::new();
@@ -219,6 +268,10 @@ fn snapshot_split_and_restore_gives_identical_output() {
         &mut whole,
     );
     assert!(whole.len() > 500);
+    if placement == PlacementSource::Auto {
+        // The classifier ran and its state is part of what is compared.
+        assert!(whole.iter().any(|o| o[6] != 0), "no placement detected");
+    }
     for split in (0..samples.len()).step_by(617).chain([1, 2, 250, 251]) {
         let mut eng = PhoneOdometry::shipped(cfg).unwrap();
         let mut out = Vec::new();
@@ -251,9 +304,15 @@ fn snapshot_split_and_restore_gives_identical_output() {
 #[test]
 fn pushing_samples_does_not_allocate() {
     let (_, samples) = walk(FIRST_EVAL_SEED + 5, PhonePlacement::BackPocket);
-    for bias_correction in [true, false] {
+    for (bias_correction, placement) in [
+        (true, PlacementSource::Auto),
+        (false, PlacementSource::Auto),
+        (true, PlacementSource::Unknown),
+        (true, fixed(PhonePlacement::BackPocket)),
+    ] {
         let mut eng = PhoneOdometry::shipped(OdometryConfig {
             bias_correction,
+            placement,
             ..OdometryConfig::default()
         })
         .unwrap();
@@ -327,4 +386,93 @@ fn external_attitude_is_checked_and_used() {
         }
     }
     assert!(n > 200);
+}
+
+/// Rotate a velocity in S by the window's yaw into ENU (as the engine does).
+fn to_enu(v: [f64; 2], yaw: f64) -> [f64; 2] {
+    let (s, c) = yaw.sin_cos();
+    [c * v[0] - s * v[1], s * v[0] + c * v[1]]
+}
+
+#[test]
+fn fixed_and_unknown_sources_use_their_regressor() {
+    let (_, samples) = walk(FIRST_EVAL_SEED + 13, PhonePlacement::FrontPocket);
+    let samples = &samples[..6000];
+    let model = OdometryModel::shipped();
+    let mut differs = 0;
+    for source in Placement::ALL
+        .into_iter()
+        .map(PlacementSource::Fixed)
+        .chain([PlacementSource::Unknown])
+    {
+        let want = match source {
+            PlacementSource::Fixed(p) => Some(p),
+            _ => None,
+        };
+        let cfg = OdometryConfig {
+            placement: source,
+            ..OdometryConfig::default()
+        };
+        let mut eng = PhoneOdometry::new(cfg, model.clone()).unwrap();
+        let mut n = 0;
+        eng.push_batch(samples, |e| {
+            n += 1;
+            assert_eq!(e.regressor_placement, want, "{source:?}");
+            assert_eq!(e.detected_placement, None);
+            let f = &e.features;
+            let own = to_enu(model.regressor(want).predict(f), f.yaw_rad);
+            assert_eq!(e.regressed_mps, own, "{source:?}");
+            let general = to_enu(model.regressor(None).predict(f), f.yaw_rad);
+            if want.is_some() && general != own {
+                differs += 1;
+            }
+        });
+        assert!(n > 400, "{n}");
+        // The classifier never ran.
+        assert_eq!(eng.placement_estimate(), None);
+    }
+    assert!(differs > 1000, "placement regressors equal the general one");
+}
+
+#[test]
+fn auto_source_runs_the_classifier_and_stays_finite() {
+    assert_eq!(OdometryConfig::default().placement, PlacementSource::Auto);
+    let model = OdometryModel::shipped();
+    for (seed, p) in [
+        (FIRST_EVAL_SEED + 14, PhonePlacement::InHand),
+        (FIRST_EVAL_SEED + 15, PhonePlacement::BackPocket),
+    ] {
+        let (_, samples) = walk(seed, p);
+        let mut eng = PhoneOdometry::new(OdometryConfig::default(), model.clone()).unwrap();
+        let (mut n, mut detected, mut own) = (0, 0, 0);
+        for s in &samples {
+            let Some(e) = eng.push(s).unwrap() else {
+                continue;
+            };
+            n += 1;
+            assert!(e.is_finite(), "{e:?}");
+            assert!((0.0..=1.0).contains(&e.placement_confidence));
+            let c = eng.placement_estimate();
+            assert_eq!(e.detected_placement, c.map(|c| c.placement));
+            match e.detected_placement {
+                None => assert_eq!(e.regressor_placement, None),
+                Some(d) => {
+                    detected += 1;
+                    let conf = c.unwrap().confidence;
+                    assert_eq!(e.placement_confidence, conf);
+                    let want = (conf >= AUTO_MIN_CONFIDENCE).then_some(d);
+                    assert_eq!(e.regressor_placement, want);
+                    own += usize::from(want.is_some());
+                }
+            }
+            let f = &e.features;
+            let reg = model.regressor(e.regressor_placement);
+            assert_eq!(e.regressed_mps, to_enu(reg.predict(f), f.yaw_rad));
+        }
+        eprintln!("{p:?}: {n} estimates, {detected} with a placement, {own} with its regressor");
+        assert!(n > 2000, "{n}");
+        // The classifier's first window is 5.12 s in; after that every estimate has one.
+        assert!(detected + 100 > n, "{detected} of {n}");
+        assert!(eng.position_m().iter().all(|v| v.is_finite()));
+    }
 }

@@ -4,24 +4,52 @@
 //! resampling onto the model's rate → Gaussian smoothing → feature window → every
 //! `hop` grid samples: regressor (per placement) → bias correction → position.
 //!
+//! The placement that picks the regressor comes from [`PlacementSource`]: `Auto`
+//! (the default) runs an embedded [`PlacementClassifier`] (the shipped model) on the
+//! same accelerometer samples and uses the classified placement's regressor while
+//! the classifier's smoothed confidence is at least [`AUTO_MIN_CONFIDENCE`], else the
+//! general one; `Fixed(p)` always uses `p`'s; `Unknown` always the general one.
+//!
 //! The estimate refers to the centre of the newest window (window/2 + smoothing
 //! delay behind the newest sample: 1.06 s with the shipped model).
 
 use super::bias::{BiasCorrector, Entry};
 use super::error::OdometryError;
 use super::features::{FeatureWindow, WindowFeatures, MAX_WINDOW};
-use super::model::{slot, OdometryModel};
+use super::model::{slot, slot_placement, OdometryModel};
 use super::resample::{Channels, Resampler};
 use super::sample::{check, OdometrySample};
 use super::smooth::{Gaussian, MAX_TAPS};
 use super::stabilise::stabilise;
 use crate::ahrs::{Ahrs, AhrsSettings};
-use crate::sim::PhonePlacement;
+use crate::placement::{Placement, PlacementClassifier, PlacementEstimate};
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Snapshot engine kind of [`PhoneOdometry`].
 pub const SNAPSHOT_KIND: u8 = 8;
-const SNAPSHOT_VERSION: u16 = 1;
+/// Version 2: placement source and the embedded placement classifier (version-1
+/// snapshots are rejected with `SnapshotError::UnsupportedVersion`).
+const SNAPSHOT_VERSION: u16 = 2;
+
+/// Smallest smoothed classifier probability at which [`PlacementSource::Auto`] uses
+/// the classified placement's regressor (below it: the general regressor). Chosen a
+/// priori (a clear majority among 6 classes), not tuned on any evaluation data.
+pub const AUTO_MIN_CONFIDENCE: f64 = 0.6;
+
+/// Where the placement that picks the regressor comes from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PlacementSource {
+    /// The embedded placement classifier (shipped model) on the engine's own
+    /// accelerometer samples; its placement's regressor when its confidence is at
+    /// least [`AUTO_MIN_CONFIDENCE`], else the general regressor (also before its
+    /// first window, 5.12 s after the start).
+    #[default]
+    Auto,
+    /// The app knows the placement: always its regressor.
+    Fixed(Placement),
+    /// Always the general regressor.
+    Unknown,
+}
 
 /// Settings of the engine (the model carries the pipeline's parameters).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,8 +59,8 @@ pub struct OdometryConfig {
     pub use_magnetometer: bool,
     /// Apply the bias correction (off: integrate the regressed velocity).
     pub bias_correction: bool,
-    /// Where the phone is carried; `None` = unknown (general regressor).
-    pub placement: Option<PhonePlacement>,
+    /// Where the placement comes from (default [`PlacementSource::Auto`]).
+    pub placement: PlacementSource,
 }
 
 impl Default for OdometryConfig {
@@ -41,7 +69,7 @@ impl Default for OdometryConfig {
             ahrs: AhrsSettings::default(),
             use_magnetometer: true,
             bias_correction: true,
-            placement: None,
+            placement: PlacementSource::Auto,
         }
     }
 }
@@ -59,6 +87,13 @@ pub struct OdometryEstimate {
     pub position_m: [f64; 2],
     /// Features of the window (training and diagnostics).
     pub features: WindowFeatures,
+    /// Placement whose regressor produced this window (`None`: the general one).
+    pub regressor_placement: Option<Placement>,
+    /// [`PlacementSource::Auto`]: the classifier's current placement (`None` before
+    /// its first window and for the other sources).
+    pub detected_placement: Option<Placement>,
+    /// Smoothed probability of `detected_placement` (0 when there is none).
+    pub placement_confidence: f64,
 }
 
 impl OdometryEstimate {
@@ -67,6 +102,7 @@ impl OdometryEstimate {
             && self.velocity_mps.iter().all(|v| v.is_finite())
             && self.regressed_mps.iter().all(|v| v.is_finite())
             && self.position_m.iter().all(|v| v.is_finite())
+            && self.placement_confidence.is_finite()
     }
 }
 
@@ -79,11 +115,13 @@ pub struct OdometryBatch {
 }
 
 /// Learned phone inertial odometry.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct PhoneOdometry {
     config: OdometryConfig,
     model: OdometryModel,
     ahrs: Ahrs,
+    /// Runs only with [`PlacementSource::Auto`].
+    classifier: PlacementClassifier,
     last_t_s: Option<f64>,
     resampler: Resampler,
     smoother: Gaussian,
@@ -104,6 +142,7 @@ impl PhoneOdometry {
         let p = model.params;
         Ok(Self {
             ahrs: Ahrs::new(config.ahrs)?,
+            classifier: PlacementClassifier::shipped(),
             last_t_s: None,
             resampler: Resampler::new(p.rate_hz),
             smoother: Gaussian::new(p.sigma_samples),
@@ -133,10 +172,32 @@ impl PhoneOdometry {
         &self.model
     }
 
-    /// Change the placement (e.g. from a placement classifier); takes effect at the
-    /// next window.
-    pub fn set_placement(&mut self, placement: Option<PhonePlacement>) {
+    /// Change the placement source; takes effect at the next window. The embedded
+    /// classifier keeps its state (it only advances while the source is `Auto`).
+    pub fn set_placement(&mut self, placement: PlacementSource) {
         self.config.placement = placement;
+    }
+
+    /// The embedded classifier's current estimate (`None` before its first window
+    /// or when it never ran, i.e. the source was never `Auto`).
+    pub fn placement_estimate(&self) -> Option<PlacementEstimate> {
+        self.classifier.estimate()
+    }
+
+    /// The placement whose regressor the next window uses (`None`: general) and the
+    /// detected placement with its confidence (Auto only).
+    fn choose_placement(&self) -> (Option<Placement>, Option<Placement>, f64) {
+        match self.config.placement {
+            PlacementSource::Unknown => (None, None, 0.0),
+            PlacementSource::Fixed(p) => (Some(p), None, 0.0),
+            PlacementSource::Auto => match self.classifier.estimate() {
+                None => (None, None, 0.0),
+                Some(e) => {
+                    let ok = e.confidence >= AUTO_MIN_CONFIDENCE;
+                    (ok.then_some(e.placement), Some(e.placement), e.confidence)
+                }
+            },
+        }
     }
 
     /// The latest estimate (`None` before the first full window).
@@ -200,6 +261,12 @@ impl PhoneOdometry {
             self.ahrs.update(s.t_s, s.gyro_rads, s.accel_mps2, mag)?;
         }
         // Nothing below fails.
+        if self.config.placement == PlacementSource::Auto {
+            // The classifier has its own door checks (it rejects, e.g., a window's
+            // worth of samples that look like g); a sample it rejects leaves it
+            // unchanged and is still used by the odometry.
+            let _ = self.classifier.push(s.t_s, s.accel_mps2);
+        }
         if let Some(last) = self.last_t_s {
             if s.t_s - last > self.config.ahrs.max_gap_s {
                 // The motion during a gap is unknown: restart the signal chain.
@@ -254,7 +321,9 @@ impl PhoneOdometry {
         if !f.is_finite() {
             return;
         }
-        let reg = self.model.regressor(self.config.placement);
+        let (used, detected, confidence) = self.choose_placement();
+        let reg = self.model.regressor(used);
+        let used = used.filter(|&p| self.model.has_regressor(Some(p)));
         let v_s = reg.predict(&f);
         let (sn, cs) = f.yaw_rad.sin_cos();
         let v_r = [cs * v_s[0] - sn * v_s[1], sn * v_s[0] + cs * v_s[1]];
@@ -290,6 +359,9 @@ impl PhoneOdometry {
             regressed_mps: v_r,
             position_m: self.position_m,
             features: f,
+            regressor_placement: used,
+            detected_placement: detected,
+            placement_confidence: confidence,
         });
         self.fresh = true;
     }
@@ -324,7 +396,8 @@ impl PhoneOdometry {
         w.bytes(&self.ahrs.snapshot());
         w.bool(self.config.use_magnetometer);
         w.bool(self.config.bias_correction);
-        w.u8(slot(self.config.placement) as u8);
+        w.u8(source_code(self.config.placement));
+        w.bytes(&self.classifier.snapshot());
         w.opt_f64(self.last_t_s);
         // Resampler.
         let r = &self.resampler;
@@ -361,6 +434,9 @@ impl PhoneOdometry {
         w.f64s(&e.velocity_mps);
         w.f64s(&e.regressed_mps);
         w.f64s(&e.position_m);
+        w.u8(slot(e.regressor_placement) as u8);
+        w.u8(slot(e.detected_placement) as u8);
+        w.f64(e.placement_confidence);
         let f = &e.features;
         w.f64(f.t_start_s);
         w.f64(f.t_end_s);
@@ -374,18 +450,23 @@ impl PhoneOdometry {
 
     /// An engine continuing exactly where the snapshot was taken.
     pub fn restore(bytes: &[u8]) -> Result<Self, OdometryError> {
-        let (mut r, _) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let (mut r, version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        if version != SNAPSHOT_VERSION {
+            // Version 1 had no placement source nor classifier: not readable.
+            return Err(SnapshotError::UnsupportedVersion {
+                found: version,
+                supported: SNAPSHOT_VERSION,
+            }
+            .into());
+        }
         let text = std::str::from_utf8(r.bytes()?).map_err(|_| SnapshotError::Invalid("model"))?;
         let model = OdometryModel::parse(text).map_err(|_| SnapshotError::Invalid("model"))?;
         let ahrs = Ahrs::restore(r.bytes()?)?;
         let use_magnetometer = r.bool()?;
         let bias_correction = r.bool()?;
-        let slot_v = r.u8()? as usize;
-        let placement = match slot_v {
-            0 => None,
-            1..=7 => Some(PhonePlacement::ALL[slot_v - 1]),
-            _ => return Err(SnapshotError::Invalid("placement").into()),
-        };
+        let placement = source_from_code(r.u8()?)?;
+        let classifier = PlacementClassifier::restore(r.bytes()?)
+            .map_err(|_| SnapshotError::Invalid("placement classifier"))?;
         let config = OdometryConfig {
             ahrs: *ahrs.settings(),
             use_magnetometer,
@@ -394,6 +475,7 @@ impl PhoneOdometry {
         };
         let mut e = Self::new(config, model)?;
         e.ahrs = ahrs;
+        e.classifier = classifier;
         e.last_t_s = r.opt_f64()?;
         let has_prev = r.bool()?;
         let tp = r.f64()?;
@@ -435,6 +517,9 @@ impl PhoneOdometry {
         r.f64s(&mut est.velocity_mps)?;
         r.f64s(&mut est.regressed_mps)?;
         r.f64s(&mut est.position_m)?;
+        est.regressor_placement = read_slot(&mut r)?;
+        est.detected_placement = read_slot(&mut r)?;
+        est.placement_confidence = r.f64()?;
         est.features.t_start_s = r.f64()?;
         est.features.t_end_s = r.f64()?;
         est.features.yaw_rad = r.f64()?;
@@ -446,4 +531,35 @@ impl PhoneOdometry {
         r.end()?;
         Ok(e)
     }
+}
+
+impl PartialEq for PhoneOdometry {
+    /// Same state, bit for bit (the snapshots are equal).
+    fn eq(&self, other: &Self) -> bool {
+        self.config.ahrs == other.config.ahrs && self.snapshot() == other.snapshot()
+    }
+}
+
+/// Snapshot byte of a placement source: 0 unknown, 1 auto, 2 + class id fixed.
+fn source_code(s: PlacementSource) -> u8 {
+    match s {
+        PlacementSource::Unknown => 0,
+        PlacementSource::Auto => 1,
+        PlacementSource::Fixed(p) => 2 + p.index() as u8,
+    }
+}
+
+fn source_from_code(c: u8) -> Result<PlacementSource, SnapshotError> {
+    match c {
+        0 => Ok(PlacementSource::Unknown),
+        1 => Ok(PlacementSource::Auto),
+        _ => Placement::ALL
+            .get(c as usize - 2)
+            .map(|&p| PlacementSource::Fixed(p))
+            .ok_or(SnapshotError::Invalid("placement source")),
+    }
+}
+
+fn read_slot(r: &mut Reader) -> Result<Option<Placement>, SnapshotError> {
+    slot_placement(r.u8()? as usize).ok_or(SnapshotError::Invalid("placement"))
 }

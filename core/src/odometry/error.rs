@@ -31,6 +31,13 @@ pub enum OdometryError {
     /// A model file could not be read (line number, 1-based, and why).
     #[error("invalid odometry model (line {line}): {reason}")]
     InvalidModel { line: usize, reason: String },
+    /// A model file of another format version (e.g. a version-1 file, which keyed
+    /// the regressors by the simulator's placements): retrain it.
+    #[error(
+        "odometry model file version {found}, this build reads version {supported} \
+         (retrain with `stridekit train odometry`)"
+    )]
+    ModelVersion { found: u32, supported: u32 },
     /// A snapshot could not be restored.
     #[error("cannot restore odometry snapshot: {0}")]
     Snapshot(#[from] SnapshotError),

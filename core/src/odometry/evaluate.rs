@@ -2,12 +2,11 @@
 //! and scoring them (ATE, RTE): shared by the tests and `stridekit eval odometry`.
 
 use super::baseline::{NaiveMode, NaiveOdometry};
-use super::engine::{OdometryConfig, PhoneOdometry};
+use super::engine::{OdometryConfig, PhoneOdometry, PlacementSource};
 use super::metrics::{align_start, ate, rte, Point};
 use super::model::OdometryModel;
 use super::sample::OdometrySample;
 use super::train::Truth;
-use crate::sim::PhonePlacement;
 
 /// The methods compared, in [`Tracks::methods`] order.
 pub const METHODS: [&str; 4] = [
@@ -65,12 +64,13 @@ impl Tracks {
     }
 }
 
-/// Run every method over `samples`.
+/// Run every method over `samples`; the learned ones pick their regressor from
+/// `placement`.
 pub fn run_methods(
     samples: &[OdometrySample],
     truth: &dyn Truth,
     model: &OdometryModel,
-    placement: Option<PhonePlacement>,
+    placement: PlacementSource,
 ) -> Tracks {
     let cfg = OdometryConfig {
         placement,

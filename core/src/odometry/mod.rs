@@ -7,9 +7,11 @@
 //!   and the yaw of the stabilised frame S;
 //! - [`resample`]: onto the model's rate; [`smooth`]: Gaussian FIR (documented delay);
 //! - [`features`]: fixed-capacity window ring and the engineered features in S;
-//! - [`model`]: one velocity regressor per placement (+ general), the model file;
+//! - [`model`]: one velocity regressor per placement class (+ general), the model file;
 //! - [`bias`]: the low-frequency acceleration-bias correction over a sliding block;
-//! - [`engine`]: [`PhoneOdometry`], which chains them and integrates the position;
+//! - [`engine`]: [`PhoneOdometry`], which chains them, picks the regressor from the
+//!   [`PlacementSource`] (default: the embedded placement classifier) and integrates
+//!   the position;
 //! - [`baseline`]: naive double integration (fixed or AHRS orientation);
 //! - [`metrics`]: ATE / RTE (RoNIN's definitions); [`train`]: fitting on the simulator.
 //!
@@ -33,7 +35,10 @@ pub mod stabilise;
 pub mod train;
 
 pub use baseline::{NaiveMode, NaiveOdometry};
-pub use engine::{OdometryBatch, OdometryConfig, OdometryEstimate, PhoneOdometry};
+pub use engine::{
+    OdometryBatch, OdometryConfig, OdometryEstimate, PhoneOdometry, PlacementSource,
+    AUTO_MIN_CONFIDENCE,
+};
 pub use error::OdometryError;
 pub use features::WindowFeatures;
 pub use model::{OdometryModel, PipelineParams, Regressor};

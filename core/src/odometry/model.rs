@@ -1,7 +1,8 @@
 //! The velocity regressor and the model file.
 //!
-//! One [`Regressor`] per phone placement plus a general one (used when the
-//! placement is unknown or has no regressor of its own). A regressor maps a
+//! One [`Regressor`] per placement class ([`crate::placement::Placement`], the classes
+//! the placement classifier outputs) plus a general one (used when the placement is
+//! unknown, not confident enough, or has no regressor of its own). A regressor maps a
 //! window's [`WindowFeatures`] to a horizontal velocity in the stabilised frame S:
 //! - speed: ridge regression on the standardised scalars,
 //!   `ŝ = clamp(b + Σ w_j (s_j − mean_j) / sd_j, 0, 10 m/s)`;
@@ -11,10 +12,10 @@
 //!   to the unit true direction;
 //! - `v_S = ŝ · d / |d|` (0 when `|d| < 1e-9`).
 //!
-//! # Model file (text, version 1)
+//! # Model file (text, version 2)
 //!
 //! ```text
-//! stridekit-odometry 1
+//! stridekit-odometry 2
 //! # free comment lines (how the model was trained)
 //! pipeline rate_hz 100 window 200 hop 10 sigma 2 lambda 1
 //! regressor general mean m1 … m10 sd s1 … s10 speed b w1 … w10 direction re1 im1 … re5 im5
@@ -24,7 +25,13 @@
 //! `pipeline`: model rate (Hz; input at other rates is resampled onto it), window
 //! length and hop (grid samples, window ≤ 400), Gaussian σ (grid samples, ≤ 10) and
 //! the bias-correction weight λ. The `general` regressor is required. Placement
-//! names: `in_hand front_pocket back_pocket bag neck_pouch armband swinging_arm`.
+//! names (the [`Placement`] classes): `in_hand pocket bag neck_pouch armband
+//! swinging_arm`.
+//!
+//! Version 1 keyed the regressors by the simulator's 7 placements (separate
+//! `front_pocket` and `back_pocket`); this build reads only version 2 and rejects a
+//! version-1 file with [`OdometryError::ModelVersion`] (retrain it with
+//! `stridekit train odometry`).
 //! Scalar order: [`SCALAR_NAMES`]; direction pairs: the [`N_VECTOR`] features, then
 //! the constant. Numbers are written with Rust's shortest round-trip formatting, so
 //! `parse(to_text(m)) == m` bit for bit.
@@ -32,12 +39,16 @@
 use super::error::OdometryError;
 use super::features::{WindowFeatures, MAX_WINDOW, N_SCALAR, N_VECTOR, SCALAR_NAMES};
 use super::smooth::MAX_SIGMA_SAMPLES;
-use crate::sim::PhonePlacement;
+use crate::placement::{Placement, CLASSES};
 
 /// Largest speed a regressor outputs, m/s.
 pub const MAX_SPEED_MPS: f64 = 10.0;
 const HEADER: &str = "stridekit-odometry";
-const VERSION: u32 = 1;
+/// Model file format version this build reads and writes.
+pub const MODEL_VERSION: u32 = 2;
+const VERSION: u32 = MODEL_VERSION;
+/// Regressor slots: the general one, then one per [`Placement`] class.
+pub const SLOTS: usize = 1 + CLASSES;
 
 /// Parameters of the signal pipeline the model was trained with.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -151,40 +162,39 @@ impl Regressor {
 }
 
 /// Name of a placement in the model file (`None` = general).
-pub fn placement_name(p: Option<PhonePlacement>) -> &'static str {
+pub fn placement_name(p: Option<Placement>) -> &'static str {
     match p {
         None => "general",
-        Some(PhonePlacement::InHand) => "in_hand",
-        Some(PhonePlacement::FrontPocket) => "front_pocket",
-        Some(PhonePlacement::BackPocket) => "back_pocket",
-        Some(PhonePlacement::Bag) => "bag",
-        Some(PhonePlacement::NeckPouch) => "neck_pouch",
-        Some(PhonePlacement::Armband) => "armband",
-        Some(PhonePlacement::SwingingArm) => "swinging_arm",
+        Some(Placement::InHand) => "in_hand",
+        Some(Placement::Pocket) => "pocket",
+        Some(Placement::Bag) => "bag",
+        Some(Placement::NeckPouch) => "neck_pouch",
+        Some(Placement::Armband) => "armband",
+        Some(Placement::SwingingArm) => "swinging_arm",
     }
 }
 
 /// The placement of a name (`Some(None)` = general).
-pub fn placement_from_name(s: &str) -> Option<Option<PhonePlacement>> {
+pub fn placement_from_name(s: &str) -> Option<Option<Placement>> {
     if s == "general" {
         return Some(None);
     }
-    PhonePlacement::ALL
+    Placement::ALL
         .into_iter()
         .find(|&p| placement_name(Some(p)) == s)
         .map(Some)
 }
 
 /// Slot of a placement in [`OdometryModel::regressors`] (0 = general).
-pub(crate) fn slot(p: Option<PhonePlacement>) -> usize {
-    match p {
-        None => 0,
-        Some(p) => {
-            1 + PhonePlacement::ALL
-                .iter()
-                .position(|&q| q == p)
-                .unwrap_or(0)
-        }
+pub fn slot(p: Option<Placement>) -> usize {
+    p.map_or(0, |p| 1 + p.index())
+}
+
+/// Placement of a slot (0 = general; `None` when out of range).
+pub fn slot_placement(k: usize) -> Option<Option<Placement>> {
+    match k {
+        0 => Some(None),
+        _ => Placement::ALL.get(k - 1).map(|&p| Some(p)),
     }
 }
 
@@ -192,8 +202,8 @@ pub(crate) fn slot(p: Option<PhonePlacement>) -> usize {
 #[derive(Clone, Debug, PartialEq)]
 pub struct OdometryModel {
     pub params: PipelineParams,
-    /// Slot 0 general, then [`PhonePlacement::ALL`] order; `None` = not trained.
-    pub regressors: [Option<Regressor>; 8],
+    /// Slot 0 general, then [`Placement::ALL`] order; `None` = not trained.
+    pub regressors: [Option<Regressor>; SLOTS],
     /// Comment lines (without `# `), kept for `to_text`.
     pub comments: Vec<String>,
 }
@@ -203,7 +213,7 @@ const SHIPPED: &str = include_str!("../../models/odometry_v1.txt");
 impl OdometryModel {
     /// A model with only a general regressor.
     pub fn new(params: PipelineParams, general: Regressor) -> Result<Self, OdometryError> {
-        let mut regressors = [None; 8];
+        let mut regressors = [None; SLOTS];
         regressors[0] = Some(general);
         let m = Self {
             params,
@@ -214,13 +224,19 @@ impl OdometryModel {
         Ok(m)
     }
 
-    /// The model shipped in `core/models/odometry_v1.txt`.
+    /// The model shipped in `core/models/odometry_v1.txt` (file format version 2; the
+    /// file name is historical).
     pub fn shipped() -> Self {
         Self::parse(SHIPPED).expect("the shipped odometry model parses")
     }
 
+    /// Whether `placement` has a regressor of its own (`None`: the general one).
+    pub fn has_regressor(&self, placement: Option<Placement>) -> bool {
+        self.regressors[slot(placement)].is_some()
+    }
+
     /// The regressor used for `placement` (its own, else the general one).
-    pub fn regressor(&self, placement: Option<PhonePlacement>) -> &Regressor {
+    pub fn regressor(&self, placement: Option<Placement>) -> &Regressor {
         self.regressors[slot(placement)]
             .as_ref()
             .or(self.regressors[0].as_ref())
@@ -261,11 +277,7 @@ impl OdometryModel {
         );
         for (i, r) in self.regressors.iter().enumerate() {
             let Some(r) = r else { continue };
-            let name = placement_name(if i == 0 {
-                None
-            } else {
-                Some(PhonePlacement::ALL[i - 1])
-            });
+            let name = placement_name(slot_placement(i).flatten());
             let _ = write!(s, "regressor {name} mean");
             for v in r.mean {
                 let _ = write!(s, " {v}");
@@ -298,15 +310,15 @@ impl OdometryModel {
         match head.next().map(str::parse::<u32>) {
             Some(Ok(VERSION)) => {}
             Some(Ok(v)) => {
-                return Err(err(
-                    n,
-                    format!("model version {v}, this build reads {VERSION}"),
-                ))
+                return Err(OdometryError::ModelVersion {
+                    found: v,
+                    supported: VERSION,
+                })
             }
             _ => return Err(err(n, "missing or bad version number".into())),
         }
         let mut params = None;
-        let mut regressors = [None; 8];
+        let mut regressors = [None; SLOTS];
         let mut comments = Vec::new();
         for (n, line) in lines {
             if line.is_empty() {

@@ -5,10 +5,11 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::engine::{OdometryConfig, PhoneOdometry};
+use super::engine::{OdometryConfig, PhoneOdometry, PlacementSource};
 use super::features::{WindowFeatures, N_SCALAR, N_VECTOR};
 use super::model::{slot, OdometryModel, PipelineParams, Regressor};
 use super::sample::OdometrySample;
+use crate::placement::Placement;
 use crate::sim::phone::PhoneSegment;
 use crate::sim::{simulate_phone, PhoneActivity, PhonePlacement, PhoneScenario, Rng};
 
@@ -47,7 +48,9 @@ pub fn sim_scenario(seed: u64, placement: PhonePlacement) -> PhoneScenario {
 /// One labelled window.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LabelledWindow {
-    pub placement: Option<PhonePlacement>,
+    /// Placement class of the recording (`None` = unknown: trains only the general
+    /// regressor).
+    pub placement: Option<Placement>,
     pub features: WindowFeatures,
     /// Mean true velocity over the window in S, m/s.
     pub velocity_s_mps: [f64; 2],
@@ -70,7 +73,7 @@ impl Truth for crate::sim::SimulatedPhone {
 pub fn labelled_windows(
     samples: &[OdometrySample],
     truth: &dyn Truth,
-    placement: Option<PhonePlacement>,
+    placement: Option<Placement>,
     params: PipelineParams,
 ) -> Vec<LabelledWindow> {
     // Any valid regressor: only the features are used.
@@ -81,7 +84,11 @@ pub fn labelled_windows(
         direction: [[0.0; 2]; N_VECTOR + 1],
     };
     let model = OdometryModel::new(params, r).expect("valid params");
-    let mut eng = PhoneOdometry::new(OdometryConfig::default(), model).expect("valid");
+    let cfg = OdometryConfig {
+        placement: PlacementSource::Unknown,
+        ..OdometryConfig::default()
+    };
+    let mut eng = PhoneOdometry::new(cfg, model).expect("valid");
     let mut out = Vec::new();
     eng.push_batch(samples, |e| {
         let f = e.features;
@@ -196,7 +203,8 @@ pub fn fit_regressor(windows: &[&LabelledWindow]) -> Option<Regressor> {
     })
 }
 
-/// Fit the general regressor on every window and one per placement present.
+/// Fit the general regressor on every window and one per placement class present
+/// (the simulator's front and back pockets both train `Pocket`).
 pub fn fit_model(
     windows: &[LabelledWindow],
     params: PipelineParams,
@@ -205,7 +213,7 @@ pub fn fit_model(
     let all: Vec<&LabelledWindow> = windows.iter().collect();
     let general = fit_regressor(&all)?;
     let mut model = OdometryModel::new(params, general).ok()?;
-    for p in PhonePlacement::ALL {
+    for p in Placement::ALL {
         let mine: Vec<&LabelledWindow> =
             windows.iter().filter(|w| w.placement == Some(p)).collect();
         model.regressors[slot(Some(p))] = fit_regressor(&mine);
@@ -215,15 +223,15 @@ pub fn fit_model(
     Some(model)
 }
 
-/// Labelled windows of `seeds` simulated walks per placement (seeds below
-/// [`FIRST_EVAL_SEED`]).
+/// Labelled windows of `seeds` simulated walks per simulator placement (seeds below
+/// [`FIRST_EVAL_SEED`]), labelled with the placement's class.
 pub fn simulated_windows(seeds: u64, params: PipelineParams) -> Vec<LabelledWindow> {
     let mut out = Vec::new();
     for p in PhonePlacement::ALL {
         for seed in 1..=seeds.min(FIRST_EVAL_SEED - 1) {
             let sim = simulate_phone(&sim_scenario(seed, p));
             let samples: Vec<OdometrySample> = sim.samples.iter().map(Into::into).collect();
-            out.extend(labelled_windows(&samples, &sim, Some(p), params));
+            out.extend(labelled_windows(&samples, &sim, Some(p.into()), params));
         }
     }
     out
