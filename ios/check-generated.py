@@ -231,7 +231,7 @@ altitude verticalAccuracy horizontalAccuracy speed speedAccuracy delegate
 desiredAccuracy distanceFilter activityType fitness authorizationStatus notDetermined
 requestWhenInUseAuthorization startUpdatingLocation stopUpdatingLocation locationManager
 kCLLocationAccuracyBest kCLDistanceFilterNone
-canImport os precondition withUnsafeBytes
+canImport os precondition withUnsafeBytes sin cos pi
 """.split())
 
 
@@ -381,6 +381,13 @@ def check_layouts():
     foot_pack = re.findall(r"\bs\.(\w+),", rust_fn_body(foot, "pub fn pack_foot_samples("))
     if foot_pack and foot_pack != foot_fields:
         fail(f"foot.rs: pack_foot_samples order {foot_pack} != unpack order {foot_fields}")
+
+    # Other engines taking 32-byte accelerometer records must decode them with packed::accel.
+    for f in sorted(BINDINGS_SRC.glob("*.rs")):
+        text = read(f)
+        for sig in re.findall(r"pub fn (push_accel_packed)\(", text):
+            if "packed::accel(" not in rust_fn_body(text, f"pub fn {sig}("):
+                fail(f"{f.name}: {sig} does not decode with packed::accel (AccelLayout)")
 
     rust = {
         "AccelLayout": ("ACCEL_RECORD_BYTES", accel_fields),

@@ -187,3 +187,54 @@ public final class NavigationPipeline: @unchecked Sendable {
         }
     }
 }
+
+/// `PlacementClassifier` (where the phone is carried) fed from accelerometer samples
+/// (the same 32-byte records as the pace tracker); `estimates` yields the latest
+/// `PlacementEstimate` after every batch that completed a window.
+public final class PlacementPipeline: @unchecked Sendable {
+    public let classifier: PlacementClassifier
+    public let estimates: AsyncStream<PlacementEstimate>
+
+    private let continuation: AsyncStream<PlacementEstimate>.Continuation
+    private let onProblem: ProblemHandler
+    private let lock = NSLock()
+    private var accel: RecordBatcher
+
+    public init(classifier: PlacementClassifier = PlacementClassifier.withDefaults(),
+                accelBatch: Int = 100, maxLatencyS: Double = 1.0,
+                buffering: AsyncStream<PlacementEstimate>.Continuation.BufferingPolicy = .bufferingNewest(16),
+                onProblem: @escaping ProblemHandler = { _ in }) {
+        self.classifier = classifier
+        self.onProblem = onProblem
+        var cont: AsyncStream<PlacementEstimate>.Continuation?
+        estimates = AsyncStream(PlacementEstimate.self, bufferingPolicy: buffering) { cont = $0 }
+        continuation = cont!
+        accel = RecordBatcher(recordBytes: AccelLayout.recordBytes, maxRecords: accelBatch,
+                              maxLatencyS: maxLatencyS)
+    }
+
+    public func push(accelTS tS: Double, specificForceMps2 a: Vector3) {
+        lock.lock()
+        defer { lock.unlock() }
+        if let batch = accel.add(tS: tS, { AccelLayout.append(tS: tS, specificForceMps2: a, to: &$0) }) {
+            pushLocked(batch)
+        }
+    }
+
+    public func finish() {
+        lock.lock()
+        if let batch = accel.flush() { pushLocked(batch) }
+        lock.unlock()
+        continuation.finish()
+    }
+
+    private func pushLocked(_ batch: Data) {
+        do {
+            let result = try classifier.pushAccelPacked(data: batch)
+            for r in result.rejected { onProblem("accelerometer sample \(r.index): \(r.reason)") }
+            if result.windows > 0, let latest = result.latest { continuation.yield(latest) }
+        } catch {
+            onProblem("accelerometer batch not pushed: \(error)")
+        }
+    }
+}

@@ -66,6 +66,35 @@ public final class PaceSession {
     }
 }
 
+/// Where the phone is carried (PlacementClassifier), from the accelerometer.
+public final class PlacementSession {
+    public let pipeline: PlacementPipeline
+    public var estimates: AsyncStream<PlacementEstimate> { pipeline.estimates }
+
+    private let rateHz: Double
+    private let motion: MotionSource
+
+    public init(classifier: PlacementClassifier = PlacementClassifier.withDefaults(), rateHz: Double = 50,
+                motionManager: CMMotionManager = CMMotionManager(), clock: MonotonicClock = .system,
+                onProblem: @escaping ProblemHandler = { _ in }) {
+        pipeline = PlacementPipeline(classifier: classifier, onProblem: onProblem)
+        self.rateHz = rateHz
+        motion = MotionSource(manager: motionManager, clock: clock)
+    }
+
+    public func start() throws {
+        let pipeline = self.pipeline
+        try motion.startAccelerometer(rateHz: rateHz) { t, a in
+            pipeline.push(accelTS: t, specificForceMps2: a)
+        }
+    }
+
+    public func stop() {
+        motion.stop()
+        pipeline.finish()
+    }
+}
+
 /// Pedestrian dead reckoning (PhoneNavigator) from the IMU + CoreLocation.
 public final class NavigationSession {
     public let pipeline: NavigationPipeline

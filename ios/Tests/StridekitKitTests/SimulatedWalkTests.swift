@@ -108,6 +108,30 @@ final class SimulatedWalkTests: XCTestCase {
         }
     }
 
+    /// Packed accelerometer records give the classifier exactly what the record API gives.
+    func testPlacementPackedEqualsRecords() async throws {
+        var samples: [AccelSample] = []
+        for i in 0..<(20 * 50) {  // 20 s at 50 Hz of a swinging, bouncing phone
+            let t = 100 + Double(i) / 50
+            let s = 2 * Double.pi * 1.8 * t
+            samples.append(AccelSample(tS: t, xMps2: 3 * sin(s / 2), yMps2: 9.0 + 2.5 * sin(s),
+                                       zMps2: 1.5 * cos(s)))
+        }
+        let byRecords = PlacementClassifier.withDefaults()
+        let r = try byRecords.pushAccel(samples: samples)
+        XCTAssertEqual(r.rejected.count, 0)
+        let pipeline = PlacementPipeline(accelBatch: 64, buffering: .unbounded)
+        for s in samples {
+            pipeline.push(accelTS: s.tS, specificForceMps2: Vector3(s.xMps2, s.yMps2, s.zMps2))
+        }
+        pipeline.finish()
+        var last: PlacementEstimate?
+        for await e in pipeline.estimates { last = e }
+        XCTAssertNotNil(last)
+        XCTAssertEqual(pipeline.classifier.estimate(), byRecords.estimate())
+        XCTAssertEqual(pipeline.classifier.snapshot(), byRecords.snapshot())
+    }
+
     func testNavigationPipelineStreamsEstimates() async throws {
         let pipeline = NavigationPipeline(imuBatch: 50, buffering: .unbounded)
         let still = CoreMotionUnits.specificForceMps2(fromG: Vector3(0, 0, -1))
