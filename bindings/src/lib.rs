@@ -25,6 +25,7 @@ uniffi::setup_scaffolding!();
 
 mod error;
 pub mod foot;
+mod logging;
 pub mod navigator;
 pub mod packed;
 mod sim;
@@ -36,6 +37,7 @@ pub use foot::{
     simulate_foot_walk, FootConfig, FootError, FootEstimate, FootImuSample, FootNavigator,
     SimulatedFootWalk,
 };
+pub use logging::{init_android_logging, LogLevel};
 pub use sim::{simulate_run, SimulatedRun};
 pub use tracker::{BatchResult, PaceTracker, RejectedSample};
 pub use types::{
