@@ -34,7 +34,7 @@ object SensorClock {
  *
  * Within one boot `offsetS` is 0 and `t_s` is plain seconds since boot (what the
  * stridekit README uses). A session restored from a snapshot after a reboot must keep
- * `t_s` increasing although elapsedRealtime restarted at 0: [continueAfterReboot]
+ * `t_s` increasing although elapsedRealtime restarted at 0: [onBoot]
  * places the new boot's clock after the last saved sample, by the wall-clock gap.
  * Persist [state] next to the engine's snapshot. Not thread-safe by itself: the
  * sessions call it under their lock.
@@ -52,13 +52,21 @@ class SessionClock(state: State = State()) {
         val lastElapsedNs: Long = 0L,
     )
 
-    var state: State = state
-        private set
+    private var offsetS = state.offsetS
+    private var bootEpochMs = state.bootEpochMs
+    private var lastTs = state.lastTs
+    private var lastElapsedNs = state.lastElapsedNs
 
-    /** `t_s` of an elapsedRealtime timestamp (nanoseconds). */
+    /** The state to persist (a copy). */
+    val state: State get() = State(offsetS, bootEpochMs, lastTs, lastElapsedNs)
+
+    /** `t_s` of an elapsedRealtime timestamp (nanoseconds). No allocation. */
     fun seconds(elapsedNs: Long): Double {
-        val t = state.offsetS + SensorClock.nanosToSeconds(elapsedNs)
-        if (t > state.lastTs) state = state.copy(lastTs = t, lastElapsedNs = elapsedNs)
+        val t = offsetS + SensorClock.nanosToSeconds(elapsedNs)
+        if (t > lastTs) {
+            lastTs = t
+            lastElapsedNs = elapsedNs
+        }
         return t
     }
 
@@ -68,22 +76,19 @@ class SessionClock(state: State = State()) {
      * [toleranceMs] away), after which times of the new boot follow the saved ones.
      */
     fun onBoot(bootEpochMs: Long, toleranceMs: Long = 2_000L): Boolean {
-        val saved = state.bootEpochMs
+        val saved = this.bootEpochMs
         if (saved == null || kotlin.math.abs(bootEpochMs - saved) <= toleranceMs) {
-            state = state.copy(bootEpochMs = saved ?: bootEpochMs)
+            this.bootEpochMs = saved ?: bootEpochMs
             return false
         }
-        continueAfterReboot(bootEpochMs)
-        return true
-    }
-
-    private fun continueAfterReboot(newBootEpochMs: Long) {
-        val s = state
-        val old = s.bootEpochMs ?: newBootEpochMs
-        val lastTs = if (s.lastTs.isFinite()) s.lastTs else s.offsetS
         // Wall-clock time from the last sample to the new boot; at least 1 ms, as
         // wall clocks can be set backwards.
-        val gapS = maxOf(0.001, (newBootEpochMs - old - s.lastElapsedNs / 1_000_000L) / 1000.0)
-        state = State(offsetS = lastTs + gapS, bootEpochMs = newBootEpochMs, lastTs = lastTs, lastElapsedNs = 0L)
+        val last = if (lastTs.isFinite()) lastTs else offsetS
+        val gapS = maxOf(0.001, (bootEpochMs - saved - lastElapsedNs / 1_000_000L) / 1000.0)
+        offsetS = last + gapS
+        this.bootEpochMs = bootEpochMs
+        lastTs = last
+        lastElapsedNs = 0L
+        return true
     }
 }
