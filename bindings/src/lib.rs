@@ -19,14 +19,16 @@
 //!
 //! The other engines follow the same pattern with their own error type:
 //! [`navigator::PhoneNavigator`] (`NavError`), [`foot::FootNavigator`] (`FootError`,
-//! Kotlin `FootException`; packed 56-byte IMU records, see the [`foot`] module docs) and
+//! Kotlin `FootException`; packed 56-byte IMU records, see the [`foot`] module docs),
 //! [`placement::PlacementClassifier`] (`PlacementError`) and [`odometry::PhoneOdometry`]
-//! (`OdometryError`).
+//! (`OdometryError`). On Android, `init_android_logging(level)` sends the SDK's `log`
+//! records to logcat (a no-op elsewhere).
 
 uniffi::setup_scaffolding!();
 
 mod error;
 pub mod foot;
+mod logging;
 pub mod navigator;
 pub mod odometry;
 pub mod packed;
@@ -40,6 +42,7 @@ pub use foot::{
     simulate_foot_walk, FootConfig, FootError, FootEstimate, FootImuSample, FootNavigator,
     SimulatedFootWalk,
 };
+pub use logging::{init_android_logging, LogLevel};
 pub use sim::{simulate_run, SimulatedRun};
 pub use tracker::{BatchResult, PaceTracker, RejectedSample};
 pub use types::{
