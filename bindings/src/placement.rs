@@ -214,7 +214,7 @@ impl PlacementClassifier {
     }
 
     /// Push accelerometer samples; bad ones are skipped and reported by index.
-    pub fn push_accel(
+    pub fn push_accel_samples(
         &self,
         samples: Vec<AccelSample>,
     ) -> Result<PlacementBatchResult, PlacementError> {
@@ -302,7 +302,7 @@ mod tests {
             Err(PlacementError::InvalidBuffer { .. })
         ));
         let r = c
-            .push_accel(vec![AccelSample {
+            .push_accel_samples(vec![AccelSample {
                 t_s: f64::NAN,
                 x_mps2: 0.0,
                 y_mps2: 0.0,

@@ -118,7 +118,7 @@ final class SimulatedWalkTests: XCTestCase {
                                        zMps2: 1.5 * cos(s)))
         }
         let byRecords = PlacementClassifier.withDefaults()
-        let r = try byRecords.pushAccel(samples: samples)
+        let r = try byRecords.pushAccelSamples(samples: samples)
         XCTAssertEqual(r.rejected.count, 0)
         let pipeline = PlacementPipeline(accelBatch: 64, buffering: .unbounded)
         for s in samples {

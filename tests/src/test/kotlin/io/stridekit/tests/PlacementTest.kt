@@ -75,11 +75,11 @@ class PlacementTest {
         samples.forEach { s -> listOf(s.tS, s.xMps2, s.yMps2, s.zMps2).forEach { buf.putDouble(it) } }
         PlacementClassifier.withDefaults().use { a ->
             PlacementClassifier.withDefaults().use { b ->
-                a.pushAccel(samples.take(700))
+                a.pushAccelSamples(samples.take(700))
                 val saved = a.snapshot()
                 PlacementClassifier.restore(saved).use { resumed ->
-                    resumed.pushAccel(samples.drop(700))
-                    a.pushAccel(samples.drop(700))
+                    resumed.pushAccelSamples(samples.drop(700))
+                    a.pushAccelSamples(samples.drop(700))
                     b.pushAccelPacked(buf.array())
                     assertEquals(a.estimate(), b.estimate())
                     assertEquals(a.estimate(), resumed.estimate())
@@ -95,7 +95,7 @@ class PlacementTest {
     fun `bad input is a typed error or reported by index`() {
         PlacementClassifier.withDefaults().use { c ->
             val before = c.snapshot()
-            val r = c.pushAccel(listOf(
+            val r = c.pushAccelSamples(listOf(
                 AccelSample(tS = 0.0, xMps2 = Double.NaN, yMps2 = 0.0, zMps2 = 9.8),
                 AccelSample(tS = 0.01, xMps2 = 0.0, yMps2 = 0.0, zMps2 = 9.8),
                 AccelSample(tS = 0.005, xMps2 = 0.0, yMps2 = 0.0, zMps2 = 9.8),
