@@ -145,3 +145,14 @@ impl PaceError {
 pub(crate) fn guard<T>(f: impl FnOnce() -> Result<T, PaceError>) -> Result<T, PaceError> {
     guard_with(f, |reason| PaceError::Internal { reason })
 }
+
+/// Lock an engine's mutex. A panic caught while it was held (reported as an
+/// `Internal` error) poisons it; the engine's state is still consistent (every push
+/// checks its input before changing anything), so the poison is cleared and the
+/// object stays usable.
+pub(crate) fn lock<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| {
+        m.clear_poison();
+        std::sync::PoisonError::into_inner(p)
+    })
+}

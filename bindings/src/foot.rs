@@ -46,7 +46,7 @@
 //! report a panicking sample as rejected, and a mutex poisoned by a panic is recovered.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::sync::{Arc, Mutex, MutexGuard};
 
 use stridekit_core::ahrs::AxisRemap;
 use stridekit_core::foot as core;
@@ -910,10 +910,7 @@ impl FootNavigator {
     /// The core navigator; a mutex poisoned by an earlier panic is recovered (the
     /// panic was already reported as an error) instead of panicking again.
     fn lock(&self) -> MutexGuard<'_, core::FootNavigator> {
-        self.inner.lock().unwrap_or_else(|poisoned| {
-            self.inner.clear_poison();
-            PoisonError::into_inner(poisoned)
-        })
+        crate::error::lock(&self.inner)
     }
 
     /// Push every sample under one lock, keeping the estimates `output` asks for.

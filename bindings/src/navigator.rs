@@ -6,7 +6,7 @@
 //! included), mag_x, mag_y, mag_z (µT; NaN when there is no magnetometer)`, device
 //! axes as the platform reports them.
 
-use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::sync::{Arc, Mutex, MutexGuard};
 
 use stridekit_core::ahrs::ImuSample;
 use stridekit_core::pdr as core;
@@ -103,10 +103,7 @@ pub struct PhoneNavigator {
 
 impl PhoneNavigator {
     fn lock(&self) -> MutexGuard<'_, core::PhoneNavigator> {
-        self.inner.lock().unwrap_or_else(|p| {
-            self.inner.clear_poison();
-            PoisonError::into_inner(p)
-        })
+        crate::error::lock(&self.inner)
     }
 }
 
@@ -114,6 +111,29 @@ fn f64_at(c: &[u8], i: usize) -> f64 {
     let mut b = [0u8; 8];
     b.copy_from_slice(&c[8 * i..8 * i + 8]);
     f64::from_le_bytes(b)
+}
+
+/// One 80-byte IMU record (layout in the module docs): `(t_s, gyro_rads, accel_mps2,
+/// mag_ut)`, the magnetometer `None` when any of its fields is NaN.
+pub(crate) fn imu_record(c: &[u8]) -> (f64, [f64; 3], [f64; 3], Option<[f64; 3]>) {
+    let mag = [f64_at(c, 7), f64_at(c, 8), f64_at(c, 9)];
+    (
+        f64_at(c, 0),
+        [f64_at(c, 1), f64_at(c, 2), f64_at(c, 3)],
+        [f64_at(c, 4), f64_at(c, 5), f64_at(c, 6)],
+        (!mag.iter().any(|v| v.is_nan())).then_some(mag),
+    )
+}
+
+/// `data` as 80-byte IMU records, or why not.
+pub(crate) fn imu_records(data: &[u8]) -> Result<std::slice::ChunksExact<'_, u8>, String> {
+    if data.len() % IMU_RECORD_BYTES != 0 {
+        return Err(format!(
+            "{} bytes is not a whole number of {IMU_RECORD_BYTES}-byte IMU records",
+            data.len()
+        ));
+    }
+    Ok(data.chunks_exact(IMU_RECORD_BYTES))
 }
 
 #[uniffi::export]
@@ -148,23 +168,17 @@ impl PhoneNavigator {
     /// Push IMU samples packed as 80-byte records (layout in the module docs).
     pub fn push_imu_packed(&self, data: Vec<u8>) -> Result<ImuBatchResult, NavError> {
         guard(|| {
-            if data.len() % IMU_RECORD_BYTES != 0 {
-                return Err(NavError::InvalidBuffer {
-                    reason: format!(
-                        "{} bytes is not a whole number of {IMU_RECORD_BYTES}-byte IMU records",
-                        data.len()
-                    ),
-                });
-            }
+            let records =
+                imu_records(&data).map_err(|reason| NavError::InvalidBuffer { reason })?;
             let mut nav = self.lock();
             let mut rejected = Vec::new();
-            for (index, c) in data.chunks_exact(IMU_RECORD_BYTES).enumerate() {
-                let mag = [f64_at(c, 7), f64_at(c, 8), f64_at(c, 9)];
+            for (index, c) in records.enumerate() {
+                let (t_s, gyro_rads, accel_mps2, mag_ut) = imu_record(c);
                 let s = ImuSample {
-                    t_s: f64_at(c, 0),
-                    gyro_rads: [f64_at(c, 1), f64_at(c, 2), f64_at(c, 3)],
-                    accel_mps2: [f64_at(c, 4), f64_at(c, 5), f64_at(c, 6)],
-                    mag_ut: (!mag.iter().any(|v| v.is_nan())).then_some(mag),
+                    t_s,
+                    gyro_rads,
+                    accel_mps2,
+                    mag_ut,
                 };
                 if let Err(e) = nav.push_imu(&s) {
                     rejected.push(RejectedImuSample {

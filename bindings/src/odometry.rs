@@ -10,11 +10,11 @@
 //! AHRS (north from the magnetometer when there is one; otherwise relative to the
 //! initial heading), origin where the engine started.
 
-use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::sync::{Arc, Mutex, MutexGuard};
 
 use stridekit_core::odometry as core;
 
-use crate::navigator::{RejectedImuSample, IMU_RECORD_BYTES};
+use crate::navigator::{imu_record, imu_records, RejectedImuSample, IMU_RECORD_BYTES};
 use crate::placement::{PhonePlacement, PlacementEstimate};
 
 /// Where the placement that picks the velocity regressor comes from.
@@ -187,10 +187,7 @@ pub struct PhoneOdometry {
 
 impl PhoneOdometry {
     fn lock(&self) -> MutexGuard<'_, core::PhoneOdometry> {
-        self.inner.lock().unwrap_or_else(|p| {
-            self.inner.clear_poison();
-            PoisonError::into_inner(p)
-        })
+        crate::error::lock(&self.inner)
     }
 
     fn wrap(engine: core::PhoneOdometry) -> Arc<Self> {
@@ -198,12 +195,6 @@ impl PhoneOdometry {
             inner: Mutex::new(engine),
         })
     }
-}
-
-fn f64_at(c: &[u8], i: usize) -> f64 {
-    let mut b = [0u8; 8];
-    b.copy_from_slice(&c[8 * i..8 * i + 8]);
-    f64::from_le_bytes(b)
 }
 
 #[uniffi::export]
@@ -246,24 +237,18 @@ impl PhoneOdometry {
     /// samples are skipped and reported by index.
     pub fn push_imu_packed(&self, data: Vec<u8>) -> Result<OdometryBatchResult, OdometryError> {
         guard(|| {
-            if data.len() % IMU_RECORD_BYTES != 0 {
-                return Err(OdometryError::InvalidBuffer {
-                    reason: format!(
-                        "{} bytes is not a whole number of {IMU_RECORD_BYTES}-byte IMU records",
-                        data.len()
-                    ),
-                });
-            }
+            let records =
+                imu_records(&data).map_err(|reason| OdometryError::InvalidBuffer { reason })?;
             let mut engine = self.lock();
             let mut estimates = 0u32;
             let mut rejected = Vec::new();
-            for (index, c) in data.chunks_exact(IMU_RECORD_BYTES).enumerate() {
-                let mag = [f64_at(c, 7), f64_at(c, 8), f64_at(c, 9)];
+            for (index, c) in records.enumerate() {
+                let (t_s, gyro_rads, accel_mps2, mag_ut) = imu_record(c);
                 let s = core::OdometrySample {
-                    t_s: f64_at(c, 0),
-                    gyro_rads: [f64_at(c, 1), f64_at(c, 2), f64_at(c, 3)],
-                    accel_mps2: [f64_at(c, 4), f64_at(c, 5), f64_at(c, 6)],
-                    mag_ut: (!mag.iter().any(|v| v.is_nan())).then_some(mag),
+                    t_s,
+                    gyro_rads,
+                    accel_mps2,
+                    mag_ut,
                 };
                 match engine.push(&s) {
                     Ok(Some(_)) => estimates = estimates.saturating_add(1),

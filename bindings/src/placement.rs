@@ -8,7 +8,7 @@
 //! Any sampling rate from about 50 Hz, any phone orientation. The first estimate
 //! comes after one 5.12 s window, then one every 1.28 s.
 
-use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::sync::{Arc, Mutex, MutexGuard};
 
 use stridekit_core::placement as core;
 
@@ -135,10 +135,7 @@ pub struct PlacementClassifier {
 
 impl PlacementClassifier {
     fn lock(&self) -> MutexGuard<'_, core::PlacementClassifier> {
-        self.inner.lock().unwrap_or_else(|p| {
-            self.inner.clear_poison();
-            PoisonError::into_inner(p)
-        })
+        crate::error::lock(&self.inner)
     }
 
     fn push_all(

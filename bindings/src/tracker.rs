@@ -1,7 +1,7 @@
 //! `PaceTracker` at the FFI: the core tracker behind a mutex, single and batch pushes.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::sync::{Arc, Mutex, MutexGuard};
 
 use stridekit_core::pace as core;
 
@@ -50,10 +50,7 @@ impl PaceTracker {
     /// The core tracker; a mutex poisoned by an earlier panic is recovered (the
     /// panic was already reported as an error) instead of panicking again.
     fn lock(&self) -> MutexGuard<'_, core::PaceTracker> {
-        self.inner.lock().unwrap_or_else(|poisoned| {
-            self.inner.clear_poison();
-            PoisonError::into_inner(poisoned)
-        })
+        crate::error::lock(&self.inner)
     }
 
     /// Push every item with `push` under one lock, collecting estimates and rejections.
