@@ -376,7 +376,7 @@ def check_layouts():
     step_fields = []
     if re.search(r"t_s:\s*f64_at\(c,\s*0\)", steps_body) and "c[8..16]" in steps_body:
         step_fields = ["t_s", "steps"]
-    imu_fields = expand_slots(rust_fn_body(nav, "pub fn push_imu_packed("), r"f64_at\(c,\s*")
+    imu_fields = expand_slots(rust_fn_body(nav, "pub(crate) fn imu_record("), r"f64_at\(c,\s*")
     foot_fields = expand_slots(rust_fn_body(foot, "pub fn unpack_foot_samples("), r"\bf\(")
     foot_pack = re.findall(r"\bs\.(\w+),", rust_fn_body(foot, "pub fn pack_foot_samples("))
     if foot_pack and foot_pack != foot_fields:

@@ -113,16 +113,25 @@ fn f64_at(c: &[u8], i: usize) -> f64 {
     f64::from_le_bytes(b)
 }
 
-/// One 80-byte IMU record (layout in the module docs): `(t_s, gyro_rads, accel_mps2,
-/// mag_ut)`, the magnetometer `None` when any of its fields is NaN.
-pub(crate) fn imu_record(c: &[u8]) -> (f64, [f64; 3], [f64; 3], Option<[f64; 3]>) {
+/// One decoded 80-byte IMU record (layout in the module docs).
+pub(crate) struct ImuRecord {
+    pub t_s: f64,
+    pub gyro_rads: [f64; 3],
+    pub accel_mps2: [f64; 3],
+    /// `None` when any of its fields is NaN (no magnetometer).
+    pub mag_ut: Option<[f64; 3]>,
+}
+
+/// Decode one 80-byte IMU record (`ios/check-generated.py` reads the field order
+/// from this function).
+pub(crate) fn imu_record(c: &[u8]) -> ImuRecord {
     let mag = [f64_at(c, 7), f64_at(c, 8), f64_at(c, 9)];
-    (
-        f64_at(c, 0),
-        [f64_at(c, 1), f64_at(c, 2), f64_at(c, 3)],
-        [f64_at(c, 4), f64_at(c, 5), f64_at(c, 6)],
-        (!mag.iter().any(|v| v.is_nan())).then_some(mag),
-    )
+    ImuRecord {
+        t_s: f64_at(c, 0),
+        gyro_rads: [f64_at(c, 1), f64_at(c, 2), f64_at(c, 3)],
+        accel_mps2: [f64_at(c, 4), f64_at(c, 5), f64_at(c, 6)],
+        mag_ut: (!mag.iter().any(|v| v.is_nan())).then_some(mag),
+    }
 }
 
 /// `data` as 80-byte IMU records, or why not.
@@ -173,12 +182,12 @@ impl PhoneNavigator {
             let mut nav = self.lock();
             let mut rejected = Vec::new();
             for (index, c) in records.enumerate() {
-                let (t_s, gyro_rads, accel_mps2, mag_ut) = imu_record(c);
+                let r = imu_record(c);
                 let s = ImuSample {
-                    t_s,
-                    gyro_rads,
-                    accel_mps2,
-                    mag_ut,
+                    t_s: r.t_s,
+                    gyro_rads: r.gyro_rads,
+                    accel_mps2: r.accel_mps2,
+                    mag_ut: r.mag_ut,
                 };
                 if let Err(e) = nav.push_imu(&s) {
                     rejected.push(RejectedImuSample {

@@ -243,12 +243,12 @@ impl PhoneOdometry {
             let mut estimates = 0u32;
             let mut rejected = Vec::new();
             for (index, c) in records.enumerate() {
-                let (t_s, gyro_rads, accel_mps2, mag_ut) = imu_record(c);
+                let r = imu_record(c);
                 let s = core::OdometrySample {
-                    t_s,
-                    gyro_rads,
-                    accel_mps2,
-                    mag_ut,
+                    t_s: r.t_s,
+                    gyro_rads: r.gyro_rads,
+                    accel_mps2: r.accel_mps2,
+                    mag_ut: r.mag_ut,
                 };
                 match engine.push(&s) {
                     Ok(Some(_)) => estimates = estimates.saturating_add(1),
