@@ -64,34 +64,34 @@ impl Columns<'_> {
     }
 }
 
-/// Parse a CSV body into samples and truth with a column map.
-#[allow(clippy::type_complexity)]
+/// Samples and truth `(t_s, east_m, north_m)` of a parsed recording.
+type Rows = (Vec<InertialSample>, Vec<(f64, f64, f64)>);
+
+/// Parse a CSV body of the RIDI column layout (`acce_*`, `gyro_*`, optional
+/// `magnet_*`, `pos_x`, `pos_y`; the readers differ only in the time column and its
+/// unit) into samples and truth.
 pub(crate) fn parse_rows(
     format: &'static str,
     text: &str,
+    time_column: &'static str,
     time_scale: f64,
-    cols: impl Fn(
-        &Columns,
-    ) -> Result<
-        (
-            usize,
-            [usize; 3],
-            [usize; 3],
-            Option<[usize; 3]>,
-            [usize; 2],
-        ),
-        FormatError,
-    >,
-) -> Result<(Vec<InertialSample>, Vec<(f64, f64, f64)>), FormatError> {
+) -> Result<Rows, FormatError> {
     let mut lines = text.lines();
     let header = lines.next().ok_or(FormatError::Empty)?;
-    let header = Columns(
+    let c = Columns(
         header
             .split(',')
             .map(|h| h.trim().trim_matches('"'))
             .collect(),
     );
-    let (t, acc, gyr, mag, pos) = cols(&header)?;
+    let t = c.get(time_column)?;
+    let acc = [c.get("acce_x")?, c.get("acce_y")?, c.get("acce_z")?];
+    let gyr = [c.get("gyro_x")?, c.get("gyro_y")?, c.get("gyro_z")?];
+    let mag = match (c.opt("magnet_x"), c.opt("magnet_y"), c.opt("magnet_z")) {
+        (Some(x), Some(y), Some(z)) => Some([x, y, z]),
+        _ => None,
+    };
+    let pos = [c.get("pos_x")?, c.get("pos_y")?];
     let mut samples = Vec::new();
     let mut truth = Vec::new();
     for (n, line) in lines.enumerate() {

@@ -32,19 +32,7 @@ pub fn ridi_placement(name: &str) -> Option<String> {
 
 /// Parse the text of a `processed/data.csv`.
 pub fn parse_ridi_csv(name: &str, text: &str) -> Result<InertialRecording, FormatError> {
-    let (samples, truth) = parse_rows(FORMAT, text, 1e-9, |c| {
-        let mag = match (c.opt("magnet_x"), c.opt("magnet_y"), c.opt("magnet_z")) {
-            (Some(x), Some(y), Some(z)) => Some([x, y, z]),
-            _ => None,
-        };
-        Ok((
-            c.get("time")?,
-            [c.get("acce_x")?, c.get("acce_y")?, c.get("acce_z")?],
-            [c.get("gyro_x")?, c.get("gyro_y")?, c.get("gyro_z")?],
-            mag,
-            [c.get("pos_x")?, c.get("pos_y")?],
-        ))
-    })?;
+    let (samples, truth) = parse_rows(FORMAT, text, "time", 1e-9)?;
     Ok(InertialRecording {
         name: name.to_string(),
         placement: ridi_placement(name),

@@ -21,19 +21,7 @@ const FORMAT: &str = "RoNIN CSV export";
 
 /// Parse the text of a RoNIN CSV export.
 pub fn parse_ronin_csv(name: &str, text: &str) -> Result<InertialRecording, FormatError> {
-    let (samples, truth) = parse_rows(FORMAT, text, 1.0, |c| {
-        let mag = match (c.opt("magnet_x"), c.opt("magnet_y"), c.opt("magnet_z")) {
-            (Some(x), Some(y), Some(z)) => Some([x, y, z]),
-            _ => None,
-        };
-        Ok((
-            c.get("time_s")?,
-            [c.get("acce_x")?, c.get("acce_y")?, c.get("acce_z")?],
-            [c.get("gyro_x")?, c.get("gyro_y")?, c.get("gyro_z")?],
-            mag,
-            [c.get("pos_x")?, c.get("pos_y")?],
-        ))
-    })?;
+    let (samples, truth) = parse_rows(FORMAT, text, "time_s", 1.0)?;
     Ok(InertialRecording {
         name: name.to_string(),
         placement: None,

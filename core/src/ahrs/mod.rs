@@ -21,7 +21,7 @@ pub mod flags;
 pub mod frame;
 pub mod madgwick;
 pub mod output;
-mod quat;
+pub(crate) mod quat;
 pub mod settings;
 
 pub use error::AhrsError;

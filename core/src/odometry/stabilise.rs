@@ -15,21 +15,11 @@ pub struct Stabilised {
     pub yaw_rad: f64,
 }
 
-/// Rotate a body vector into ENU by the body → ENU quaternion `[w, x, y, z]`.
+/// Rotate a body vector into ENU by the body → ENU quaternion `[w, x, y, z]` (the
+/// AHRS's own rotation).
 #[inline]
 pub fn rotate(q: &[f64; 4], v: &[f64; 3]) -> [f64; 3] {
-    let [w, x, y, z] = *q;
-    [
-        (1.0 - 2.0 * (y * y + z * z)) * v[0]
-            + 2.0 * (x * y - w * z) * v[1]
-            + 2.0 * (x * z + w * y) * v[2],
-        2.0 * (x * y + w * z) * v[0]
-            + (1.0 - 2.0 * (x * x + z * z)) * v[1]
-            + 2.0 * (y * z - w * x) * v[2],
-        2.0 * (x * z - w * y) * v[0]
-            + 2.0 * (y * z + w * x) * v[1]
-            + (1.0 - 2.0 * (x * x + y * y)) * v[2],
-    ]
+    crate::ahrs::quat::rotate(q, v)
 }
 
 /// ZYX yaw of a body → ENU quaternion, rad.
