@@ -21,7 +21,27 @@ const DEG_PER_SEMICIRCLE: f64 = 180.0 / 2_147_483_648.0;
 /// `altitude`. A file cut short in the middle of a message (a watch that lost power) keeps
 /// the records decoded before the cut; any other decoding error, CRC mismatches included,
 /// fails the whole file.
+///
+/// No input panics: fitparser 0.11 adds without overflow checks in its accumulated
+/// fields (`profile/mod.rs`, "attempt to add with overflow" on crafted files in builds
+/// with overflow checks). The workspace builds fitparser without overflow checks in
+/// every profile, as release builds are, where the same input returns an error; and a
+/// panic inside the decoder is caught here and returned as a parse error.
 pub fn read_fit(bytes: &[u8]) -> Result<Vec<Record>, FormatError> {
+    std::panic::catch_unwind(|| decode(bytes)).unwrap_or_else(|payload| {
+        let what = payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "panic".into());
+        Err(FormatError::parse(
+            FORMAT,
+            format!("the FIT decoder failed on this file ({what})"),
+        ))
+    })
+}
+
+fn decode(bytes: &[u8]) -> Result<Vec<Record>, FormatError> {
     let fit_error = |e: fitparser::Error| FormatError::parse(FORMAT, e.to_string());
     if bytes.is_empty() {
         return Err(FormatError::parse(FORMAT, "empty file"));
@@ -175,6 +195,22 @@ fn number(value: &Value) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn hex(s: &str) -> Vec<u8> {
+        (0..s.len())
+            .step_by(2)
+            .map(|i| u8::from_str_radix(&s[i..i + 2], 16).unwrap())
+            .collect()
+    }
+
+    #[test]
+    fn a_crafted_file_that_overflowed_the_decoder_is_an_error_not_a_panic() {
+        // 29 bytes found by fuzzing: fitparser's accumulated-field addition
+        // overflowed ("attempt to add with overflow") in builds with overflow checks.
+        let bytes = hex("0e102d080d0000002e464954554c40000014000112010200c800c8b534");
+        assert_eq!(bytes.len(), 29);
+        assert!(read_fit(&bytes).is_err());
+    }
 
     const CRC_TABLE: [u16; 16] = [
         0x0000, 0xCC01, 0xD801, 0x1400, 0xF001, 0x3C00, 0x2800, 0xE401, 0xA001, 0x6C00, 0x7800,
