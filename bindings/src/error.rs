@@ -5,8 +5,8 @@
 //! Kotlin and `description` in Swift give the human sentence (Rust `Display`).
 //! No field is called `message` or `cause`: those clash with `Throwable`.
 
+use stridekit_core::input::{InputError, LikelyTimeUnit, Stream};
 use stridekit_core::pace as core;
-use stridekit_core::pace::Stream;
 
 /// The input stream a rejected sample belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, uniffi::Enum)]
@@ -14,6 +14,7 @@ pub enum SensorStream {
     Gnss,
     Steps,
     Accelerometer,
+    Imu,
 }
 
 impl std::fmt::Display for SensorStream {
@@ -22,6 +23,7 @@ impl std::fmt::Display for SensorStream {
             SensorStream::Gnss => "GNSS",
             SensorStream::Steps => "step",
             SensorStream::Accelerometer => "accelerometer",
+            SensorStream::Imu => "IMU",
         })
     }
 }
@@ -32,8 +34,42 @@ impl From<Stream> for SensorStream {
             Stream::Gnss => Self::Gnss,
             Stream::Steps => Self::Steps,
             Stream::Accelerometer => Self::Accelerometer,
+            Stream::Imu => Self::Imu,
         }
     }
+}
+
+/// The unit refused timestamps are most likely in (`t_s` must be seconds).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, uniffi::Enum)]
+pub enum TimeUnit {
+    Milliseconds,
+    Microseconds,
+    Nanoseconds,
+}
+
+impl std::fmt::Display for TimeUnit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            TimeUnit::Milliseconds => "milliseconds",
+            TimeUnit::Microseconds => "microseconds",
+            TimeUnit::Nanoseconds => "nanoseconds",
+        })
+    }
+}
+
+impl From<LikelyTimeUnit> for TimeUnit {
+    fn from(u: LikelyTimeUnit) -> Self {
+        match u {
+            LikelyTimeUnit::Milliseconds => Self::Milliseconds,
+            LikelyTimeUnit::Microseconds => Self::Microseconds,
+            LikelyTimeUnit::Nanoseconds => Self::Nanoseconds,
+        }
+    }
+}
+
+/// The allowed range of an out-of-range field, as text ("−2000 to 2000 m/s²").
+pub(crate) fn range_text(min: f64, max: f64, unit: &str) -> String {
+    format!("{min} to {max} {unit}").trim_end().to_string()
 }
 
 /// Why a sample, a configuration, a snapshot or a buffer was rejected. A rejected
@@ -61,6 +97,21 @@ pub enum PaceError {
     /// Accelerometer samples look like g, not m/s² (multiply by 9.80665).
     #[error("acceleration magnitude averages {mean_magnitude:.2}: the samples look like g, expected m/s²")]
     AccelerationNotInMps2 { mean_magnitude: f64 },
+    /// Timestamps are not seconds: they look like `likely_unit` (divide accordingly).
+    #[error("{stream} timestamps look like {likely_unit}, not seconds (t = {t_s})")]
+    TimeNotInSeconds {
+        stream: SensorStream,
+        t_s: f64,
+        likely_unit: TimeUnit,
+    },
+    /// The clock jumped forward by more than a year within one stream (mixed clocks):
+    /// start a new tracker.
+    #[error("{stream} sample at t = {t_s} s jumps from {last_t_s} s: the clock changed")]
+    TimeJump {
+        stream: SensorStream,
+        t_s: f64,
+        last_t_s: f64,
+    },
     /// The configuration is not usable.
     #[error("invalid configuration: {reason}")]
     InvalidConfig { reason: String },
@@ -75,22 +126,24 @@ pub enum PaceError {
     Internal { reason: String },
 }
 
-impl From<core::PaceError> for PaceError {
-    fn from(e: core::PaceError) -> Self {
+impl From<InputError> for PaceError {
+    fn from(e: InputError) -> Self {
         match e {
-            core::PaceError::NonFinite { field } => Self::NonFinite {
+            InputError::NonFinite { field } => Self::NonFinite {
                 field: field.to_string(),
             },
-            core::PaceError::OutOfRange {
+            InputError::OutOfRange {
                 field,
                 value,
-                expected,
+                min,
+                max,
+                unit,
             } => Self::OutOfRange {
                 field: field.to_string(),
                 value,
-                expected: expected.to_string(),
+                expected: range_text(min, max, unit),
             },
-            core::PaceError::TimeNotIncreasing {
+            InputError::TimeNotIncreasing {
                 stream,
                 t_s,
                 last_t_s,
@@ -99,9 +152,36 @@ impl From<core::PaceError> for PaceError {
                 t_s,
                 last_t_s,
             },
-            core::PaceError::AccelerationNotInMps2 { mean_magnitude } => {
+            InputError::TimeUnit {
+                stream,
+                t_s,
+                likely,
+                ..
+            } => Self::TimeNotInSeconds {
+                stream: stream.into(),
+                t_s,
+                likely_unit: likely.into(),
+            },
+            InputError::TimeJump {
+                stream,
+                t_s,
+                last_t_s,
+            } => Self::TimeJump {
+                stream: stream.into(),
+                t_s,
+                last_t_s,
+            },
+            InputError::AccelerationInG { mean_magnitude } => {
                 Self::AccelerationNotInMps2 { mean_magnitude }
             }
+        }
+    }
+}
+
+impl From<core::PaceError> for PaceError {
+    fn from(e: core::PaceError) -> Self {
+        match e {
+            core::PaceError::Input(e) => e.into(),
             core::PaceError::InvalidConfig { reason } => Self::InvalidConfig { reason },
             core::PaceError::Snapshot(s) => Self::InvalidSnapshot {
                 reason: s.to_string(),

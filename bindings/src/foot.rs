@@ -50,6 +50,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use stridekit_core::ahrs::AxisRemap;
 use stridekit_core::foot as core;
+use stridekit_core::input::InputError;
+
+use crate::error::{range_text, TimeUnit};
 
 /// Bytes per packed foot IMU record (seven little-endian f64).
 pub const FOOT_SAMPLE_RECORD_BYTES: usize = 56;
@@ -81,6 +84,12 @@ pub enum FootError {
     /// The accelerometer looks like it reports g (|a| ≈ 1 at rest): multiply by 9.80665.
     #[error("acceleration magnitude {magnitude} at rest looks like units of g: accelerations must be m/s² (multiply by 9.80665)")]
     AccelerationNotInMps2 { magnitude: f64 },
+    /// Timestamps are not seconds: they look like `likely_unit`.
+    #[error("IMU timestamps look like {likely_unit}, not seconds (t = {t_s})")]
+    TimeNotInSeconds { t_s: f64, likely_unit: TimeUnit },
+    /// The clock jumped forward by more than a year (mixed clocks): start a new navigator.
+    #[error("IMU sample at t = {t_s} s jumps from {last_t_s} s: the clock changed")]
+    TimeJump { t_s: f64, last_t_s: f64 },
     /// A configuration value is not usable.
     #[error("invalid foot navigator setting {field}: {reason}")]
     InvalidConfig { field: String, reason: String },
@@ -101,24 +110,33 @@ pub enum FootError {
 impl From<core::FootError> for FootError {
     fn from(e: core::FootError) -> Self {
         match e {
-            core::FootError::NonFinite { field } => Self::NonFinite {
-                field: field.into(),
+            core::FootError::Input(e) => match e {
+                InputError::NonFinite { field } => Self::NonFinite {
+                    field: field.into(),
+                },
+                InputError::OutOfRange {
+                    field,
+                    value,
+                    min,
+                    max,
+                    unit,
+                } => Self::OutOfRange {
+                    field: field.into(),
+                    value,
+                    reason: range_text(min, max, unit),
+                },
+                InputError::TimeNotIncreasing { t_s, last_t_s, .. } => {
+                    Self::TimeNotIncreasing { t_s, last_t_s }
+                }
+                InputError::TimeUnit { t_s, likely, .. } => Self::TimeNotInSeconds {
+                    t_s,
+                    likely_unit: likely.into(),
+                },
+                InputError::TimeJump { t_s, last_t_s, .. } => Self::TimeJump { t_s, last_t_s },
+                InputError::AccelerationInG { mean_magnitude } => Self::AccelerationNotInMps2 {
+                    magnitude: mean_magnitude,
+                },
             },
-            core::FootError::OutOfRange {
-                field,
-                value,
-                reason,
-            } => Self::OutOfRange {
-                field: field.into(),
-                value,
-                reason: reason.into(),
-            },
-            core::FootError::TimeNotIncreasing { t_s, last_t_s } => {
-                Self::TimeNotIncreasing { t_s, last_t_s }
-            }
-            core::FootError::AccelerationNotInMps2 { magnitude } => {
-                Self::AccelerationNotInMps2 { magnitude }
-            }
             core::FootError::InvalidConfig { field, reason } => Self::InvalidConfig {
                 field: field.into(),
                 reason: reason.into(),

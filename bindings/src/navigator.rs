@@ -91,8 +91,8 @@ pub struct RejectedImuSample {
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct ImuBatchResult {
     pub rejected: Vec<RejectedImuSample>,
-    /// The estimate after the batch.
-    pub latest: NavEstimate,
+    /// The estimate after the batch (null while nothing was accepted yet).
+    pub latest: Option<NavEstimate>,
 }
 
 /// Pedestrian dead reckoning with a phone. Safe to call from several threads.
@@ -198,7 +198,7 @@ impl PhoneNavigator {
             }
             Ok(ImuBatchResult {
                 rejected,
-                latest: nav.estimate().into(),
+                latest: nav.estimate().map(Into::into),
             })
         })
     }
@@ -216,9 +216,11 @@ impl PhoneNavigator {
         })
     }
 
-    /// Where the pedestrian is now.
-    pub fn estimate(&self) -> NavEstimate {
-        self.lock().estimate().into()
+    /// Where the pedestrian is now: null before the first accepted sample. Before
+    /// the first GNSS fix positions are relative to the start; at the first fix the
+    /// local frame is anchored there (the position becomes 0, 0 and lat/lon appear).
+    pub fn estimate(&self) -> Option<NavEstimate> {
+        self.lock().estimate().map(Into::into)
     }
 
     /// The whole state as bytes (sub-engines included).

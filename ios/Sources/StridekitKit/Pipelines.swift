@@ -181,7 +181,7 @@ public final class NavigationPipeline: @unchecked Sendable {
         do {
             let result = try navigator.pushImuPacked(data: batch)
             for r in result.rejected { onProblem("IMU sample \(r.index): \(r.reason)") }
-            continuation.yield(result.latest)
+            if let latest = result.latest { continuation.yield(latest) }
         } catch {
             onProblem("IMU batch not pushed: \(error)")
         }

@@ -189,14 +189,14 @@ class FootTest {
             val last = rest(200).last()
 
             val nan = assertFailsWith<FootException.NonFinite> { nav.push(last.copy(tS = 1.0, accelYMps2 = Double.NaN)) }
-            assertEquals("accel_mps2", nan.field)
+            assertEquals("accel_y_mps2", nan.field)
             assertFailsWith<FootException.NonFinite> { nav.push(last.copy(tS = Double.POSITIVE_INFINITY)) }
             val back = assertFailsWith<FootException.TimeNotIncreasing> { nav.push(last.copy(tS = 0.5)) }
             assertEquals(0.5, back.tS)
             assertEquals(last.tS, back.lastTS)
             assertFailsWith<FootException.TimeNotIncreasing> { nav.push(last) }
             val big = assertFailsWith<FootException.OutOfRange> { nav.push(last.copy(tS = 1.0, gyroZRads = 500.0)) }
-            assertEquals("gyro_rads", big.field)
+            assertEquals("gyro_z_rads", big.field)
             assertFailsWith<FootException.InvalidBuffer> { nav.pushPacked(ByteArray(55), FootOutput.ALL) }
             assertEquals(before, nav.estimate())
             assertContentEquals(saved, nav.snapshot(), "rejections change nothing")

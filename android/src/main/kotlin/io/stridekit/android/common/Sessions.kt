@@ -188,7 +188,7 @@ class NavigatorSession(
         if (merger.buffer.isEmpty()) return null
         val r = navigator.pushImuPacked(merger.buffer.drain())
         for (x in r.rejected) _rejections.tryEmit(Rejection("imu", null, x.reason))
-        _estimates.tryEmit(r.latest)
+        r.latest?.let { _estimates.tryEmit(it) }
         return r.latest
     }
 }
