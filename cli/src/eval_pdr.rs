@@ -55,7 +55,7 @@ fn navigate(sim: &SimulatedPhone, use_mag: bool) -> Result<NavEstimate, String> 
         })
         .map_err(|e| e.to_string())?;
     }
-    Ok(nav.estimate())
+    Ok(nav.estimate().expect("an estimate after input"))
 }
 
 /// Error of the final position, m (the navigator's frame is anchored at the first fix).

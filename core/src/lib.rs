@@ -12,6 +12,7 @@ pub mod ahrs;
 pub mod eval;
 pub mod foot;
 pub mod geo;
+pub mod input;
 pub mod odometry;
 pub mod pace;
 pub mod pdr;

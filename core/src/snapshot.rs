@@ -1,10 +1,17 @@
 //! Versioned, little-endian state serialisation used by every engine's
 //! `snapshot()` / `restore()`.
 //!
-//! Layout: magic `b"STRK"`, one byte engine kind, u16 format version, then the
+//! Layout: magic `b"STK2"`, one byte engine kind, u16 format version, u32 total
+//! length in bytes (so a cut-off snapshot is told from a corrupted one), then the
 //! engine's fields in a fixed order, then a CRC-32 of everything before it.
 //! Floats are stored bit-exactly, so a restored engine continues with exactly the
-//! output the original would have produced.
+//! output the original would have produced. Snapshots of the first envelope (magic
+//! `b"STRK"`, no length) are still read.
+//!
+//! Restoring trusts nothing: [`Reader::f64`] refuses NaN and ±∞ (fields that may
+//! legitimately hold them use [`Reader::f64_any`]), counts are bounded by
+//! [`Reader::len`], and every engine checks its own ranges and invariants after
+//! reading. The cost of a restore is linear in the snapshot's size.
 
 /// Why a snapshot could not be read.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -13,7 +20,10 @@ pub enum SnapshotError {
     BadMagic,
     #[error("snapshot is of another engine (kind {found}, expected {expected})")]
     WrongKind { found: u8, expected: u8 },
-    #[error("snapshot version {found} is not supported (this build reads {supported})")]
+    #[error(
+        "snapshot format version {found} is not the one this build reads ({supported}): \
+         it was written by another stridekit version"
+    )]
     UnsupportedVersion { found: u16, supported: u16 },
     #[error("snapshot is truncated")]
     Truncated,
@@ -21,9 +31,24 @@ pub enum SnapshotError {
     Checksum,
     #[error("snapshot holds an invalid value: {0}")]
     Invalid(&'static str),
+    /// A number that must be finite is NaN, ±∞ or larger than any state holds
+    /// (`offset`: its byte position).
+    #[error("snapshot holds a number that is not finite or implausibly large (byte {offset})")]
+    NonFinite { offset: usize },
 }
 
-const MAGIC: &[u8; 4] = b"STRK";
+/// Largest magnitude of a restored number, a backstop against values whose squares
+/// or products overflow: no engine state comes near it (times are at most 10¹¹ s,
+/// positions 10⁷ m, sums over a day of samples ~10¹³). Engines check their own,
+/// tighter, physical ranges on top.
+pub const MAX_MAGNITUDE: f64 = 1e30;
+
+/// Magic of the current envelope (with a length field).
+const MAGIC: &[u8; 4] = b"STK2";
+/// Magic of the first envelope (no length field), still read.
+const MAGIC_V1: &[u8; 4] = b"STRK";
+/// Bytes before the fields: magic, kind, version, length.
+const HEADER: usize = 4 + 1 + 2 + 4;
 
 /// Appends fields to a snapshot buffer.
 pub struct Writer {
@@ -36,6 +61,7 @@ impl Writer {
         buf.extend_from_slice(MAGIC);
         buf.push(kind);
         buf.extend_from_slice(&version.to_le_bytes());
+        buf.extend_from_slice(&[0; 4]); // total length, written by `finish`
         Self { buf }
     }
     pub fn f64(&mut self, v: f64) {
@@ -65,6 +91,8 @@ impl Writer {
         self.buf.extend_from_slice(b);
     }
     pub fn finish(mut self) -> Vec<u8> {
+        let total = u32::try_from(self.buf.len() + 4).expect("snapshot larger than 4 GiB");
+        self.buf[7..11].copy_from_slice(&total.to_le_bytes());
         let crc = crc32(&self.buf);
         self.buf.extend_from_slice(&crc.to_le_bytes());
         self.buf
@@ -78,17 +106,32 @@ pub struct Reader<'a> {
 }
 
 impl<'a> Reader<'a> {
-    /// Check magic, kind, version and checksum; returns the reader and the version found.
+    /// Check magic, length, checksum, kind and version (exactly `supported`); returns
+    /// the reader and the version.
     pub fn new(bytes: &'a [u8], kind: u8, supported: u16) -> Result<(Self, u16), SnapshotError> {
-        if bytes.len() < 4 + 1 + 2 + 4 {
-            return Err(if bytes.starts_with(MAGIC) || bytes.len() < 4 {
+        let legacy = bytes.starts_with(MAGIC_V1);
+        let header = if legacy { HEADER - 4 } else { HEADER };
+        if bytes.len() < 4 {
+            return Err(if MAGIC.starts_with(bytes) || MAGIC_V1.starts_with(bytes) {
                 SnapshotError::Truncated
             } else {
                 SnapshotError::BadMagic
             });
         }
-        if &bytes[..4] != MAGIC {
+        if !legacy && &bytes[..4] != MAGIC {
             return Err(SnapshotError::BadMagic);
+        }
+        if bytes.len() < header + 4 {
+            return Err(SnapshotError::Truncated);
+        }
+        if !legacy {
+            let total = u32::from_le_bytes([bytes[7], bytes[8], bytes[9], bytes[10]]) as u64;
+            if (bytes.len() as u64) < total {
+                return Err(SnapshotError::Truncated);
+            }
+            if (bytes.len() as u64) > total {
+                return Err(SnapshotError::Invalid("trailing bytes after the snapshot"));
+            }
         }
         let (body, crc) = bytes.split_at(bytes.len() - 4);
         let crc = u32::from_le_bytes([crc[0], crc[1], crc[2], crc[3]]);
@@ -102,13 +145,27 @@ impl<'a> Reader<'a> {
             });
         }
         let version = u16::from_le_bytes([body[5], body[6]]);
-        if version == 0 || version > supported {
+        // One layout per engine per build: snapshots resume a session across process
+        // death with the same SDK, they are not an archive format.
+        if version != supported {
             return Err(SnapshotError::UnsupportedVersion {
                 found: version,
                 supported,
             });
         }
-        Ok((Self { buf: body, pos: 7 }, version))
+        Ok((
+            Self {
+                buf: body,
+                pos: header,
+            },
+            version,
+        ))
+    }
+    /// The error for the number just read.
+    pub fn non_finite(&self) -> SnapshotError {
+        SnapshotError::NonFinite {
+            offset: self.pos.saturating_sub(8),
+        }
     }
     fn take<const N: usize>(&mut self) -> Result<[u8; N], SnapshotError> {
         let end = self.pos + N;
@@ -121,8 +178,47 @@ impl<'a> Reader<'a> {
         a.copy_from_slice(s);
         Ok(a)
     }
+    /// A finite float of plausible size (NaN, ±∞ and |v| > [`MAX_MAGNITUDE`] are
+    /// refused).
     pub fn f64(&mut self) -> Result<f64, SnapshotError> {
+        let v = self.f64_any()?;
+        if v.abs() <= MAX_MAGNITUDE {
+            Ok(v)
+        } else {
+            Err(self.non_finite())
+        }
+    }
+    /// A float that may be NaN or infinite (a field that uses them as markers).
+    pub fn f64_any(&mut self) -> Result<f64, SnapshotError> {
         Ok(f64::from_bits(u64::from_le_bytes(self.take::<8>()?)))
+    }
+    /// A float as [`f64`](Self::f64), or NaN (NaN marks "none yet" in some states).
+    pub fn f64_or_nan(&mut self) -> Result<f64, SnapshotError> {
+        let v = self.f64_any()?;
+        if v.is_nan() || v.abs() <= MAX_MAGNITUDE {
+            Ok(v)
+        } else {
+            Err(self.non_finite())
+        }
+    }
+    /// A time that may also be a marker: finite, NaN ("none yet") or −∞ ("long
+    /// ago"); +∞ is refused.
+    pub fn time_or_marker(&mut self) -> Result<f64, SnapshotError> {
+        let v = self.f64_any()?;
+        if v.is_nan() || v == f64::NEG_INFINITY || v.abs() <= MAX_MAGNITUDE {
+            Ok(v)
+        } else {
+            Err(self.non_finite())
+        }
+    }
+    /// A finite float in `min..=max`.
+    pub fn f64_in(&mut self, min: f64, max: f64, what: &'static str) -> Result<f64, SnapshotError> {
+        let v = self.f64()?;
+        if (min..=max).contains(&v) {
+            Ok(v)
+        } else {
+            Err(SnapshotError::Invalid(what))
+        }
     }
     pub fn u64(&mut self) -> Result<u64, SnapshotError> {
         Ok(u64::from_le_bytes(self.take::<8>()?))
@@ -137,14 +233,26 @@ impl<'a> Reader<'a> {
             _ => Err(SnapshotError::Invalid("boolean")),
         }
     }
+    /// An optional finite float.
     pub fn opt_f64(&mut self) -> Result<Option<f64>, SnapshotError> {
         let some = self.bool()?;
-        let v = self.f64()?;
+        let v = self.f64_any()?;
+        if some && (v.is_nan() || v.abs() > MAX_MAGNITUDE) {
+            return Err(self.non_finite());
+        }
         Ok(some.then_some(v))
     }
+    /// Finite floats.
     pub fn f64s(&mut self, out: &mut [f64]) -> Result<(), SnapshotError> {
         for v in out.iter_mut() {
             *v = self.f64()?;
+        }
+        Ok(())
+    }
+    /// Floats that may be NaN or infinite.
+    pub fn f64s_any(&mut self, out: &mut [f64]) -> Result<(), SnapshotError> {
+        for v in out.iter_mut() {
+            *v = self.f64_any()?;
         }
         Ok(())
     }
@@ -214,7 +322,7 @@ mod tests {
         assert_eq!(r.u64().unwrap(), 42);
         r.end().unwrap();
         let mut bad = bytes.clone();
-        bad[9] ^= 1;
+        bad[12] ^= 1;
         assert_eq!(Reader::new(&bad, 7, 1).err(), Some(SnapshotError::Checksum));
         assert!(matches!(
             Reader::new(&bytes, 8, 1).err(),
@@ -228,5 +336,55 @@ mod tests {
             Reader::new(b"hello world!", 7, 1).err(),
             Some(SnapshotError::BadMagic)
         );
+    }
+
+    #[test]
+    fn a_cut_off_snapshot_is_truncated_not_corrupted() {
+        let mut w = Writer::new(7, 1);
+        w.f64s(&[1.0; 16]);
+        let bytes = w.finish();
+        for n in 0..bytes.len() {
+            assert_eq!(
+                Reader::new(&bytes[..n], 7, 1).err(),
+                Some(SnapshotError::Truncated),
+                "cut at {n}"
+            );
+        }
+        let mut long = bytes.clone();
+        long.push(0);
+        assert!(matches!(
+            Reader::new(&long, 7, 1).err(),
+            Some(SnapshotError::Invalid(_))
+        ));
+    }
+
+    #[test]
+    fn non_finite_numbers_are_refused_unless_asked_for() {
+        let mut w = Writer::new(7, 1);
+        w.f64(f64::NAN);
+        w.f64(f64::INFINITY);
+        w.opt_f64(Some(f64::NAN));
+        let bytes = w.finish();
+        let (mut r, _) = Reader::new(&bytes, 7, 1).unwrap();
+        assert_eq!(r.f64().err(), Some(SnapshotError::NonFinite { offset: 11 }));
+        let (mut r, _) = Reader::new(&bytes, 7, 1).unwrap();
+        assert!(r.f64_any().unwrap().is_nan());
+        assert_eq!(r.f64_any().unwrap(), f64::INFINITY);
+        assert!(matches!(r.opt_f64(), Err(SnapshotError::NonFinite { .. })));
+    }
+
+    #[test]
+    fn first_envelope_is_still_read() {
+        // magic STRK, kind 7, version 1, one f64, CRC.
+        let mut body = b"STRK".to_vec();
+        body.push(7);
+        body.extend_from_slice(&1u16.to_le_bytes());
+        body.extend_from_slice(&2.5f64.to_bits().to_le_bytes());
+        let crc = crc32(&body);
+        body.extend_from_slice(&crc.to_le_bytes());
+        let (mut r, v) = Reader::new(&body, 7, 1).unwrap();
+        assert_eq!(v, 1);
+        assert_eq!(r.f64().unwrap(), 2.5);
+        r.end().unwrap();
     }
 }

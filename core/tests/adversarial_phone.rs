@@ -22,10 +22,12 @@ fn pick(rng: &mut Rng, normal: f64) -> f64 {
 }
 
 fn next_t(rng: &mut Rng, t: &mut f64) -> f64 {
-    *t += match rng.next_u64() % 25 {
-        0 => -rng.range(0.0, 5.0),
-        1 => rng.range(0.0, 1e5),
-        2 => 0.0,
+    // Long jumps are rare: three long intervals in a row between accepted samples
+    // are refused as a time-unit error for good (see stridekit_core::input).
+    *t += match rng.next_u64() % 250 {
+        0..=1 => -rng.range(0.0, 0.5),
+        2 => rng.range(0.0, 1e5),
+        3..=7 => 0.0,
         _ => rng.range(0.001, 0.02),
     };
     *t
@@ -78,8 +80,10 @@ fn step_detector_and_ahrs_survive_garbage() {
             "{:?}: accepted {accepted_d} (detector), {accepted_a} (AHRS) of 30000",
             config.mode
         );
+        // The AHRS refuses a sample when any of its nine values is out of range (gyro
+        // beyond ±200 rad/s among them), so it accepts fewer than the detector.
         assert!(
-            accepted_d > 3_000 && accepted_a > 3_000,
+            accepted_d > 3_000 && accepted_a > 1_500,
             "{accepted_d} {accepted_a}"
         );
         assert!(StepDetector::restore(&d.snapshot()).is_ok());
@@ -115,7 +119,9 @@ fn step_length_estimator_survives_garbage() {
                 }
             }
         }
-        assert!(StepLengthEstimator::restore(&est.snapshot()).is_ok());
+        if let Err(e) = StepLengthEstimator::restore(&est.snapshot()) {
+            panic!("{model:?}: {e}");
+        }
     }
 }
 
@@ -139,11 +145,14 @@ fn phone_navigator_survives_garbage() {
         }
         let s = imu(&mut rng, &mut t);
         let _ = nav.push_imu(&s);
-        let e = nav.estimate();
-        assert!(
-            e.east_m.is_finite() && e.north_m.is_finite() && e.distance_m.is_finite(),
-            "{e:?}"
-        );
+        if let Some(e) = nav.estimate() {
+            assert!(
+                e.east_m.is_finite() && e.north_m.is_finite() && e.distance_m.is_finite(),
+                "{e:?}"
+            );
+        }
     }
-    assert!(PhoneNavigator::restore(&nav.snapshot()).is_ok());
+    if let Err(e) = PhoneNavigator::restore(&nav.snapshot()) {
+        panic!("{e}");
+    }
 }

@@ -6,6 +6,7 @@
 //! (a thread-local flag), so tests running in parallel threads do not disturb it.
 
 use std::hint::black_box;
+use stridekit_core::input::InputError;
 
 use stridekit_core::pace::Stream;
 use stridekit_core::{
@@ -102,42 +103,42 @@ fn invalid_samples(t: f64) -> Vec<(PaceSample, IsExpected)> {
                 t_s: f64::NAN,
                 ..good
             }),
-            |e| matches!(e, PaceError::NonFinite { .. }),
+            |e| matches!(e, PaceError::Input(InputError::NonFinite { .. })),
         ),
         (
             PaceSample::Fix(GnssFix {
                 lat_deg: f64::NAN,
                 ..good
             }),
-            |e| matches!(e, PaceError::NonFinite { .. }),
+            |e| matches!(e, PaceError::Input(InputError::NonFinite { .. })),
         ),
         (
             PaceSample::Fix(GnssFix {
                 lon_deg: f64::INFINITY,
                 ..good
             }),
-            |e| matches!(e, PaceError::NonFinite { .. }),
+            |e| matches!(e, PaceError::Input(InputError::NonFinite { .. })),
         ),
         (
             PaceSample::Fix(GnssFix {
                 lat_deg: 91.0,
                 ..good
             }),
-            |e| matches!(e, PaceError::OutOfRange { .. }),
+            |e| matches!(e, PaceError::Input(InputError::OutOfRange { .. })),
         ),
         (
             PaceSample::Fix(GnssFix {
                 horizontal_accuracy_m: Some(-1.0),
                 ..good
             }),
-            |e| matches!(e, PaceError::OutOfRange { .. }),
+            |e| matches!(e, PaceError::Input(InputError::OutOfRange { .. })),
         ),
         (
             PaceSample::Fix(GnssFix {
                 speed_mps: Some(f64::NAN),
                 ..good
             }),
-            |e| matches!(e, PaceError::NonFinite { .. }),
+            |e| matches!(e, PaceError::Input(InputError::NonFinite { .. })),
         ),
         (
             // Time reversal.
@@ -148,16 +149,16 @@ fn invalid_samples(t: f64) -> Vec<(PaceSample, IsExpected)> {
             |e| {
                 matches!(
                     e,
-                    PaceError::TimeNotIncreasing {
+                    PaceError::Input(InputError::TimeNotIncreasing {
                         stream: Stream::Gnss,
                         ..
-                    }
+                    })
                 )
             },
         ),
         (
             PaceSample::Steps(StepSample::Event { t_s: f64::NAN }),
-            |e| matches!(e, PaceError::NonFinite { .. }),
+            |e| matches!(e, PaceError::Input(InputError::NonFinite { .. })),
         ),
         (
             PaceSample::Steps(StepSample::Count {
@@ -167,10 +168,10 @@ fn invalid_samples(t: f64) -> Vec<(PaceSample, IsExpected)> {
             |e| {
                 matches!(
                     e,
-                    PaceError::TimeNotIncreasing {
+                    PaceError::Input(InputError::TimeNotIncreasing {
                         stream: Stream::Steps,
                         ..
-                    }
+                    })
                 )
             },
         ),
@@ -179,14 +180,14 @@ fn invalid_samples(t: f64) -> Vec<(PaceSample, IsExpected)> {
                 t_s: t + 10.0,
                 steps_per_min: f64::NAN,
             }),
-            |e| matches!(e, PaceError::NonFinite { .. }),
+            |e| matches!(e, PaceError::Input(InputError::NonFinite { .. })),
         ),
         (
             PaceSample::Steps(StepSample::Cadence {
                 t_s: t + 10.0,
                 steps_per_min: 1000.0,
             }),
-            |e| matches!(e, PaceError::OutOfRange { .. }),
+            |e| matches!(e, PaceError::Input(InputError::OutOfRange { .. })),
         ),
     ]
 }

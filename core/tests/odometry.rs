@@ -3,6 +3,7 @@
 
 mod common;
 use common::allocations_in;
+use stridekit_core::input::InputError;
 
 use stridekit_core::odometry::evaluate::run_methods;
 use stridekit_core::odometry::train::{sim_scenario, FIRST_EVAL_SEED};
@@ -195,19 +196,19 @@ fn adversarial_input_never_panics_and_never_yields_nan() {
     let s = samples[0];
     assert!(matches!(
         eng.push(&OdometrySample { t_s: f64::NAN, ..s }),
-        Err(OdometryError::NonFinite { field: "t_s" })
+        Err(OdometryError::Input(InputError::NonFinite { field: "t_s" }))
     ));
     assert!(matches!(
         eng.push(&OdometrySample {
             gyro_rads: [1e4, 0.0, 0.0],
             ..s
         }),
-        Err(OdometryError::OutOfRange { .. })
+        Err(OdometryError::Input(InputError::OutOfRange { .. }))
     ));
     eng.push(&s).unwrap();
     assert!(matches!(
         eng.push(&s),
-        Err(OdometryError::TimeNotIncreasing { .. })
+        Err(OdometryError::Input(InputError::TimeNotIncreasing { .. }))
     ));
     // Accelerations in g at rest.
     let mut eng = PhoneOdometry::shipped(OdometryConfig::default()).unwrap();
@@ -219,7 +220,7 @@ fn adversarial_input_never_panics_and_never_yields_nan() {
     };
     assert!(matches!(
         eng.push(&g),
-        Err(OdometryError::AccelerationNotInMps2 { .. })
+        Err(OdometryError::Input(InputError::AccelerationInG { .. }))
     ));
 }
 
@@ -254,7 +255,7 @@ fn snapshot_split_and_restore_gives_identical_output() {
         PhoneOdometry::restore(&w.finish()),
         Err(OdometryError::Snapshot(SnapshotError::UnsupportedVersion {
             found: 1,
-            supported: 2
+            supported: 3
         }))
     );
 }
@@ -374,11 +375,11 @@ fn external_attitude_is_checked_and_used() {
     let before = eng.snapshot();
     assert!(matches!(
         eng.push_with_attitude(&samples[0], [f64::NAN, 0.0, 0.0, 0.0]),
-        Err(OdometryError::NonFinite { .. })
+        Err(OdometryError::Input(InputError::NonFinite { .. }))
     ));
     assert!(matches!(
         eng.push_with_attitude(&samples[0], [0.0; 4]),
-        Err(OdometryError::OutOfRange { .. })
+        Err(OdometryError::Input(InputError::OutOfRange { .. }))
     ));
     assert_eq!(eng.snapshot(), before);
     // The simulator's true attitude (10 Hz, nearest earlier) gives finite output.

@@ -1,6 +1,7 @@
 //! The pace tracker fed raw accelerometer samples instead of platform step counts.
 
 use stridekit_core::geo::LocalFrame;
+use stridekit_core::input::InputError;
 use stridekit_core::pace::{GnssFix, PaceConfig, PaceError, PaceTracker};
 use stridekit_core::sim::phone::{simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario};
 
@@ -58,18 +59,18 @@ fn g_units_are_rejected_and_leave_the_state_untouched() {
     let before = tr.snapshot();
     let err = tr.push_accel(0.0, [0.0, 0.0, 1.0]).unwrap_err();
     assert!(
-        matches!(err, PaceError::AccelerationNotInMps2 { .. }),
+        matches!(err, PaceError::Input(InputError::AccelerationInG { .. })),
         "{err:?}"
     );
     assert_eq!(tr.snapshot(), before);
     assert!(matches!(
         tr.push_accel(f64::NAN, [0.0, 0.0, 9.8]),
-        Err(PaceError::NonFinite { .. })
+        Err(PaceError::Input(InputError::NonFinite { .. }))
     ));
     tr.push_accel(1.0, [0.0, 0.0, 9.8]).unwrap();
     assert!(matches!(
         tr.push_accel(0.5, [0.0, 0.0, 9.8]),
-        Err(PaceError::TimeNotIncreasing { .. })
+        Err(PaceError::Input(InputError::TimeNotIncreasing { .. }))
     ));
 }
 

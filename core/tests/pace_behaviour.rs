@@ -2,6 +2,7 @@
 //! outages and recovery, trustworthy learning, bad input, and snapshot/restore.
 
 use stridekit_core::geo::LocalFrame;
+use stridekit_core::input::InputError;
 use stridekit_core::sim::{simulate_run, Rng, RunScenario, SimulatedRun, StepReport, ZoneKind};
 use stridekit_core::{
     GnssFix, PaceConfig, PaceError, PaceEstimate, PaceMode, PaceSample, PaceSource, PaceTracker,
@@ -207,7 +208,12 @@ fn bad_input_is_rejected_with_typed_errors_and_leaves_state_untouched() {
                     lat_deg: f64::NAN,
                     ..fix
                 }),
-                |e| matches!(e, PaceError::NonFinite { field: "lat_deg" }),
+                |e| {
+                    matches!(
+                        e,
+                        PaceError::Input(InputError::NonFinite { field: "lat_deg" })
+                    )
+                },
             ),
             (
                 PaceSample::Fix(GnssFix {
@@ -217,10 +223,10 @@ fn bad_input_is_rejected_with_typed_errors_and_leaves_state_untouched() {
                 |e| {
                     matches!(
                         e,
-                        PaceError::OutOfRange {
+                        PaceError::Input(InputError::OutOfRange {
                             field: "lat_deg",
                             ..
-                        }
+                        })
                     )
                 },
             ),
@@ -232,10 +238,10 @@ fn bad_input_is_rejected_with_typed_errors_and_leaves_state_untouched() {
                 |e| {
                     matches!(
                         e,
-                        PaceError::OutOfRange {
+                        PaceError::Input(InputError::OutOfRange {
                             field: "lon_deg",
                             ..
-                        }
+                        })
                     )
                 },
             ),
@@ -244,49 +250,49 @@ fn bad_input_is_rejected_with_typed_errors_and_leaves_state_untouched() {
                     t_s: f64::INFINITY,
                     ..fix
                 }),
-                |e| matches!(e, PaceError::NonFinite { field: "t_s" }),
+                |e| matches!(e, PaceError::Input(InputError::NonFinite { field: "t_s" })),
             ),
             (
                 PaceSample::Fix(GnssFix {
                     horizontal_accuracy_m: Some(-1.0),
                     ..fix
                 }),
-                |e| matches!(e, PaceError::OutOfRange { .. }),
+                |e| matches!(e, PaceError::Input(InputError::OutOfRange { .. })),
             ),
             (
                 PaceSample::Fix(GnssFix {
                     speed_mps: Some(f64::NAN),
                     ..fix
                 }),
-                |e| matches!(e, PaceError::NonFinite { .. }),
+                |e| matches!(e, PaceError::Input(InputError::NonFinite { .. })),
             ),
             (
                 PaceSample::Fix(GnssFix {
                     t_s: last_fix.t_s,
                     ..fix
                 }),
-                |e| matches!(e, PaceError::TimeNotIncreasing { .. }),
+                |e| matches!(e, PaceError::Input(InputError::TimeNotIncreasing { .. })),
             ),
             (
                 PaceSample::Fix(GnssFix {
                     t_s: last_fix.t_s - 30.0,
                     ..fix
                 }),
-                |e| matches!(e, PaceError::TimeNotIncreasing { .. }),
+                |e| matches!(e, PaceError::Input(InputError::TimeNotIncreasing { .. })),
             ),
             (
                 PaceSample::Steps(StepSample::Event { t_s: f64::NAN }),
-                |e| matches!(e, PaceError::NonFinite { .. }),
+                |e| matches!(e, PaceError::Input(InputError::NonFinite { .. })),
             ),
             (PaceSample::Steps(StepSample::Event { t_s: 1.0 }), |e| {
-                matches!(e, PaceError::TimeNotIncreasing { .. })
+                matches!(e, PaceError::Input(InputError::TimeNotIncreasing { .. }))
             }),
             (
                 PaceSample::Steps(StepSample::Cadence {
                     t_s: t,
                     steps_per_min: 1e6,
                 }),
-                |e| matches!(e, PaceError::OutOfRange { .. }),
+                |e| matches!(e, PaceError::Input(InputError::OutOfRange { .. })),
             ),
         ];
         for (sample, expected) in &bad {
@@ -471,7 +477,9 @@ fn adversarial_input_never_panics_nor_produces_nan() {
             assert!(e.cadence_spm.is_none_or(|c| c.is_finite() && c >= 0.0));
         }
         // The snapshot of whatever state that left restores.
-        assert!(PaceTracker::restore(&tr.snapshot()).is_ok());
+        if let Err(e) = PaceTracker::restore(&tr.snapshot()) {
+            panic!("{config:?}: {e}");
+        }
     }
 }
 

@@ -43,7 +43,7 @@ fn feed(nav: &mut PhoneNavigator, xs: &[Input]) -> Vec<NavEstimate> {
                     nav.push_fix(f).unwrap();
                 }
             }
-            nav.estimate()
+            nav.estimate().expect("an estimate after input")
         })
         .collect()
 }
@@ -68,7 +68,7 @@ fn bad_input_leaves_state_untouched() {
     let mut nav = PhoneNavigator::new(NavigatorConfig::default()).unwrap();
     feed(&mut nav, &xs);
     let before = nav.snapshot();
-    let t = nav.estimate().t_s;
+    let t = nav.estimate().expect("an estimate after input").t_s;
     let bad = ImuSample {
         t_s: t + 0.01,
         gyro_rads: [0.0, f64::NAN, 0.0],

@@ -33,7 +33,7 @@ fn outage_error_pct(placement: PhonePlacement, seed: u64, walk_s: f64, outage_s:
         })
         .unwrap();
     }
-    let e = nav.estimate();
+    let e = nav.estimate().expect("an estimate after input");
     let end = sim.truth.last().unwrap();
     let first = sim.fixes[0];
     let err =

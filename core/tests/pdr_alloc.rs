@@ -55,10 +55,10 @@ fn navigator_does_not_allocate_per_sample() {
                             nav.push_fix(f).unwrap();
                         }
                     }
-                    std::hint::black_box(nav.estimate());
+                    std::hint::black_box(nav.estimate().expect("an estimate after input"));
                 }
                 // Rejected inputs too.
-                let t = nav.estimate().t_s;
+                let t = nav.estimate().expect("an estimate after input").t_s;
                 let bad = ImuSample {
                     t_s: t + 0.01,
                     gyro_rads: [0.0; 3],
@@ -67,7 +67,7 @@ fn navigator_does_not_allocate_per_sample() {
                 };
                 assert!(nav.push_imu(&bad).is_err());
                 assert!(nav.push_fix(&GnssFix::new(t + 1.0, 95.0, 0.0)).is_err());
-                nav.estimate().steps
+                nav.estimate().expect("an estimate after input").steps
             });
             assert!(steps > 100, "{placement:?}: {steps} steps");
             assert_eq!(

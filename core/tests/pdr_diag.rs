@@ -75,7 +75,7 @@ fn azimuth_error_over_time() {
                 nav.push_imu(&imu).unwrap();
                 let tr = sim.truth_at(smp.t_s);
                 let h = tr.heading_rad;
-                let e = nav.estimate();
+                let e = nav.estimate().expect("an estimate after input");
                 m_nav.add(e.walking_azimuth_rad.map_or(f64::NAN, |a| wrap(a - h)));
                 let q_true = quat(tr.attitude_wxyz);
                 if (smp.t_s / 0.1 - (smp.t_s / 0.1).round()).abs() < 1e-6 {

@@ -1,5 +1,6 @@
 //! Behaviour of the step-length estimator (`stridekit_core::steplength`).
 
+use stridekit_core::input::InputError;
 use stridekit_core::sim::phone::{simulate_phone, PhonePlacement, PhoneScenario, SimulatedPhone};
 use stridekit_core::snapshot::SnapshotError;
 use stridekit_core::stepdetect::StepEvent;
@@ -63,21 +64,21 @@ fn uncalibrated_gives_the_prior_and_bad_input_is_rejected_without_change() {
         }
         assert!(matches!(
             est.push_step(&event(0.5, 0.5, 10.0)),
-            Err(StepLengthError::TimeNotIncreasing { .. })
+            Err(StepLengthError::Input(InputError::TimeNotIncreasing { .. }))
         ));
         est.push_gnss_fix(1.0, 0.0, 0.0, Some(4.0)).unwrap();
         let before_fix = est.snapshot();
         assert!(matches!(
             est.push_gnss_fix(1.0, 1.0, 0.0, None),
-            Err(StepLengthError::TimeNotIncreasing { .. })
+            Err(StepLengthError::Input(InputError::TimeNotIncreasing { .. }))
         ));
         assert!(matches!(
             est.push_gnss_fix(2.0, f64::NAN, 0.0, None),
-            Err(StepLengthError::NonFinite { .. })
+            Err(StepLengthError::Input(InputError::NonFinite { .. }))
         ));
         assert!(matches!(
             est.push_gnss_fix(2.0, 1.0, 0.0, Some(-1.0)),
-            Err(StepLengthError::OutOfRange { .. })
+            Err(StepLengthError::Input(InputError::OutOfRange { .. }))
         ));
         assert_eq!(est.snapshot(), before_fix);
         assert_ne!(before, before_fix);

@@ -92,18 +92,24 @@
 //! comparison with the `ahrs` crate.
 
 use super::bias::{GyroBias, STILL_ACCEL_MPS2};
-use super::error::{finite3, AhrsError};
+use super::error::AhrsError;
 use super::flags::AhrsFlags;
 use super::frame::{AxisRemap, EarthFrame};
 use super::output::{AhrsOutput, AhrsRejection, ImuSample};
 use super::quat::{self, max, min, Quat};
 use super::settings::AhrsSettings;
+use crate::input::{self, AccelUnits, Stream, TimeGuard};
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Snapshot engine kind byte for the AHRS.
 const SNAPSHOT_KIND: u8 = 2;
 /// Snapshot format version written by this build.
-const SNAPSHOT_VERSION: u16 = 1;
+/// Version 2: the input layer's time state ([`TimeGuard`]) replaces the last time.
+const SNAPSHOT_VERSION: u16 = 2;
+/// Accelerometer and magnetometer vectors shorter than this give no direction (a
+/// free fall, a zeroed sensor): no correction from them (m/s², µT). Also keeps
+/// 1/|v|² finite for tiny finite inputs.
+const MIN_VECTOR_NORM: f64 = 1e-6;
 
 /// Longest interval the correction step is scaled by, s.
 pub const MAX_CORRECTION_DT_S: f64 = 0.1;
@@ -111,16 +117,6 @@ pub const MAX_CORRECTION_DT_S: f64 = 0.1;
 const EXACT_HALF_ANGLE2: f64 = 0.05 * 0.05;
 /// A gyroscope axis beyond this share of the range has clipped.
 const GYRO_CLIP_SHARE: f64 = 0.98;
-/// Units heuristic (1): |a| band of a device at rest reporting in g.
-const G_UNITS_LOW: f64 = 0.8;
-const G_UNITS_HIGH: f64 = 1.2;
-/// ... with the gyroscope below this, rad/s.
-const G_UNITS_STILL_RADS: f64 = 0.5;
-/// Units heuristic (2): time constant of the mean |a|, s, the time it must have run,
-/// s, and the lowest mean |a| accepted, m/s².
-const ACCEL_MEAN_TAU_S: f64 = 1.0;
-const ACCEL_MEAN_SPAN_S: f64 = 1.0;
-const ACCEL_MEAN_MIN_MPS2: f64 = 2.5;
 /// Time constant of the learned Earth field, s, and during initialisation.
 const MAG_REF_TAU_S: f64 = 20.0;
 const MAG_REF_INIT_TAU_S: f64 = 0.5;
@@ -169,6 +165,9 @@ pub struct Ahrs {
     // State.
     started: bool,
     last_t_s: f64,
+    /// The input layer's time state (same last time as `last_t_s`, plus the
+    /// slow-interval count of the time-unit check).
+    time: TimeGuard,
     /// Orientation body → North-West-Up, [w, x, y, z].
     q: quat::SplitQuat,
     /// Current (ramped) gain, rad/s.
@@ -183,8 +182,7 @@ pub struct Ahrs {
     mag_ref_valid: bool,
     bias: GyroBias,
     /// Mean |a| (units heuristic), m/s², and how long it has run, s (capped).
-    accel_mean_mps2: f64,
-    accel_mean_span_s: f64,
+    units: AccelUnits,
     /// Latest accepted specific force, body frame, m/s².
     last_accel_mps2: [f64; 3],
     flags: AhrsFlags,
@@ -219,6 +217,7 @@ impl Ahrs {
             remap_identity: s.axis_remap == AxisRemap::IDENTITY,
             started: false,
             last_t_s: 0.0,
+            time: TimeGuard::new(Stream::Imu),
             q: quat::SplitQuat::new([1.0, 0.0, 0.0, 0.0]),
             gain: s.gain,
             accel_rec: Recovery::default(),
@@ -226,8 +225,7 @@ impl Ahrs {
             mag_ref_ut: [0.0; 3],
             mag_ref_valid: false,
             bias: GyroBias::default(),
-            accel_mean_mps2: 0.0,
-            accel_mean_span_s: 0.0,
+            units: AccelUnits::new(),
             last_accel_mps2: [0.0; 3],
             flags: AhrsFlags::default(),
         })
@@ -307,13 +305,11 @@ impl Ahrs {
         mag_ut: Option<[f64; 3]>,
     ) -> Result<AhrsFlags, AhrsError> {
         // --- The door: nothing below mutates until every check passed.
-        if !t_s.is_finite() {
-            return Err(AhrsError::NonFinite { field: "t_s" });
-        }
-        finite3("gyro_rads", &gyro_rads)?;
-        finite3("accel_mps2", &accel_mps2)?;
+        let since = self.time.check(t_s)?;
+        input::gyro(&gyro_rads)?;
+        input::accel(&accel_mps2)?;
         if let Some(m) = &mag_ut {
-            finite3("mag_ut", m)?;
+            input::mag(m)?;
         }
         let (gyro, accel, mag) = if self.remap_identity {
             (gyro_rads, accel_mps2, mag_ut)
@@ -327,32 +323,18 @@ impl Ahrs {
         };
         let a2 = accel[0] * accel[0] + accel[1] * accel[1] + accel[2] * accel[2];
         let a_norm = a2.sqrt();
-        let dt = t_s - self.last_t_s;
-        if self.started && dt <= 0.0 {
-            return Err(AhrsError::TimeNotIncreasing {
-                t_s,
-                last_t_s: self.last_t_s,
-            });
-        }
-        if !self.started || dt > self.settings.max_gap_s {
-            let w2 = gyro[0] * gyro[0] + gyro[1] * gyro[1] + gyro[2] * gyro[2];
-            if (G_UNITS_LOW..=G_UNITS_HIGH).contains(&a_norm)
-                && w2 < G_UNITS_STILL_RADS * G_UNITS_STILL_RADS
-            {
-                return Err(AhrsError::AccelerationNotInMps2 { magnitude: a_norm });
-            }
+        let dt = since.unwrap_or(f64::INFINITY);
+        if dt > self.settings.max_gap_s {
+            // (Re)initialisation: the g-units check of a first sample.
+            let mean = self.units.check(None, a_norm)?;
             self.start(t_s, &accel, a_norm, mag.as_ref());
+            self.units.accept(mean);
             return Ok(self.flags);
         }
-        let k = min(dt * (1.0 / ACCEL_MEAN_TAU_S), 1.0);
-        let mean = self.accel_mean_mps2 + k * (a_norm - self.accel_mean_mps2);
-        let span = self.accel_mean_span_s + dt;
-        if span >= ACCEL_MEAN_SPAN_S && mean < ACCEL_MEAN_MIN_MPS2 {
-            return Err(AhrsError::AccelerationNotInMps2 { magnitude: mean });
-        }
+        let mean = self.units.check(Some(dt), a_norm)?;
         // --- Accepted.
-        self.accel_mean_mps2 = mean;
-        self.accel_mean_span_s = min(span, ACCEL_MEAN_SPAN_S);
+        self.time.accept(t_s);
+        self.units.accept(mean);
         self.last_t_s = t_s;
         self.last_accel_mps2 = accel;
         // The flags are returned from the local copy: reading them back from `self`
@@ -368,17 +350,16 @@ impl Ahrs {
         self.gain = if init { s.initial_gain } else { s.gain };
         self.started = true;
         self.last_t_s = t_s;
+        self.time.accept(t_s);
         self.last_accel_mps2 = *accel;
         self.accel_rec = Recovery::default();
         self.mag_rec = Recovery::default();
-        self.accel_mean_mps2 = a_norm;
-        self.accel_mean_span_s = 0.0;
         self.bias.still_s = 0.0;
         self.mag_ref_valid = false;
         if let Some(m) = mag {
             let h = quat::rotate(&self.q.get(), m);
             let n = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
-            if n > 0.0 {
+            if n > MIN_VECTOR_NORM {
                 self.mag_ref_ut = [(h[0] * h[0] + h[1] * h[1]).sqrt() / n, h[2] / n, n];
                 self.mag_ref_valid = true;
             }
@@ -446,7 +427,7 @@ impl Ahrs {
         let vz = 2.0 * (0.5 - qx * qx - qy * qy);
 
         // Accelerometer: misfit between the estimated and the measured up direction.
-        if a_norm > 0.0 {
+        if a_norm > MIN_VECTOR_NORM {
             // 1/|a| as |a|/|a|²: root and division in parallel.
             let inv = a_norm * (1.0 / a2);
             let f1 = vx - a[0] * inv;
@@ -472,7 +453,7 @@ impl Ahrs {
         // Magnetometer: misfit between the estimated and the measured field direction.
         if let Some(m) = mag {
             let m2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
-            if m2 > 0.0 {
+            if m2 > MIN_VECTOR_NORM * MIN_VECTOR_NORM {
                 let m_norm = m2.sqrt();
                 let inv = m_norm * (1.0 / m2);
                 let (mx, my, mz) = (m[0] * inv, m[1] * inv, m[2] * inv);
@@ -669,8 +650,7 @@ impl Ahrs {
             s.max_gap_s,
         ]);
         w.bool(s.bias_estimation);
-        w.bool(self.started);
-        w.f64(self.last_t_s);
+        self.time.write(&mut w);
         w.f64s(&self.q.get());
         w.f64(self.gain);
         for r in [&self.accel_rec, &self.mag_rec] {
@@ -681,8 +661,7 @@ impl Ahrs {
         w.bool(self.mag_ref_valid);
         w.f64s(&self.bias.bias_rads);
         w.f64(self.bias.still_s);
-        w.f64(self.accel_mean_mps2);
-        w.f64(self.accel_mean_span_s);
+        self.units.write(&mut w);
         w.f64s(&self.last_accel_mps2);
         w.u8(self.flags.to_bits());
         w.finish()
@@ -690,7 +669,7 @@ impl Ahrs {
 
     /// A filter continuing exactly where the snapshot was taken.
     pub fn restore(bytes: &[u8]) -> Result<Self, AhrsError> {
-        let (mut r, _version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let (mut r, _) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
         let frame = EarthFrame::from_u8(r.u8()?).ok_or(SnapshotError::Invalid("frame"))?;
         let mut source = [0usize; 3];
         let mut negate = [false; 3];
@@ -719,8 +698,9 @@ impl Ahrs {
             bias_estimation: r.bool()?,
         };
         let mut a = Ahrs::new(settings).map_err(|_| SnapshotError::Invalid("settings"))?;
-        a.started = r.bool()?;
-        a.last_t_s = r.f64()?;
+        a.time = TimeGuard::read(&mut r, Stream::Imu)?;
+        a.started = a.time.last_t_s().is_some();
+        a.last_t_s = a.time.last_t_s().unwrap_or(0.0);
         let mut q = [0.0; 4];
         r.f64s(&mut q)?;
         a.q.set(q);
@@ -733,29 +713,51 @@ impl Ahrs {
         a.mag_ref_valid = r.bool()?;
         r.f64s(&mut a.bias.bias_rads)?;
         a.bias.still_s = r.f64()?;
-        a.accel_mean_mps2 = r.f64()?;
-        a.accel_mean_span_s = r.f64()?;
+        a.units = AccelUnits::read(&mut r)?;
         r.f64s(&mut a.last_accel_mps2)?;
         a.flags = AhrsFlags::from_bits(r.u8()?);
         r.end()?;
-        let qn = a.q.get().iter().map(|c| c * c).sum::<f64>();
-        let finite = a.last_t_s.is_finite()
-            && a.gain.is_finite()
-            && a.accel_mean_mps2.is_finite()
-            && a.accel_mean_span_s.is_finite()
-            && a.bias.still_s.is_finite()
-            && a.accel_rec.trigger_s.is_finite()
-            && a.mag_rec.trigger_s.is_finite()
-            && a.mag_ref_ut.iter().all(|x| x.is_finite())
-            && a.bias.bias_rads.iter().all(|x| x.is_finite())
-            && a.last_accel_mps2.iter().all(|x| x.is_finite());
-        if !finite {
-            return Err(SnapshotError::Invalid("non-finite state").into());
-        }
-        if qn.is_nan() || (qn - 1.0).abs() >= 1e-6 {
-            return Err(SnapshotError::Invalid("quaternion not unit").into());
-        }
+        a.check_state().map_err(SnapshotError::Invalid)?;
         Ok(a)
+    }
+
+    /// Whether a restored state is one the filter can be in: every number finite
+    /// (the reader refused NaN and ±∞) and within what the update can produce.
+    fn check_state(&self) -> Result<(), &'static str> {
+        let s = &self.settings;
+        let qn = self.q.get().iter().map(|c| c * c).sum::<f64>();
+        if (qn - 1.0).abs() >= 1e-6 {
+            return Err("quaternion not unit");
+        }
+        if !(self.gain >= s.gain.min(s.initial_gain) && self.gain <= s.gain.max(s.initial_gain)) {
+            return Err("gain outside the settings' range");
+        }
+        for rec in [&self.accel_rec, &self.mag_rec] {
+            // The trigger counts within 0..=period (0 when the period is +∞).
+            if !(rec.trigger_s >= 0.0 && rec.trigger_s <= s.recovery_trigger_period_s) {
+                return Err("recovery trigger");
+            }
+        }
+        let max_m = input::limits::MAX_MAG_UT * 3f64.sqrt();
+        let [rx, rz, rn] = self.mag_ref_ut;
+        if !(rx.abs() <= 1.5 && rz.abs() <= 1.5 && (0.0..=max_m).contains(&rn)) {
+            return Err("learned magnetic field");
+        }
+        if self
+            .bias
+            .bias_rads
+            .iter()
+            .any(|b| b.abs() > input::limits::MAX_GYRO_RADS)
+        {
+            return Err("gyroscope bias");
+        }
+        if !(0.0..=super::bias::STILL_TIMEOUT_S).contains(&self.bias.still_s) {
+            return Err("stillness timer");
+        }
+        if input::accel(&self.last_accel_mps2).is_err() {
+            return Err("last acceleration");
+        }
+        Ok(())
     }
 }
 
@@ -769,7 +771,7 @@ fn initial_orientation(
     mag: Option<&[f64; 3]>,
 ) -> Quat {
     let c = frame.nwu_to_frame();
-    if a_norm <= 0.0 {
+    if a_norm <= MIN_VECTOR_NORM {
         return quat::conj(&c);
     }
     let up = [a[0] / a_norm, a[1] / a_norm, a[2] / a_norm];
@@ -777,7 +779,7 @@ fn initial_orientation(
         let e = cross(m, &up);
         let en = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
         let mn = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
-        if en > MIN_HEADING_SIN * mn && en > 0.0 {
+        if en > MIN_HEADING_SIN * mn && mn > MIN_VECTOR_NORM {
             let east = [e[0] / en, e[1] / en, e[2] / en];
             let north = cross(&up, &east);
             let west = [-east[0], -east[1], -east[2]];

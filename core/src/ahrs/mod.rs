@@ -29,4 +29,4 @@ pub use flags::AhrsFlags;
 pub use frame::{AxisRemap, EarthFrame};
 pub use madgwick::Ahrs;
 pub use output::{AhrsOutput, AhrsRejection, ImuSample};
-pub use settings::AhrsSettings;
+pub use settings::{AhrsSettings, MAX_GAP_LIMIT_S};

@@ -37,19 +37,18 @@ use super::detect::{
     ZeroVelocityDetector, G_MPS2,
 };
 use super::ekf::{Cov, Noise, Strapdown, IA, IP, IV};
-use super::error::{finite3, FootError};
+use super::error::FootError;
 use super::median::{MedianFilter, MAX_MEDIAN_WINDOW};
 use super::svm::SvmModel;
 use super::types::{BodySample, FootEstimate, FootSample, Stride};
 use crate::ahrs::AxisRemap;
+use crate::input::{self, AccelUnits, Stream, TimeGuard};
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Capacity of the sliding-maximum queue of the gait window.
 const GAIT_CAP: usize = 1024;
 /// Physical limits at the door.
-const MAX_ACC_MPS2: f64 = 2000.0;
-const MAX_GYRO_RADS: f64 = 200.0;
 /// Speed above which the state is considered diverged, m/s.
 const MAX_SPEED_MPS: f64 = 50.0;
 /// Bias estimates beyond what any MEMS IMU has also mean divergence.
@@ -86,7 +85,8 @@ pub struct FootNavigator {
     config: FootConfig,
     noise: Noise,
     /// Time of the newest accepted raw sample.
-    last_t: Option<f64>,
+    time: TimeGuard,
+    units: AccelUnits,
     median: MedianFilter,
     /// Filtered samples, newest last (detector window source).
     det: Ring<BodySample, MAX_DETECTOR_WINDOW>,
@@ -121,7 +121,8 @@ impl FootNavigator {
             median: MedianFilter::new(config.median_window),
             config,
             noise,
-            last_t: None,
+            time: TimeGuard::new(Stream::Imu),
+            units: AccelUnits::new(),
             det: Ring::new(),
             gait: Ring::new(),
             align: Alignment::default(),
@@ -175,45 +176,15 @@ impl FootNavigator {
 
     /// Check a sample at the door without changing anything.
     pub fn check(&self, s: &FootSample) -> Result<(), FootError> {
-        if !s.t_s.is_finite() {
-            return Err(FootError::NonFinite { field: "t_s" });
-        }
-        finite3("accel_mps2", &s.accel_mps2)?;
-        finite3("gyro_rads", &s.gyro_rads)?;
-        for &a in &s.accel_mps2 {
-            if a.abs() > MAX_ACC_MPS2 {
-                return Err(FootError::OutOfRange {
-                    field: "accel_mps2",
-                    value: a,
-                    reason: "|a| per axis must be ≤ 2000 m/s²",
-                });
-            }
-        }
-        for &w in &s.gyro_rads {
-            if w.abs() > MAX_GYRO_RADS {
-                return Err(FootError::OutOfRange {
-                    field: "gyro_rads",
-                    value: w,
-                    reason: "|ω| per axis must be ≤ 200 rad/s",
-                });
-            }
-        }
-        if let Some(last) = self.last_t {
-            if s.t_s <= last {
-                return Err(FootError::TimeNotIncreasing {
-                    t_s: s.t_s,
-                    last_t_s: last,
-                });
-            }
-        }
-        if self.ins.is_none() {
-            // Units check while the foot should be at rest.
-            let an = norm(&s.accel_mps2);
-            if norm(&s.gyro_rads) < 0.5 && (0.5..=1.5).contains(&an) {
-                return Err(FootError::AccelerationNotInMps2 { magnitude: an });
-            }
-        }
-        Ok(())
+        self.check_inner(s).map(|_| ())
+    }
+
+    /// The door; returns the new mean |a| of the g-units check.
+    fn check_inner(&self, s: &FootSample) -> Result<f64, FootError> {
+        let dt = self.time.check(s.t_s)?;
+        input::accel(&s.accel_mps2)?;
+        input::gyro(&s.gyro_rads)?;
+        Ok(self.units.check(dt, norm(&s.accel_mps2))?)
     }
 
     /// Push one sample. Returns the estimate of the sample the pipeline finished (the
@@ -238,8 +209,9 @@ impl FootNavigator {
         s: &FootSample,
         external: Option<bool>,
     ) -> Result<Option<FootEstimate>, FootError> {
-        self.check(s)?;
-        self.last_t = Some(s.t_s);
+        let mean = self.check_inner(s)?;
+        self.time.accept(s.t_s);
+        self.units.accept(mean);
         let f = self.config.axis_remap.apply(s.accel_mps2);
         let w = self.config.axis_remap.apply(s.gyro_rads);
         let saturated = saturated(&s.accel_mps2, self.config.accel_range_mps2)
@@ -574,7 +546,8 @@ fn saturated(v: &[f64; 3], range: Option<f64>) -> bool {
 
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
-const SNAPSHOT_VERSION: u16 = 1;
+/// Version 2: the input layer's time state ([`TimeGuard`]) replaces the last time.
+const SNAPSHOT_VERSION: u16 = 2;
 
 fn write_body(w: &mut Writer, s: &BodySample) {
     w.f64(s.t_s);
@@ -926,7 +899,8 @@ impl FootNavigator {
     pub fn snapshot(&self) -> Vec<u8> {
         let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
         write_config(&mut w, &self.config);
-        w.opt_f64(self.last_t);
+        self.time.write(&mut w);
+        self.units.write(&mut w);
         w.u64(self.median.samples().count() as u64);
         for s in self.median.samples() {
             write_body(&mut w, &s);
@@ -975,16 +949,88 @@ impl FootNavigator {
         w.finish()
     }
 
+    /// Whether a restored state is one the navigator can be in: samples within the
+    /// door's limits, sums within what that many samples can add up to, the
+    /// navigation state within the divergence guard, a covariance.
+    fn check_state(&self) -> Result<(), &'static str> {
+        use crate::input::limits::{MAX_ABS_T_S, MAX_ACCEL_NORM_MPS2 as A};
+        let w_max = crate::input::limits::MAX_GYRO_RADS * 3f64.sqrt();
+        let t_ok = |t: f64| t.abs() <= MAX_ABS_T_S + 1.0;
+        let sample_ok = |s: &BodySample| {
+            t_ok(s.t_s) && s.f.iter().all(|v| v.abs() <= A) && s.w.iter().all(|v| v.abs() <= w_max)
+        };
+        if !self.median.samples().all(|s| sample_ok(&s)) || !self.det.iter().all(|s| sample_ok(&s))
+        {
+            return Err("buffered sample");
+        }
+        if !self
+            .gait
+            .iter()
+            .all(|(t, v)| t_ok(t) && (0.0..=A).contains(&v))
+        {
+            return Err("gait queue");
+        }
+        let a = &self.align;
+        let n = a.n as f64;
+        if !(t_ok(a.t_first) && t_ok(a.t_last))
+            || a.sum_f.iter().any(|v| v.abs() > n * A)
+            || a.sum_w.iter().any(|v| v.abs() > n * w_max)
+        {
+            return Err("alignment sums");
+        }
+        if !(0.0..=100_000.0).contains(&self.rate_hz) {
+            return Err("sample rate");
+        }
+        if let Some(ins) = &self.ins {
+            let m = |v: &Vector3<f64>, max: f64| v.iter().all(|x| x.abs() <= max);
+            // Variances and positions as large as the guard's speed over the longest
+            // session allows; gravity as the alignment clamps it.
+            let diag_ok = (0..15).all(|i| (0.0..=1e20).contains(&ins.cov[(i, i)]));
+            let checks = [
+                (m(&ins.v, MAX_SPEED_MPS), "navigation state: velocity"),
+                (
+                    m(&ins.p, MAX_SPEED_MPS * MAX_ABS_T_S),
+                    "navigation state: position",
+                ),
+                // The guard holds biases of a running filter below its limits, but
+                // the alignment may start the gyroscope bias anywhere the door allows.
+                (m(&ins.ba, A), "navigation state: accelerometer bias"),
+                (m(&ins.bg, w_max), "navigation state: gyroscope bias"),
+                (
+                    m(&ins.prev_f, A) && m(&ins.prev_w, w_max),
+                    "navigation state: last sample",
+                ),
+                (
+                    (0.5 * G_MPS2..=1.5 * G_MPS2).contains(&ins.g),
+                    "navigation state: gravity",
+                ),
+                (diag_ok, "navigation state: covariance"),
+            ];
+            if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
+                return Err(what);
+            }
+        }
+        if !(t_ok(self.swing_start_t) && self.distance_m >= 0.0)
+            || self.last_onset.is_some_and(|(t, p)| {
+                !(t_ok(t) && p.iter().all(|v| v.abs() <= MAX_SPEED_MPS * MAX_ABS_T_S))
+            })
+        {
+            return Err("stride state");
+        }
+        Ok(())
+    }
+
     /// A navigator continuing exactly where the snapshot was taken.
     pub fn restore(bytes: &[u8]) -> Result<Self, FootError> {
-        let (mut r, _version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let (mut r, _) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
         let config = read_config(&mut r)?;
         let mut n = FootNavigator::new(config).map_err(|e| match e {
             FootError::Snapshot(s) => FootError::Snapshot(s),
             _ => FootError::Snapshot(SnapshotError::Invalid("configuration")),
         })?;
         let invalid = |what| FootError::Snapshot(SnapshotError::Invalid(what));
-        n.last_t = r.opt_f64()?;
+        n.time = TimeGuard::read(&mut r, Stream::Imu)?;
+        n.units = AccelUnits::read(&mut r)?;
         let len = r.len(n.config.median_window)?;
         for _ in 0..len {
             n.median.restore_push(read_body(&mut r)?);
@@ -1043,7 +1089,11 @@ impl FootNavigator {
             }
             n.ins = Some(ins);
         }
-        n.ins_t = r.f64()?;
+        // −∞ before the first sample.
+        n.ins_t = r.f64_any()?;
+        if n.ins_t.is_nan() || n.ins_t == f64::INFINITY {
+            return Err(invalid("integration time"));
+        }
         n.stance = r.bool()?;
         n.swing_start_t = r.f64()?;
         let has_onset = r.bool()?;
@@ -1058,8 +1108,7 @@ impl FootNavigator {
         let latest = read_estimate(&mut r)?;
         n.latest = has_latest.then_some(latest);
         r.end()?;
-        let finite = n.last_t.is_none_or(f64::is_finite)
-            && n.align.t_first.is_finite()
+        let finite = n.align.t_first.is_finite()
             && n.align.t_last.is_finite()
             && n.align.sum_f.iter().all(|v| v.is_finite())
             && n.align.sum_w.iter().all(|v| v.is_finite())
@@ -1075,6 +1124,29 @@ impl FootNavigator {
         }
         if n.ins.is_some() != (n.window > 0) || (n.window > 0 && n.window % 2 == 0) {
             return Err(invalid("detector window"));
+        }
+        n.check_state().map_err(invalid)?;
+        if let Some(e) = &n.latest {
+            let qn: f64 = e.quaternion.iter().map(|c| c * c).sum();
+            let stds = e
+                .position_std_m
+                .iter()
+                .chain(&e.velocity_std_mps)
+                .chain(&e.tilt_std_rad)
+                .chain(std::iter::once(&e.heading_std_rad));
+            if (qn - 1.0).abs() > 1e-6 || stds.copied().any(|v| v < 0.0) || e.distance_m < 0.0 {
+                return Err(invalid("stored estimate"));
+            }
+        }
+        if let Some(ins) = &n.ins {
+            if ins
+                .cov
+                .iter()
+                .zip(ins.cov.transpose().iter())
+                .any(|(a, b)| (a - b).abs() > 1e-6 * (1.0 + a.abs()))
+            {
+                return Err(invalid("covariance not symmetric"));
+            }
         }
         Ok(n)
     }

@@ -28,6 +28,7 @@ pub struct NaiveOdometry {
     ahrs: Ahrs,
     q_fixed: Option<[f64; 4]>,
     last: Option<(f64, [f64; 2])>,
+    time: crate::input::TimeGuard,
     velocity_mps: [f64; 2],
     position_m: [f64; 2],
 }
@@ -44,6 +45,7 @@ impl NaiveOdometry {
             ahrs: Ahrs::new(ahrs)?,
             q_fixed: None,
             last: None,
+            time: crate::input::TimeGuard::new(crate::input::Stream::Imu),
             velocity_mps: [0.0; 2],
             position_m: [0.0; 2],
         })
@@ -51,7 +53,7 @@ impl NaiveOdometry {
 
     /// One sample; on error nothing changes.
     pub fn push(&mut self, s: &OdometrySample) -> Result<(), OdometryError> {
-        check(s, self.last.map(|l| l.0))?;
+        check(s, &self.time)?;
         let mag = if self.use_magnetometer {
             s.mag_ut
         } else {
@@ -76,6 +78,7 @@ impl NaiveOdometry {
             }
         }
         self.last = Some((s.t_s, a));
+        self.time.accept(s.t_s);
         Ok(())
     }
 

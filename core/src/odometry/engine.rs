@@ -22,14 +22,15 @@ use super::sample::{check, OdometrySample};
 use super::smooth::{Gaussian, MAX_TAPS};
 use super::stabilise::stabilise;
 use crate::ahrs::{Ahrs, AhrsSettings};
+use crate::input::{self, Stream, TimeGuard};
 use crate::placement::{Placement, PlacementClassifier, PlacementEstimate};
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Snapshot engine kind of [`PhoneOdometry`].
 pub const SNAPSHOT_KIND: u8 = 8;
-/// Version 2: placement source and the embedded placement classifier (version-1
-/// snapshots are rejected with `SnapshotError::UnsupportedVersion`).
-const SNAPSHOT_VERSION: u16 = 2;
+/// Version 3: the input layer's time state (version 2 added the placement source
+/// and the embedded classifier).
+const SNAPSHOT_VERSION: u16 = 3;
 
 /// Smallest smoothed classifier probability at which [`PlacementSource::Auto`] uses
 /// the classified placement's regressor (below it: the general regressor). Chosen a
@@ -130,7 +131,7 @@ pub struct PhoneOdometry {
     ahrs: Ahrs,
     /// Runs only with [`PlacementSource::Auto`].
     classifier: PlacementClassifier,
-    last_t_s: Option<f64>,
+    time: TimeGuard,
     resampler: Resampler,
     smoother: Gaussian,
     window: FeatureWindow,
@@ -151,7 +152,7 @@ impl PhoneOdometry {
         Ok(Self {
             ahrs: Ahrs::new(config.ahrs)?,
             classifier: PlacementClassifier::shipped(),
-            last_t_s: None,
+            time: TimeGuard::new(Stream::Imu),
             resampler: Resampler::new(p.rate_hz),
             smoother: Gaussian::new(p.sigma_samples),
             window: FeatureWindow::new(p.window),
@@ -239,18 +240,11 @@ impl PhoneOdometry {
         s: &OdometrySample,
         attitude_wxyz: [f64; 4],
     ) -> Result<Option<OdometryEstimate>, OdometryError> {
-        if !attitude_wxyz.iter().all(|v| v.is_finite()) {
-            return Err(OdometryError::NonFinite {
-                field: "attitude_wxyz",
-            });
+        for v in attitude_wxyz {
+            input::finite("attitude_wxyz", v)?;
         }
         let n = attitude_wxyz.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if !(0.5..=2.0).contains(&n) {
-            return Err(OdometryError::OutOfRange {
-                field: "attitude_wxyz",
-                value: n,
-            });
-        }
+        input::in_range("attitude norm", n, 0.5, 2.0, "")?;
         self.push_inner(s, Some(attitude_wxyz.map(|v| v / n)))
     }
 
@@ -259,7 +253,7 @@ impl PhoneOdometry {
         s: &OdometrySample,
         attitude: Option<[f64; 4]>,
     ) -> Result<Option<OdometryEstimate>, OdometryError> {
-        check(s, self.last_t_s)?;
+        check(s, &self.time)?;
         let mag = if self.config.use_magnetometer {
             s.mag_ut
         } else {
@@ -275,7 +269,7 @@ impl PhoneOdometry {
             // unchanged and is still used by the odometry.
             let _ = self.classifier.push(s.t_s, s.accel_mps2);
         }
-        if let Some(last) = self.last_t_s {
+        if let Some(last) = self.time.last_t_s() {
             if s.t_s - last > self.config.ahrs.max_gap_s {
                 // The motion during a gap is unknown: restart the signal chain.
                 self.resampler.reset();
@@ -285,7 +279,7 @@ impl PhoneOdometry {
                 self.hop_count = 0;
             }
         }
-        self.last_t_s = Some(s.t_s);
+        self.time.accept(s.t_s);
         let q = attitude
             .or_else(|| self.ahrs.quaternion())
             .unwrap_or([1.0, 0.0, 0.0, 0.0]);
@@ -406,7 +400,7 @@ impl PhoneOdometry {
         w.bool(self.config.bias_correction);
         w.u8(source_code(self.config.placement));
         w.bytes(&self.classifier.snapshot());
-        w.opt_f64(self.last_t_s);
+        self.time.write(&mut w);
         // Resampler.
         let r = &self.resampler;
         w.bool(r.prev.is_some());
@@ -458,15 +452,7 @@ impl PhoneOdometry {
 
     /// An engine continuing exactly where the snapshot was taken.
     pub fn restore(bytes: &[u8]) -> Result<Self, OdometryError> {
-        let (mut r, version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
-        if version != SNAPSHOT_VERSION {
-            // Version 1 had no placement source nor classifier: not readable.
-            return Err(SnapshotError::UnsupportedVersion {
-                found: version,
-                supported: SNAPSHOT_VERSION,
-            }
-            .into());
-        }
+        let (mut r, _) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
         let text = std::str::from_utf8(r.bytes()?).map_err(|_| SnapshotError::Invalid("model"))?;
         let model = OdometryModel::parse(text).map_err(|_| SnapshotError::Invalid("model"))?;
         let ahrs = Ahrs::restore(r.bytes()?)?;
@@ -484,7 +470,7 @@ impl PhoneOdometry {
         let mut e = Self::new(config, model)?;
         e.ahrs = ahrs;
         e.classifier = classifier;
-        e.last_t_s = r.opt_f64()?;
+        e.time = TimeGuard::read(&mut r, Stream::Imu)?;
         let has_prev = r.bool()?;
         let tp = r.f64()?;
         let mut xp = [0.0; 6];
@@ -492,6 +478,9 @@ impl PhoneOdometry {
         e.resampler.prev = has_prev.then_some((tp, xp));
         e.resampler.t0_s = r.f64()?;
         e.resampler.k = r.u64()?;
+        if !e.resampler.is_consistent() {
+            return Err(SnapshotError::Invalid("resampler grid").into());
+        }
         let n = r.len(MAX_TAPS)?;
         for _ in 0..n {
             let t = r.f64()?;

@@ -1,27 +1,15 @@
 //! Typed errors of the phone odometry. A rejected sample leaves the state untouched.
 
 use crate::ahrs::AhrsError;
+use crate::input::InputError;
 use crate::snapshot::SnapshotError;
 
 /// Why a sample, the configuration, a model file or a snapshot was rejected.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum OdometryError {
-    /// A field is NaN or infinite.
-    #[error("{field} is not a finite number")]
-    NonFinite { field: &'static str },
-    /// A value outside what a phone IMU reports (|a| ≤ 2 000 m/s², |ω| ≤ 200 rad/s,
-    /// |m| ≤ 5 000 µT per axis).
-    #[error("{field} = {value} is out of range")]
-    OutOfRange { field: &'static str, value: f64 },
-    /// A sample is not later than the previous accepted one.
-    #[error("IMU sample at t = {t_s} s is not after the previous one at {last_t_s} s")]
-    TimeNotIncreasing { t_s: f64, last_t_s: f64 },
-    /// The accelerometer looks like it reports in g (the AHRS heuristic).
-    #[error(
-        "acceleration magnitude {magnitude} looks like units of g: accelerations must be m/s² \
-         (multiply by 9.80665)"
-    )]
-    AccelerationNotInMps2 { magnitude: f64 },
+    /// A sample was refused at the door (see [`crate::input`]).
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// A configuration value is not usable.
     #[error("invalid odometry setting {field}: {reason}")]
     InvalidConfig {
@@ -46,13 +34,7 @@ pub enum OdometryError {
 impl From<AhrsError> for OdometryError {
     fn from(e: AhrsError) -> Self {
         match e {
-            AhrsError::NonFinite { field } => OdometryError::NonFinite { field },
-            AhrsError::TimeNotIncreasing { t_s, last_t_s } => {
-                OdometryError::TimeNotIncreasing { t_s, last_t_s }
-            }
-            AhrsError::AccelerationNotInMps2 { magnitude } => {
-                OdometryError::AccelerationNotInMps2 { magnitude }
-            }
+            AhrsError::Input(e) => OdometryError::Input(e),
             AhrsError::InvalidSettings { field, reason } => {
                 OdometryError::InvalidConfig { field, reason }
             }

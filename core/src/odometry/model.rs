@@ -210,6 +210,10 @@ pub struct OdometryModel {
 
 const SHIPPED: &str = include_str!("../../models/odometry_v1.txt");
 
+/// Largest model text accepted, bytes (the shipped model is a few kB; parsing is
+/// linear in the text).
+pub const MAX_MODEL_BYTES: usize = 1 << 20;
+
 impl OdometryModel {
     /// A model with only a general regressor.
     pub fn new(params: PipelineParams, general: Regressor) -> Result<Self, OdometryError> {
@@ -301,6 +305,9 @@ impl OdometryModel {
 
     pub fn parse(text: &str) -> Result<Self, OdometryError> {
         let err = |line: usize, reason: String| OdometryError::InvalidModel { line, reason };
+        if text.len() > MAX_MODEL_BYTES {
+            return Err(err(0, format!("larger than {MAX_MODEL_BYTES} bytes")));
+        }
         let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
         let (n, first) = lines.next().ok_or_else(|| err(1, "empty file".into()))?;
         let mut head = first.split_whitespace();

@@ -8,6 +8,9 @@
 /// Gyro (ENU, rad/s) then linear acceleration (ENU, m/s²).
 pub type Channels = [f64; 6];
 
+/// Longest span one push interpolates, s (the AHRS's largest `max_gap_s`).
+const MAX_GAP_S: f64 = crate::ahrs::MAX_GAP_LIMIT_S;
+
 /// Interpolates a stream of `(t, channels)` onto a uniform grid.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Resampler {
@@ -29,6 +32,19 @@ impl Resampler {
         }
     }
 
+    /// Whether a restored state is consistent: the next grid time lies within one
+    /// grid step of the previous input sample (so a push advances a bounded number
+    /// of grid points).
+    pub(crate) fn is_consistent(&self) -> bool {
+        match self.prev {
+            None => true,
+            Some((tp, _)) => {
+                let next = self.t0_s + self.k as f64 * self.dt_s;
+                next > tp - 1e-9 && next <= tp + self.dt_s + 1e-9
+            }
+        }
+    }
+
     /// Forget the history (after a gap); the next sample starts a new grid.
     pub fn reset(&mut self) {
         self.prev = None;
@@ -46,7 +62,11 @@ impl Resampler {
             emit(t, &x);
             return;
         };
-        loop {
+        // Bounded by construction: the engine restarts the grid after a gap longer
+        // than its AHRS's `max_gap_s` (at most 10 s), so no push covers more than
+        // MAX_GAP_S of grid; the cap also ends the loop on a corrupt grid state.
+        let cap = (MAX_GAP_S / self.dt_s) as u64 + 2;
+        for _ in 0..cap {
             let tg = self.t0_s + self.k as f64 * self.dt_s;
             if tg > t {
                 break;
@@ -58,6 +78,11 @@ impl Resampler {
             }
             emit(tg, &y);
             self.k += 1;
+        }
+        if self.t0_s + self.k as f64 * self.dt_s <= t {
+            // Cap reached: skip the rest of the span and continue after `t`.
+            self.t0_s = t;
+            self.k = 1;
         }
         self.prev = Some((t, x));
     }

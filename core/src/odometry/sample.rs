@@ -2,6 +2,7 @@
 //! module (learned pipeline and baselines).
 
 use super::error::OdometryError;
+use crate::input::{self, TimeGuard};
 
 /// One phone IMU sample, body (sensor) frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -28,41 +29,15 @@ impl From<&crate::sim::phone::ImuSample> for OdometrySample {
     }
 }
 
-/// Largest accepted |component| of each sensor.
-pub const MAX_ACCEL_MPS2: f64 = 2000.0;
-pub const MAX_GYRO_RADS: f64 = 200.0;
-pub const MAX_MAG_UT: f64 = 5000.0;
-
-fn check3(field: &'static str, v: &[f64; 3], max: f64) -> Result<(), OdometryError> {
-    for &x in v {
-        if !x.is_finite() {
-            return Err(OdometryError::NonFinite { field });
-        }
-        if x.abs() > max {
-            return Err(OdometryError::OutOfRange { field, value: x });
-        }
-    }
-    Ok(())
-}
-
-/// Finite values in range and a time after `last_t_s` (the g-units heuristic is
-/// the AHRS's, applied when the sample reaches it).
-pub(crate) fn check(s: &OdometrySample, last_t_s: Option<f64>) -> Result<(), OdometryError> {
-    if !s.t_s.is_finite() {
-        return Err(OdometryError::NonFinite { field: "t_s" });
-    }
-    check3("accel_mps2", &s.accel_mps2, MAX_ACCEL_MPS2)?;
-    check3("gyro_rads", &s.gyro_rads, MAX_GYRO_RADS)?;
+/// The door of the module's engines: finite values within the limits of
+/// [`crate::input`] and a time the stream's guard accepts (the g-units check is the
+/// AHRS's, applied when the sample reaches it).
+pub(crate) fn check(s: &OdometrySample, time: &TimeGuard) -> Result<(), OdometryError> {
+    time.check(s.t_s)?;
+    input::accel(&s.accel_mps2)?;
+    input::gyro(&s.gyro_rads)?;
     if let Some(m) = &s.mag_ut {
-        check3("mag_ut", m, MAX_MAG_UT)?;
-    }
-    if let Some(last) = last_t_s {
-        if s.t_s <= last {
-            return Err(OdometryError::TimeNotIncreasing {
-                t_s: s.t_s,
-                last_t_s: last,
-            });
-        }
+        input::mag(m)?;
     }
     Ok(())
 }

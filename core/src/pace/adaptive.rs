@@ -974,25 +974,24 @@ impl AdaptiveFilter {
         r.f64s(f.x.as_mut_slice())?;
         r.f64s(f.p.as_mut_slice())?;
         f.initialized = r.bool()?;
-        let mut v = [0.0; 10];
-        r.f64s(&mut v)?;
-        [
-            f.t_s,
-            f.last_fix_t_s,
-            f.last_ped_t_s,
-            f.last_trusted_t_s,
-            f.reset_t_s,
-            f.nis_avg,
-            f.cadence_ref,
-            f.distance_m,
-            f.info_gnss,
-            f.info_ped,
-        ] = v;
+        // Times start as NaN or −∞ ("none yet"); the cadence reference is NaN until
+        // moving.
+        f.t_s = r.f64_or_nan()?;
+        f.last_fix_t_s = r.f64_or_nan()?;
+        f.last_ped_t_s = r.time_or_marker()?;
+        f.last_trusted_t_s = r.time_or_marker()?;
+        f.reset_t_s = r.time_or_marker()?;
+        f.nis_avg = r.f64()?;
+        f.cadence_ref = r.f64_or_nan()?;
+        f.distance_m = r.f64()?;
+        f.info_gnss = r.f64()?;
+        f.info_ped = r.f64()?;
         f.stationary = r.bool()?;
         f.contradictions = r.len(u32::MAX as usize)? as u32;
         f.steps_distrusted = r.bool()?;
         f.slope_observable = r.bool()?;
-        f.last_dir = (r.f64()?, r.f64()?);
+        // NaN until moving / before the first fix.
+        f.last_dir = (r.f64_or_nan()?, r.f64_or_nan()?);
         for _ in 0..r.len(RECENT_FIXES)? {
             let mut p = [0.0; 3];
             r.f64s(&mut p)?;
@@ -1009,13 +1008,86 @@ impl AdaptiveFilter {
             anchor: (pw[2], pw[3], pw[4]),
             path_m: pw[5],
         };
-        f.prev_fix = (r.f64()?, r.f64()?, r.f64()?);
+        f.prev_fix = (r.f64_or_nan()?, r.f64_or_nan()?, r.f64_or_nan()?);
         f.gated_run = r.len(u32::MAX as usize)? as u32;
-        f.gated_since_t_s = r.f64()?;
+        f.gated_since_t_s = r.f64_or_nan()?;
         f.out = read_estimate(r)?;
-        if f.x.iter().chain(f.p.iter()).any(|v| !v.is_finite()) {
-            return Err(SnapshotError::Invalid("filter state"));
-        }
+        f.check_state().map_err(SnapshotError::Invalid)?;
         Ok(f)
+    }
+
+    /// Whether a restored state is one the filter can reach: a covariance
+    /// (symmetric, non-negative variances), the filter time set once initialised,
+    /// non-negative statistics.
+    fn check_state(&self) -> Result<(), &'static str> {
+        let p = &self.p;
+        for i in 0..p.nrows() {
+            if p[(i, i)] < 0.0 {
+                return Err("negative variance");
+            }
+            for j in 0..i {
+                if (p[(i, j)] - p[(j, i)]).abs() > 1e-9 * (1.0 + p[(i, j)].abs()) {
+                    return Err("covariance not symmetric");
+                }
+            }
+        }
+        if self.initialized && self.t_s.is_nan() {
+            return Err("filter time");
+        }
+        // Bounds a running filter stays within even on garbage (fixes teleporting
+        // across the globe, gaps of days), far below where products would overflow.
+        if self.x.iter().any(|v| v.abs() > 1e12) || (0..p.nrows()).any(|i| p[(i, i)] > 1e25) {
+            return Err("filter state out of range");
+        }
+        let t_ok = |t: f64| t.is_nan() || t == f64::NEG_INFINITY || t.abs() <= 1e11 + 1.0;
+        if ![
+            self.t_s,
+            self.last_fix_t_s,
+            self.last_ped_t_s,
+            self.last_trusted_t_s,
+            self.reset_t_s,
+            self.gated_since_t_s,
+            self.window.start_t_s,
+        ]
+        .into_iter()
+        .all(t_ok)
+        {
+            return Err("filter times");
+        }
+        let pos_ok = |v: f64| v.is_nan() || v.abs() <= 1e12;
+        let positions_ok = pos_ok(self.prev_fix.0)
+            && pos_ok(self.prev_fix.1)
+            && t_ok(self.prev_fix.2)
+            && self
+                .recent_fixes
+                .iter()
+                .all(|f| t_ok(f[0]) && f[1].abs() <= 1e12 && f[2].abs() <= 1e12)
+            && pos_ok(self.window.anchor.0)
+            && pos_ok(self.window.anchor.1)
+            && t_ok(self.window.anchor.2);
+        if !positions_ok {
+            return Err("filter positions");
+        }
+        let dir = self.last_dir.0.hypot(self.last_dir.1);
+        if !(dir.is_nan() || (dir - 1.0).abs() < 1e-6)
+            || !(self.cadence_ref.is_nan() || (0.0..=10.0).contains(&self.cadence_ref))
+            || self.nis_avg > 1e6
+            || self.info_gnss > 1e12
+            || self.info_ped > 1e12
+            || !(0.0..=1e12).contains(&self.window.start_steps)
+            || self.window.path_m > 1e13
+            || self.distance_m > 1e13
+        {
+            return Err("filter statistics out of range");
+        }
+        if self.nis_avg < 0.0
+            || self.distance_m < 0.0
+            || self.info_gnss < 0.0
+            || self.info_ped < 0.0
+            || self.window.path_m < 0.0
+        {
+            return Err("filter statistics");
+        }
+        Ok(())
     }
 }

@@ -129,6 +129,20 @@ impl CadenceFilter {
         let active = r.bool()?;
         let mut v = [0.0; 6];
         r.f64s(&mut v)?;
+        // A covariance: non-negative variances, |correlation| ≤ 1; a step total and a
+        // cadence (steps/s) of human size.
+        if !(0.0..=1e12).contains(&v[3])
+            || !(0.0..=1e6).contains(&v[5])
+            || v[4] * v[4] > v[3] * v[5] * (1.0 + 1e-9) + 1e-300
+        {
+            return Err(SnapshotError::Invalid("cadence covariance"));
+        }
+        if v[0].abs() > crate::input::limits::MAX_ABS_T_S + 1.0
+            || v[1].abs() > 1e12
+            || v[2].abs() > 100.0
+        {
+            return Err(SnapshotError::Invalid("cadence state"));
+        }
         Ok(Self {
             active,
             t_s: v[0],

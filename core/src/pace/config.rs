@@ -184,10 +184,12 @@ impl PaceConfig {
             ),
             ("stationary_after_s", self.stationary_after_s),
         ];
+        // Every parameter is a noise, a time or a threshold: positive and at most 10⁶
+        // of its unit, so no product in the filters can overflow.
         for (name, v) in positive {
-            if !(v.is_finite() && v > 0.0) {
+            if !(v > 0.0 && v <= 1e6) {
                 return Err(PaceError::InvalidConfig {
-                    reason: format!("{name} must be a positive finite number, got {v}"),
+                    reason: format!("{name} must be in (0, 1e6], got {v}"),
                 });
             }
         }

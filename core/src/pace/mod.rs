@@ -23,9 +23,9 @@ pub use error::{PaceError, Stream};
 pub use types::{GnssFix, PaceEstimate, PaceSample, PaceSource, StepSample, MIN_PACE_SPEED_MPS};
 
 use crate::geo::LocalFrame;
+use crate::input::{self, Stream as InputStream, TimeGuard};
 use crate::snapshot::{Reader, SnapshotError, Writer};
 use crate::stepdetect::{AccelSample, StepDetector, StepDetectorConfig, StepEvent};
-use error::{finite, in_range};
 use steps::StepStream;
 
 /// Without any sample for longer than this, no distance is added for the gap, seconds
@@ -35,7 +35,8 @@ pub const MAX_INTEGRATION_GAP_S: f64 = 30.0;
 /// Snapshot engine kind byte for the pace tracker.
 const SNAPSHOT_KIND: u8 = 1;
 /// Snapshot format version written by this build.
-const SNAPSHOT_VERSION: u16 = 1;
+/// Version 2: the input layer's time state per stream.
+const SNAPSHOT_VERSION: u16 = 2;
 
 /// A GNSS fix after validation, in the local frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -70,7 +71,8 @@ enum Filter {
 pub struct PaceTracker {
     config: PaceConfig,
     frame: Option<LocalFrame>,
-    last_fix_t_s: Option<f64>,
+    /// Time state of the GNSS stream.
+    fix_time: TimeGuard,
     steps: StepStream,
     filter: Filter,
     /// Step detector for raw accelerometer input, created on the first sample.
@@ -101,7 +103,7 @@ impl PaceTracker {
             filter: Self::make_filter(&config),
             config,
             frame: None,
-            last_fix_t_s: None,
+            fix_time: TimeGuard::new(InputStream::Gnss),
             steps: StepStream::new(),
             detector: None,
         })
@@ -134,30 +136,15 @@ impl PaceTracker {
     }
 
     fn validate_fix(&self, fix: &GnssFix) -> Result<(), PaceError> {
-        let t = finite("t_s", fix.t_s)?;
-        in_range("lat_deg", fix.lat_deg, -90.0, 90.0, "−90..=90°")?;
-        in_range("lon_deg", fix.lon_deg, -180.0, 180.0, "−180..=180°")?;
-        if let Some(a) = fix.alt_m {
-            in_range("alt_m", a, -12_000.0, 100_000.0, "−12 km..=100 km")?;
-        }
-        if let Some(a) = fix.horizontal_accuracy_m {
-            in_range("horizontal_accuracy_m", a, 0.0, 1.0e5, "0..=100 km")?;
-        }
-        if let Some(s) = fix.speed_mps {
-            in_range("speed_mps", s, 0.0, 100.0, "0..=100 m/s")?;
-        }
-        if let Some(s) = fix.speed_accuracy_mps {
-            in_range("speed_accuracy_mps", s, 0.0, 100.0, "0..=100 m/s")?;
-        }
-        if let Some(last) = self.last_fix_t_s {
-            if t <= last {
-                return Err(PaceError::TimeNotIncreasing {
-                    stream: Stream::Gnss,
-                    t_s: t,
-                    last_t_s: last,
-                });
-            }
-        }
+        self.fix_time.check(fix.t_s)?;
+        input::gnss(
+            fix.lat_deg,
+            fix.lon_deg,
+            fix.alt_m,
+            fix.horizontal_accuracy_m,
+            fix.speed_mps,
+            fix.speed_accuracy_mps,
+        )?;
         Ok(())
     }
 
@@ -175,7 +162,7 @@ impl PaceTracker {
             accuracy_m: fix.horizontal_accuracy_m,
             speed: fix.speed_mps.zip(fix.speed_accuracy_mps),
         };
-        self.last_fix_t_s = Some(fix.t_s);
+        self.fix_time.accept(fix.t_s);
         let ctx = Context {
             config: &self.config,
             steps: &self.steps,
@@ -305,7 +292,7 @@ impl PaceTracker {
             }
             None => w.bool(false),
         }
-        w.opt_f64(self.last_fix_t_s);
+        self.fix_time.write(&mut w);
         self.steps.write(&mut w);
         match &self.filter {
             Filter::Published(f) => f.write(&mut w),
@@ -330,14 +317,16 @@ impl PaceTracker {
             .map_err(|_| SnapshotError::Invalid("configuration"))?;
         let frame = if r.bool()? {
             let (lat, lon, alt) = (r.f64()?, r.f64()?, r.f64()?);
-            if !(lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt.is_finite()) {
+            let alt_ok =
+                (crate::input::limits::MIN_ALT_M..=crate::input::limits::MAX_ALT_M).contains(&alt);
+            if !(lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt_ok) {
                 return Err(SnapshotError::Invalid("frame origin").into());
             }
             Some(LocalFrame::new(lat, lon, alt))
         } else {
             None
         };
-        let last_fix_t_s = r.opt_f64()?;
+        let fix_time = TimeGuard::read(&mut r, InputStream::Gnss)?;
         let steps = StepStream::read(&mut r)?;
         let filter = match config.mode {
             PaceMode::AsPublished => {
@@ -356,7 +345,7 @@ impl PaceTracker {
         Ok(Self {
             config,
             frame,
-            last_fix_t_s,
+            fix_time,
             steps,
             filter,
             detector,

@@ -333,8 +333,8 @@ impl PublishedFilter {
             f.window.push(v);
         }
         for _ in 0..r.len(MAX_WINDOW + 1)? {
-            let mut v = [0.0; 3];
-            r.f64s(&mut v)?;
+            // Steps and step length are NaN for an epoch without step data.
+            let v = [r.f64()?, r.f64_or_nan()?, r.f64_or_nan()?];
             f.epochs.push(Epoch {
                 t_s: v[0],
                 steps: v[1],
@@ -370,7 +370,7 @@ pub(crate) fn write_estimate(w: &mut Writer, e: &PaceEstimate) {
 }
 
 pub(crate) fn read_estimate(r: &mut Reader) -> Result<PaceEstimate, SnapshotError> {
-    Ok(PaceEstimate {
+    let e = PaceEstimate {
         t_s: r.f64()?,
         speed_mps: r.f64()?,
         pace_s_per_km: r.opt_f64()?,
@@ -387,7 +387,20 @@ pub(crate) fn read_estimate(r: &mut Reader) -> Result<PaceEstimate, SnapshotErro
             4 => PaceSource::Pedometer,
             _ => return Err(SnapshotError::Invalid("pace source")),
         },
-    })
+    };
+    let non_negative = |v: Option<f64>| v.is_none_or(|v| (0.0..=1e13).contains(&v));
+    if !(0.0..=1e8).contains(&e.speed_mps)
+        || !(0.0..=1e13).contains(&e.distance_m)
+        || e.t_s.abs() > 1e11 + 1.0
+        || !(0.0..=1.0).contains(&e.gnss_weight)
+        || !non_negative(e.pace_s_per_km)
+        || !non_negative(e.speed_std_mps)
+        || !non_negative(e.cadence_spm)
+        || !non_negative(e.step_length_m)
+    {
+        return Err(SnapshotError::Invalid("stored estimate"));
+    }
+    Ok(e)
 }
 
 #[cfg(test)]

@@ -2,15 +2,16 @@
 //! step total over time, and answers "how many steps at t" and "cadence at t".
 
 use super::cadence::CadenceFilter;
-use super::error::{finite, in_range, PaceError, Stream};
+use super::error::{PaceError, Stream};
 use super::types::StepSample;
+use crate::input::{self, limits};
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Samples kept for cadence and interpolation (covers ≥ 25 s at 6 steps/s of events).
 const HISTORY: usize = 160;
 /// Cadences above this are impossible for a human, steps/min (sprinters reach ~300).
-pub const MAX_CADENCE_SPM: f64 = 300.0;
+pub const MAX_CADENCE_SPM: f64 = limits::MAX_CADENCE_SPM;
 /// Step totals are extrapolated at most this far past the newest sample, seconds.
 const EXTRAPOLATE_MAX_S: f64 = 3.0;
 /// A pause in steps longer than this starts a new bout, seconds.
@@ -82,23 +83,14 @@ impl StepStream {
 
     /// Validate a sample without changing state.
     pub fn check(&self, s: &StepSample) -> Result<(), PaceError> {
-        let t = finite("step t_s", s.t_s())?;
-        if let Some(last) = self.last_t_s {
-            if t <= last {
-                return Err(PaceError::TimeNotIncreasing {
-                    stream: Stream::Steps,
-                    t_s: t,
-                    last_t_s: last,
-                });
-            }
-        }
+        input::time_after(Stream::Steps, s.t_s(), self.last_t_s)?;
         if let StepSample::Cadence { steps_per_min, .. } = *s {
-            in_range(
+            input::in_range(
                 "steps_per_min",
                 steps_per_min,
                 0.0,
                 MAX_CADENCE_SPM,
-                "0..=300 steps/min",
+                "steps/min",
             )?;
         }
         Ok(())
@@ -110,13 +102,23 @@ impl StepStream {
         let added = match *s {
             StepSample::Event { .. } => 1.0,
             StepSample::Count { steps, .. } => {
+                // Steps a human can have taken since the previous count (10 steps/s,
+                // plus one for the count's own rounding).
+                let possible = self
+                    .last_t_s
+                    .map_or(0.0, |t0| limits::MAX_STEP_RATE_HZ * (t - t0) + 1.0);
                 let d = match self.last_count {
                     None => 0.0,
-                    Some(prev) if steps >= prev => (steps - prev) as f64,
-                    Some(_) => {
-                        // Counter reset (reboot): continue from the new value.
+                    Some(prev) if steps >= prev && ((steps - prev) as f64) <= possible => {
+                        (steps - prev) as f64
+                    }
+                    Some(prev) => {
+                        // Counter reset (reboot) or a jump no runner makes: continue
+                        // from the new value, adding nothing.
                         self.resets += 1;
-                        log::warn!("step counter went down at t = {t} s: taken as a reset");
+                        log::warn!(
+                            "step counter went from {prev} to {steps} at t = {t} s: taken as a reset"
+                        );
                         0.0
                     }
                 };
@@ -299,9 +301,15 @@ impl StepStream {
     pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
         let mut s = Self::new();
         let n = r.len(HISTORY)?;
+        let mut prev: Option<Entry> = None;
         for _ in 0..n {
             let t_s = r.f64()?;
             let total = r.f64()?;
+            // Time increases and the total never goes down.
+            if prev.is_some_and(|p| !(t_s > p.t_s && total >= p.total)) || total < 0.0 {
+                return Err(SnapshotError::Invalid("step history"));
+            }
+            prev = Some(Entry { t_s, total });
             s.history.push(Entry { t_s, total });
         }
         s.last_t_s = r.opt_f64()?;
@@ -311,9 +319,25 @@ impl StepStream {
         s.last_cadence_spm = r.opt_f64()?;
         s.total = r.f64()?;
         s.last_step_t_s = r.opt_f64()?;
-        s.moving_since_t_s = r.f64()?;
+        // −∞ before the first bout.
+        s.moving_since_t_s = r.f64_any()?;
         s.cadence = CadenceFilter::read(r)?;
         s.resets = r.u64()?;
+        let time_ok = |t: Option<f64>| t.is_none_or(|t| t.abs() <= limits::MAX_ABS_T_S);
+        // The history ends at the newest sample with the current total; step totals
+        // stay below what 10 steps/s could add in 10¹¹ s.
+        let newest_ok =
+            prev.is_none_or(|p| s.last_t_s.is_some_and(|t| p.t_s <= t) && p.total <= s.total);
+        if !(time_ok(s.last_t_s) && time_ok(s.last_step_t_s))
+            || s.moving_since_t_s.is_nan()
+            || s.moving_since_t_s == f64::INFINITY
+            || !(0.0..=1e12).contains(&s.total)
+            || !newest_ok
+            || s.last_cadence_spm
+                .is_some_and(|c| !(0.0..=MAX_CADENCE_SPM).contains(&c))
+        {
+            return Err(SnapshotError::Invalid("step stream"));
+        }
         Ok(s)
     }
 }

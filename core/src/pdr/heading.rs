@@ -677,7 +677,10 @@ impl WalkingDirection {
 
     pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
         let mut v = [0.0; 10];
-        r.f64s(&mut v)?;
+        r.f64s(&mut v[..8])?;
+        // NaN before the first sample / stride.
+        v[8] = r.f64_or_nan()?;
+        v[9] = r.f64_or_nan()?;
         let mut mean_force_enu = [0.0; 3];
         r.f64s(&mut mean_force_enu)?;
         let mut cal_p = [0.0; 3];
@@ -701,8 +704,34 @@ impl WalkingDirection {
         }
         let steps_in_stride = r.len(2)? as u32;
         let qn = q.iter().map(|x| x * x).sum::<f64>();
-        if qn.is_nan() || (qn - 1.0).abs() >= 1e-6 {
+        if (qn - 1.0).abs() >= 1e-6 {
             return Err(SnapshotError::Invalid("walking direction orientation"));
+        }
+        use crate::input::limits::{MAX_ABS_T_S, MAX_ACCEL_NORM_MPS2, MAX_MAG_UT};
+        let mag_max = MAX_MAG_UT * 3f64.sqrt();
+        let within = |xs: &[f64], max: f64| xs.iter().all(|x| x.abs() <= max);
+        // Angles, rates, a vertical speed, the field's magnitude and dip, unit
+        // vectors, forces within the door's limits, sums that forgetting keeps
+        // bounded, a covariance.
+        let checks = [
+            within(&[v[0], v[3]], 100.0),
+            within(&[v[1], v[2]], 1e6),
+            v[4].abs() <= 1.0,
+            (0.0..=mag_max).contains(&v[5]),
+            v[6].abs() <= 4.0,
+            v[7].abs() <= 1e3,
+            [v[8], v[9]]
+                .iter()
+                .all(|t| t.is_nan() || t.abs() <= MAX_ABS_T_S + 1.0),
+            within(&mean_force_enu, MAX_ACCEL_NORM_MPS2),
+            cal_p[0] >= 0.0 && cal_p[2] >= 0.0 && within(&cal_p, 1e6),
+            within(&hard_iron.sums, 1e20) && within(&hard_iron.h_ut, mag_max),
+            within(&forward_body, 1.5) && within(&up_fast, 1.5) && within(&up_slow, 1.5),
+            (0.0..=1e7).contains(&stride[0]) && within(&stride[1..], 1e12),
+        ];
+        let ok = checks.iter().all(|ok| *ok);
+        if !ok {
+            return Err(SnapshotError::Invalid("walking direction state"));
         }
         Ok(Self {
             azimuth_rad: v[0],

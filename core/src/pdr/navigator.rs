@@ -20,6 +20,7 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::ahrs::{Ahrs, AhrsError, AhrsSettings, EarthFrame, ImuSample};
 use crate::geo::LocalFrame;
+use crate::input::{self, InputError, Stream, TimeGuard};
 use crate::pace::GnssFix;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 use crate::stepdetect::{StepDetectError, StepDetector, StepDetectorConfig, StepEvent};
@@ -28,7 +29,8 @@ use crate::steplength::{StepLengthConfig, StepLengthError, StepLengthEstimator, 
 use super::heading::WalkingDirection;
 
 const SNAPSHOT_KIND: u8 = 5;
-const SNAPSHOT_VERSION: u16 = 2;
+/// Version 3: the input layer's time state per stream.
+const SNAPSHOT_VERSION: u16 = 3;
 /// 68 % radius of a circular 2-D Gaussian is 1.515 σ per axis.
 const RADIUS68_TO_SIGMA: f64 = 1.0 / 1.515;
 /// Per-axis σ assumed for a fix without accuracy, m.
@@ -46,23 +48,55 @@ const COURSE_MAX_TIME_S: f64 = 60.0;
 /// Fixes with a worse accuracy give no stretch, m.
 const COURSE_MAX_ACCURACY_M: f64 = 15.0;
 
-/// Why the navigator rejected an input (its state is unchanged).
+/// Why the navigator rejected an input, a configuration or a snapshot (its state is
+/// unchanged).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum NavError {
-    #[error("IMU sample: {0}")]
-    Imu(#[from] AhrsError),
-    #[error("step detection: {0}")]
-    Steps(#[from] StepDetectError),
-    #[error("step length: {0}")]
-    StepLength(#[from] StepLengthError),
-    #[error("GNSS fix: {field} = {value} is not valid ({expected})")]
-    Fix {
-        field: &'static str,
-        value: f64,
-        expected: &'static str,
-    },
-    #[error("cannot restore snapshot: {0}")]
+    /// An IMU sample or a fix was refused at the door (see [`crate::input`]).
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// The AHRS settings are not usable.
+    #[error(transparent)]
+    Ahrs(AhrsError),
+    /// The step detector's configuration is not usable.
+    #[error(transparent)]
+    Steps(StepDetectError),
+    /// The step-length configuration is not usable.
+    #[error(transparent)]
+    StepLength(StepLengthError),
+    /// A snapshot could not be restored.
+    #[error("cannot restore navigator snapshot: {0}")]
     Snapshot(#[from] SnapshotError),
+}
+
+impl From<AhrsError> for NavError {
+    fn from(e: AhrsError) -> Self {
+        match e {
+            AhrsError::Input(e) => Self::Input(e),
+            AhrsError::Snapshot(s) => Self::Snapshot(s),
+            e => Self::Ahrs(e),
+        }
+    }
+}
+
+impl From<StepDetectError> for NavError {
+    fn from(e: StepDetectError) -> Self {
+        match e {
+            StepDetectError::Input(e) => Self::Input(e),
+            StepDetectError::Snapshot(s) => Self::Snapshot(s),
+            e => Self::Steps(e),
+        }
+    }
+}
+
+impl From<StepLengthError> for NavError {
+    fn from(e: StepLengthError) -> Self {
+        match e {
+            StepLengthError::Input(e) => Self::Input(e),
+            StepLengthError::Snapshot(s) => Self::Snapshot(s),
+            e => Self::StepLength(e),
+        }
+    }
 }
 
 /// Configuration of a [`PhoneNavigator`].
@@ -126,8 +160,11 @@ pub struct PhoneNavigator {
     distance_m: f64,
     steps: u64,
     last_step_length_m: f64,
+    /// Newest input of either stream, s (NaN before any).
     last_t_s: f64,
-    last_fix_t_s: f64,
+    /// Time state of the IMU and the GNSS stream.
+    imu_time: TimeGuard,
+    fix_time: TimeGuard,
     /// Dead-reckoned position without GNSS corrections, m.
     dr_east_m: f64,
     dr_north_m: f64,
@@ -141,31 +178,6 @@ pub struct PhoneNavigator {
 fn ned_to_enu() -> UnitQuaternion<f64> {
     let h = std::f64::consts::FRAC_1_SQRT_2;
     UnitQuaternion::new_unchecked(Quaternion::new(0.0, h, h, 0.0))
-}
-
-fn check_fix(fix: &GnssFix) -> Result<(), NavError> {
-    let bad = |field, value, expected| {
-        Err(NavError::Fix {
-            field,
-            value,
-            expected,
-        })
-    };
-    if !fix.t_s.is_finite() {
-        return bad("t_s", fix.t_s, "finite");
-    }
-    if fix.lat_deg.is_nan() || fix.lat_deg.abs() > 90.0 {
-        return bad("lat_deg", fix.lat_deg, "−90..=90");
-    }
-    if fix.lon_deg.is_nan() || fix.lon_deg.abs() > 180.0 {
-        return bad("lon_deg", fix.lon_deg, "−180..=180");
-    }
-    if let Some(a) = fix.horizontal_accuracy_m {
-        if !(a.is_finite() && a >= 0.0) {
-            return bad("horizontal_accuracy_m", a, "≥ 0");
-        }
-    }
-    Ok(())
 }
 
 impl PhoneNavigator {
@@ -184,7 +196,8 @@ impl PhoneNavigator {
             steps: 0,
             last_step_length_m: f64::NAN,
             last_t_s: f64::NAN,
-            last_fix_t_s: f64::NAN,
+            imu_time: TimeGuard::new(Stream::Imu),
+            fix_time: TimeGuard::new(Stream::Gnss),
             dr_east_m: 0.0,
             dr_north_m: 0.0,
             course_anchor: [f64::NAN; 5],
@@ -197,20 +210,27 @@ impl PhoneNavigator {
 
     /// One IMU sample (sensor frame; the AHRS settings say how to remap it).
     pub fn push_imu(&mut self, s: &ImuSample) -> Result<(), NavError> {
-        // Both engines check the same things (finite, increasing time, m/s²): the
-        // detector's check runs first, without side effects, so a rejection by either
-        // leaves both untouched (the AHRS rejects before changing anything too).
-        self.detector.check_sample(s.t_s, s.accel_mps2)?;
+        // The door: the whole sample is checked once here (the sub-engines check the
+        // same limits again); then the detector's check (its g-units heuristic) runs
+        // without side effects, so a rejection by either engine leaves both untouched
+        // (the AHRS rejects before changing anything too).
+        self.imu_time.check(s.t_s)?;
+        input::gyro(&s.gyro_rads)?;
+        input::accel(&s.accel_mps2)?;
         if let Some(m) = &s.mag_ut {
-            if !m.iter().all(|v| v.is_finite()) {
-                return Err(AhrsError::NonFinite { field: "mag_ut" }.into());
-            }
+            input::mag(m)?;
         }
+        self.detector.check_sample(s.t_s, s.accel_mps2)?;
         // The AHRS runs without the magnetometer: the walking direction corrects its
         // yaw from the field itself (see `super::heading`).
         self.ahrs.update(s.t_s, s.gyro_rads, s.accel_mps2, None)?;
         let first = self.detector.push(s.t_s, s.accel_mps2)?;
-        self.last_t_s = s.t_s;
+        self.imu_time.accept(s.t_s);
+        self.last_t_s = if self.last_t_s.is_nan() {
+            s.t_s
+        } else {
+            self.last_t_s.max(s.t_s)
+        };
         if let Some([w, x, y, z]) = self.ahrs.quaternion() {
             let q = UnitQuaternion::new_unchecked(Quaternion::new(w, x, y, z));
             let q_enu = match self.config.ahrs.frame {
@@ -255,14 +275,15 @@ impl PhoneNavigator {
     /// One GNSS fix: anchors the frame at the first one, then corrects the position,
     /// calibrates step length and the walking direction.
     pub fn push_fix(&mut self, fix: &GnssFix) -> Result<NavEstimate, NavError> {
-        check_fix(fix)?;
-        if fix.t_s <= self.last_fix_t_s {
-            return Err(NavError::Fix {
-                field: "t_s",
-                value: fix.t_s,
-                expected: "after the previous fix",
-            });
-        }
+        self.fix_time.check(fix.t_s)?;
+        input::gnss(
+            fix.lat_deg,
+            fix.lon_deg,
+            fix.alt_m,
+            fix.horizontal_accuracy_m,
+            fix.speed_mps,
+            fix.speed_accuracy_mps,
+        )?;
         let sigma = self.fix_sigma_m(fix);
         let frame = match self.frame {
             Some(f) => f,
@@ -288,9 +309,13 @@ impl PhoneNavigator {
         self.north_m += k * dn;
         self.pos_var_m2 *= 1.0 - k;
         self.observe_course(fix, p);
-        self.last_fix_t_s = fix.t_s;
-        self.last_t_s = self.last_t_s.max(fix.t_s);
-        Ok(self.estimate())
+        self.fix_time.accept(fix.t_s);
+        self.last_t_s = if self.last_t_s.is_nan() {
+            fix.t_s
+        } else {
+            self.last_t_s.max(fix.t_s)
+        };
+        Ok(self.current())
     }
 
     /// Per-axis σ of a fix, m.
@@ -339,8 +364,16 @@ impl PhoneNavigator {
         self.ahrs.quaternion()
     }
 
-    /// Where the pedestrian is now.
-    pub fn estimate(&self) -> NavEstimate {
+    /// Where the pedestrian is now: `None` before the first accepted input. Before
+    /// the first GNSS fix the position is relative to where the navigator started
+    /// (0, 0 at the first IMU sample, east/north of the AHRS's heading reference);
+    /// at the first fix the frame is re-anchored at the fix (the position becomes
+    /// 0, 0 there and `lat_deg`/`lon_deg` appear).
+    pub fn estimate(&self) -> Option<NavEstimate> {
+        (!self.last_t_s.is_nan()).then(|| self.current())
+    }
+
+    fn current(&self) -> NavEstimate {
         let geo = self.frame.map(|f| f.to_geodetic(self.east_m, self.north_m));
         NavEstimate {
             t_s: self.last_t_s,
@@ -389,10 +422,11 @@ impl PhoneNavigator {
             self.distance_m,
             self.last_step_length_m,
             self.last_t_s,
-            self.last_fix_t_s,
             self.dr_east_m,
             self.dr_north_m,
         ]);
+        self.imu_time.write(&mut w);
+        self.fix_time.write(&mut w);
         w.f64s(&self.course_anchor);
         w.u64(self.steps);
         w.finish()
@@ -407,19 +441,52 @@ impl PhoneNavigator {
         let direction = WalkingDirection::read(&mut r)?;
         let frame = if r.bool()? {
             let (lat, lon, alt) = (r.f64()?, r.f64()?, r.f64()?);
-            if !(lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt.is_finite()) {
+            let alt_ok =
+                (crate::input::limits::MIN_ALT_M..=crate::input::limits::MAX_ALT_M).contains(&alt);
+            if !(lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt_ok) {
                 return Err(SnapshotError::Invalid("frame origin").into());
             }
             Some(LocalFrame::new(lat, lon, alt))
         } else {
             None
         };
-        let mut v = [0.0; 9];
-        r.f64s(&mut v)?;
+        let [east_m, north_m, pos_var_m2, distance_m] = [r.f64()?, r.f64()?, r.f64()?, r.f64()?];
+        // NaN before the first step / the first input.
+        let last_step_length_m = r.f64_or_nan()?;
+        let last_t_s = r.f64_or_nan()?;
+        let [dr_east_m, dr_north_m] = [r.f64()?, r.f64()?];
+        let imu_time = TimeGuard::read(&mut r, Stream::Imu)?;
+        let fix_time = TimeGuard::read(&mut r, Stream::Gnss)?;
         let mut course_anchor = [0.0; 5];
-        r.f64s(&mut course_anchor)?;
+        for v in &mut course_anchor {
+            // All NaN before the first stretch.
+            *v = r.f64_or_nan()?;
+        }
         let steps = r.u64()?;
         r.end()?;
+        let newest = imu_time
+            .last_t_s()
+            .into_iter()
+            .chain(fix_time.last_t_s())
+            .reduce(f64::max);
+        // Generous: garbage fixes may teleport across the globe for days.
+        let pos_ok = |v: f64| v.abs() <= 1e12;
+        let ok = pos_ok(east_m)
+            && pos_ok(north_m)
+            && pos_ok(dr_east_m)
+            && pos_ok(dr_north_m)
+            && (0.0..=1e25).contains(&pos_var_m2)
+            && (0.0..=1e13).contains(&distance_m)
+            && (last_step_length_m.is_nan() || (0.0..=10.0).contains(&last_step_length_m))
+            && course_anchor
+                .iter()
+                .all(|v| v.is_nan() || v.abs() <= 1e11 + 1.0)
+            && newest.map_or(last_t_s.is_nan(), |t| t == last_t_s)
+            && course_anchor.iter().all(|v| v.is_nan()) == course_anchor[0].is_nan()
+            && !(frame.is_none() && fix_time.last_t_s().is_some());
+        if !ok {
+            return Err(SnapshotError::Invalid("navigator state").into());
+        }
         let config = NavigatorConfig {
             ahrs: *ahrs.settings(),
             detector: *detector.config(),
@@ -433,15 +500,16 @@ impl PhoneNavigator {
             lengths,
             direction,
             frame,
-            east_m: v[0],
-            north_m: v[1],
-            pos_var_m2: v[2],
-            distance_m: v[3],
-            last_step_length_m: v[4],
-            last_t_s: v[5],
-            last_fix_t_s: v[6],
-            dr_east_m: v[7],
-            dr_north_m: v[8],
+            east_m,
+            north_m,
+            pos_var_m2,
+            distance_m,
+            last_step_length_m,
+            last_t_s,
+            imu_time,
+            fix_time,
+            dr_east_m,
+            dr_north_m,
             course_anchor,
             steps,
         })

@@ -16,7 +16,8 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 /// Snapshot engine kind byte of the placement classifier.
 const SNAPSHOT_KIND: u8 = 7;
 /// Snapshot format version written by this build.
-const SNAPSHOT_VERSION: u16 = 1;
+/// Version 2: the input layer's time and g-units state.
+const SNAPSHOT_VERSION: u16 = 2;
 
 /// Largest smoothing length, windows.
 pub const MAX_SMOOTHING: usize = 32;
@@ -166,6 +167,9 @@ impl PlacementClassifier {
         for _ in 0..r.len(MAX_SMOOTHING)? {
             let mut v = [0.0; CLASSES];
             r.f64s(&mut v)?;
+            if v.iter().any(|&l| l > 1e-9) {
+                return Err(SnapshotError::Invalid("log-probabilities").into());
+            }
             recent_log_p.push(v);
         }
         let latest = if r.bool()? {
@@ -179,6 +183,13 @@ impl PlacementClassifier {
             let mut window_probabilities = [0.0; CLASSES];
             r.f64s(&mut window_probabilities)?;
             let windows = r.u64()?;
+            let unit = |p: &[f64]| p.iter().all(|v| (0.0..=1.0).contains(v));
+            if !((0.0..=1.0).contains(&confidence)
+                && unit(&probabilities)
+                && unit(&window_probabilities))
+            {
+                return Err(SnapshotError::Invalid("probabilities").into());
+            }
             Some(PlacementEstimate {
                 t_s,
                 placement,

@@ -4,26 +4,9 @@
 /// Why a sample or a model file was rejected.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum PlacementError {
-    /// A field is NaN or infinite.
-    #[error("{field} is not a finite number")]
-    NonFinite { field: &'static str },
-    /// A field is outside its physical range.
-    #[error("{field} = {value} is out of range ({expected})")]
-    OutOfRange {
-        field: &'static str,
-        value: f64,
-        expected: &'static str,
-    },
-    /// The sample is not later than the previous one.
-    #[error("sample at t = {t_s} s is not after the previous one at {last_t_s} s")]
-    TimeNotIncreasing { t_s: f64, last_t_s: f64 },
-    /// The acceleration magnitude averages about 1 instead of about 9.8: the samples
-    /// are in g, not m/s².
-    #[error(
-        "acceleration magnitude averages {mean_magnitude:.2}: the samples look like g, \
-         expected m/s² (about 9.8 at rest; multiply by 9.80665)"
-    )]
-    LooksLikeG { mean_magnitude: f64 },
+    /// A sample was refused at the door (see [`crate::input`]).
+    #[error(transparent)]
+    Input(#[from] crate::input::InputError),
     /// The model file is not a placement model of a version this build reads.
     #[error(
         "unsupported placement model: {found:?} (this build reads 'stridekit-placement-lr 1')"

@@ -56,6 +56,10 @@ fn softmax(s: &mut [f64; CLASSES]) {
     }
 }
 
+/// Largest model text accepted, bytes (the shipped model is 4.5 kB; parsing is
+/// linear in the text).
+pub const MAX_MODEL_BYTES: usize = 256 * 1024;
+
 impl PlacementModel {
     /// The model trained on all Oxford Step Counter traces that ships with the SDK
     /// (`core/models/placement_lr_v1.txt`; its comment lines give the command).
@@ -136,6 +140,9 @@ impl PlacementModel {
             line,
             reason: reason.into(),
         };
+        if text.len() > MAX_MODEL_BYTES {
+            return Err(err(0, "larger than 256 KiB"));
+        }
         let mut lines = text
             .lines()
             .enumerate()

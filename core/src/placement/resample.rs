@@ -116,6 +116,15 @@ impl BinAverager {
         let bin_end_s = r.f64()?;
         let mut acc = [0.0; 3];
         r.f64s(&mut acc)?;
+        // The current bin ends within one bin after the newest sample; the sample is
+        // within the door's limits and the integral within a bin's worth of it.
+        if some && !(bin_end_s > t - 1e-9 && bin_end_s <= t + BIN_S + 1e-9) {
+            return Err(crate::snapshot::SnapshotError::Invalid("bin time"));
+        }
+        let amax = crate::input::limits::MAX_ACCEL_MPS2;
+        if a.iter().any(|v| v.abs() > amax) || acc.iter().any(|v| v.abs() > amax * BIN_S) {
+            return Err(crate::snapshot::SnapshotError::Invalid("bin state"));
+        }
         Ok(Self {
             prev: some.then_some((t, a)),
             bin_end_s,

@@ -4,93 +4,62 @@
 //! full window, the window's [features](super::features). Training and the
 //! classifier share this path.
 //!
-//! At the door: non-finite values, a time not after the previous sample and a
-//! magnitude above 50 g are rejected; samples in g are recognised like the step
-//! detector does (a first sample with magnitude 0.3..=3, or a 1-s mean magnitude that
-//! would fall below 3 m/s²): [`PlacementError::LooksLikeG`]. A rejected sample leaves
-//! the stream exactly as it was. A gap over 0.25 s empties the window.
+//! At the door: the checks and limits of [`crate::input`] (finite, per axis
+//! ≤ 2 000 m/s², time after the previous sample and in seconds, the g-units check).
+//! A rejected sample leaves the stream exactly as it was. A gap over 0.25 s empties
+//! the window.
 //!
 //! No heap allocation: fixed-size ring and stack arrays only.
 
 use super::error::PlacementError;
 use super::features::{window_features, FeatureTables, Features, WINDOW};
 use super::resample::BinAverager;
+use crate::input::{self, AccelUnits, Stream, TimeGuard};
 use crate::signal::Ring;
 use crate::snapshot::SnapshotError;
 
 /// Bins between two feature windows (1.28 s).
 pub const HOP: usize = 64;
-/// Magnitudes above this are not an accelerometer reading, m/s² (50 g).
-pub const MAX_ACCEL_MPS2: f64 = 50.0 * 9.80665;
-const UNITS_TAU_S: f64 = 1.0;
-const UNITS_MIN_MEAN_MPS2: f64 = 3.0;
 
 /// Streaming window features.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct FeatureStream {
     tables: FeatureTables,
     bins: BinAverager,
     window: Ring<[f64; 3], WINDOW>,
     since_window: usize,
-    last_t_s: Option<f64>,
-    units_mean_mps2: f64,
+    time: TimeGuard,
+    units: AccelUnits,
+}
+
+impl Default for FeatureStream {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 impl FeatureStream {
     pub fn new() -> Self {
-        Self::default()
+        Self {
+            tables: FeatureTables::default(),
+            bins: BinAverager::default(),
+            window: Ring::new(),
+            since_window: 0,
+            time: TimeGuard::new(Stream::Accelerometer),
+            units: AccelUnits::new(),
+        }
     }
 
     /// Time of the last accepted sample.
     pub fn last_t_s(&self) -> Option<f64> {
-        self.last_t_s
+        self.time.last_t_s()
     }
 
     fn check(&self, t_s: f64, a: [f64; 3]) -> Result<f64, PlacementError> {
-        if !t_s.is_finite() {
-            return Err(PlacementError::NonFinite { field: "t_s" });
-        }
-        for (v, field) in a
-            .iter()
-            .zip(["accel_x_mps2", "accel_y_mps2", "accel_z_mps2"])
-        {
-            if !v.is_finite() {
-                return Err(PlacementError::NonFinite { field });
-            }
-        }
-        if let Some(last) = self.last_t_s {
-            if t_s <= last {
-                return Err(PlacementError::TimeNotIncreasing {
-                    t_s,
-                    last_t_s: last,
-                });
-            }
-        }
+        let dt = self.time.check(t_s)?;
+        input::accel(&a)?;
         let mag = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-        if mag > MAX_ACCEL_MPS2 {
-            return Err(PlacementError::OutOfRange {
-                field: "acceleration magnitude",
-                value: mag,
-                expected: "≤ 50 g (490 m/s²)",
-            });
-        }
-        match self.last_t_s {
-            None if (0.3..=3.0).contains(&mag) => Err(PlacementError::LooksLikeG {
-                mean_magnitude: mag,
-            }),
-            None => Ok(mag),
-            Some(last) => {
-                let g = 1.0 - (-(t_s - last) / UNITS_TAU_S).exp();
-                let mean = self.units_mean_mps2 + g * (mag - self.units_mean_mps2);
-                if mean < UNITS_MIN_MEAN_MPS2 {
-                    Err(PlacementError::LooksLikeG {
-                        mean_magnitude: mean,
-                    })
-                } else {
-                    Ok(mean)
-                }
-            }
-        }
+        Ok(self.units.check(dt, mag)?)
     }
 
     /// Adds one sample; returns the features of a window when one is due.
@@ -100,8 +69,8 @@ impl FeatureStream {
         accel_mps2: [f64; 3],
     ) -> Result<Option<Features>, PlacementError> {
         let mean = self.check(t_s, accel_mps2)?;
-        self.last_t_s = Some(t_s);
-        self.units_mean_mps2 = mean;
+        self.time.accept(t_s);
+        self.units.accept(mean);
         let bins = self.bins.push(t_s, accel_mps2);
         if bins.restarted {
             self.window.clear();
@@ -126,8 +95,8 @@ impl FeatureStream {
             w.f64s(&v);
         }
         w.u64(self.since_window as u64);
-        w.opt_f64(self.last_t_s);
-        w.f64(self.units_mean_mps2);
+        self.time.write(w);
+        self.units.write(w);
     }
 
     pub(crate) fn read(r: &mut crate::snapshot::Reader<'_>) -> Result<Self, SnapshotError> {
@@ -136,18 +105,25 @@ impl FeatureStream {
         for _ in 0..r.len(WINDOW)? {
             let mut v = [0.0; 3];
             r.f64s(&mut v)?;
+            // Bin means of samples within the door's limits.
+            if v.iter()
+                .any(|x| x.abs() > crate::input::limits::MAX_ACCEL_MPS2)
+            {
+                return Err(SnapshotError::Invalid("window bin"));
+            }
             window.push(v);
         }
-        let since_window = r.len(u32::MAX as usize)?;
-        let last_t_s = r.opt_f64()?;
-        let units_mean_mps2 = r.f64()?;
+        // Counts bins up to a full window at most (then restarts at the hop).
+        let since_window = r.len(WINDOW.max(HOP))?;
+        let time = TimeGuard::read(r, Stream::Accelerometer)?;
+        let units = AccelUnits::read(r)?;
         Ok(Self {
             tables: FeatureTables::default(),
             bins,
             window,
             since_window,
-            last_t_s,
-            units_mean_mps2,
+            time,
+            units,
         })
     }
 

@@ -14,13 +14,9 @@
 //! queue (no heap): [`StepDetector::push`] returns the oldest waiting step and
 //! [`StepDetector::pop_step`] drains the rest.
 //!
-//! Units at the door: non-finite values, timestamps not after the previous one and
-//! magnitudes above 50 g are rejected. Samples in g instead of m/s² are recognised by
-//! their magnitude: while nothing was accepted yet, a first sample with magnitude in
-//! 0.3..=3 (1 g in g units, while in m/s² that would be near free fall) is refused;
-//! afterwards a slow mean of the magnitude (time constant 1 s) that would fall below
-//! 3 m/s² is refused (a carried phone averages ≈ 9.8 m/s²; only a free fall of more than
-//! a second gets that low). Both give [`StepDetectError::LooksLikeG`].
+//! Units at the door: the checks and limits of [`crate::input`] (finite, per axis
+//! ≤ 2 000 m/s², time after the previous sample and in seconds, the g-units check
+//! [`crate::input::AccelUnits`]).
 //! A rejected sample leaves the state exactly as it was.
 
 mod error;
@@ -33,19 +29,15 @@ pub use event::StepEvent;
 pub use published::PublishedStepParams;
 pub use robust::RobustStepParams;
 
+use crate::input::{self, AccelUnits, Stream, TimeGuard};
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Snapshot engine kind byte for the step detector.
 const SNAPSHOT_KIND: u8 = 3;
 /// Snapshot format version written by this build.
-const SNAPSHOT_VERSION: u16 = 2;
-/// Magnitudes above this are not an accelerometer reading, m/s² (50 g).
-pub const MAX_ACCEL_MPS2: f64 = 50.0 * 9.80665;
-/// Time constant of the magnitude mean used by the g-units check, s.
-const UNITS_TAU_S: f64 = 1.0;
-/// A mean magnitude below this is taken as data in g, m/s².
-const UNITS_MIN_MEAN_MPS2: f64 = 3.0;
+/// Version 3: the time state of the input layer ([`TimeGuard`]) replaces the last time.
+const SNAPSHOT_VERSION: u16 = 3;
 /// Steps waiting to be popped.
 const QUEUE: usize = 32;
 
@@ -174,30 +166,35 @@ impl Moments {
     }
 
     pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
-        let mut v = [0.0; 5];
+        const A: f64 = crate::input::limits::MAX_ACCEL_NORM_MPS2;
+        let mut v = [0.0; 3];
         r.f64s(&mut v)?;
+        // max/min are ∓∞ while empty; otherwise magnitudes within the door's limit.
+        let (max, min) = (r.f64_any()?, r.f64_any()?);
+        let empty = v[0] == 0.0;
+        let in_range = |x: f64| (0.0..=A).contains(&x);
+        let ok = if empty {
+            max == f64::NEG_INFINITY && min == f64::INFINITY
+        } else {
+            in_range(max)
+                && in_range(min)
+                && (0.0..=v[0] * A).contains(&v[1])
+                && (0.0..=v[0] * A * A).contains(&v[2])
+        };
+        if v[0] < 0.0 || !ok {
+            return Err(SnapshotError::Invalid("step statistics"));
+        }
         Ok(Self {
             n: v[0],
             sum: v[1],
             sum_sq: v[2],
-            max: v[3],
-            min: v[4],
+            max,
+            min,
         })
     }
 }
 
-/// Gain of a first-order low-pass over a step of `x` time constants: 1 − e^(−x), exact
-/// discretisation for any sample spacing. Below x = 1 a Padé (2,2) form of e^(−x) is used
-/// (relative error < 2e-4, no `exp` call on the per-sample path).
-#[inline]
-pub(crate) fn ema_gain(x: f64) -> f64 {
-    if x < 1.0 {
-        let (p, q) = (1.0 + x * x / 12.0, 0.5 * x);
-        1.0 - (p - q) / (p + q)
-    } else {
-        1.0 - (-x).exp()
-    }
-}
+pub(crate) use crate::signal::ema_gain;
 
 pub(crate) fn write_event(w: &mut Writer, e: &StepEvent) {
     w.f64s(&[
@@ -211,7 +208,17 @@ pub(crate) fn write_event(w: &mut Writer, e: &StepEvent) {
 
 pub(crate) fn read_event(r: &mut Reader) -> Result<StepEvent, SnapshotError> {
     let mut v = [0.0; 5];
-    r.f64s(&mut v)?;
+    // The time is always set; the duration is NaN for the first step of a bout and
+    // the statistics for a step without samples (a filled-in step).
+    const A: f64 = crate::input::limits::MAX_ACCEL_NORM_MPS2;
+    v[0] = r.f64()?;
+    for x in &mut v[1..] {
+        *x = r.f64_or_nan()?;
+    }
+    let ok = |x: f64, hi: f64| x.is_nan() || (0.0..=hi).contains(&x);
+    if !(ok(v[1], 3600.0) && ok(v[2], A * A) && ok(v[3], A) && ok(v[4], A)) {
+        return Err(SnapshotError::Invalid("step event"));
+    }
     Ok(StepEvent {
         t_s: v[0],
         duration_s: v[1],
@@ -236,11 +243,18 @@ enum Engine {
 pub struct StepDetector {
     config: StepDetectorConfig,
     engine: Engine,
-    last_t_s: Option<f64>,
-    /// Slow mean of the magnitude for the g-units check, m/s².
-    units_mean_mps2: f64,
+    time: TimeGuard,
+    /// The g-units check.
+    units: AccelUnits,
     queue: Ring<StepEvent, QUEUE>,
     step_count: u64,
+}
+
+impl Default for StepDetector {
+    /// The default detector ([`StepDetectorConfig::default`]).
+    fn default() -> Self {
+        Self::new(StepDetectorConfig::default()).expect("the default configuration is valid")
+    }
 }
 
 impl StepDetector {
@@ -250,8 +264,8 @@ impl StepDetector {
         Ok(Self {
             engine: Self::make_engine(&config),
             config,
-            last_t_s: None,
-            units_mean_mps2: f64::NAN,
+            time: TimeGuard::new(Stream::Accelerometer),
+            units: AccelUnits::new(),
             queue: Ring::new(),
             step_count: 0,
         })
@@ -277,7 +291,7 @@ impl StepDetector {
 
     /// Time of the newest accepted sample, seconds.
     pub fn last_t_s(&self) -> Option<f64> {
-        self.last_t_s
+        self.time.last_t_s()
     }
 
     /// Checks a sample without changing state; returns its magnitude and the updated
@@ -289,52 +303,10 @@ impl StepDetector {
     }
 
     fn check(&self, t_s: f64, a: [f64; 3]) -> Result<(f64, f64), StepDetectError> {
-        if !t_s.is_finite() {
-            return Err(StepDetectError::NonFinite { field: "t_s" });
-        }
-        for (v, field) in a
-            .iter()
-            .zip(["accel_x_mps2", "accel_y_mps2", "accel_z_mps2"])
-        {
-            if !v.is_finite() {
-                return Err(StepDetectError::NonFinite { field });
-            }
-        }
-        if let Some(last) = self.last_t_s {
-            if t_s <= last {
-                return Err(StepDetectError::TimeNotIncreasing {
-                    t_s,
-                    last_t_s: last,
-                });
-            }
-        }
+        let dt = self.time.check(t_s)?;
+        input::accel(&a)?;
         let mag = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-        if mag > MAX_ACCEL_MPS2 {
-            return Err(StepDetectError::OutOfRange {
-                field: "acceleration magnitude",
-                value: mag,
-                expected: "≤ 50 g (490 m/s²)",
-            });
-        }
-        let mean = match self.last_t_s {
-            None => {
-                if (0.3..=3.0).contains(&mag) {
-                    return Err(StepDetectError::LooksLikeG {
-                        mean_magnitude: mag,
-                    });
-                }
-                mag
-            }
-            Some(last) => {
-                let a = ema_gain((t_s - last) / UNITS_TAU_S);
-                self.units_mean_mps2 + a * (mag - self.units_mean_mps2)
-            }
-        };
-        if mean < UNITS_MIN_MEAN_MPS2 && self.last_t_s.is_some() {
-            return Err(StepDetectError::LooksLikeG {
-                mean_magnitude: mean,
-            });
-        }
+        let mean = self.units.check(dt, mag)?;
         Ok((mag, mean))
     }
 
@@ -354,8 +326,8 @@ impl StepDetector {
         accel_mps2: [f64; 3],
     ) -> Result<Option<StepEvent>, StepDetectError> {
         let (mag, mean) = self.check(t_s, accel_mps2)?;
-        self.last_t_s = Some(t_s);
-        self.units_mean_mps2 = mean;
+        self.time.accept(t_s);
+        self.units.accept(mean);
         match &mut self.engine {
             Engine::Published(d) => {
                 if let Some(e) = d.push(t_s, mag) {
@@ -409,8 +381,8 @@ impl StepDetector {
         });
         self.config.published.write(&mut w);
         self.config.robust.write(&mut w);
-        w.opt_f64(self.last_t_s);
-        w.f64(self.units_mean_mps2);
+        self.time.write(&mut w);
+        self.units.write(&mut w);
         w.u64(self.queue.len() as u64);
         for e in self.queue.iter() {
             write_event(&mut w, &e);
@@ -425,7 +397,7 @@ impl StepDetector {
 
     /// A detector continuing exactly where the snapshot was taken.
     pub fn restore(bytes: &[u8]) -> Result<Self, StepDetectError> {
-        let (mut r, _version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let (mut r, _) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
         let mode = match r.u8()? {
             0 => DetectorMode::AsPublished,
             1 => DetectorMode::Default,
@@ -439,8 +411,8 @@ impl StepDetector {
         config
             .validate()
             .map_err(|_| SnapshotError::Invalid("configuration"))?;
-        let last_t_s = r.opt_f64()?;
-        let units_mean_mps2 = r.f64()?;
+        let time = TimeGuard::read(&mut r, Stream::Accelerometer)?;
+        let units = AccelUnits::read(&mut r)?;
         let mut queue = Ring::new();
         let n = r.len(QUEUE)?;
         for _ in 0..n {
@@ -460,8 +432,8 @@ impl StepDetector {
         Ok(Self {
             config,
             engine,
-            last_t_s,
-            units_mean_mps2,
+            time,
+            units,
             queue,
             step_count,
         })

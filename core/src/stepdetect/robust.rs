@@ -102,6 +102,8 @@ const FILL_MAX_STEPS: usize = 12;
 const AMPLITUDE_GAIN: f64 = 0.2;
 /// Input gaps longer than this restart the detector (app paused), s.
 pub const MAX_INPUT_GAP_S: f64 = 0.5;
+/// Most grid points one sample can advance (MAX_INPUT_GAP_S on the grid, plus slack).
+const MAX_GRID_STEPS: usize = (MAX_INPUT_GAP_S * GRID_HZ) as usize + 2;
 /// Slow mean of the filtered magnitude, time constant, s.
 const MEAN_TAU_S: f64 = 1.0;
 /// RMS of x, time constant, s.
@@ -431,12 +433,22 @@ impl RobustDetector {
         let hf = h;
         self.hf_sum_sq += hf * hf;
         self.hf_n += 1.0;
-        while self.next_grid_t_s <= t_s {
+        // Bounded by construction: a sample is at most MAX_INPUT_GAP_S after the
+        // previous one (longer gaps restart above), so at most MAX_GRID_STEPS grid
+        // points fall in between. The cap also ends the loop if adding GRID_DT_S
+        // ever stopped changing the time (|t| beyond ~1e14 s; the door refuses those).
+        for _ in 0..MAX_GRID_STEPS {
+            if self.next_grid_t_s > t_s {
+                break;
+            }
             let g = self.next_grid_t_s;
             let f = (g - self.prev_t_s) / dt;
             let yg = self.prev_y + f * (y - self.prev_y);
             self.grid(g, yg, out);
             self.next_grid_t_s += GRID_DT_S;
+        }
+        if self.next_grid_t_s <= t_s {
+            self.next_grid_t_s = t_s + GRID_DT_S;
         }
         self.prev_t_s = t_s;
         self.prev_y = y;
@@ -764,33 +776,54 @@ impl RobustDetector {
     }
 
     pub(crate) fn read(r: &mut Reader, p: RobustStepParams) -> Result<Self, SnapshotError> {
+        // Every signal state is a filtered acceleration magnitude (or a difference of
+        // two): it stays within the magnitude limit of the door, its squares within
+        // the square of it.
+        const A: f64 = crate::input::limits::MAX_ACCEL_NORM_MPS2;
+        const T: f64 = crate::input::limits::MAX_ABS_T_S + 1.0;
         let mut d = Self::new(p);
         d.started = r.bool()?;
-        let mut v = [0.0; 7];
-        r.f64s(&mut v)?;
-        [
-            d.lp1,
-            d.lp2,
-            d.prev_t_s,
-            d.prev_y,
-            d.next_grid_t_s,
-            d.mean,
-            d.ms,
-        ] = v;
+        d.lp1 = r.f64_in(0.0, A, "step detector low-pass")?;
+        d.lp2 = r.f64_in(0.0, A, "step detector low-pass")?;
+        d.prev_t_s = r.f64_in(-T, T, "step detector time")?;
+        d.prev_y = r.f64_in(0.0, A, "step detector low-pass")?;
+        d.next_grid_t_s = r.f64_in(-T, T, "step detector grid time")?;
+        d.mean = r.f64_in(0.0, A, "step detector mean")?;
+        d.ms = r.f64_in(0.0, A * A, "step detector variance")?;
+        // The grid follows the input: the next grid point lies within one grid step
+        // after the newest sample.
+        if d.started
+            && !(d.next_grid_t_s > d.prev_t_s - 1e-9
+                && d.next_grid_t_s <= d.prev_t_s + GRID_DT_S + 1e-9)
+        {
+            return Err(SnapshotError::Invalid("step detector grid time"));
+        }
         let n = r.len(HISTORY)?;
         for _ in 0..n {
-            d.xs.push(r.f64()?);
+            d.xs.push(r.f64_in(-A, A, "step detector history")?);
         }
         d.seeking_peak = r.bool()?;
-        let mut e = [0.0; 3];
-        r.f64s(&mut e)?;
-        [d.ext_x, d.ext_t_s, d.valley_x] = e;
+        // ext_x starts at −∞; valley_x is NaN before the first valley.
+        d.ext_x = r.f64_any()?;
+        if !(d.ext_x == f64::NEG_INFINITY || (-A..=A).contains(&d.ext_x)) {
+            return Err(SnapshotError::Invalid("step detector extremum"));
+        }
+        d.ext_t_s = r.f64_in(-T, T, "step detector time")?;
+        d.valley_x = r.f64_or_nan()?;
+        if d.valley_x.abs() > A {
+            return Err(SnapshotError::Invalid("step detector valley"));
+        }
         d.moments = Moments::read(r)?;
         let n = r.len(PENDING)?;
         for _ in 0..n {
             let event = super::read_event(r)?;
-            let impact = r.f64()?;
-            let amplitude_mps2 = r.f64()?;
+            let impact = r.f64_or_nan()?;
+            let amplitude_mps2 = r.f64_or_nan()?;
+            if impact < 0.0
+                || !(amplitude_mps2.is_nan() || (0.0..=2.0 * A).contains(&amplitude_mps2))
+            {
+                return Err(SnapshotError::Invalid("step candidate"));
+            }
             d.pending.push(Pending {
                 event,
                 impact,
@@ -798,14 +831,28 @@ impl RobustDetector {
             });
         }
         d.in_bout = r.bool()?;
-        d.period_s = r.f64()?;
-        d.last_t_s = r.f64()?;
+        // NaN before the first bout / step / bout end.
+        d.period_s = r.f64_or_nan()?;
+        d.last_t_s = r.f64_or_nan()?;
         d.hf_sum_sq = r.f64()?;
         d.hf_n = r.f64()?;
-        r.f64s(&mut d.hp)?;
-        d.amplitude_ref_mps2 = r.f64()?;
-        d.bout_end_t_s = r.f64()?;
-        d.bout_end_period_s = r.f64()?;
+        d.hp = [
+            r.f64_in(0.0, A, "step detector high-pass")?,
+            r.f64_in(-A, A, "step detector high-pass")?,
+        ];
+        d.amplitude_ref_mps2 = r.f64_in(0.0, 2.0 * A, "step amplitude")?;
+        d.bout_end_t_s = r.f64_or_nan()?;
+        d.bout_end_period_s = r.f64_or_nan()?;
+        let period_ok = |p: f64| p.is_nan() || (0.0..=60.0).contains(&p);
+        let ok = d.hf_n >= 0.0
+            && (0.0..=d.hf_n * 4.0 * A * A).contains(&d.hf_sum_sq)
+            && period_ok(d.period_s)
+            && period_ok(d.bout_end_period_s)
+            && (d.last_t_s.is_nan() || d.last_t_s.abs() <= T)
+            && (d.bout_end_t_s.is_nan() || d.bout_end_t_s.abs() <= T);
+        if !ok {
+            return Err(SnapshotError::Invalid("step detector statistics"));
+        }
         Ok(d)
     }
 }

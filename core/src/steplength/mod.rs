@@ -61,8 +61,8 @@ pub mod eval;
 pub use config::{StepLengthConfig, StepLengthModel};
 pub use error::StepLengthError;
 
+use crate::input::{self, in_range, Stream};
 use calib::{PublishedFit, Regression};
-use error::{finite, in_range};
 
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
@@ -240,16 +240,7 @@ impl StepLengthEstimator {
     }
 
     fn validate_step(&self, e: &StepEvent) -> Result<(), StepLengthError> {
-        let t = finite("t_s", e.t_s)?;
-        if let Some(last) = self.last_step_t_s {
-            if t <= last {
-                return Err(StepLengthError::TimeNotIncreasing {
-                    stream: "step",
-                    t_s: t,
-                    last_t_s: last,
-                });
-            }
-        }
+        input::time_after(Stream::Steps, e.t_s, self.last_step_t_s)?;
         if !e.duration_s.is_nan() {
             in_range(
                 "duration_s",
@@ -333,20 +324,11 @@ impl StepLengthEstimator {
         north_m: f64,
         accuracy_m: Option<f64>,
     ) -> Result<(), StepLengthError> {
-        finite("t_s", t_s)?;
-        in_range("east_m", east_m, -1e7, 1e7, "±10 000 km")?;
-        in_range("north_m", north_m, -1e7, 1e7, "±10 000 km")?;
+        input::time_after(Stream::Gnss, t_s, self.fixes.newest().map(|f| f.t_s))?;
+        in_range("east_m", east_m, -1e7, 1e7, "m")?;
+        in_range("north_m", north_m, -1e7, 1e7, "m")?;
         if let Some(a) = accuracy_m {
-            in_range("accuracy_m", a, 0.0, 1e5, "0..=100 km")?;
-        }
-        if let Some(last) = self.fixes.newest() {
-            if t_s <= last.t_s {
-                return Err(StepLengthError::TimeNotIncreasing {
-                    stream: "GNSS fix",
-                    t_s,
-                    last_t_s: last.t_s,
-                });
-            }
+            in_range("accuracy_m", a, 0.0, input::limits::MAX_ACCURACY_M, "m")?;
         }
         self.fixes.push(Fix {
             t_s,
@@ -568,7 +550,8 @@ impl StepLengthEstimator {
             });
         }
         s.last_step_t_s = r.opt_f64()?;
-        s.last_f_hz = r.f64()?;
+        // NaN before the first step with a frequency.
+        s.last_f_hz = r.f64_or_nan()?;
         for _ in 0..r.len(PENDING)? {
             s.pending.push(read_rec(&mut r)?);
         }
@@ -618,7 +601,13 @@ fn write_rec(w: &mut Writer, s: &StepRec) {
 
 fn read_rec(r: &mut Reader) -> Result<StepRec, SnapshotError> {
     let mut v = [0.0; 6];
-    r.f64s(&mut v)?;
+    v[0] = r.f64()?;
+    // Frequency and the acceleration features are NaN for a step without them.
+    for x in &mut v[1..4] {
+        *x = r.f64_or_nan()?;
+    }
+    v[4] = r.f64()?;
+    v[5] = r.f64()?;
     Ok(StepRec {
         t_s: v[0],
         f_hz: v[1],
