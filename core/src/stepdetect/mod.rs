@@ -25,6 +25,7 @@
 
 mod error;
 mod event;
+mod gait;
 pub mod published;
 pub mod robust;
 
@@ -39,7 +40,7 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 /// Snapshot engine kind byte for the step detector.
 const SNAPSHOT_KIND: u8 = 3;
 /// Snapshot format version written by this build.
-const SNAPSHOT_VERSION: u16 = 2;
+const SNAPSHOT_VERSION: u16 = 3;
 /// Magnitudes above this are not an accelerometer reading, m/s² (50 g).
 pub const MAX_ACCEL_MPS2: f64 = 50.0 * 9.80665;
 /// Time constant of the magnitude mean used by the g-units check, s.
@@ -425,7 +426,15 @@ impl StepDetector {
 
     /// A detector continuing exactly where the snapshot was taken.
     pub fn restore(bytes: &[u8]) -> Result<Self, StepDetectError> {
-        let (mut r, _version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let (mut r, version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        if version < SNAPSHOT_VERSION {
+            // Version 3 added the autocorrelation state of the default detector.
+            return Err(SnapshotError::UnsupportedVersion {
+                found: version,
+                supported: SNAPSHOT_VERSION,
+            }
+            .into());
+        }
         let mode = match r.u8()? {
             0 => DetectorMode::AsPublished,
             1 => DetectorMode::Default,
