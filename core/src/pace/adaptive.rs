@@ -124,6 +124,13 @@ const INITIAL_SPEED_SIGMA: f64 = 3.0;
 /// Stationary contradicted by GNSS this many fixes in a row: step data is distrusted.
 const CONTRADICTIONS_TO_DISTRUST: u32 = 5;
 
+/// Smallest 1-σ of an imported step length, metres, and its relative change between
+/// sessions (added in quadrature).
+const CALIBRATION_MIN_SIGMA_M: f64 = 0.01;
+const CALIBRATION_DRIFT: f64 = 0.02;
+/// 1-σ of an imported slope, m per (step/s).
+const CALIBRATED_SLOPE_SIGMA: f64 = 0.15;
+
 /// What an update may teach the step-length line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Learn {
@@ -211,6 +218,9 @@ pub struct AdaptiveFilter {
     /// Speed-information gained from GNSS and from the pedometer at the last epoch.
     info_gnss: f64,
     info_ped: f64,
+    /// Cadence × step length from the pedometer alone, m/s (NaN before any step data):
+    /// the output until GNSS gives a velocity (no GNSS at all, or before the second fix).
+    ped_speed: f64,
     out: PaceEstimate,
 }
 
@@ -246,7 +256,13 @@ impl AdaptiveFilter {
             gated_since_t_s: f64::NAN,
             info_gnss: 0.0,
             info_ped: 0.0,
-            out: PaceEstimate::initial(config.initial_step_length_m),
+            ped_speed: f64::NAN,
+            out: PaceEstimate::initial(
+                config
+                    .calibration
+                    .map(|c| c.step_length_m)
+                    .or(config.initial_step_length_m),
+            ),
         };
         let (l0, sl) = match config.initial_step_length_m {
             Some(l) => (l, 0.1),
@@ -256,6 +272,16 @@ impl AdaptiveFilter {
         f.x[LB] = SLOPE_PRIOR;
         f.p[(LA, LA)] = sl * sl;
         f.p[(LB, LB)] = SLOPE_PRIOR_SIGMA * SLOPE_PRIOR_SIGMA;
+        if let Some(c) = config.calibration {
+            // The line of an earlier session, read at its own cadence; a little less
+            // certain than when exported (shoes, terrain, fatigue change between runs).
+            f.x[LA] = c.step_length_m;
+            f.x[LB] = c.slope_m_per_spm * 60.0;
+            f.cadence_ref = c.cadence_spm / 60.0;
+            let sa = c.step_length_std_m.max(CALIBRATION_MIN_SIGMA_M);
+            f.p[(LA, LA)] = sa * sa + (CALIBRATION_DRIFT * c.step_length_m).powi(2);
+            f.p[(LB, LB)] = CALIBRATED_SLOPE_SIGMA * CALIBRATED_SLOPE_SIGMA;
+        }
         f
     }
 
@@ -729,6 +755,7 @@ impl AdaptiveFilter {
         let was_stationary = self.stationary;
         self.stationary = c <= 0.0;
         if self.stationary {
+            self.ped_speed = 0.0;
             self.zupt();
             return;
         }
@@ -740,6 +767,7 @@ impl AdaptiveFilter {
             .filter(|&v| v > 0.0)
             .unwrap_or(c);
         self.track_cadence_ref(c_slow, dt.min(10.0));
+        self.ped_speed = c * self.step_length_at(c_slow);
         let mut s = self.speed();
         if s < 0.3 {
             if !(was_stationary && self.last_dir.0.is_finite()) {
@@ -777,15 +805,22 @@ impl AdaptiveFilter {
     /// Integrate distance up to the filter time and refresh the output.
     fn publish(&mut self, ctx: &Context, t_out: f64) {
         let no_steps = !ctx.steps.has_data() || self.steps_distrusted;
-        let sd = self.speed_var().sqrt();
-        let raw = self.speed();
+        let ped_only = self.pedometer_only_output(ctx);
+        let (raw, sd) = if ped_only {
+            // σ of cadence × step length: the step length's and the gait's.
+            let l = self.x[LA].max(0.2);
+            let rel = (self.p[(LA, LA)].max(0.0).sqrt() / l).hypot(self.params.pedometer_rel_sigma);
+            (self.ped_speed, rel * self.ped_speed)
+        } else {
+            (self.speed(), self.speed_var().sqrt())
+        };
         let still = if no_steps {
             self.gnss_still
         } else {
             self.stationary
         };
         let speed = if still { 0.0 } else { raw };
-        if raw > 1.0 {
+        if raw > 1.0 && !ped_only {
             self.last_dir = (self.x[VE] / raw, self.x[VN] / raw);
         }
         let prev_t = self.out.t_s;
@@ -797,7 +832,9 @@ impl AdaptiveFilter {
             self.distance_m += 0.5 * (self.out.speed_mps + speed) * dt;
         }
         let total = self.info_gnss + self.info_ped;
-        let w = if total > 0.0 {
+        let w = if ped_only {
+            0.0
+        } else if total > 0.0 {
             self.info_gnss / total
         } else if t_out - self.last_fix_t_s > 2.0 {
             0.0
@@ -841,8 +878,11 @@ impl AdaptiveFilter {
             self.init(fix);
             self.last_fix_t_s = fix.t_s;
             self.prev_fix = (fix.east_m, fix.north_m, fix.t_s);
-            self.publish(ctx, fix.t_s);
-            self.out.source = PaceSource::Initializing;
+            let t_out = fix.t_s.max(self.out.t_s);
+            self.publish(ctx, t_out);
+            if !self.pedometer_only_output(ctx) {
+                self.out.source = PaceSource::Initializing;
+            }
             return self.out;
         }
         let gap = fix.t_s - self.last_fix_t_s;
@@ -907,7 +947,11 @@ impl AdaptiveFilter {
                 self.contradictions = 0;
             }
         }
-        if !self.initialized || t_s <= self.t_s {
+        if !self.initialized {
+            self.pedometer_only(t_s, ctx);
+            return;
+        }
+        if t_s <= self.t_s {
             return;
         }
         // Between fixes the pedometer carries the state (at most once a second); at a
@@ -927,6 +971,56 @@ impl AdaptiveFilter {
         self.out
     }
 
+    /// Whether the output comes from the pedometer alone: step data flows and GNSS has
+    /// not given a velocity yet (no fix, or a single one).
+    fn pedometer_only_output(&self, ctx: &Context) -> bool {
+        ctx.steps.has_data()
+            && !self.steps_distrusted
+            && self.ped_speed.is_finite()
+            && !self.last_dir.0.is_finite()
+            && self.speed() < 0.3
+    }
+
+    /// Before any GNSS fix: speed is cadence × step length (the calibrated, configured
+    /// or prior line read at the cadence), at most once a second; distance grows.
+    fn pedometer_only(&mut self, t: f64, ctx: &Context) {
+        if t - self.last_ped_t_s < PED_UPDATE_INTERVAL_S || t <= self.out.t_s {
+            return;
+        }
+        let Some((c, _)) = ctx.steps.smoothed_cadence(t, ctx.config.stationary_after_s) else {
+            return;
+        };
+        let dt = t - self.last_ped_t_s;
+        self.last_ped_t_s = t;
+        self.stationary = c <= 0.0;
+        if self.stationary {
+            self.ped_speed = 0.0;
+        } else {
+            let c_slow = ctx
+                .steps
+                .cadence_at(t, SLOW_CADENCE_WINDOW_S, ctx.config.stationary_after_s)
+                .filter(|&v| v > 0.0)
+                .unwrap_or(c);
+            self.track_cadence_ref(c_slow, dt.min(10.0));
+            self.ped_speed = c * self.step_length_at(c_slow);
+        }
+        self.publish(ctx, t);
+    }
+
+    /// The learned step-length line, once learned (1-σ below 8 cm).
+    pub fn calibration(&self) -> Option<super::PaceCalibration> {
+        if !(self.step_length_learned() && self.cadence_ref.is_finite()) {
+            return None;
+        }
+        let c = super::PaceCalibration {
+            step_length_m: self.x[LA].clamp(0.2, 3.0),
+            cadence_spm: (self.cadence_ref * 60.0).clamp(30.0, 300.0),
+            slope_m_per_spm: (self.x[LB] / 60.0).clamp(-0.05, 0.05),
+            step_length_std_m: self.p[(LA, LA)].max(0.0).sqrt().min(1.0),
+        };
+        c.validate().is_ok().then_some(c)
+    }
+
     pub fn write(&self, w: &mut Writer) {
         w.f64s(self.x.as_slice());
         w.f64s(self.p.as_slice());
@@ -942,6 +1036,7 @@ impl AdaptiveFilter {
             self.distance_m,
             self.info_gnss,
             self.info_ped,
+            self.ped_speed,
         ]);
         w.bool(self.stationary);
         w.u64(self.contradictions as u64);
@@ -974,7 +1069,7 @@ impl AdaptiveFilter {
         r.f64s(f.x.as_mut_slice())?;
         r.f64s(f.p.as_mut_slice())?;
         f.initialized = r.bool()?;
-        let mut v = [0.0; 10];
+        let mut v = [0.0; 11];
         r.f64s(&mut v)?;
         [
             f.t_s,
@@ -987,6 +1082,7 @@ impl AdaptiveFilter {
             f.distance_m,
             f.info_gnss,
             f.info_ped,
+            f.ped_speed,
         ] = v;
         f.stationary = r.bool()?;
         f.contradictions = r.len(u32::MAX as usize)? as u32;
