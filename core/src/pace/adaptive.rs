@@ -131,6 +131,9 @@ const CALIBRATION_DRIFT: f64 = 0.02;
 /// 1-σ of an imported slope, m per (step/s).
 const CALIBRATED_SLOPE_SIGMA: f64 = 0.15;
 
+/// Steps in accepted path windows before the session mean is exported (≈ 3 min).
+const SESSION_MIN_STEPS: f64 = 500.0;
+
 /// What an update may teach the step-length line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Learn {
@@ -221,6 +224,9 @@ pub struct AdaptiveFilter {
     /// Cadence × step length from the pedometer alone, m/s (NaN before any step data):
     /// the output until GNSS gives a velocity (no GNSS at all, or before the second fix).
     ped_speed: f64,
+    /// Step-weighted sums over the accepted path windows of this session: steps,
+    /// steps × cadence, steps × step length (the calibration's level and cadence).
+    session: [f64; 3],
     out: PaceEstimate,
 }
 
@@ -257,6 +263,7 @@ impl AdaptiveFilter {
             info_gnss: 0.0,
             info_ped: 0.0,
             ped_speed: f64::NAN,
+            session: [0.0; 3],
             out: PaceEstimate::initial(
                 config
                     .calibration
@@ -711,6 +718,13 @@ impl AdaptiveFilter {
             return;
         }
         self.scalar_update(&h, y, r, Learn::LevelAndSlope);
+        // The session's mean line for the calibration record: every accepted window,
+        // weighted by its steps.
+        let l_obs = path / steps;
+        let s = &mut self.session;
+        s[0] += steps;
+        s[1] += steps * c_mean;
+        s[2] += steps * l_obs;
     }
 
     /// Move the reference cadence c̄ towards `c`, re-expressing `a` so that the
@@ -1007,14 +1021,24 @@ impl AdaptiveFilter {
         self.publish(ctx, t);
     }
 
-    /// The learned step-length line, once learned (1-σ below 8 cm).
+    /// The learned step-length line, once learned (1-σ below 8 cm). Its level is the
+    /// session's mean (step length over all trusted GNSS windows, at their mean
+    /// cadence): the value at the end of a run follows its last minutes (a finish,
+    /// a cool-down), the mean is what the next session should start from. Without
+    /// such windows (a calibration imported, no GNSS), the filter's line is exported.
     pub fn calibration(&self) -> Option<super::PaceCalibration> {
         if !(self.step_length_learned() && self.cadence_ref.is_finite()) {
             return None;
         }
+        let [n, nc, nl] = self.session;
+        let (level, cadence) = if n >= SESSION_MIN_STEPS {
+            (nl / n, nc / n)
+        } else {
+            (self.x[LA], self.cadence_ref)
+        };
         let c = super::PaceCalibration {
-            step_length_m: self.x[LA].clamp(0.2, 3.0),
-            cadence_spm: (self.cadence_ref * 60.0).clamp(30.0, 300.0),
+            step_length_m: level.clamp(0.2, 3.0),
+            cadence_spm: (cadence * 60.0).clamp(30.0, 300.0),
             slope_m_per_spm: (self.x[LB] / 60.0).clamp(-0.05, 0.05),
             step_length_std_m: self.p[(LA, LA)].max(0.0).sqrt().min(1.0),
         };
@@ -1038,6 +1062,7 @@ impl AdaptiveFilter {
             self.info_ped,
             self.ped_speed,
         ]);
+        w.f64s(&self.session);
         w.bool(self.stationary);
         w.u64(self.contradictions as u64);
         w.bool(self.steps_distrusted);
@@ -1084,6 +1109,7 @@ impl AdaptiveFilter {
             f.info_ped,
             f.ped_speed,
         ] = v;
+        r.f64s(&mut f.session)?;
         f.stationary = r.bool()?;
         f.contradictions = r.len(u32::MAX as usize)? as u32;
         f.steps_distrusted = r.bool()?;
