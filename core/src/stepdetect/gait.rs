@@ -123,7 +123,7 @@ impl GaitPeriod {
         for l in MIN_STRIDE_LAG..=MAX_LAG {
             best = best.max(rho(l));
         }
-        if !(best >= min_rho) {
+        if best.is_nan() || best < min_rho {
             return None;
         }
         // The shortest local maximum near the best.
@@ -160,7 +160,7 @@ impl GaitPeriod {
         };
         let stride_s = (l as f64 + shift) * ACF_DT_S;
         let half = self.rho_at(0.5 * stride_s);
-        let step_s = if !(half < HALF_LAG_ANTI) {
+        let step_s = if half.is_nan() || half >= HALF_LAG_ANTI {
             0.5 * stride_s
         } else {
             stride_s
