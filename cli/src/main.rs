@@ -46,7 +46,8 @@ USAGE:
   stridekit eval steps [--data DIR] [--sensitivity]
       Step counting of the AsPublished and default detectors on the Oxford Step
       Counter traces in DIR (default: ../shared/data/steps/oxford): count error and
-      step-event F1 per trace and per placement, also at 50 Hz and with jitter.
+      step-event F1 per trace and per placement, also at 100 and 50 Hz, with
+      jittered timestamps and 10 % dropped (native and 50 Hz) and with dropped bursts.
       --sensitivity adds parameter sensitivity and a leave-one-user-out check.
   stridekit eval pdr [--seeds N]
       Pedestrian dead reckoning on the phone simulator, every placement: step count,
