@@ -46,6 +46,6 @@ pub use logging::{init_android_logging, LogLevel};
 pub use sim::{simulate_run, SimulatedRun};
 pub use tracker::{BatchResult, PaceTracker, RejectedSample};
 pub use types::{
-    default_pace_config, AccelSample, GnssFix, PaceConfig, PaceEstimate, PaceMode, PaceSample,
-    PaceSource, StepSample,
+    default_pace_config, AccelSample, GnssFix, PaceCalibration, PaceConfig, PaceEstimate, PaceMode,
+    PaceSample, PaceSource, StepSample,
 };

@@ -7,7 +7,9 @@ use stridekit_core::pace as core;
 
 use crate::error::{guard, PaceError};
 use crate::packed;
-use crate::types::{AccelSample, GnssFix, PaceConfig, PaceEstimate, PaceSample, StepSample};
+use crate::types::{
+    AccelSample, GnssFix, PaceCalibration, PaceConfig, PaceEstimate, PaceSample, StepSample,
+};
 
 /// A sample a batch push rejected; the rest of the batch was still processed.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
@@ -120,6 +122,13 @@ impl PaceTracker {
     /// The configuration the tracker runs with.
     pub fn config(&self) -> PaceConfig {
         (*self.lock().config()).into()
+    }
+
+    /// The step-length line learned so far, to store with the user's profile and pass
+    /// as `PaceConfig.calibration` next session; null until learned from good GNSS
+    /// (or given), always null in `AS_PUBLISHED` mode.
+    pub fn calibration(&self) -> Option<PaceCalibration> {
+        self.lock().calibration().map(Into::into)
     }
 
     /// Push one GNSS fix; returns the estimate at this fix. A rejected fix leaves the

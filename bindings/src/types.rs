@@ -252,6 +252,44 @@ impl From<core::PaceMode> for PaceMode {
     }
 }
 
+/// A runner's learned step-length line, carried between sessions: export it with
+/// `PaceTracker.calibration()` after a run with good GNSS, store it with the user's
+/// profile, pass it as `PaceConfig.calibration` next time (pedometer-only pace from
+/// the first steps on a treadmill, an indoor track or a watch without GNSS).
+#[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
+pub struct PaceCalibration {
+    /// Step length at `cadence_spm`, metres.
+    pub step_length_m: f64,
+    /// Cadence at which the step length was learned, steps/min (both feet).
+    pub cadence_spm: f64,
+    /// How step length grows with cadence, metres per step/min.
+    pub slope_m_per_spm: f64,
+    /// 1-σ of `step_length_m` when exported, metres.
+    pub step_length_std_m: f64,
+}
+
+impl From<PaceCalibration> for core::PaceCalibration {
+    fn from(c: PaceCalibration) -> Self {
+        Self {
+            step_length_m: c.step_length_m,
+            cadence_spm: c.cadence_spm,
+            slope_m_per_spm: c.slope_m_per_spm,
+            step_length_std_m: c.step_length_std_m,
+        }
+    }
+}
+
+impl From<core::PaceCalibration> for PaceCalibration {
+    fn from(c: core::PaceCalibration) -> Self {
+        Self {
+            step_length_m: c.step_length_m,
+            cadence_spm: c.cadence_spm,
+            slope_m_per_spm: c.slope_m_per_spm,
+            step_length_std_m: c.step_length_std_m,
+        }
+    }
+}
+
 /// Settings of a [`PaceTracker`](crate::PaceTracker) an app may change; every other
 /// filter parameter keeps the core's default (`stridekit_core::pace::PaceConfig::default()`).
 ///
@@ -261,13 +299,18 @@ impl From<core::PaceMode> for PaceMode {
 pub struct PaceConfig {
     /// Fusion filter (default: `Adaptive`).
     pub mode: PaceMode,
-    /// Step length used before one is learned from GNSS, metres, 0.2..=3.0
-    /// (null: no pedometer speed until GNSS has taught one).
+    /// Step length at 168 steps/min used before one is learned from GNSS, metres,
+    /// 0.2..=3.0 (null: a population prior of 1.0 m, uncertain, learned from GNSS).
+    /// Without GNSS the pedometer speed uses it from the first steps.
     #[uniffi(default = None)]
     pub initial_step_length_m: Option<f64>,
     /// Without a step for this long while step data flows, the runner is stationary, seconds.
     #[uniffi(default = 2.0)]
     pub stationary_after_s: f64,
+    /// A calibration exported by `PaceTracker.calibration()` in an earlier session
+    /// (takes precedence over `initial_step_length_m`; null: none).
+    #[uniffi(default = None)]
+    pub calibration: Option<PaceCalibration>,
 }
 
 impl Default for PaceConfig {
@@ -282,6 +325,7 @@ impl From<PaceConfig> for core::PaceConfig {
             mode: c.mode.into(),
             initial_step_length_m: c.initial_step_length_m,
             stationary_after_s: c.stationary_after_s,
+            calibration: c.calibration.map(Into::into),
             ..core::PaceConfig::default()
         }
     }
@@ -293,6 +337,7 @@ impl From<core::PaceConfig> for PaceConfig {
             mode: c.mode.into(),
             initial_step_length_m: c.initial_step_length_m,
             stationary_after_s: c.stationary_after_s,
+            calibration: c.calibration.map(Into::into),
         }
     }
 }

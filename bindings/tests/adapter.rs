@@ -158,10 +158,12 @@ fn config_defaults_match_core() {
     assert_eq!(d.initial_step_length_m, None);
     assert_eq!(d.stationary_after_s, 2.0);
     // Only the three exposed fields change; the rest stays at the core defaults.
+    assert_eq!(d.calibration, None);
     let c: core::PaceConfig = PaceConfig {
         mode: PaceMode::AsPublished,
         initial_step_length_m: Some(1.1),
         stationary_after_s: 3.5,
+        calibration: None,
     }
     .into();
     assert_eq!(c.mode, core::PaceMode::AsPublished);
@@ -174,6 +176,7 @@ fn config_defaults_match_core() {
         mode: PaceMode::AsPublished,
         initial_step_length_m: Some(1.1),
         stationary_after_s: 3.5,
+        calibration: None,
     })
     .unwrap();
     assert_eq!(t.config().mode, PaceMode::AsPublished);

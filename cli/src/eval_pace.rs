@@ -227,5 +227,15 @@ pub fn real_table(dir: &Path, default: PaceConfig) -> Result<String, String> {
     for s in skipped {
         let _ = writeln!(out, "\nSkipped: {s}");
     }
+    let _ = writeln!(
+        out,
+        "\n{}",
+        crate::eval_pace_device::outage_table(&files, default)
+    );
+    let _ = writeln!(
+        out,
+        "{}",
+        crate::eval_pace_device::pedometer_only_table(dir, "2020-12-")?
+    );
     Ok(out)
 }

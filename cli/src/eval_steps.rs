@@ -1,6 +1,8 @@
 //! `stridekit eval steps`: step counting of the AsPublished and default detectors on the
 //! Oxford Step Counter traces (phones carried 7 ways, shoe-worn heel-strike reference),
-//! at the native rate, resampled to 50 Hz and with jittered timestamps.
+//! at the native rate, resampled to 100 and 50 Hz, with jittered timestamps and 10 %
+//! of the samples dropped (at the native rate and at 50 Hz), and with 10 % dropped in
+//! bursts.
 //!
 //! Scores per trace: count error (detected − reference) / reference, and step-event F1:
 //! a detected step matches a reference heel strike within ±0.25 s, one-to-one (greedy
@@ -83,20 +85,38 @@ pub fn alternation_checked(strikes: &[(f64, u8)]) -> (Vec<f64>, usize, usize) {
 pub enum Variant {
     /// As recorded (100–405 Hz).
     Native,
+    /// Linearly interpolated onto a 100 Hz grid (the rate of many phones).
+    Resampled100Hz,
     /// Linearly interpolated onto a 50 Hz grid.
     Resampled50Hz,
-    /// Timestamps jittered by up to ±40 % of the mean spacing and 10 % of samples
-    /// dropped (values unchanged).
+    /// 10 % of the samples dropped at random, the others' timestamps jittered by a
+    /// Gaussian of σ = half the mean spacing, in recorded order: a sample whose time
+    /// is not after the previous one is rejected by the detector and skipped (values
+    /// unchanged: the phone sampled on time, the clock read late or early).
     Jittered,
+    /// The same at 50 Hz (resampled first).
+    Jittered50Hz,
+    /// 10 % of the time dropped in bursts of 0.05–1 s (a busy phone), timestamps exact.
+    Bursts,
 }
 
 impl Variant {
-    pub const ALL: [Variant; 3] = [Variant::Native, Variant::Resampled50Hz, Variant::Jittered];
+    pub const ALL: [Variant; 6] = [
+        Variant::Native,
+        Variant::Resampled100Hz,
+        Variant::Resampled50Hz,
+        Variant::Jittered,
+        Variant::Jittered50Hz,
+        Variant::Bursts,
+    ];
     fn name(self) -> &'static str {
         match self {
             Variant::Native => "native rate",
+            Variant::Resampled100Hz => "resampled to 100 Hz",
             Variant::Resampled50Hz => "resampled to 50 Hz",
-            Variant::Jittered => "jittered timestamps, 10 % dropped",
+            Variant::Jittered => "jittered timestamps (σ ½ spacing), 10 % dropped",
+            Variant::Jittered50Hz => "50 Hz, jittered timestamps (σ ½ spacing), 10 % dropped",
+            Variant::Bursts => "10 % dropped in bursts of 0.05–1 s",
         }
     }
 }
@@ -110,6 +130,89 @@ impl Rng {
         self.0 ^= self.0 << 17;
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
+    /// Standard normal (Box–Muller).
+    fn normal(&mut self) -> f64 {
+        let u = self.next().max(1e-300);
+        let v = self.next();
+        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    }
+}
+
+/// Linear interpolation of `raw` onto a grid of `hz`.
+fn resample(raw: &[AccelSample], hz: f64) -> Vec<AccelSample> {
+    let mut out = Vec::new();
+    let (Some(first), Some(last)) = (raw.first(), raw.last()) else {
+        return out;
+    };
+    let dt = 1.0 / hz;
+    let mut k = 0u64;
+    let mut j = 0;
+    loop {
+        let t = first.t_s + k as f64 * dt;
+        if t > last.t_s {
+            break;
+        }
+        while j + 1 < raw.len() && raw[j + 1].t_s < t {
+            j += 1;
+        }
+        let (a, b) = (raw[j], raw[(j + 1).min(raw.len() - 1)]);
+        let f = if b.t_s > a.t_s {
+            ((t - a.t_s) / (b.t_s - a.t_s)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let v: [f64; 3] =
+            std::array::from_fn(|i| a.accel_mps2[i] + f * (b.accel_mps2[i] - a.accel_mps2[i]));
+        out.push(AccelSample {
+            t_s: t,
+            accel_mps2: v,
+        });
+        k += 1;
+    }
+    out
+}
+
+/// 10 % dropped at random, timestamps jittered by N(0, (½ mean spacing)²), order kept.
+fn jitter_and_drop(raw: Vec<AccelSample>) -> Vec<AccelSample> {
+    let (Some(a), Some(b)) = (raw.first(), raw.last()) else {
+        return raw;
+    };
+    let dt = (b.t_s - a.t_s) / (raw.len().max(2) - 1) as f64;
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut out = Vec::with_capacity(raw.len());
+    for s in raw {
+        if rng.next() < 0.1 {
+            continue;
+        }
+        let j = rng.normal();
+        out.push(AccelSample {
+            t_s: s.t_s + 0.5 * dt * j,
+            ..s
+        });
+    }
+    out
+}
+
+/// 10 % of the time dropped in bursts of 0.05–1 s, spread over the trace.
+fn drop_bursts(raw: Vec<AccelSample>) -> Vec<AccelSample> {
+    let (Some(a), Some(b)) = (raw.first(), raw.last()) else {
+        return raw;
+    };
+    let (t0, span) = (a.t_s, b.t_s - a.t_s);
+    let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+    // Bursts placed uniformly over the trace (lengths 0.05–1 s) until 10 % of its
+    // span is covered.
+    let mut bursts: Vec<(f64, f64)> = Vec::new();
+    let mut covered = 0.0;
+    while covered < 0.1 * span {
+        let start = t0 + rng.next() * span;
+        let len = 0.05 + 0.95 * rng.next();
+        bursts.push((start, start + len));
+        covered += len;
+    }
+    raw.into_iter()
+        .filter(|s| !bursts.iter().any(|&(x, y)| s.t_s >= x && s.t_s < y))
+        .collect()
 }
 
 /// The trace's samples as presented by `variant`.
@@ -124,49 +227,11 @@ pub fn samples(trace: &OxfordTrace, variant: Variant) -> Vec<AccelSample> {
         .collect();
     match variant {
         Variant::Native => raw,
-        Variant::Resampled50Hz => {
-            let mut out = Vec::new();
-            let (Some(first), Some(last)) = (raw.first(), raw.last()) else {
-                return out;
-            };
-            let mut t = first.t_s;
-            let mut j = 0;
-            while t <= last.t_s {
-                while j + 1 < raw.len() && raw[j + 1].t_s < t {
-                    j += 1;
-                }
-                let (a, b) = (raw[j], raw[(j + 1).min(raw.len() - 1)]);
-                let f = if b.t_s > a.t_s {
-                    ((t - a.t_s) / (b.t_s - a.t_s)).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                let v: [f64; 3] = std::array::from_fn(|k| {
-                    a.accel_mps2[k] + f * (b.accel_mps2[k] - a.accel_mps2[k])
-                });
-                out.push(AccelSample {
-                    t_s: t,
-                    accel_mps2: v,
-                });
-                t += 0.02;
-            }
-            out
-        }
-        Variant::Jittered => {
-            let dt = 1.0 / trace.rate_hz();
-            let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-            let mut out: Vec<AccelSample> = Vec::with_capacity(raw.len());
-            for s in raw {
-                if rng.next() < 0.1 {
-                    continue;
-                }
-                let t = s.t_s + 0.8 * (rng.next() - 0.5) * dt;
-                if out.last().is_none_or(|p| t > p.t_s) {
-                    out.push(AccelSample { t_s: t, ..s });
-                }
-            }
-            out
-        }
+        Variant::Resampled100Hz => resample(&raw, 100.0),
+        Variant::Resampled50Hz => resample(&raw, 50.0),
+        Variant::Jittered => jitter_and_drop(raw),
+        Variant::Jittered50Hz => jitter_and_drop(resample(&raw, 50.0)),
+        Variant::Bursts => drop_bursts(raw),
     }
 }
 
@@ -259,13 +324,15 @@ fn summary(s: &[Score]) -> (f64, f64, f64, f64) {
     (median(abs), worst, median(f1), mean_f1)
 }
 
+const NV: usize = Variant::ALL.len();
+
 struct Row {
     trace: OxfordTrace,
     rate_hz: f64,
     /// [variant][detector]
-    scores: [[Score; 2]; 3],
+    scores: [[Score; 2]; NV],
     /// Against the alternation-checked reference, [variant][detector].
-    checked: [[Score; 2]; 3],
+    checked: [[Score; 2]; NV],
     /// Reference strikes dropped / inserted by the alternation check.
     fixes: (usize, usize),
 }
@@ -415,8 +482,8 @@ pub fn run(dir: &Path) -> Result<String, String> {
     let mut rows = Vec::new();
     for p in &paths {
         let trace = read_oxford_trace(p).map_err(|e| format!("{}: {e}", p.display()))?;
-        let mut scores = [[None; 2]; 3];
-        let mut checked = [[None; 2]; 3];
+        let mut scores = [[None; 2]; NV];
+        let mut checked = [[None; 2]; NV];
         let (clean_ref, dropped, inserted) = alternation_checked(&strikes_by_foot(p)?);
         for (vi, v) in Variant::ALL.iter().enumerate() {
             let s = samples(&trace, *v);
@@ -448,19 +515,17 @@ pub fn run(dir: &Path) -> Result<String, String> {
         rows.len()
     );
     let _ = writeln!(out, "Per trace, native rate:\n");
-    let _ = writeln!(out, "| trace | Hz | reference | AsPublished steps | AsPublished error | AsPublished F1 | default steps | default error | default F1 | default lag s | default @50 Hz error / F1 | default jittered error / F1 | alternation check: reference strikes dropped / inserted | default vs checked reference: error / F1 |");
-    let _ = writeln!(
-        out,
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-    );
+    let _ = writeln!(out, "| trace | Hz | reference | AsPublished steps | AsPublished error | AsPublished F1 | default steps | default error | default F1 | default lag s | default error @100 Hz / @50 Hz / jittered / 50 Hz jittered / bursts | alternation check: reference strikes dropped / inserted | default vs checked reference: error / F1 |");
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for r in &rows {
         let [p, d] = r.scores[0];
-        let d50 = r.scores[1][1];
-        let dj = r.scores[2][1];
         let db = r.checked[0][1];
+        let others: Vec<String> = (1..NV)
+            .map(|v| format!("{:+.1} %", r.scores[v][1].count_error_pct))
+            .collect();
         let _ = writeln!(
             out,
-            "| {} | {:.0} | {} | {} | {:+.1} % | {:.3} | {} | {:+.1} % | {:.3} | {:+.3} | {:+.1} % / {:.3} | {:+.1} % / {:.3} | {} / {} | {:+.1} % / {:.3} |",
+            "| {} | {:.0} | {} | {} | {:+.1} % | {:.3} | {} | {:+.1} % | {:.3} | {:+.3} | {} | {} / {} | {:+.1} % / {:.3} |",
             r.trace.name,
             r.rate_hz,
             p.reference,
@@ -471,10 +536,7 @@ pub fn run(dir: &Path) -> Result<String, String> {
             d.count_error_pct,
             d.f1,
             d.lag_s,
-            d50.count_error_pct,
-            d50.f1,
-            dj.count_error_pct,
-            dj.f1,
+            others.join(" / "),
             r.fixes.0,
             r.fixes.1,
             db.count_error_pct,

@@ -4,6 +4,7 @@ mod activity;
 mod demo;
 mod eval_foot;
 mod eval_pace;
+mod eval_pace_device;
 mod eval_pdr;
 mod eval_steplength;
 mod eval_steps;
@@ -11,8 +12,10 @@ mod foot;
 mod odometry;
 mod placement;
 mod placement_mlp;
+mod rejected;
 mod replay;
 mod report;
+mod steps;
 mod train_zupt;
 
 use std::path::PathBuf;
@@ -29,6 +32,12 @@ USAGE:
       summary and write a report with SVG plots (default DIR: report).
   stridekit pace FILE.(fit|tcx|gpx|csv) [--mode default|published]
       Replay a real activity file; print per-epoch estimates as CSV on stdout.
+      Samples the tracker rejects are skipped and counted by reason (stderr).
+  stridekit steps FILE|DIR [--out steps.csv]
+      Replay a phone accelerometer recording (an Oxford Step Counter trace folder or
+      its accelerometer.csv) through the step detector; write one row per step
+      (t_s on the recording's clock, step number, cadence in steps/min, interval).
+      Rejected samples are skipped and counted by reason (stderr).
   stridekit eval pace [--data DIR] [--seeds N] [--set NAME=VALUE ...]
       Speed RMSE of raw GNSS, GNSS EMA, AsPublished and default on N simulated runs
       (default 10) and on the real runs in DIR (default: ../shared/data/pace/original)
@@ -37,7 +46,8 @@ USAGE:
   stridekit eval steps [--data DIR] [--sensitivity]
       Step counting of the AsPublished and default detectors on the Oxford Step
       Counter traces in DIR (default: ../shared/data/steps/oxford): count error and
-      step-event F1 per trace and per placement, also at 50 Hz and with jitter.
+      step-event F1 per trace and per placement, also at 100 and 50 Hz, with
+      jittered timestamps and 10 % dropped (native and 50 Hz) and with dropped bursts.
       --sensitivity adds parameter sensitivity and a leave-one-user-out check.
   stridekit eval pdr [--seeds N]
       Pedestrian dead reckoning on the phone simulator, every placement: step count,
@@ -100,6 +110,31 @@ fn flag(args: &[String], name: &str) -> Option<String> {
         .and_then(|i| args.get(i + 1).cloned())
 }
 
+/// The first argument that is not one of `valued` (flags taking a value, skipped
+/// with it) or `bare` flags, as an error message; `None` when all are known.
+fn unknown_flags(args: &[String], valued: &[&str], bare: &[&str]) -> Option<String> {
+    let mut i = 0;
+    while i < args.len() {
+        let a = args[i].as_str();
+        if valued.contains(&a) {
+            if args.get(i + 1).is_none() {
+                return Some(format!("{a} needs a value"));
+            }
+            i += 2;
+        } else if bare.contains(&a) {
+            i += 1;
+        } else {
+            let mut known: Vec<&str> = valued.to_vec();
+            known.extend_from_slice(bare);
+            return Some(format!(
+                "unknown argument {a} (known: {})",
+                known.join(", ")
+            ));
+        }
+    }
+    None
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
@@ -111,15 +146,30 @@ fn main() -> ExitCode {
             demo::run(&PathBuf::from(out), seed)
         }
         Some("pace") => match args.get(1) {
-            Some(file) => {
-                let config = match flag(&args, "--mode").as_deref() {
-                    None | Some("default") => Ok(PaceConfig::default()),
-                    Some("published") => Ok(PaceConfig::as_published()),
-                    Some(m) => Err(format!("unknown mode {m} (default|published)")),
-                };
-                config.and_then(|c| replay::run(&PathBuf::from(file), c))
-            }
+            Some(file) => match unknown_flags(&args[2..], &["--mode"], &[]) {
+                Some(e) => Err(e),
+                None => {
+                    let config = match flag(&args, "--mode").as_deref() {
+                        None | Some("default") => Ok(PaceConfig::default()),
+                        Some("published") => Ok(PaceConfig::as_published()),
+                        Some(m) => Err(format!("unknown mode {m} (default|published)")),
+                    };
+                    config.and_then(|c| replay::run(&PathBuf::from(file), c))
+                }
+            },
             None => Err("pace needs a FILE".into()),
+        },
+        Some("steps") => match args.get(1) {
+            Some(file) if !file.starts_with("--") => {
+                match unknown_flags(&args[2..], &["--out"], &[]) {
+                    Some(e) => Err(e),
+                    None => steps::run(&steps::StepsArgs {
+                        file: PathBuf::from(file),
+                        out: flag(&args, "--out").map(PathBuf::from),
+                    }),
+                }
+            }
+            _ => Err("steps needs a FILE (an Oxford trace folder or accelerometer.csv)".into()),
         },
         Some("eval") if args.get(1).map(String::as_str) == Some("pace") => {
             let seeds = flag(&args, "--seeds")

@@ -1,5 +1,7 @@
 //! `stridekit pace FILE`: replay a real activity file and print one CSV line per
-//! GNSS epoch (and per pedometer-only update during outages).
+//! GNSS epoch (and per pedometer-only update during outages). Samples the tracker
+//! rejects (duplicate or reversed timestamps, NaN, out of range) are skipped and
+//! counted by reason; the counts go to stderr with the summary.
 
 use std::io::Write as _;
 use std::path::Path;
@@ -7,6 +9,7 @@ use std::path::Path;
 use stridekit_core::{PaceConfig, PaceSample, PaceTracker};
 
 use crate::activity::prepare;
+use crate::rejected::Rejected;
 
 pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
     let activity =
@@ -20,16 +23,12 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
     };
     w(&mut out, "t_s,t_unix_s,speed_mps,pace_s_per_km,speed_std_mps,cadence_spm,step_length_m,gnss_weight,distance_m,source\n".into())?;
     let opt = |v: Option<f64>| v.map(|v| format!("{v:.3}")).unwrap_or_default();
-    let mut rejected = 0;
+    let mut rejected = Rejected::default();
     let mut last_t = f64::NEG_INFINITY;
     for s in &p.samples {
-        match tracker.push(s) {
-            Ok(_) => {}
-            Err(e) => {
-                rejected += 1;
-                eprintln!("rejected sample at t = {:.1} s: {e}", s.t_s());
-                continue;
-            }
+        if let Err(e) = tracker.push(s) {
+            rejected.pace(&e);
+            continue;
         }
         let e = tracker.estimate();
         let emit =
@@ -60,10 +59,11 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
         "{}: {} samples, {} rejected, distance {:.0} m, {} GNSS fixes, step data: {}",
         p.name,
         p.samples.len(),
-        rejected,
+        rejected.total(),
         e.distance_m,
         p.track.len(),
         if p.has_steps { "yes" } else { "no" }
     );
+    eprint!("{}", rejected.report());
     Ok(())
 }

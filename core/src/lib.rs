@@ -24,6 +24,6 @@ pub mod stepdetect;
 pub mod steplength;
 
 pub use pace::{
-    BatchOutcome, GnssFix, PaceConfig, PaceError, PaceEstimate, PaceMode, PaceSample, PaceSource,
-    PaceTracker, Rejection, StepSample,
+    BatchOutcome, GnssFix, PaceCalibration, PaceConfig, PaceError, PaceEstimate, PaceMode,
+    PaceSample, PaceSource, PaceTracker, Rejection, StepSample,
 };

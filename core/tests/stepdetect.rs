@@ -146,6 +146,64 @@ fn walking_and_running_any_rate_count_within_one_in_a_hundred() {
     }
 }
 
+/// Drops 10 % of the samples, in bursts of 0.05–1 s (a busy phone), and jitters the
+/// rest by a Gaussian of `jitter` sample spacings without re-sorting them: samples
+/// whose time is not after the previous one are rejected by the detector and skipped.
+fn degrade(samples: &[AccelSample], rate_hz: f64, jitter: f64, seed: u64) -> Vec<AccelSample> {
+    let mut rng = Rng(seed);
+    let mut out = Vec::with_capacity(samples.len());
+    let mut skip_until = f64::NEG_INFINITY;
+    let mut dropped_s = 0.0;
+    let total_s = samples.last().map_or(0.0, |s| s.t_s);
+    for s in samples {
+        if s.t_s < skip_until {
+            continue;
+        }
+        // Start bursts until 10 % of the time is gone (mean burst 0.5 s).
+        if dropped_s < 0.1 * total_s && rng.next() < 0.2 / rate_hz {
+            let len = 0.05 + 0.95 * rng.next();
+            skip_until = s.t_s + len;
+            dropped_s += len;
+            continue;
+        }
+        out.push(AccelSample {
+            t_s: s.t_s + jitter * rng.gauss() / rate_hz,
+            ..*s
+        });
+    }
+    out
+}
+
+#[test]
+fn dropped_bursts_and_jitter_keep_the_count() {
+    for (name, gait) in [("walk", WALK), ("run", RUN)] {
+        for rate in [50.0, 100.0, 200.0, 400.0, 500.0] {
+            let (s, truth) = gait_trace(gait, rate, 0.0, 110.0, 0x77 + rate as u64);
+            let s = degrade(&s, rate, 0.5, 0x99 + rate as u64);
+            let mut d = StepDetector::new(StepDetectorConfig::default()).unwrap();
+            let out = d.push_batch(&s);
+            for r in &out.rejected {
+                assert!(
+                    matches!(
+                        r.error,
+                        StepDetectError::Input(InputError::TimeNotIncreasing { .. })
+                    ),
+                    "{:?}",
+                    r.error
+                );
+            }
+            let got = out.steps.len();
+            // Within 4 %: where bursts crowd (30 % of 5 s lost) the cadence can lock
+            // at half for a few seconds until the autocorrelation window is clean.
+            let tol = (truth / 25).max(2);
+            assert!(
+                got.abs_diff(truth) <= tol,
+                "{name} at {rate} Hz with bursts dropped and jitter: {got} steps, truth {truth}"
+            );
+        }
+    }
+}
+
 #[test]
 fn step_events_carry_features() {
     let (s, _) = gait_trace(WALK, 100.0, 0.0, 30.0, 7);

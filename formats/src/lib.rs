@@ -32,7 +32,8 @@ pub use crate::foot::{list_foot_trials, read_foot_csv, FootRecording};
 pub use crate::gpx::read_gpx;
 pub use crate::inertial::{read_inertial, read_inertial_dir, InertialRecording, InertialSample};
 pub use crate::oxford::{
-    list_oxford_traces, read_oxford_trace, OxfordAccel, OxfordPosition, OxfordTrace,
+    list_oxford_traces, read_oxford_accel_raw, read_oxford_trace, OxfordAccel, OxfordPosition,
+    OxfordTrace,
 };
 pub use crate::record::{Activity, Record};
 pub use crate::ridi::{parse_ridi_csv, ridi_placement};

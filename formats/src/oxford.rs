@@ -221,6 +221,36 @@ pub fn read_oxford_trace(dir: &Path) -> Result<OxfordTrace, FormatError> {
     })
 }
 
+/// Every row of an Oxford-format `accelerometer.csv` (no header: timestamp ns, accuracy
+/// flag, ax, ay, az in m/s²) in file order, as recorded: unlike [`read_oxford_trace`],
+/// rows with non-finite values or timestamps that repeat or go backwards are kept, so
+/// a replay can skip and count them. A row that is not five numbers is an error.
+pub fn read_oxford_accel_raw(path: &Path) -> Result<Vec<OxfordAccel>, FormatError> {
+    let text = std::fs::read_to_string(path)?;
+    let file = "accelerometer.csv";
+    let mut out = Vec::with_capacity(text.len() / 40);
+    for (i, line) in text.lines().enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let mut it = line.split(',');
+        let t_ns: i64 = number(field(&mut it, file, i + 1)?, file, i + 1)?;
+        let _accuracy = field(&mut it, file, i + 1)?;
+        let mut a = [0.0f64; 3];
+        for v in &mut a {
+            *v = number(field(&mut it, file, i + 1)?, file, i + 1)?;
+        }
+        out.push(OxfordAccel {
+            t_s: t_ns as f64 * 1e-9,
+            accel_mps2: a,
+        });
+    }
+    if out.is_empty() {
+        return Err(FormatError::Empty);
+    }
+    Ok(out)
+}
+
 /// Trace folders under `root` (those holding an `accelerometer.csv`), sorted by name.
 pub fn list_oxford_traces(root: &Path) -> Result<Vec<PathBuf>, FormatError> {
     let mut out: Vec<PathBuf> = std::fs::read_dir(root)?

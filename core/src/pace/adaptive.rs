@@ -124,6 +124,16 @@ const INITIAL_SPEED_SIGMA: f64 = 3.0;
 /// Stationary contradicted by GNSS this many fixes in a row: step data is distrusted.
 const CONTRADICTIONS_TO_DISTRUST: u32 = 5;
 
+/// Smallest 1-σ of an imported step length, metres, and its relative change between
+/// sessions (added in quadrature).
+const CALIBRATION_MIN_SIGMA_M: f64 = 0.01;
+const CALIBRATION_DRIFT: f64 = 0.02;
+/// 1-σ of an imported slope, m per (step/s).
+const CALIBRATED_SLOPE_SIGMA: f64 = 0.15;
+
+/// Steps in accepted path windows before the session mean is exported (≈ 3 min).
+const SESSION_MIN_STEPS: f64 = 500.0;
+
 /// What an update may teach the step-length line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Learn {
@@ -211,6 +221,12 @@ pub struct AdaptiveFilter {
     /// Speed-information gained from GNSS and from the pedometer at the last epoch.
     info_gnss: f64,
     info_ped: f64,
+    /// Cadence × step length from the pedometer alone, m/s (NaN before any step data):
+    /// the output until GNSS gives a velocity (no GNSS at all, or before the second fix).
+    ped_speed: f64,
+    /// Step-weighted sums over the accepted path windows of this session: steps,
+    /// steps × cadence, steps × step length (the calibration's level and cadence).
+    session: [f64; 3],
     out: PaceEstimate,
 }
 
@@ -246,7 +262,14 @@ impl AdaptiveFilter {
             gated_since_t_s: f64::NAN,
             info_gnss: 0.0,
             info_ped: 0.0,
-            out: PaceEstimate::initial(config.initial_step_length_m),
+            ped_speed: f64::NAN,
+            session: [0.0; 3],
+            out: PaceEstimate::initial(
+                config
+                    .calibration
+                    .map(|c| c.step_length_m)
+                    .or(config.initial_step_length_m),
+            ),
         };
         let (l0, sl) = match config.initial_step_length_m {
             Some(l) => (l, 0.1),
@@ -256,6 +279,16 @@ impl AdaptiveFilter {
         f.x[LB] = SLOPE_PRIOR;
         f.p[(LA, LA)] = sl * sl;
         f.p[(LB, LB)] = SLOPE_PRIOR_SIGMA * SLOPE_PRIOR_SIGMA;
+        if let Some(c) = config.calibration {
+            // The line of an earlier session, read at its own cadence; a little less
+            // certain than when exported (shoes, terrain, fatigue change between runs).
+            f.x[LA] = c.step_length_m;
+            f.x[LB] = c.slope_m_per_spm * 60.0;
+            f.cadence_ref = c.cadence_spm / 60.0;
+            let sa = c.step_length_std_m.max(CALIBRATION_MIN_SIGMA_M);
+            f.p[(LA, LA)] = sa * sa + (CALIBRATION_DRIFT * c.step_length_m).powi(2);
+            f.p[(LB, LB)] = CALIBRATED_SLOPE_SIGMA * CALIBRATED_SLOPE_SIGMA;
+        }
         f
     }
 
@@ -685,6 +718,13 @@ impl AdaptiveFilter {
             return;
         }
         self.scalar_update(&h, y, r, Learn::LevelAndSlope);
+        // The session's mean line for the calibration record: every accepted window,
+        // weighted by its steps.
+        let l_obs = path / steps;
+        let s = &mut self.session;
+        s[0] += steps;
+        s[1] += steps * c_mean;
+        s[2] += steps * l_obs;
     }
 
     /// Move the reference cadence c̄ towards `c`, re-expressing `a` so that the
@@ -729,6 +769,7 @@ impl AdaptiveFilter {
         let was_stationary = self.stationary;
         self.stationary = c <= 0.0;
         if self.stationary {
+            self.ped_speed = 0.0;
             self.zupt();
             return;
         }
@@ -740,6 +781,7 @@ impl AdaptiveFilter {
             .filter(|&v| v > 0.0)
             .unwrap_or(c);
         self.track_cadence_ref(c_slow, dt.min(10.0));
+        self.ped_speed = c * self.step_length_at(c_slow);
         let mut s = self.speed();
         if s < 0.3 {
             if !(was_stationary && self.last_dir.0.is_finite()) {
@@ -777,15 +819,22 @@ impl AdaptiveFilter {
     /// Integrate distance up to the filter time and refresh the output.
     fn publish(&mut self, ctx: &Context, t_out: f64) {
         let no_steps = !ctx.steps.has_data() || self.steps_distrusted;
-        let sd = self.speed_var().sqrt();
-        let raw = self.speed();
+        let ped_only = self.pedometer_only_output(ctx);
+        let (raw, sd) = if ped_only {
+            // σ of cadence × step length: the step length's and the gait's.
+            let l = self.x[LA].max(0.2);
+            let rel = (self.p[(LA, LA)].max(0.0).sqrt() / l).hypot(self.params.pedometer_rel_sigma);
+            (self.ped_speed, rel * self.ped_speed)
+        } else {
+            (self.speed(), self.speed_var().sqrt())
+        };
         let still = if no_steps {
             self.gnss_still
         } else {
             self.stationary
         };
         let speed = if still { 0.0 } else { raw };
-        if raw > 1.0 {
+        if raw > 1.0 && !ped_only {
             self.last_dir = (self.x[VE] / raw, self.x[VN] / raw);
         }
         let prev_t = self.out.t_s;
@@ -797,7 +846,9 @@ impl AdaptiveFilter {
             self.distance_m += 0.5 * (self.out.speed_mps + speed) * dt;
         }
         let total = self.info_gnss + self.info_ped;
-        let w = if total > 0.0 {
+        let w = if ped_only {
+            0.0
+        } else if total > 0.0 {
             self.info_gnss / total
         } else if t_out - self.last_fix_t_s > 2.0 {
             0.0
@@ -841,8 +892,11 @@ impl AdaptiveFilter {
             self.init(fix);
             self.last_fix_t_s = fix.t_s;
             self.prev_fix = (fix.east_m, fix.north_m, fix.t_s);
-            self.publish(ctx, fix.t_s);
-            self.out.source = PaceSource::Initializing;
+            let t_out = fix.t_s.max(self.out.t_s);
+            self.publish(ctx, t_out);
+            if !self.pedometer_only_output(ctx) {
+                self.out.source = PaceSource::Initializing;
+            }
             return self.out;
         }
         let gap = fix.t_s - self.last_fix_t_s;
@@ -907,7 +961,11 @@ impl AdaptiveFilter {
                 self.contradictions = 0;
             }
         }
-        if !self.initialized || t_s <= self.t_s {
+        if !self.initialized {
+            self.pedometer_only(t_s, ctx);
+            return;
+        }
+        if t_s <= self.t_s {
             return;
         }
         // Between fixes the pedometer carries the state (at most once a second); at a
@@ -927,6 +985,66 @@ impl AdaptiveFilter {
         self.out
     }
 
+    /// Whether the output comes from the pedometer alone: step data flows and GNSS has
+    /// not given a velocity yet (no fix, or a single one).
+    fn pedometer_only_output(&self, ctx: &Context) -> bool {
+        ctx.steps.has_data()
+            && !self.steps_distrusted
+            && self.ped_speed.is_finite()
+            && !self.last_dir.0.is_finite()
+            && self.speed() < 0.3
+    }
+
+    /// Before any GNSS fix: speed is cadence × step length (the calibrated, configured
+    /// or prior line read at the cadence), at most once a second; distance grows.
+    fn pedometer_only(&mut self, t: f64, ctx: &Context) {
+        if t - self.last_ped_t_s < PED_UPDATE_INTERVAL_S || t <= self.out.t_s {
+            return;
+        }
+        let Some((c, _)) = ctx.steps.smoothed_cadence(t, ctx.config.stationary_after_s) else {
+            return;
+        };
+        let dt = t - self.last_ped_t_s;
+        self.last_ped_t_s = t;
+        self.stationary = c <= 0.0;
+        if self.stationary {
+            self.ped_speed = 0.0;
+        } else {
+            let c_slow = ctx
+                .steps
+                .cadence_at(t, SLOW_CADENCE_WINDOW_S, ctx.config.stationary_after_s)
+                .filter(|&v| v > 0.0)
+                .unwrap_or(c);
+            self.track_cadence_ref(c_slow, dt.min(10.0));
+            self.ped_speed = c * self.step_length_at(c_slow);
+        }
+        self.publish(ctx, t);
+    }
+
+    /// The learned step-length line, once learned (1-σ below 8 cm). Its level is the
+    /// session's mean (step length over all trusted GNSS windows, at their mean
+    /// cadence): the value at the end of a run follows its last minutes (a finish,
+    /// a cool-down), the mean is what the next session should start from. Without
+    /// such windows (a calibration imported, no GNSS), the filter's line is exported.
+    pub fn calibration(&self) -> Option<super::PaceCalibration> {
+        if !(self.step_length_learned() && self.cadence_ref.is_finite()) {
+            return None;
+        }
+        let [n, nc, nl] = self.session;
+        let (level, cadence) = if n >= SESSION_MIN_STEPS {
+            (nl / n, nc / n)
+        } else {
+            (self.x[LA], self.cadence_ref)
+        };
+        let c = super::PaceCalibration {
+            step_length_m: level.clamp(0.2, 3.0),
+            cadence_spm: (cadence * 60.0).clamp(30.0, 300.0),
+            slope_m_per_spm: (self.x[LB] / 60.0).clamp(-0.05, 0.05),
+            step_length_std_m: self.p[(LA, LA)].max(0.0).sqrt().min(1.0),
+        };
+        c.validate().is_ok().then_some(c)
+    }
+
     pub fn write(&self, w: &mut Writer) {
         w.f64s(self.x.as_slice());
         w.f64s(self.p.as_slice());
@@ -942,7 +1060,9 @@ impl AdaptiveFilter {
             self.distance_m,
             self.info_gnss,
             self.info_ped,
+            self.ped_speed,
         ]);
+        w.f64s(&self.session);
         w.bool(self.stationary);
         w.u64(self.contradictions as u64);
         w.bool(self.steps_distrusted);
@@ -974,8 +1094,8 @@ impl AdaptiveFilter {
         r.f64s(f.x.as_mut_slice())?;
         r.f64s(f.p.as_mut_slice())?;
         f.initialized = r.bool()?;
-        // Times start as NaN or −∞ ("none yet"); the cadence reference is NaN until
-        // moving.
+        // Times start as NaN or −∞ ("none yet"); the cadence reference and the
+        // pedometer speed are NaN until moving.
         f.t_s = r.f64_or_nan()?;
         f.last_fix_t_s = r.f64_or_nan()?;
         f.last_ped_t_s = r.time_or_marker()?;
@@ -986,6 +1106,8 @@ impl AdaptiveFilter {
         f.distance_m = r.f64()?;
         f.info_gnss = r.f64()?;
         f.info_ped = r.f64()?;
+        f.ped_speed = r.f64_or_nan()?;
+        r.f64s(&mut f.session)?;
         f.stationary = r.bool()?;
         f.contradictions = r.len(u32::MAX as usize)? as u32;
         f.steps_distrusted = r.bool()?;

@@ -80,6 +80,57 @@ impl Default for AdaptiveParams {
     }
 }
 
+/// A runner's learned step-length line, carried between sessions.
+///
+/// Export it with [`PaceTracker::calibration`](super::PaceTracker::calibration) at the
+/// end of a run with good GNSS (it is `None` until the step length is learned), store
+/// it with the user's profile, and pass it as [`PaceConfig::calibration`] next time: the
+/// tracker then gives calibrated pedometer speed from the first steps, with or without
+/// GNSS (treadmill, indoor track, a watch without GNSS), and keeps refining it when
+/// GNSS is good. It is part of the configuration, so snapshots keep it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PaceCalibration {
+    /// Step length at `cadence_spm`, metres.
+    pub step_length_m: f64,
+    /// Cadence at which `step_length_m` was learned, steps/min (both feet).
+    pub cadence_spm: f64,
+    /// How step length grows with cadence, metres per step/min.
+    pub slope_m_per_spm: f64,
+    /// 1-σ of `step_length_m` when it was exported, metres.
+    pub step_length_std_m: f64,
+}
+
+impl PaceCalibration {
+    /// Step length at a cadence (steps/min) on the calibrated line, metres (clamped
+    /// to 0.2..=3 m).
+    pub fn step_length_at(&self, cadence_spm: f64) -> f64 {
+        (self.step_length_m + self.slope_m_per_spm * (cadence_spm - self.cadence_spm))
+            .clamp(0.2, 3.0)
+    }
+
+    /// Check the fields (physical ranges).
+    pub fn validate(&self) -> Result<(), PaceError> {
+        let bad = |reason: &str| {
+            Err(PaceError::InvalidConfig {
+                reason: format!("calibration: {reason}"),
+            })
+        };
+        if !(self.step_length_m.is_finite() && (0.2..=3.0).contains(&self.step_length_m)) {
+            return bad("step_length_m must be in 0.2..=3.0 m");
+        }
+        if !(self.cadence_spm.is_finite() && (30.0..=300.0).contains(&self.cadence_spm)) {
+            return bad("cadence_spm must be in 30..=300 steps/min");
+        }
+        if !(self.slope_m_per_spm.is_finite() && self.slope_m_per_spm.abs() <= 0.05) {
+            return bad("slope_m_per_spm must be within ±0.05 m per step/min");
+        }
+        if !(self.step_length_std_m.is_finite() && (0.0..=1.0).contains(&self.step_length_std_m)) {
+            return bad("step_length_std_m must be in 0..=1 m");
+        }
+        Ok(())
+    }
+}
+
 /// Configuration of a [`PaceTracker`](super::PaceTracker).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PaceConfig {
@@ -89,6 +140,9 @@ pub struct PaceConfig {
     pub initial_step_length_m: Option<f64>,
     /// Without a step for this long while step data flows, the runner is stationary, seconds.
     pub stationary_after_s: f64,
+    /// A step-length line learned in an earlier session (takes precedence over
+    /// `initial_step_length_m`); `None`: learn from GNSS, starting at the prior.
+    pub calibration: Option<PaceCalibration>,
     pub published: PublishedParams,
     pub adaptive: AdaptiveParams,
 }
@@ -99,6 +153,7 @@ impl Default for PaceConfig {
             mode: PaceMode::Adaptive,
             initial_step_length_m: None,
             stationary_after_s: 2.0,
+            calibration: None,
             published: PublishedParams::default(),
             adaptive: AdaptiveParams::default(),
         }
@@ -195,6 +250,9 @@ impl PaceConfig {
         }
         if !(p.ema_alpha > 0.0 && p.ema_alpha <= 1.0) {
             return bad("published.ema_alpha must be in (0, 1]");
+        }
+        if let Some(c) = &self.calibration {
+            c.validate()?;
         }
         if let Some(l) = self.initial_step_length_m {
             if !(l.is_finite() && (0.2..=3.0).contains(&l)) {

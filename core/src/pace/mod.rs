@@ -18,7 +18,7 @@ pub mod published;
 pub mod steps;
 pub mod types;
 
-pub use config::{AdaptiveParams, PaceConfig, PaceMode, PublishedParams};
+pub use config::{AdaptiveParams, PaceCalibration, PaceConfig, PaceMode, PublishedParams};
 pub use error::{PaceError, Stream};
 pub use types::{GnssFix, PaceEstimate, PaceSample, PaceSource, StepSample, MIN_PACE_SPEED_MPS};
 
@@ -35,8 +35,9 @@ pub const MAX_INTEGRATION_GAP_S: f64 = 30.0;
 /// Snapshot engine kind byte for the pace tracker.
 const SNAPSHOT_KIND: u8 = 1;
 /// Snapshot format version written by this build.
-/// Version 2: the input layer's time state per stream.
-const SNAPSHOT_VERSION: u16 = 2;
+/// Version 3: the input layer's time state per stream, the pedometer speed and the
+/// session's calibration sums.
+const SNAPSHOT_VERSION: u16 = 3;
 
 /// A GNSS fix after validation, in the local frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -128,6 +129,16 @@ impl PaceTracker {
     /// Steps detected from raw accelerometer input so far.
     pub fn detected_steps(&self) -> u64 {
         self.detector.as_ref().map_or(0, |d| d.step_count())
+    }
+
+    /// The step-length line learned so far, to carry to the next session (see
+    /// [`PaceCalibration`]); `None` until the step length is learned from good GNSS
+    /// (or given), and always `None` in [`PaceMode::AsPublished`].
+    pub fn calibration(&self) -> Option<PaceCalibration> {
+        match &self.filter {
+            Filter::Published(_) => None,
+            Filter::Adaptive(f) => f.calibration(),
+        }
     }
 
     /// Counter resets seen in the step stream.
@@ -310,7 +321,15 @@ impl PaceTracker {
 
     /// A tracker continuing exactly where the snapshot was taken.
     pub fn restore(bytes: &[u8]) -> Result<Self, PaceError> {
-        let (mut r, _version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let (mut r, version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        if version < SNAPSHOT_VERSION {
+            // Version 2 added the calibration and the pedometer-only speed.
+            return Err(SnapshotError::UnsupportedVersion {
+                found: version,
+                supported: SNAPSHOT_VERSION,
+            }
+            .into());
+        }
         let config = read_config(&mut r)?;
         config
             .validate()
@@ -360,6 +379,18 @@ fn write_config(w: &mut Writer, c: &PaceConfig) {
     });
     w.opt_f64(c.initial_step_length_m);
     w.f64(c.stationary_after_s);
+    match &c.calibration {
+        Some(k) => {
+            w.bool(true);
+            w.f64s(&[
+                k.step_length_m,
+                k.cadence_spm,
+                k.slope_m_per_spm,
+                k.step_length_std_m,
+            ]);
+        }
+        None => w.bool(false),
+    }
     let p = &c.published;
     w.u64(p.window_n as u64);
     w.u64(p.cadence_h as u64);
@@ -386,6 +417,18 @@ fn read_config(r: &mut Reader) -> Result<PaceConfig, SnapshotError> {
     };
     let initial_step_length_m = r.opt_f64()?;
     let stationary_after_s = r.f64()?;
+    let calibration = if r.bool()? {
+        let mut k = [0.0; 4];
+        r.f64s(&mut k)?;
+        Some(PaceCalibration {
+            step_length_m: k[0],
+            cadence_spm: k[1],
+            slope_m_per_spm: k[2],
+            step_length_std_m: k[3],
+        })
+    } else {
+        None
+    };
     let window_n = r.len(published::MAX_WINDOW)?;
     let cadence_h = r.len(published::MAX_WINDOW)?;
     let mut p = [0.0; 3];
@@ -396,6 +439,7 @@ fn read_config(r: &mut Reader) -> Result<PaceConfig, SnapshotError> {
         mode,
         initial_step_length_m,
         stationary_after_s,
+        calibration,
         published: PublishedParams {
             window_n,
             cadence_h,

@@ -121,7 +121,10 @@ impl PublishedFilter {
             gnss_only: false,
             window: Ring::new(),
             epochs: Ring::new(),
-            step_length_m: config.initial_step_length_m,
+            step_length_m: config
+                .calibration
+                .map(|c| c.step_length_m)
+                .or(config.initial_step_length_m),
             last_fix_t_s: None,
             last_update_t_s: None,
             distance_m: 0.0,

@@ -21,6 +21,7 @@
 
 mod error;
 mod event;
+mod gait;
 pub mod published;
 pub mod robust;
 
@@ -36,8 +37,9 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 /// Snapshot engine kind byte for the step detector.
 const SNAPSHOT_KIND: u8 = 3;
 /// Snapshot format version written by this build.
-/// Version 3: the time state of the input layer ([`TimeGuard`]) replaces the last time.
-const SNAPSHOT_VERSION: u16 = 3;
+/// Version 4: the time state of the input layer ([`TimeGuard`]) replaces the last
+/// time (version 3 added the autocorrelation state of the default detector).
+const SNAPSHOT_VERSION: u16 = 4;
 /// Steps waiting to be popped.
 const QUEUE: usize = 32;
 

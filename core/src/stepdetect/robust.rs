@@ -19,16 +19,22 @@
 //!    [`min_amplitude_mps2`, `max_amplitude_mps2`] and at least `relative_amplitude` ×
 //!    the typical recent step amplitude is a step *candidate* (vehicle vibration stays
 //!    below the floor; the secondary bump of a slow step stays below the relative bar).
-//! 4. **Bouts.** Candidates are buffered until a bout is confirmed by `confirm_steps`
-//!    consecutive candidates that look like gait:
+//! 4. **Bouts.** Candidates are buffered until a bout is confirmed. The step period
+//!    comes from the signal, not from the candidates: a running autocorrelation of x
+//!    over the human stride range (0.5–2.2 s, [`super::gait`]) gives the stride, and
+//!    the step is half of it unless the signal is anti-correlated at half the stride
+//!    (then the lag was one step of a slow symmetric walk). Extra candidates between
+//!    steps (secondary bumps, noise from jittered timestamps) therefore cannot change
+//!    the period; candidates closer than `refractory` × the period are merged into one
+//!    (the larger peak). A bout is confirmed by `confirm_steps` consecutive merged
+//!    candidates that look like gait:
+//!    - the autocorrelation at the stride ≥ `min_periodicity` (walking is periodic;
+//!      bumps and shaking are not), the step period inside [`min_bout_interval_s`,
+//!      `max_step_interval_s`];
 //!    - regular *strides*: each sum of two consecutive intervals within ±`regularity`
-//!      of their median (a phone on one side of the body sees left and right steps
+//!      of the stride (a phone on one side of the body sees left and right steps
 //!      differently — 0.45 s / 0.65 s in a front pocket — but strides are regular), and
-//!      each interval within ±50 % of half the stride;
-//!    - step period (half the stride) inside [`min_bout_interval_s`,
-//!      `max_step_interval_s`] (shaking is faster and irregular);
-//!    - normalised autocorrelation of x at the step or the stride period ≥
-//!      `min_periodicity` (walking is periodic; bumps and shaking are not);
+//!      each interval within ±50 % of the period;
 //!    - a period under `running_interval_s` (running cadence) needs a median amplitude
 //!      of at least `running_min_amplitude_mps2` (running shakes the body well over 1 g;
 //!      small peaks at that rate are double bumps of a slow walk);
@@ -52,7 +58,13 @@
 //!    longer than max(`max_step_interval_s`, 2.5 periods) or an autocorrelation at the
 //!    step/stride period below `min_periodicity` / 2 ends the bout (the next one must
 //!    be confirmed again). The period follows intervals within ±30 % of it quickly and
-//!    others barely.
+//!    others barely; when it has drifted to about half or twice the autocorrelation's
+//!    period (a run of missed or extra peaks) it is reset to that period.
+//! 6. **Dropped samples.** Input gaps up to [`MAX_INPUT_GAP_S`] (a busy phone drops
+//!    samples in bursts) are bridged by the grid's interpolation; when the next step of
+//!    a bout comes after such a gap, the steps of the gap are counted at the cadence
+//!    (the walker did not stop because the phone did). Longer gaps restart the
+//!    detector (the app was paused).
 //!
 //! Step features (duration, variance, max, min of the raw magnitude) are taken over
 //! the samples between the detection of the previous candidate and this one: one full
@@ -66,6 +78,7 @@ use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 use super::event::StepEvent;
+use super::gait::GaitPeriod;
 use super::{Moments, Sink};
 
 /// Grid rate of the internal resampling, Hz.
@@ -74,7 +87,7 @@ const GRID_DT_S: f64 = 1.0 / GRID_HZ;
 /// Grid samples kept for the autocorrelation (5.12 s).
 const HISTORY: usize = 256;
 /// Candidates buffered while a bout is not confirmed.
-const PENDING: usize = 8;
+const PENDING: usize = 16;
 /// Largest deviation of one step interval from half the stride when confirming
 /// (left/right asymmetry of a phone carried on one side).
 const ASYMMETRY: f64 = 0.5;
@@ -90,6 +103,37 @@ fn period_gain(interval_s: f64, period_s: f64) -> f64 {
     }
 }
 
+/// Two candidates closer than the refractory time are one step: the larger peak is
+/// its time and amplitude; the step's features span both.
+fn merge(a: &Pending, b: &Pending) -> Pending {
+    let (big, small) = if b.amplitude_mps2 > a.amplitude_mps2 {
+        (b, a)
+    } else {
+        (a, b)
+    };
+    let d = a.event.duration_s + b.event.duration_s;
+    Pending {
+        event: StepEvent {
+            t_s: big.event.t_s,
+            duration_s: if d.is_finite() {
+                d
+            } else {
+                big.event.duration_s
+            },
+            accel_variance_m2ps4: big.event.accel_variance_m2ps4,
+            accel_max_mps2: big.event.accel_max_mps2.max(small.event.accel_max_mps2),
+            accel_min_mps2: big.event.accel_min_mps2.min(small.event.accel_min_mps2),
+        },
+        impact: big.impact.max(small.impact),
+        amplitude_mps2: big.amplitude_mps2,
+    }
+}
+
+/// A bout period outside this ratio to the autocorrelation's step period has lost the
+/// cadence (about half or double it) and is reset.
+const PERIOD_LOCK_MIN: f64 = 0.7;
+const PERIOD_LOCK_MAX: f64 = 1.45;
+
 /// A bout that ended by losing its periodicity (not by silence) and is followed within
 /// this time by a bout at a cadence within ±30 % of it, with candidates arriving all
 /// through the gap (the phone kept moving), is one walk: the steps in the gap (a turn,
@@ -100,10 +144,15 @@ const FILL_MAX_STEPS: usize = 12;
 
 /// Weight of a new candidate in the typical step amplitude.
 const AMPLITUDE_GAIN: f64 = 0.2;
-/// Input gaps longer than this restart the detector (app paused), s.
-pub const MAX_INPUT_GAP_S: f64 = 0.5;
+/// Input gaps longer than this restart the detector (app paused), s. Shorter ones
+/// (samples dropped by a busy phone) are bridged: the grid interpolates across them
+/// and a bout that resumes at its cadence after the gap gets the steps of the gap.
+pub const MAX_INPUT_GAP_S: f64 = 2.0;
 /// Most grid points one sample can advance (MAX_INPUT_GAP_S on the grid, plus slack).
 const MAX_GRID_STEPS: usize = (MAX_INPUT_GAP_S * GRID_HZ) as usize + 2;
+/// A spacing between input samples longer than this is a gap in the data (samples
+/// dropped), s: steps may have been lost in it.
+const DATA_GAP_S: f64 = 0.1;
 /// Slow mean of the filtered magnitude, time constant, s.
 const MEAN_TAU_S: f64 = 1.0;
 /// RMS of x, time constant, s.
@@ -360,6 +409,10 @@ pub(crate) struct RobustDetector {
     /// Last step and period of the bout that ended most recently (NaN if none).
     bout_end_t_s: f64,
     bout_end_period_s: f64,
+    /// End of the most recent gap in the input data (NaN if none).
+    data_gap_end_t_s: f64,
+    /// Step period from the signal's autocorrelation.
+    gait: GaitPeriod,
 }
 
 impl RobustDetector {
@@ -393,6 +446,8 @@ impl RobustDetector {
             amplitude_ref_mps2: 0.0,
             bout_end_t_s: f64::NAN,
             bout_end_period_s: f64::NAN,
+            data_gap_end_t_s: f64::NAN,
+            gait: GaitPeriod::new(),
         }
     }
 
@@ -418,6 +473,9 @@ impl RobustDetector {
             return;
         }
         let dt = t_s - self.prev_t_s;
+        if dt > DATA_GAP_S {
+            self.data_gap_end_t_s = t_s;
+        }
         let a = super::ema_gain(dt / self.tau_lp_s);
         self.lp1 += a * (mag - self.lp1);
         self.lp2 += a * (self.lp1 - self.lp2);
@@ -460,6 +518,7 @@ impl RobustDetector {
         let x = y - self.mean;
         self.ms += a_ms * (x * x - self.ms);
         self.xs.push(x);
+        self.gait.push(x);
         let delta = self
             .p
             .min_hysteresis_mps2
@@ -552,28 +611,61 @@ impl RobustDetector {
             self.bout_end_t_s = f64::NAN;
         }
         if self.in_bout {
+            // The bout's period follows the candidates; when it has drifted to twice or
+            // half the period of the signal itself (a run of missed or extra peaks), it
+            // is reset from the autocorrelation.
+            // Not right after dropped samples: the gap bridged by interpolation is in
+            // the correlation's window.
+            let clean = t_s - self.data_gap_end_t_s >= super::gait::ACF_TAU_S
+                || self.data_gap_end_t_s.is_nan();
+            let acf = self.gait.step_period(p.min_periodicity).filter(|_| clean);
+            if let Some((acf_period, _, _)) = acf {
+                let ratio = acf_period / self.period_s;
+                // A shorter period must itself be a correlated lag: half a slow step is
+                // anti-correlated (peak against valley) and is not taken.
+                let shorter_ok = self.gait.rho_at(acf_period) > 0.0;
+                if ratio > PERIOD_LOCK_MAX || (ratio < PERIOD_LOCK_MIN && shorter_ok) {
+                    self.period_s = acf_period;
+                }
+            }
             if interval < p.refractory * self.period_s {
                 return;
             }
             let gap_end = p.max_step_interval_s.max(2.5 * self.period_s);
-            let periodic = self.periodic(self.period_s, p.min_periodicity * 0.5);
-            if interval <= gap_end && periodic {
+            // Samples were dropped since the previous step (a busy phone): the walk
+            // went on through the gap, its steps are counted at the cadence.
+            let across_gap = self.data_gap_end_t_s > self.last_t_s
+                && interval <= MAX_INPUT_GAP_S + 2.5 * self.period_s;
+            // While a bridged gap is inside the correlation window (the interpolated
+            // stretch is not periodic, the walk may well be), steps that keep coming
+            // at the cadence continue the bout.
+            let on_cadence = (interval - self.period_s).abs() <= 0.3 * self.period_s;
+            let periodic = self.periodic(self.period_s, p.min_periodicity * 0.5)
+                || across_gap
+                || (on_cadence && t_s - self.data_gap_end_t_s < super::gait::ACF_TAU_S);
+            if (interval <= gap_end || across_gap) && periodic {
                 let ev = self.moments.event(t_s, interval);
                 self.moments = Moments::EMPTY;
                 let period = self.period_s;
-                if interval > 1.6 * period && interval < 2.4 * period {
-                    // One weak step was missed: fill it at the midpoint.
-                    let half = 0.5 * interval;
+                let n = (interval / period).round();
+                if (interval > 1.6 * period && interval < 2.4 * period) || (across_gap && n >= 2.0)
+                {
+                    // Missed steps (a weak one, or samples dropped): fill them evenly.
+                    let n = n.clamp(2.0, FILL_MAX_STEPS as f64 + 1.0) as usize;
+                    let step = interval / n as f64;
+                    let t0 = t_s - interval;
+                    for i in 1..n {
+                        out.push(StepEvent {
+                            t_s: t0 + i as f64 * step,
+                            duration_s: step,
+                            ..ev
+                        });
+                    }
                     out.push(StepEvent {
-                        t_s: t_s - half,
-                        duration_s: half,
+                        duration_s: step,
                         ..ev
                     });
-                    out.push(StepEvent {
-                        duration_s: half,
-                        ..ev
-                    });
-                    self.period_s += period_gain(half, period) * (half - period);
+                    self.period_s += period_gain(step, period) * (step - period);
                 } else {
                     out.push(ev);
                     self.period_s += period_gain(interval, period) * (interval - period);
@@ -614,65 +706,59 @@ impl RobustDetector {
     }
 
     /// Confirm a bout from the newest `confirm_steps` pending candidates.
+    ///
+    /// The step period comes from the autocorrelation of the signal (see
+    /// [`GaitPeriod`]), not from the candidates: secondary bumps or noise that add
+    /// candidates between steps do not change it. Candidates closer than
+    /// `refractory` × that period are one step (the larger is kept); the newest k that
+    /// remain must then be spaced like steps of that period.
     fn try_confirm(&mut self, out: &mut Sink<'_>) {
         let p = self.p;
         let k = p.confirm_steps;
         if self.pending.len() < k {
             return;
         }
+        let Some((period, _, _)) = self.gait.step_period(p.min_periodicity) else {
+            return;
+        };
+        if !(p.min_bout_interval_s..=p.max_step_interval_s).contains(&period) {
+            return;
+        }
+        let mut kept: Ring<Pending, PENDING> = Ring::new();
+        for c in self.pending.iter() {
+            match kept.newest_mut() {
+                Some(last) if c.event.t_s - last.event.t_s < p.refractory * period => {
+                    *last = merge(last, &c);
+                }
+                _ => kept.push(c),
+            }
+        }
+        if kept.len() < k {
+            return;
+        }
         // Intervals of the newest k candidates, oldest first.
         let mut iv = [0.0f64; PENDING];
         for (j, slot) in iv.iter_mut().enumerate().take(k - 1) {
-            let a = self
-                .pending
-                .back(k - 1 - j)
-                .map(|c| c.event.t_s)
-                .unwrap_or(0.0);
-            let b = self
-                .pending
-                .back(k - 2 - j)
-                .map(|c| c.event.t_s)
-                .unwrap_or(0.0);
+            let a = kept.back(k - 1 - j).map(|c| c.event.t_s).unwrap_or(0.0);
+            let b = kept.back(k - 2 - j).map(|c| c.event.t_s).unwrap_or(0.0);
             *slot = b - a;
         }
         let ivs = &iv[..k - 1];
         // Strides (two consecutive steps): left and right steps of a phone carried on
         // one side differ (0.45 s / 0.65 s in a front pocket), strides do not.
-        let mut strides = [0.0f64; PENDING];
-        let ns = ivs.len().saturating_sub(1).max(1);
-        for j in 0..ns {
-            strides[j] = if ivs.len() >= 2 {
-                ivs[j] + ivs[j + 1]
-            } else {
-                2.0 * ivs[0]
-            };
-        }
-        let st = &mut strides[..ns];
-        st.sort_by(f64::total_cmp);
-        let stride = st[ns / 2];
-        let period = 0.5 * stride;
-        if !(p.min_bout_interval_s..=p.max_step_interval_s).contains(&period) {
-            return;
-        }
-        if st
-            .iter()
-            .any(|&s| (s - stride).abs() > p.regularity * stride)
+        let stride = 2.0 * period;
+        if ivs
+            .windows(2)
+            .any(|w| (w[0] + w[1] - stride).abs() > p.regularity * stride)
         {
             return;
         }
         if ivs.iter().any(|&i| (i - period).abs() > ASYMMETRY * period) {
             return;
         }
-        if !self.periodic(period, p.min_periodicity) {
-            return;
-        }
         let mut amp = [0.0f64; PENDING];
         for (j, slot) in amp.iter_mut().enumerate().take(k) {
-            *slot = self
-                .pending
-                .back(j)
-                .map(|c| c.amplitude_mps2)
-                .unwrap_or(0.0);
+            *slot = kept.back(j).map(|c| c.amplitude_mps2).unwrap_or(0.0);
         }
         let amp = &mut amp[..k];
         amp.sort_by(f64::total_cmp);
@@ -682,13 +768,14 @@ impl RobustDetector {
         }
         let mut imp = [0.0f64; PENDING];
         for (j, slot) in imp.iter_mut().enumerate().take(k) {
-            *slot = self.pending.back(j).map(|c| c.impact).unwrap_or(0.0);
+            *slot = kept.back(j).map(|c| c.impact).unwrap_or(0.0);
         }
         let imp = &mut imp[..k];
         imp.sort_by(f64::total_cmp);
         if imp[k / 2] < p.min_impact_ratio {
             return;
         }
+        self.pending = kept;
         self.in_bout = true;
         self.period_s = period;
         // Only the newest k candidates were checked. Older ones waiting in the buffer
@@ -772,7 +859,9 @@ impl RobustDetector {
             self.amplitude_ref_mps2,
             self.bout_end_t_s,
             self.bout_end_period_s,
+            self.data_gap_end_t_s,
         ]);
+        self.gait.write(w);
     }
 
     pub(crate) fn read(r: &mut Reader, p: RobustStepParams) -> Result<Self, SnapshotError> {
@@ -843,13 +932,18 @@ impl RobustDetector {
         d.amplitude_ref_mps2 = r.f64_in(0.0, 2.0 * A, "step amplitude")?;
         d.bout_end_t_s = r.f64_or_nan()?;
         d.bout_end_period_s = r.f64_or_nan()?;
+        // NaN before the first gap in the data.
+        d.data_gap_end_t_s = r.f64_or_nan()?;
+        d.gait = GaitPeriod::read(r)?;
         let period_ok = |p: f64| p.is_nan() || (0.0..=60.0).contains(&p);
+        let time_ok = |t: f64| t.is_nan() || t.abs() <= T;
         let ok = d.hf_n >= 0.0
             && (0.0..=d.hf_n * 4.0 * A * A).contains(&d.hf_sum_sq)
             && period_ok(d.period_s)
             && period_ok(d.bout_end_period_s)
-            && (d.last_t_s.is_nan() || d.last_t_s.abs() <= T)
-            && (d.bout_end_t_s.is_nan() || d.bout_end_t_s.abs() <= T);
+            && time_ok(d.last_t_s)
+            && time_ok(d.bout_end_t_s)
+            && time_ok(d.data_gap_end_t_s);
         if !ok {
             return Err(SnapshotError::Invalid("step detector statistics"));
         }

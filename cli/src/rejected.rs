@@ -1,0 +1,113 @@
+//! Counting the samples a replay's engine rejects, by reason, for the summary a replay
+//! prints on stderr (a real recording is replayed with its bad samples skipped, not
+//! aborted; see docs/api.md, "Replaying recordings").
+
+use std::collections::BTreeMap;
+
+use stridekit_core::input::InputError;
+use stridekit_core::stepdetect::StepDetectError;
+use stridekit_core::PaceError;
+
+/// Rejected samples by reason.
+#[derive(Debug, Default)]
+pub struct Rejected {
+    by_reason: BTreeMap<String, u64>,
+}
+
+impl Rejected {
+    pub fn total(&self) -> u64 {
+        self.by_reason.values().sum()
+    }
+
+    fn add(&mut self, reason: String) {
+        *self.by_reason.entry(reason).or_insert(0) += 1;
+    }
+
+    /// A sample refused at the door: the reason without the sample's own values, so
+    /// that equal reasons count together. Equal timestamps (sensor batching, coarse
+    /// clocks) are told apart from timestamps going backwards.
+    pub fn input(&mut self, e: &InputError) {
+        self.add(match e {
+            InputError::TimeNotIncreasing { stream, .. } if e.is_duplicate_time() => {
+                format!("{stream} stream: duplicate timestamp (equal to the previous sample's)")
+            }
+            InputError::TimeNotIncreasing { stream, .. } => {
+                format!("{stream} stream: timestamp before the previous sample's")
+            }
+            InputError::NonFinite { field } => format!("{field} not a finite number"),
+            InputError::OutOfRange {
+                field,
+                min,
+                max,
+                unit,
+                ..
+            } => format!("{field} out of range ({min} to {max} {unit})"),
+            InputError::TimeUnit { stream, likely, .. } => {
+                format!("{stream} timestamps look like {likely}, not seconds")
+            }
+            InputError::TimeJump { stream, .. } => {
+                format!("{stream} stream: clock jumped by more than a year")
+            }
+            InputError::AccelerationInG { .. } => {
+                "acceleration looks like g, not m/s² (multiply by 9.80665)".into()
+            }
+        });
+    }
+
+    pub fn pace(&mut self, e: &PaceError) {
+        match e {
+            PaceError::Input(i) => self.input(i),
+            other => self.add(other.to_string()),
+        }
+    }
+
+    pub fn steps(&mut self, e: &StepDetectError) {
+        match e {
+            StepDetectError::Input(i) => self.input(i),
+            other => self.add(other.to_string()),
+        }
+    }
+
+    /// One line per reason, e.g. `  skipped 205: duplicate timestamp (...)`.
+    pub fn report(&self) -> String {
+        self.by_reason
+            .iter()
+            .map(|(r, n)| format!("  skipped {n}: {r}\n"))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use stridekit_core::input::Stream;
+
+    #[test]
+    fn equal_and_reversed_timestamps_are_told_apart() {
+        let mut r = Rejected::default();
+        for (t, last) in [(1.0, 1.0), (1.0, 1.0), (0.5, 1.0)] {
+            r.steps(&StepDetectError::Input(InputError::TimeNotIncreasing {
+                stream: Stream::Accelerometer,
+                t_s: t,
+                last_t_s: last,
+            }));
+        }
+        r.steps(&StepDetectError::Input(InputError::NonFinite {
+            field: "accel_x_mps2",
+        }));
+        assert_eq!(r.total(), 4);
+        let text = r.report();
+        assert!(
+            text.contains("skipped 2: accelerometer stream: duplicate timestamp"),
+            "{text}"
+        );
+        assert!(
+            text.contains("skipped 1: accelerometer stream: timestamp before"),
+            "{text}"
+        );
+        assert!(
+            text.contains("skipped 1: accel_x_mps2 not a finite number"),
+            "{text}"
+        );
+    }
+}

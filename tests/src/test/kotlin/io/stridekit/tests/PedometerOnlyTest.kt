@@ -1,0 +1,57 @@
+package io.stridekit.tests
+
+import io.stridekit.PaceCalibration
+import io.stridekit.PaceConfig
+import io.stridekit.PaceMode
+import io.stridekit.PaceSource
+import io.stridekit.PaceTracker
+import io.stridekit.StepSample
+import org.junit.jupiter.api.Test
+import kotlin.test.assertEquals
+import kotlin.test.assertNotNull
+import kotlin.test.assertNull
+import kotlin.test.assertTrue
+
+/** Pace with no GNSS at all (treadmill, indoor track, watch without GNSS). */
+class PedometerOnlyTest {
+    private val cadence = 170.0 / 60.0
+
+    private fun counts(tracker: PaceTracker, seconds: Int) {
+        for (i in 1..seconds) {
+            tracker.pushSteps(StepSample.Count(tS = i.toDouble(), steps = (cadence * i).toLong().toULong()))
+        }
+    }
+
+    @Test
+    fun `step counts alone give pedometer speed with an initial step length`() {
+        PaceTracker(PaceConfig(mode = PaceMode.ADAPTIVE, initialStepLengthM = 1.1)).use { t ->
+            counts(t, 30)
+            val e = t.estimate()
+            assertEquals(PaceSource.PEDOMETER, e.source)
+            assertEquals(0.0, e.gnssWeight)
+            val want = cadence * 1.1
+            assertTrue(Math.abs(e.speedMps - want) < 0.05 * want, "speed ${e.speedMps}, want $want")
+            assertNotNull(e.paceSPerKm)
+            assertTrue(e.distanceM > 0.85 * want * 28, "distance ${e.distanceM}")
+            assertNull(t.calibration(), "nothing learned without GNSS")
+        }
+    }
+
+    @Test
+    fun `a stored calibration gives calibrated speed and survives a snapshot`() {
+        val cal = PaceCalibration(stepLengthM = 0.95, cadenceSpm = 170.0, slopeMPerSpm = 0.008, stepLengthStdM = 0.02)
+        PaceTracker(PaceConfig(mode = PaceMode.ADAPTIVE, calibration = cal)).use { t ->
+            for (i in 1..20) {
+                t.pushSteps(StepSample.Cadence(tS = i.toDouble(), stepsPerMin = 170.0))
+            }
+            val e = t.estimate()
+            assertEquals(PaceSource.PEDOMETER, e.source)
+            assertTrue(Math.abs(e.speedMps - cadence * 0.95) < 0.03, "speed ${e.speedMps}")
+            val restored = PaceTracker.restore(t.snapshot())
+            assertEquals(cal, restored.config().calibration)
+            assertEquals(t.estimate(), restored.estimate())
+            assertNotNull(t.calibration())
+            restored.close()
+        }
+    }
+}
