@@ -116,9 +116,96 @@ impl FootConfig {
     }
 
     /// The axis convention of the pyshoe / University of Toronto data set
-    /// (x forward, y right, z down).
+    /// (x forward, y right, z down): [`FootConfig::axes_from_spec`]`("frd")`.
     pub fn pyshoe_axes() -> AxisRemap {
         AxisRemap::new([0, 1, 2], [false, true, true]).expect("a rotation")
+    }
+
+    /// The sensor → body remap described by a text spec (body: x forward, y left,
+    /// z up). Two forms, case-insensitive, spaces ignored:
+    ///
+    /// - **three letters**, where the sensor's axes point, in the order x, y, z:
+    ///   `f`/`b` forward/back, `l`/`r` left/right, `u`/`d` up/down. `flu` is the body
+    ///   frame itself (no remap); `frd` is x forward, y right, z down (pyshoe, UofT,
+    ///   aerospace); `rfu` is x right, y forward, z up;
+    /// - **three signed sensor axes**, comma-separated, which sensor axis gives body
+    ///   x (forward), y (left) and z (up): `x,-y,-z` is the same as `frd`; `y,-x,z`
+    ///   the same as `rfu`.
+    ///
+    /// Every axis must appear exactly once and the remap must be a rotation (a
+    /// mirror such as `x,y,-z` would make gyroscope and accelerometer disagree);
+    /// anything else is [`FootError::InvalidConfig`] with field `axes`.
+    pub fn axes_from_spec(spec: &str) -> Result<AxisRemap, FootError> {
+        let bad = |reason: &'static str| FootError::InvalidConfig {
+            field: "axes",
+            reason,
+        };
+        let s: String = spec
+            .chars()
+            .filter(|c| !c.is_whitespace())
+            .collect::<String>()
+            .to_ascii_lowercase();
+        let mut source = [usize::MAX; 3];
+        let mut negate = [false; 3];
+        if s.contains(',') || s.contains('-') || s.contains('+') {
+            let parts: Vec<&str> = s.split(',').collect();
+            if parts.len() != 3 {
+                return Err(bad(
+                    "the signed form needs three comma-separated axes, e.g. x,-y,-z",
+                ));
+            }
+            for (body, p) in parts.iter().enumerate() {
+                let (neg, axis) = match p.strip_prefix('-') {
+                    Some(a) => (true, a),
+                    None => (false, p.strip_prefix('+').unwrap_or(p)),
+                };
+                source[body] = match axis {
+                    "x" => 0,
+                    "y" => 1,
+                    "z" => 2,
+                    _ => return Err(bad(
+                        "each signed axis must be x, y or z with an optional sign, e.g. x,-y,-z",
+                    )),
+                };
+                negate[body] = neg;
+            }
+        } else {
+            let letters: Vec<char> = s.chars().collect();
+            if letters.len() != 3 {
+                return Err(bad("use three letters from f/b, l/r, u/d (e.g. frd, flu) or three signed axes (e.g. x,-y,-z)"));
+            }
+            for (sensor, c) in letters.iter().enumerate() {
+                let (body, neg) = match c {
+                    'f' => (0, false),
+                    'b' => (0, true),
+                    'l' => (1, false),
+                    'r' => (1, true),
+                    'u' => (2, false),
+                    'd' => (2, true),
+                    _ => {
+                        return Err(bad(
+                            "each letter must be one of f, b, l, r, u, d (e.g. frd, flu)",
+                        ))
+                    }
+                };
+                if source[body] != usize::MAX {
+                    return Err(bad(
+                        "each of forward/back, left/right, up/down must appear exactly once",
+                    ));
+                }
+                source[body] = sensor;
+                negate[body] = neg;
+            }
+        }
+        let mut seen = [false; 3];
+        for &src in &source {
+            if seen[src] {
+                return Err(bad("each sensor axis x, y, z must appear exactly once"));
+            }
+            seen[src] = true;
+        }
+        AxisRemap::new(source, negate)
+            .map_err(|_| bad("a mirror (determinant −1), not a rotation: flip one more sign"))
     }
 
     pub fn validate(&self) -> Result<(), FootError> {
@@ -173,5 +260,47 @@ impl FootConfig {
             });
         }
         self.detector.validate()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axis_specs() {
+        let frd = FootConfig::axes_from_spec("frd").unwrap();
+        assert_eq!(frd, FootConfig::pyshoe_axes());
+        assert_eq!(FootConfig::axes_from_spec("x,-y,-z").unwrap(), frd);
+        assert_eq!(FootConfig::axes_from_spec(" FRD ").unwrap(), frd);
+        assert_eq!(FootConfig::axes_from_spec("+x, -y, -z").unwrap(), frd);
+        assert_eq!(
+            FootConfig::axes_from_spec("flu").unwrap(),
+            AxisRemap::IDENTITY
+        );
+        assert_eq!(
+            FootConfig::axes_from_spec("x,y,z").unwrap(),
+            AxisRemap::IDENTITY
+        );
+        // Sensor x right, y forward, z up: body forward = sensor y, left = −sensor x.
+        let rfu = FootConfig::axes_from_spec("rfu").unwrap();
+        assert_eq!(rfu, FootConfig::axes_from_spec("y,-x,z").unwrap());
+        assert_eq!(rfu.apply([1.0, 2.0, 3.0]), [2.0, -1.0, 3.0]);
+        // A sensor pointing x forward, y right, z down reads +g on −z at rest;
+        // in the body frame that is +g on z (up).
+        assert_eq!(frd.apply([0.0, 0.0, -9.8]), [0.0, 0.0, 9.8]);
+    }
+
+    #[test]
+    fn bad_axis_specs_are_typed_errors() {
+        for spec in [
+            "", "fr", "frdd", "ffu", "xyz", "frx", "x,y", "x,y,z,x", "x,x,z", "x,y,-z", "fld",
+            "q,-y,-z", "x,--y,-z", "-,y,z",
+        ] {
+            match FootConfig::axes_from_spec(spec) {
+                Err(FootError::InvalidConfig { field: "axes", .. }) => {}
+                other => panic!("{spec:?}: {other:?}"),
+            }
+        }
     }
 }
