@@ -360,8 +360,31 @@ fn gait_info(t: &[f64], g: &[[f64; 3]], raw_truth: Vec<[f64; 3]>, other: bool) -
     }
 }
 
-/// Runs one method over a trial; returns the estimates with their sample indices.
+/// Runs one method over a trial; returns the estimates with their sample indices
+/// (samples the navigator rejects are skipped, see [`replay_counted`]).
 pub fn replay(trial: &Trial, m: &Method) -> Result<Vec<(usize, FootEstimate)>, String> {
+    Ok(replay_counted(trial, m)?.estimates)
+}
+
+/// What a replay produced.
+#[derive(Clone, Debug, Default)]
+pub struct Replayed {
+    /// Estimates with the index of their sample in the recording.
+    pub estimates: Vec<(usize, FootEstimate)>,
+    /// Samples the navigator rejected (skipped), by reason.
+    pub skipped: crate::foot::Skipped,
+    /// Sample rate the navigator measured at alignment, Hz (0: never aligned).
+    pub rate_hz: f64,
+    /// Detector window, samples.
+    pub window: usize,
+    /// Divergence-guard resets.
+    pub resets: u64,
+}
+
+/// Runs one method over a trial. A sample the navigator rejects (repeated or
+/// reversed timestamp, NaN/∞, out of range, units of g) is skipped and counted by
+/// reason; it changes nothing in the navigator (engine contract).
+pub fn replay_counted(trial: &Trial, m: &Method) -> Result<Replayed, String> {
     let rec = &trial.rec;
     let labels = match m.labels.as_deref() {
         Some("best") => Some(
@@ -375,14 +398,27 @@ pub fn replay(trial: &Trial, m: &Method) -> Result<Vec<(usize, FootEstimate)>, S
                     .ok_or_else(|| format!("{}: no label column {col}", rec.name))?,
             )
         }
-        Some(other) => Some(
-            rec.label(other)
-                .ok_or_else(|| format!("{}: no label column {other}", rec.name))?,
-        ),
+        Some(other) => Some(rec.label(other).ok_or_else(|| {
+            let have: Vec<&str> = rec.labels.iter().map(|(n, _)| n.as_str()).collect();
+            format!(
+                "{}: no label column zv_{other} (the file has: {})",
+                rec.name,
+                if have.is_empty() {
+                    "none".to_string()
+                } else {
+                    have.join(", ")
+                }
+            )
+        })?),
         None => None,
     };
     let mut nav = FootNavigator::new(m.config.clone()).map_err(|e| e.to_string())?;
-    let mut out = Vec::with_capacity(rec.len());
+    let mut out = Replayed {
+        estimates: Vec::with_capacity(rec.len()),
+        ..Default::default()
+    };
+    // (t_s, index) of the accepted samples: strictly increasing in t_s.
+    let mut accepted: Vec<(f64, usize)> = Vec::with_capacity(rec.len());
     for i in 0..rec.len() {
         let s = FootSample {
             t_s: rec.t_s[i],
@@ -393,12 +429,22 @@ pub fn replay(trial: &Trial, m: &Method) -> Result<Vec<(usize, FootEstimate)>, S
             Some(l) => nav.push_with_stance(&s, l[i]),
             None => nav.push(&s),
         };
-        if let Some(e) = r.map_err(|e| format!("{} sample {i}: {e}", rec.name))? {
-            // Estimates come in sample order, `delay` samples late.
-            let k = rec.t_s.partition_point(|&t| t < e.t_s);
-            out.push((k, e));
+        match r {
+            Ok(e) => {
+                accepted.push((s.t_s, i));
+                if let Some(e) = e {
+                    // Estimates come in sample order, `delay` samples late.
+                    let j = accepted.partition_point(|&(t, _)| t < e.t_s);
+                    let k = accepted.get(j).map_or(i, |&(_, k)| k);
+                    out.estimates.push((k, e));
+                }
+            }
+            Err(e) => out.skipped.add(i, &e),
         }
     }
+    out.rate_hz = nav.sample_rate_hz();
+    out.window = nav.detector_window();
+    out.resets = nav.divergence_resets();
     Ok(out)
 }
 

@@ -46,15 +46,24 @@ USAGE:
       Step-length models (constant, linear robust and as published, frequency-only,
       Weinberg): distance error over a 5-minute GNSS outage after calibration, on the
       phone simulator and on the real runs in DIR (default: ../shared/data/pace/original).
-  stridekit foot FILE.csv [--out traj.csv] [--labels NAME]
-      Replay a foot-mounted IMU recording (pyshoe CSV: x fwd, y right, z down)
-      through the foot navigator; write the trajectory CSV (default
-      foot_trajectory.csv) and, next to it, traj.svg (top view) and traj_height.svg
-      (height over time). With truth columns (gt_*), the truth is aligned to the
-      estimate (rotation about the vertical + translation), written beside it in the
-      CSV, drawn in both plots and its position RMSE printed. --labels drives the
-      zero-velocity updates with a stance label column (e.g. vicon_opt) instead of
-      the detector.
+  stridekit foot FILE.csv [--out traj.csv] [--labels NAME] [--axes SPEC]
+                 [--imu consumer|calibrated]
+      Replay a foot-mounted IMU recording (pyshoe / UofT CSV, or an x-io NGIMU CSV
+      export: Time (s), Gyroscope (deg/s), Accelerometer (g)) through the foot
+      navigator; write the trajectory CSV (default foot_trajectory.csv) and, next to
+      it, traj.svg (top view) and traj_height.svg (height over time). Samples the
+      navigator rejects (repeated or reversed timestamps, NaN, out of range) are
+      skipped and counted by reason. Prints strides, distance and the end − start
+      displacement (loop closure). --axes: where the sensor axes point, in the
+      order x, y, z, from f/b l/r u/d (frd = x forward, y right, z down, as in
+      pyshoe; flu = x forward, y left, z up), or which signed sensor axis gives
+      body forward, left, up (x,-y,-z = frd); default frd for pyshoe files, flu for
+      x-io. --imu: calibrated (factory-calibrated IMU, default for pyshoe/UofT files)
+      or consumer (gyro bias measured at the start rest; default otherwise). With
+      truth columns (gt_*), the truth is aligned to the estimate (rotation about the
+      vertical + translation), written beside it in the CSV, drawn in both plots
+      and its position RMSE printed. --labels drives the zero-velocity updates with
+      a stance label column (e.g. vicon_opt) instead of the detector.
   stridekit eval foot [--data DIR] [--tune]
       Foot-mounted navigation on the pyshoe VICON trials in DIR (default:
       ../shared/data/foot/pyshoe-vicon): position RMSE, loop closure and zero-velocity
@@ -98,6 +107,37 @@ fn flag(args: &[String], name: &str) -> Option<String> {
     args.iter()
         .position(|a| a == name)
         .and_then(|i| args.get(i + 1).cloned())
+}
+
+/// Refuses anything in `args[from..]` that is not one of the command's flags:
+/// `with_value` flags take the next argument, `switches` stand alone.
+fn check_flags(
+    args: &[String],
+    from: usize,
+    with_value: &[&str],
+    switches: &[&str],
+) -> Result<(), String> {
+    let mut i = from;
+    while i < args.len() {
+        let a = args[i].as_str();
+        if with_value.contains(&a) {
+            if args.get(i + 1).is_none_or(|v| v.starts_with("--")) {
+                return Err(format!("{a} needs a value"));
+            }
+            i += 2;
+        } else if switches.contains(&a) {
+            i += 1;
+        } else {
+            let mut known: Vec<&str> = with_value.to_vec();
+            known.extend(switches);
+            return Err(format!(
+                "unknown argument {a} for `{}` (accepted: {})",
+                args[..from.min(args.len())].join(" "),
+                known.join(", ")
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn main() -> ExitCode {
@@ -155,18 +195,31 @@ fn main() -> ExitCode {
             }
         }
         Some("foot") => match args.get(1) {
-            Some(file) => {
-                let out = flag(&args, "--out").unwrap_or_else(|| "foot_trajectory.csv".into());
-                foot::run(
-                    &PathBuf::from(file),
-                    &PathBuf::from(out),
-                    eval_foot::base_config(),
-                    flag(&args, "--labels"),
-                )
+            Some(file) if !file.starts_with("--") => {
+                check_flags(&args, 2, &["--out", "--labels", "--axes", "--imu"], &[])
+                    .and_then(|()| {
+                        let imu = flag(&args, "--imu")
+                            .map(|s| foot::ImuProfile::parse(&s))
+                            .transpose()?;
+                        foot::run(&foot::FootArgs {
+                            file: PathBuf::from(file),
+                            out: PathBuf::from(
+                                flag(&args, "--out")
+                                    .unwrap_or_else(|| "foot_trajectory.csv".into()),
+                            ),
+                            labels: flag(&args, "--labels"),
+                            axes: flag(&args, "--axes"),
+                            imu,
+                        })
+                    })
             }
-            None => Err("foot needs a FILE".into()),
+            _ => Err("foot needs a FILE first: stridekit foot FILE.csv [--out traj.csv] [--labels NAME] [--axes SPEC] [--imu consumer|calibrated]".into()),
         },
         Some("eval") if args.get(1).map(String::as_str) == Some("foot") => {
+            if let Err(e) = check_flags(&args, 2, &["--data"], &["--tune"]) {
+                eprintln!("error: {e}");
+                return ExitCode::FAILURE;
+            }
             let dir = flag(&args, "--data")
                 .map(PathBuf::from)
                 .or_else(|| stridekit_formats::data_dir().map(|d| d.join("foot/pyshoe-vicon")));
@@ -181,6 +234,10 @@ fn main() -> ExitCode {
             }
         }
         Some("train") if args.get(1).map(String::as_str) == Some("zupt") => {
+            if let Err(e) = check_flags(&args, 2, &["--data", "--trials", "--split", "--out"], &[]) {
+                eprintln!("error: {e}");
+                return ExitCode::FAILURE;
+            }
             let dir = flag(&args, "--data")
                 .map(PathBuf::from)
                 .or_else(|| stridekit_formats::data_dir().map(|d| d.join("foot/pyshoe-vicon")));
