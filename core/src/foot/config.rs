@@ -18,6 +18,25 @@ pub enum Correction {
     AsPublished,
 }
 
+/// What the gyroscope's samples stand for in time (the mechanisation pairs them with
+/// the accelerometer's accordingly).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GyroTiming {
+    /// Each sample is the rate at its timestamp (consumer MEMS read out as filtered
+    /// instantaneous rates): the attitude over `[t_{k−1}, t_k]` integrates the
+    /// average of the two samples.
+    #[default]
+    Instantaneous,
+    /// Each sample is the mean rate over the interval that ends at its timestamp
+    /// (IMUs that integrate the angle internally at a high rate and output
+    /// `ΔΘ/Δt`, such as the MicroStrain 3DM-GX3 of the UofT data set, Xsens or
+    /// VectorNav units): the attitude over `[t_{k−1}, t_k]` integrates sample k alone.
+    /// Read as instantaneous, such a gyroscope's attitude lags the accelerometer by
+    /// half a sample, which during the fast pitch rotations of a swing tips the
+    /// specific force (docs/foot.md: the height gained per stride on the UofT trials).
+    IntervalMean,
+}
+
 /// Largest supported detector window, samples.
 pub const MAX_DETECTOR_WINDOW: usize = 31;
 
@@ -42,6 +61,8 @@ pub struct FootConfig {
     pub alignment_s: f64,
     /// Estimate the gyroscope bias as the mean rate over the alignment period.
     pub gyro_bias_from_alignment: bool,
+    /// What a gyroscope sample stands for in time (default: instantaneous).
+    pub gyro_timing: GyroTiming,
     /// Initial yaw, rad, counter-clockwise from East (0: body +x points East).
     pub initial_yaw_rad: f64,
     pub correction: Correction,
@@ -80,6 +101,7 @@ impl Default for FootConfig {
             detector: ZeroVelocityDetector::default(),
             alignment_s: 0.25,
             gyro_bias_from_alignment: true,
+            gyro_timing: GyroTiming::Instantaneous,
             initial_yaw_rad: 0.0,
             correction: Correction::Full,
             accel_noise_density: 0.035,
@@ -104,13 +126,16 @@ impl FootConfig {
     /// set the gyro bias (its mean is dominated by noise and foot micro-motion) and
     /// the bias prior is 1 mrad/s. The defaults ([`Default`]) are for consumer MEMS
     /// (phones, watches, shoe pods) whose turn-on gyro bias of ~0.005 rad/s must be
-    /// taken out at the start, or the heading drifts by ~0.3 rad/min. On the UofT
-    /// trials this profile lowers the median position error of every detector on
-    /// the training split (docs/foot.md).
+    /// taken out at the start, or the heading drifts by ~0.3 rad/min. Such IMUs
+    /// integrate the angle internally and report the mean rate over each output
+    /// interval ([`GyroTiming::IntervalMean`]). On the UofT trials this profile
+    /// lowers the median position error of every detector on the training split
+    /// (docs/foot.md).
     pub fn calibrated_imu() -> Self {
         Self {
             gyro_bias_from_alignment: false,
             initial_gyro_bias_std_rads: 1.0e-3,
+            gyro_timing: GyroTiming::IntervalMean,
             ..Self::default()
         }
     }

@@ -31,9 +31,9 @@ use std::sync::Arc;
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
-use super::config::{Correction, FootConfig, MAX_DETECTOR_WINDOW};
+use super::config::{Correction, FootConfig, GyroTiming, MAX_DETECTOR_WINDOW};
 use super::detect::{
-    AdaptiveThresholds, FixedThresholds, ShoeDetector, SvmAdaptive, WindowStats,
+    AdaptiveShoe, AdaptiveThresholds, FixedThresholds, ShoeDetector, SvmAdaptive, WindowStats,
     ZeroVelocityDetector, G_MPS2,
 };
 use super::ekf::{Cov, Noise, Strapdown, IA, IP, IV};
@@ -448,13 +448,14 @@ impl FootNavigator {
         let correction = self.config.correction;
         let zupt_sigma = self.config.zupt_noise_mps;
         let noise = self.noise;
+        let interval_mean = self.config.gyro_timing == GyroTiming::IntervalMean;
         let Some(ins) = self.ins.as_mut() else {
             return FootEstimate::default();
         };
         // What the divergence guard falls back to (the covariance only by its
         // diagonal: copying all of it every sample would cost more than the guard).
         let before = (ins.q, ins.p, ins.ba, ins.bg, ins.cov.diagonal());
-        ins.propagate(&c.f, &c.w, dt_int, dt, &noise);
+        ins.propagate(&c.f, &c.w, dt_int, dt, &noise, interval_mean);
         if stance {
             ins.zupt(zupt_sigma, correction);
         }
@@ -574,7 +575,9 @@ fn saturated(v: &[f64; 3], range: Option<f64>) -> bool {
 
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
-const SNAPSHOT_VERSION: u16 = 1;
+/// Version 2 (issue 14): `FootConfig::gyro_timing` and the adaptive SHOE detector.
+/// Version 1 snapshots still restore (instantaneous gyro timing).
+const SNAPSHOT_VERSION: u16 = 2;
 
 fn write_body(w: &mut Writer, s: &BodySample) {
     w.f64(s.t_s);
@@ -631,6 +634,7 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
         detector,
         alignment_s,
         gyro_bias_from_alignment,
+        gyro_timing,
         initial_yaw_rad,
         correction,
         accel_noise_density,
@@ -672,6 +676,11 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
     });
     w.opt_f64(*accel_range_mps2);
     w.opt_f64(*gyro_range_rads);
+    // Version 2.
+    w.u8(match gyro_timing {
+        GyroTiming::Instantaneous => 0,
+        GyroTiming::IntervalMean => 1,
+    });
     let fixed = |w: &mut Writer, t: &FixedThresholds| {
         let FixedThresholds {
             acc_dev_mps2,
@@ -735,10 +744,31 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
             w.u8(3);
             w.f64s(&[*acc_noise_mps2, *gyro_noise_rads, *threshold]);
         }
+        ZeroVelocityDetector::AdaptiveShoe(d) => {
+            let AdaptiveShoe {
+                shoe:
+                    ShoeDetector {
+                        acc_noise_mps2,
+                        gyro_noise_rads,
+                        threshold,
+                    },
+                ref_peak_mps2,
+                exponent,
+            } = d;
+            // Version 2.
+            w.u8(7);
+            w.f64s(&[
+                *acc_noise_mps2,
+                *gyro_noise_rads,
+                *threshold,
+                *ref_peak_mps2,
+                *exponent,
+            ]);
+        }
     }
 }
 
-fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
+fn read_config(r: &mut Reader, version: u16) -> Result<FootConfig, FootError> {
     let mut source = [0usize; 3];
     let mut negate = [false; 3];
     for i in 0..3 {
@@ -758,6 +788,15 @@ fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
     };
     let accel_range_mps2 = r.opt_f64()?;
     let gyro_range_rads = r.opt_f64()?;
+    let gyro_timing = if version >= 2 {
+        match r.u8()? {
+            0 => GyroTiming::Instantaneous,
+            1 => GyroTiming::IntervalMean,
+            _ => return Err(SnapshotError::Invalid("gyro timing").into()),
+        }
+    } else {
+        GyroTiming::Instantaneous
+    };
     let fixed = |r: &mut Reader| -> Result<FixedThresholds, SnapshotError> {
         let mut t = [0.0; 4];
         r.f64s(&mut t)?;
@@ -814,6 +853,19 @@ fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
                 threshold: p[2],
             })
         }
+        7 if version >= 2 => {
+            let mut p = [0.0; 5];
+            r.f64s(&mut p)?;
+            ZeroVelocityDetector::AdaptiveShoe(AdaptiveShoe {
+                shoe: ShoeDetector {
+                    acc_noise_mps2: p[0],
+                    gyro_noise_rads: p[1],
+                    threshold: p[2],
+                },
+                ref_peak_mps2: p[3],
+                exponent: p[4],
+            })
+        }
         _ => return Err(SnapshotError::Invalid("detector kind").into()),
     };
     Ok(FootConfig {
@@ -824,6 +876,7 @@ fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
         detector,
         alignment_s: v[2],
         gyro_bias_from_alignment,
+        gyro_timing,
         initial_yaw_rad: v[3],
         correction,
         accel_noise_density: v[4],
@@ -977,8 +1030,8 @@ impl FootNavigator {
 
     /// A navigator continuing exactly where the snapshot was taken.
     pub fn restore(bytes: &[u8]) -> Result<Self, FootError> {
-        let (mut r, _version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
-        let config = read_config(&mut r)?;
+        let (mut r, version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let config = read_config(&mut r, version)?;
         let mut n = FootNavigator::new(config).map_err(|e| match e {
             FootError::Snapshot(s) => FootError::Snapshot(s),
             _ => FootError::Snapshot(SnapshotError::Invalid("configuration")),
