@@ -3,6 +3,9 @@
 mod activity;
 mod demo;
 mod eval_foot;
+mod eval_foot_diagnose;
+mod eval_foot_sessions;
+mod eval_foot_tune_shoe;
 mod eval_pace;
 mod eval_pdr;
 mod eval_steplength;
@@ -216,7 +219,12 @@ fn main() -> ExitCode {
             _ => Err("foot needs a FILE first: stridekit foot FILE.csv [--out traj.csv] [--labels NAME] [--axes SPEC] [--imu consumer|calibrated]".into()),
         },
         Some("eval") if args.get(1).map(String::as_str) == Some("foot") => {
-            if let Err(e) = check_flags(&args, 2, &["--data"], &["--tune"]) {
+            if let Err(e) = check_flags(
+                &args,
+                2,
+                &["--data"],
+                &["--tune", "--tune-adaptive-shoe", "--diagnose"],
+            ) {
                 eprintln!("error: {e}");
                 return ExitCode::FAILURE;
             }
@@ -224,7 +232,11 @@ fn main() -> ExitCode {
                 .map(PathBuf::from)
                 .or_else(|| stridekit_formats::data_dir().map(|d| d.join("foot/pyshoe-vicon")));
             match dir {
-                Some(d) if d.is_dir() => if args.iter().any(|a| a == "--tune") {
+                Some(d) if d.is_dir() => if args.iter().any(|a| a == "--diagnose") {
+                    eval_foot_diagnose::run(&d)
+                } else if args.iter().any(|a| a == "--tune-adaptive-shoe") {
+                    eval_foot_tune_shoe::run(&d)
+                } else if args.iter().any(|a| a == "--tune") {
                     eval_foot::tune(&d, &[0.025, 0.05, 0.1])
                 } else {
                     eval_foot::run(&d)
