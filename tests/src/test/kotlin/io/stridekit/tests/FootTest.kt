@@ -237,10 +237,23 @@ class FootTest {
 
     @Test
     fun `configuration defaults, validation and round trip`() {
-        val svmAdaptive = footDetectorDefault(FootDetectorKind.SVM_ADAPTIVE)
-        assertEquals(footConfigDefault(), FootConfig(detector = svmAdaptive, correction = FootCorrection.FULL))
-        assertTrue(svmAdaptive is FootDetector.SvmAdaptive && svmAdaptive.modelText == null, "$svmAdaptive")
+        val adaptiveShoe = footDetectorDefault(FootDetectorKind.ADAPTIVE_SHOE)
+        assertEquals(footConfigDefault(), FootConfig(detector = adaptiveShoe, correction = FootCorrection.FULL))
+        assertTrue(adaptiveShoe is FootDetector.AdaptiveShoe, "$adaptiveShoe")
         FootNavigator.withDefaults().use { assertEquals(footConfigDefault(), it.config()) }
+        val svmAdaptive = footDetectorDefault(FootDetectorKind.SVM_ADAPTIVE)
+        assertTrue(svmAdaptive is FootDetector.SvmAdaptive && svmAdaptive.modelText == null, "$svmAdaptive")
+
+        // The industrial-IMU profile and axes from a text spec.
+        val calibrated = footConfigCalibratedImu()
+        assertEquals(FootGyroTiming.INTERVAL_MEAN, calibrated.gyroTiming)
+        assertEquals(false, calibrated.gyroBiasFromAlignment)
+        FootNavigator(calibrated).use { assertEquals(calibrated, it.config()) }
+        assertEquals(footAxesPyshoe(), footAxesFromSpec("frd"))
+        assertEquals(footAxesPyshoe(), footAxesFromSpec("x,-y,-z"))
+        assertEquals(FootAxisRemap(), footAxesFromSpec("flu"))
+        val badAxes = assertFailsWith<FootException.InvalidConfig> { footAxesFromSpec("x,y,-z") }
+        assertEquals("axes", badAxes.field)
 
         val svm = footConfigDefault().copy(
             axisRemap = footAxesPyshoe(),
