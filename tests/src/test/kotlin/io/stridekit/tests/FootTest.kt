@@ -127,11 +127,10 @@ class FootTest {
             val closure = end.horizontal() / end.distanceM
             println("FootTest: ${walk.name}: ${end.strides} strides, ${"%.2f".format(end.distanceM)} m (truth ${"%.2f".format(walk.truthPathM)} m), " +
                 "end ${"%.3f".format(end.horizontal())} m from start (${"%.2f".format(100 * closure)} %; truth ${"%.3f".format(walk.truthEndM)} m)")
-            // The default detector (SVM while walking + adaptive when running) closes
-            // walking trials to 0.62 % (median, 3-D, calibrated-IMU profile; docs/foot.md,
-            // `stridekit eval foot`) and this trial to about 0.9 % with the consumer
-            // defaults used here (SHOE, the old default: about 3 %); 5 % catches a
-            // broken pipeline without asserting accuracy the detector does not have.
+            // The default detector (adaptive SHOE) closes walking trials to 0.81 %
+            // (median, 3-D, calibrated-IMU profile; docs/foot.md, `stridekit eval foot`);
+            // the consumer defaults are used here; 5 % catches a broken pipeline
+            // without asserting accuracy the detector does not have.
             assertTrue(closure < 0.05, "loop closure ${100 * closure} % of ${end.distanceM} m")
             assertTrue(listOf(end.positionM.east, end.velocityMps.up, end.yawRad).all { it.isFinite() })
             assertTrue(end.positionStdM.east > 0.0 && end.headingStdRad > 0.0)
