@@ -552,8 +552,8 @@ pub struct FootConfig {
     /// Estimate the gyroscope bias as the mean rate over the alignment period.
     #[uniffi(default = true)]
     pub gyro_bias_from_alignment: bool,
-    /// What a gyroscope sample stands for in time (default: `INSTANTANEOUS`).
-    #[uniffi(default)]
+    /// What a gyroscope sample stands for in time (`footConfigDefault()`:
+    /// `INSTANTANEOUS`; `footConfigCalibratedImu()`: `INTERVAL_MEAN`).
     pub gyro_timing: FootGyroTiming,
     /// Initial yaw, rad, counter-clockwise from East (0: body +x points East).
     #[uniffi(default = 0.0)]

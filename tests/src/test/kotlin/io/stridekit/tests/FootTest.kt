@@ -1,15 +1,19 @@
 package io.stridekit.tests
 
+import io.stridekit.FootAxisRemap
 import io.stridekit.FootConfig
 import io.stridekit.FootCorrection
 import io.stridekit.FootDetector
 import io.stridekit.FootDetectorKind
 import io.stridekit.FootEstimate
 import io.stridekit.FootException
+import io.stridekit.FootGyroTiming
 import io.stridekit.FootImuSample
 import io.stridekit.FootNavigator
 import io.stridekit.FootOutput
+import io.stridekit.footAxesFromSpec
 import io.stridekit.footAxesPyshoe
+import io.stridekit.footConfigCalibratedImu
 import io.stridekit.footConfigDefault
 import io.stridekit.footDetectorDefault
 import io.stridekit.footShippedSvmModel
@@ -237,7 +241,10 @@ class FootTest {
     @Test
     fun `configuration defaults, validation and round trip`() {
         val adaptiveShoe = footDetectorDefault(FootDetectorKind.ADAPTIVE_SHOE)
-        assertEquals(footConfigDefault(), FootConfig(detector = adaptiveShoe, correction = FootCorrection.FULL))
+        assertEquals(
+            footConfigDefault(),
+            FootConfig(detector = adaptiveShoe, correction = FootCorrection.FULL, gyroTiming = FootGyroTiming.INSTANTANEOUS),
+        )
         assertTrue(adaptiveShoe is FootDetector.AdaptiveShoe, "$adaptiveShoe")
         FootNavigator.withDefaults().use { assertEquals(footConfigDefault(), it.config()) }
         val svmAdaptive = footDetectorDefault(FootDetectorKind.SVM_ADAPTIVE)
