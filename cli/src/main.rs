@@ -67,12 +67,15 @@ USAGE:
       vertical + translation), written beside it in the CSV, drawn in both plots
       and its position RMSE printed. --labels drives the zero-velocity updates with
       a stance label column (e.g. vicon_opt) instead of the detector.
-  stridekit eval foot [--data DIR] [--tune]
+  stridekit eval foot [--data DIR] [--tune | --tune-adaptive-shoe | --diagnose]
       Foot-mounted navigation on the pyshoe VICON trials in DIR (default:
-      ../shared/data/foot/pyshoe-vicon): position RMSE, loop closure and zero-velocity
-      agreement per trial and per gait for the fixed, adaptive, SVM (cross-validated
-      over trials) and SHOE detectors and the oracle labels. --tune prints the grid
-      searches on the training split that chose the detector defaults.
+      ../shared/data/foot/pyshoe-vicon): horizontal and 3-D position RMSE, loop
+      closure and zero-velocity agreement per trial, per gait and per session for the
+      fixed, adaptive, SVM (6-fold and leave-one-session-out), SHOE and adaptive SHOE
+      detectors and the oracle labels. --tune prints the grid searches on the
+      training split that chose the defaults (--tune-adaptive-shoe: only the gyro
+      timing and adaptive SHOE part); --diagnose prints stride-length and
+      height-per-stride errors against the truth.
   stridekit train zupt [--data DIR] [--trials A,B,...|--split K/N] [--out FILE]
       Train the SVM zero-velocity detector (six Gaussian-kernel SVMs) on the trials
       in DIR (default: all; --split K/N leaves out fold K of N, by position modulo N)
