@@ -224,6 +224,24 @@ pub fn foot_axes_pyshoe() -> FootAxisRemap {
     core::FootConfig::pyshoe_axes().into()
 }
 
+/// The sensor → body remap of a text spec: three letters telling where the sensor's
+/// x, y, z point (`f`/`b`, `l`/`r`, `u`/`d`: `frd` = x forward, y right, z down;
+/// `flu` = the body frame itself), or three signed sensor axes giving body forward,
+/// left, up (`x,-y,-z` = `frd`). A bad spec or a mirror is
+/// `FootException.InvalidConfig` (field `axes`).
+#[uniffi::export]
+pub fn foot_axes_from_spec(spec: String) -> Result<FootAxisRemap, FootError> {
+    guard(|| Ok(core::FootConfig::axes_from_spec(&spec)?.into()))
+}
+
+/// The core's profile for a factory-calibrated IMU that integrates internally
+/// (MicroStrain, Xsens, VectorNav class): gyro bias not taken from the start rest,
+/// 1 mrad/s bias prior, interval-mean gyro timing; everything else default.
+#[uniffi::export]
+pub fn foot_config_calibrated_imu() -> FootConfig {
+    core::FootConfig::calibrated_imu().into()
+}
+
 /// Thresholds of the multi-condition detector; all four must hold for stance.
 /// Defaults: the core's walking thresholds (`FixedThresholds::WALK`).
 #[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
@@ -285,8 +303,9 @@ pub enum FootDetector {
     /// `FootException.InvalidModel` when the navigator is built).
     Svm { model_text: Option<String> },
     /// The SVM while walking (peak ‖f‖ below `jog_peak_mps2`), the jog and run
-    /// thresholds above it. `model_text` as for `Svm`. Measured best on the real
-    /// VICON trials (docs/foot.md).
+    /// thresholds above it. `model_text` as for `Svm`. The default before the
+    /// adaptive SHOE; its SVM does not carry over to recording sessions it was not
+    /// trained on (docs/foot.md, leave-one-session-out).
     SvmAdaptive {
         model_text: Option<String>,
         jog_peak_mps2: f64,
@@ -303,6 +322,21 @@ pub enum FootDetector {
         /// Threshold γ on the statistic.
         threshold: f64,
     },
+    /// SHOE with a threshold that follows the gait: `γ₀ · max(1, peak‖f‖ / p₀)^k`,
+    /// peak ‖f‖ over about one stride. The default detector; measured best on the
+    /// real VICON trials (docs/foot.md).
+    AdaptiveShoe {
+        /// Accelerometer noise σ_a, m/s².
+        acc_noise_mps2: f64,
+        /// Gyroscope noise σ_ω, rad/s.
+        gyro_noise_rads: f64,
+        /// γ₀, the threshold up to `ref_peak_mps2`.
+        threshold: f64,
+        /// p₀, m/s².
+        ref_peak_mps2: f64,
+        /// k, 0..=10.
+        exponent: f64,
+    },
 }
 
 /// The kinds of [`FootDetector`], to ask for one with its default parameters.
@@ -313,6 +347,7 @@ pub enum FootDetectorKind {
     Svm,
     SvmAdaptive,
     Shoe,
+    AdaptiveShoe,
 }
 
 /// A detector of the given kind with its default parameters (`Svm`: the shipped model).
@@ -331,6 +366,9 @@ pub fn foot_detector_default(kind: FootDetectorKind) -> FootDetector {
         }
         FootDetectorKind::Shoe => {
             core::ZeroVelocityDetector::Shoe(core::ShoeDetector::default()).into()
+        }
+        FootDetectorKind::AdaptiveShoe => {
+            core::ZeroVelocityDetector::AdaptiveShoe(core::AdaptiveShoe::default()).into()
         }
     }
 }
@@ -369,6 +407,13 @@ impl From<core::ZeroVelocityDetector> for FootDetector {
                 acc_noise_mps2: s.acc_noise_mps2,
                 gyro_noise_rads: s.gyro_noise_rads,
                 threshold: s.threshold,
+            },
+            core::ZeroVelocityDetector::AdaptiveShoe(a) => Self::AdaptiveShoe {
+                acc_noise_mps2: a.shoe.acc_noise_mps2,
+                gyro_noise_rads: a.shoe.gyro_noise_rads,
+                threshold: a.shoe.threshold,
+                ref_peak_mps2: a.ref_peak_mps2,
+                exponent: a.exponent,
             },
         }
     }
@@ -421,7 +466,51 @@ impl TryFrom<FootDetector> for core::ZeroVelocityDetector {
                 gyro_noise_rads,
                 threshold,
             }),
+            FootDetector::AdaptiveShoe {
+                acc_noise_mps2,
+                gyro_noise_rads,
+                threshold,
+                ref_peak_mps2,
+                exponent,
+            } => Self::AdaptiveShoe(core::AdaptiveShoe {
+                shoe: core::ShoeDetector {
+                    acc_noise_mps2,
+                    gyro_noise_rads,
+                    threshold,
+                },
+                ref_peak_mps2,
+                exponent,
+            }),
         })
+    }
+}
+
+/// What a gyroscope sample stands for in time.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, uniffi::Enum)]
+pub enum FootGyroTiming {
+    /// The rate at the sample's timestamp (consumer MEMS; the default).
+    #[default]
+    Instantaneous,
+    /// The mean rate over the interval ending at the timestamp (IMUs that integrate
+    /// internally and output ΔΘ/Δt: MicroStrain, Xsens, VectorNav).
+    IntervalMean,
+}
+
+impl From<core::GyroTiming> for FootGyroTiming {
+    fn from(t: core::GyroTiming) -> Self {
+        match t {
+            core::GyroTiming::Instantaneous => Self::Instantaneous,
+            core::GyroTiming::IntervalMean => Self::IntervalMean,
+        }
+    }
+}
+
+impl From<FootGyroTiming> for core::GyroTiming {
+    fn from(t: FootGyroTiming) -> Self {
+        match t {
+            FootGyroTiming::Instantaneous => Self::Instantaneous,
+            FootGyroTiming::IntervalMean => Self::IntervalMean,
+        }
     }
 }
 
@@ -454,12 +543,12 @@ impl From<FootCorrection> for core::Correction {
 
 /// Configuration of a [`FootNavigator`]: every core setting. The literal defaults
 /// below are the core's (`stridekit_core::foot::FootConfig::default()`);
-/// `footConfigDefault()` returns the whole default record (SVM + adaptive detector,
+/// `footConfigDefault()` returns the whole default record (adaptive SHOE detector,
 /// full correction), and a test checks that both agree.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct FootConfig {
-    /// Zero-velocity detector (default: the SVM while walking + adaptive thresholds
-    /// when running, `footDetectorDefault(SVM_ADAPTIVE)`).
+    /// Zero-velocity detector (default: SHOE with a threshold that follows the gait,
+    /// `footDetectorDefault(ADAPTIVE_SHOE)`).
     pub detector: FootDetector,
     /// Which error states an update corrects (default: `FULL`).
     pub correction: FootCorrection,
@@ -481,6 +570,9 @@ pub struct FootConfig {
     /// Estimate the gyroscope bias as the mean rate over the alignment period.
     #[uniffi(default = true)]
     pub gyro_bias_from_alignment: bool,
+    /// What a gyroscope sample stands for in time (`footConfigDefault()`:
+    /// `INSTANTANEOUS`; `footConfigCalibratedImu()`: `INTERVAL_MEAN`).
+    pub gyro_timing: FootGyroTiming,
     /// Initial yaw, rad, counter-clockwise from East (0: body +x points East).
     #[uniffi(default = 0.0)]
     pub initial_yaw_rad: f64,
@@ -530,6 +622,7 @@ impl From<core::FootConfig> for FootConfig {
             gait_window_s: c.gait_window_s,
             alignment_s: c.alignment_s,
             gyro_bias_from_alignment: c.gyro_bias_from_alignment,
+            gyro_timing: c.gyro_timing.into(),
             initial_yaw_rad: c.initial_yaw_rad,
             accel_noise_density: c.accel_noise_density,
             gyro_noise_density: c.gyro_noise_density,
@@ -557,6 +650,7 @@ impl TryFrom<FootConfig> for core::FootConfig {
             detector: c.detector.try_into()?,
             alignment_s: c.alignment_s,
             gyro_bias_from_alignment: c.gyro_bias_from_alignment,
+            gyro_timing: c.gyro_timing.into(),
             initial_yaw_rad: c.initial_yaw_rad,
             correction: c.correction.into(),
             accel_noise_density: c.accel_noise_density,
@@ -574,7 +668,7 @@ impl TryFrom<FootConfig> for core::FootConfig {
     }
 }
 
-/// The core's default configuration (identity axes, SVM + adaptive detector, full correction).
+/// The core's default configuration (identity axes, adaptive SHOE detector, full correction).
 #[uniffi::export]
 pub fn foot_config_default() -> FootConfig {
     core::FootConfig::default().into()
@@ -991,7 +1085,7 @@ impl FootNavigator {
         guard(|| Ok(Self::wrap(core::FootNavigator::restore(&snapshot)?)))
     }
 
-    /// A navigator with the default configuration (identity axes, SVM + adaptive detector).
+    /// A navigator with the default configuration (identity axes, adaptive SHOE detector).
     #[uniffi::constructor]
     pub fn with_defaults() -> Arc<Self> {
         Self::wrap(
@@ -1110,6 +1204,7 @@ mod tests {
             FootDetectorKind::Svm,
             FootDetectorKind::SvmAdaptive,
             FootDetectorKind::Shoe,
+            FootDetectorKind::AdaptiveShoe,
         ] {
             let det = foot_detector_default(kind);
             let c: core::ZeroVelocityDetector = det.clone().try_into().unwrap();

@@ -20,8 +20,8 @@
 use std::path::Path;
 
 use stridekit_core::foot::{
-    AdaptiveThresholds, Correction, FixedThresholds, FootConfig, FootEstimate, FootNavigator,
-    FootSample, ShoeDetector, SvmAdaptive, WindowStats, ZeroVelocityDetector,
+    AdaptiveShoe, AdaptiveThresholds, Correction, FixedThresholds, FootConfig, FootEstimate,
+    FootNavigator, FootSample, ShoeDetector, SvmAdaptive, WindowStats, ZeroVelocityDetector,
 };
 use stridekit_formats::{list_foot_trials, read_foot_csv, FootRecording};
 
@@ -63,6 +63,8 @@ pub struct Outcome {
     /// Position RMSE against truth after the best rotation about the vertical and
     /// translation, m.
     pub rmse_m: f64,
+    /// The same fit, horizontal components only (the aligned horizontal RMSE), m.
+    pub rmse_h_m: f64,
     /// |(estimated − true) start→end displacement| / path length, %, 3-D.
     pub closure_pct: f64,
     /// The same, horizontal only (the usual gait-tracker figure), %.
@@ -155,6 +157,10 @@ pub fn methods() -> Vec<Method> {
             ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
         ),
         with("shoe", ZeroVelocityDetector::Shoe(ShoeDetector::default())),
+        with(
+            "adaptive shoe",
+            ZeroVelocityDetector::AdaptiveShoe(AdaptiveShoe::default()),
+        ),
         Method {
             name: "shoe, as published".into(),
             config: FootConfig {
@@ -360,8 +366,31 @@ fn gait_info(t: &[f64], g: &[[f64; 3]], raw_truth: Vec<[f64; 3]>, other: bool) -
     }
 }
 
-/// Runs one method over a trial; returns the estimates with their sample indices.
+/// Runs one method over a trial; returns the estimates with their sample indices
+/// (samples the navigator rejects are skipped, see [`replay_counted`]).
 pub fn replay(trial: &Trial, m: &Method) -> Result<Vec<(usize, FootEstimate)>, String> {
+    Ok(replay_counted(trial, m)?.estimates)
+}
+
+/// What a replay produced.
+#[derive(Clone, Debug, Default)]
+pub struct Replayed {
+    /// Estimates with the index of their sample in the recording.
+    pub estimates: Vec<(usize, FootEstimate)>,
+    /// Samples the navigator rejected (skipped), by reason.
+    pub skipped: crate::foot::Skipped,
+    /// Sample rate the navigator measured at alignment, Hz (0: never aligned).
+    pub rate_hz: f64,
+    /// Detector window, samples.
+    pub window: usize,
+    /// Divergence-guard resets.
+    pub resets: u64,
+}
+
+/// Runs one method over a trial. A sample the navigator rejects (repeated or
+/// reversed timestamp, NaN/∞, out of range, units of g) is skipped and counted by
+/// reason; it changes nothing in the navigator (engine contract).
+pub fn replay_counted(trial: &Trial, m: &Method) -> Result<Replayed, String> {
     let rec = &trial.rec;
     let labels = match m.labels.as_deref() {
         Some("best") => Some(
@@ -375,14 +404,27 @@ pub fn replay(trial: &Trial, m: &Method) -> Result<Vec<(usize, FootEstimate)>, S
                     .ok_or_else(|| format!("{}: no label column {col}", rec.name))?,
             )
         }
-        Some(other) => Some(
-            rec.label(other)
-                .ok_or_else(|| format!("{}: no label column {other}", rec.name))?,
-        ),
+        Some(other) => Some(rec.label(other).ok_or_else(|| {
+            let have: Vec<&str> = rec.labels.iter().map(|(n, _)| n.as_str()).collect();
+            format!(
+                "{}: no label column zv_{other} (the file has: {})",
+                rec.name,
+                if have.is_empty() {
+                    "none".to_string()
+                } else {
+                    have.join(", ")
+                }
+            )
+        })?),
         None => None,
     };
     let mut nav = FootNavigator::new(m.config.clone()).map_err(|e| e.to_string())?;
-    let mut out = Vec::with_capacity(rec.len());
+    let mut out = Replayed {
+        estimates: Vec::with_capacity(rec.len()),
+        ..Default::default()
+    };
+    // (t_s, index) of the accepted samples: strictly increasing in t_s.
+    let mut accepted: Vec<(f64, usize)> = Vec::with_capacity(rec.len());
     for i in 0..rec.len() {
         let s = FootSample {
             t_s: rec.t_s[i],
@@ -393,12 +435,22 @@ pub fn replay(trial: &Trial, m: &Method) -> Result<Vec<(usize, FootEstimate)>, S
             Some(l) => nav.push_with_stance(&s, l[i]),
             None => nav.push(&s),
         };
-        if let Some(e) = r.map_err(|e| format!("{} sample {i}: {e}", rec.name))? {
-            // Estimates come in sample order, `delay` samples late.
-            let k = rec.t_s.partition_point(|&t| t < e.t_s);
-            out.push((k, e));
+        match r {
+            Ok(e) => {
+                accepted.push((s.t_s, i));
+                if let Some(e) = e {
+                    // Estimates come in sample order, `delay` samples late.
+                    let j = accepted.partition_point(|&(t, _)| t < e.t_s);
+                    let k = accepted.get(j).map_or(i, |&(_, k)| k);
+                    out.estimates.push((k, e));
+                }
+            }
+            Err(e) => out.skipped.add(i, &e),
         }
     }
+    out.rate_hz = nav.sample_rate_hz();
+    out.window = nav.detector_window();
+    out.resets = nav.divergence_resets();
     Ok(out)
 }
 
@@ -438,15 +490,26 @@ fn rot(th: f64, v: [f64; 3]) -> [f64; 3] {
 
 /// RMSE after the best rotation + translation, and that rotation.
 fn fit(est: &[(usize, FootEstimate)], truth: &[[f64; 3]]) -> (f64, f64, [f64; 3]) {
+    let (r3, _, th, t) = fit_h(est, truth);
+    (r3, th, t)
+}
+
+/// 3-D and horizontal RMSE after the best rotation about the vertical +
+/// translation (the rotation and the horizontal translation are the same for both:
+/// the vertical decouples), the rotation and the translation.
+fn fit_h(est: &[(usize, FootEstimate)], truth: &[[f64; 3]]) -> (f64, f64, f64, [f64; 3]) {
     let e: Vec<[f64; 3]> = est.iter().map(|(_, e)| e.position_m).collect();
     let g: Vec<[f64; 3]> = est.iter().map(|(k, _)| truth[*k]).collect();
     let (th, t) = align(&e, &g);
-    let mut se = 0.0;
+    let (mut se, mut sh) = (0.0, 0.0);
     for (a, b) in e.iter().zip(&g) {
         let r = rot(th, *a);
-        se += (0..3).map(|i| (r[i] + t[i] - b[i]).powi(2)).sum::<f64>();
+        let d: Vec<f64> = (0..3).map(|i| (r[i] + t[i] - b[i]).powi(2)).collect();
+        se += d[0] + d[1] + d[2];
+        sh += d[0] + d[1];
     }
-    ((se / e.len() as f64).sqrt(), th, t)
+    let n = e.len() as f64;
+    ((se / n).sqrt(), (sh / n).sqrt(), th, t)
 }
 
 pub fn score(trial: &Trial, est: &[(usize, FootEstimate)]) -> Outcome {
@@ -464,7 +527,7 @@ fn score_with_gait(
     if est.len() < 2 {
         return Outcome::default();
     }
-    let (rmse, th, _) = fit(est, truth);
+    let (rmse, rmse_h, th, _) = fit_h(est, truth);
     let e0 = est[0].1.position_m;
     let e1 = est[est.len() - 1].1.position_m;
     let de = rot(th, sub(e1, e0));
@@ -473,6 +536,7 @@ fn score_with_gait(
     let closure_h = (de[0] - dg[0]).hypot(de[1] - dg[1]) / trial.path_m.max(1e-9) * 100.0;
     let mut o = Outcome {
         rmse_m: rmse,
+        rmse_h_m: rmse_h,
         closure_pct: closure,
         closure_h_pct: closure_h,
         zv_accuracy_pct: f64::NAN,
@@ -529,7 +593,7 @@ fn norm(a: [f64; 3]) -> f64 {
     (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
+pub fn median(mut v: Vec<f64>) -> f64 {
     v.retain(|x| x.is_finite());
     if v.is_empty() {
         return f64::NAN;
@@ -575,7 +639,7 @@ pub fn svm_folds(
         .collect()
 }
 
-struct Table {
+pub(crate) struct Table {
     names: Vec<String>,
     /// results[trial][method]
     results: Vec<Vec<Outcome>>,
@@ -598,7 +662,7 @@ fn summary(
             .filter(|i| i.kind() == GaitClass::Other)
             .count(),
     ));
-    out.push_str("| method | pyshoe metric m all | RMSE m all | RMSE m walk | RMSE m run | RMSE m other | closure % walk (horizontal) | closure % walk | closure % run | ZV % walk samples | ZV % run samples | ZV % other samples | false stance % run samples |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    out.push_str("| method | pyshoe metric m all | horizontal RMSE m all | RMSE m all | RMSE m walk | RMSE m run | RMSE m other | closure % walk (horizontal) | closure % walk | closure % run | ZV % walk samples | ZV % run samples | ZV % other samples | false stance % run samples |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (j, name) in names.iter().enumerate() {
         let col = |kind: Option<GaitClass>, f: fn(&Outcome) -> f64| {
             median(
@@ -620,8 +684,9 @@ fn summary(
             }
         };
         out.push_str(&format!(
-            "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {:.1} | {:.1} |\n",
+            "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {:.1} | {:.1} |\n",
             col(None, |o| o.armse_2d_m),
+            col(None, |o| o.rmse_h_m),
             col(None, |o| o.rmse_m),
             col(Some(GaitClass::Walk), |o| o.rmse_m),
             col(Some(GaitClass::Run), |o| o.rmse_m),
@@ -648,15 +713,36 @@ fn all_stats(
         .collect()
 }
 
+/// The SVM-based detectors with a given (cross-validation) model.
+fn svm_methods(model: &stridekit_core::foot::SvmModel) -> Vec<Method> {
+    let model = std::sync::Arc::new(model.clone());
+    vec![
+        with("svm", ZeroVelocityDetector::Svm(model.clone())),
+        with(
+            "svm+adaptive",
+            ZeroVelocityDetector::SvmAdaptive(SvmAdaptive::with_model(model)),
+        ),
+    ]
+}
+
+/// Columns: the fixed methods, with the SVM-based ones inserted after the second
+/// (6-fold CV), and the SVM-based ones again with leave-one-session-out models at
+/// the end.
 fn evaluate(
     trials: &[Trial],
     infos: &[TrialInfo],
     svm: &[stridekit_core::foot::SvmModel],
+    loso: &crate::eval_foot_sessions::Loso,
 ) -> Result<Table, String> {
     let ms = methods();
     let mut names: Vec<String> = ms.iter().map(|m| m.name.clone()).collect();
-    names.insert(2, format!("svm ({}-fold CV)", svm.len()));
-    names.insert(3, format!("svm+adaptive ({}-fold CV)", svm.len()));
+    let cv = svm_methods(&svm[0]);
+    for (j, m) in cv.iter().enumerate() {
+        names.insert(2 + j, format!("{} ({}-fold CV)", m.name, svm.len()));
+    }
+    for m in &cv {
+        names.push(format!("{} (leave one session out)", m.name));
+    }
     let mut results = Vec::new();
     for (i, (trial, info)) in trials.iter().zip(infos).enumerate() {
         let mut row = Vec::new();
@@ -664,16 +750,14 @@ fn evaluate(
             let est = replay(trial, m)?;
             row.push(score_with_gait(trial, Some(&info.gait), &est));
         }
-        let model = std::sync::Arc::new(svm[i % svm.len()].clone());
-        let m = with("svm", ZeroVelocityDetector::Svm(model.clone()));
-        let est = replay(trial, &m)?;
-        row.insert(2, score_with_gait(trial, Some(&info.gait), &est));
-        let m = with(
-            "svm+adaptive",
-            ZeroVelocityDetector::SvmAdaptive(SvmAdaptive::with_model(model)),
-        );
-        let est = replay(trial, &m)?;
-        row.insert(3, score_with_gait(trial, Some(&info.gait), &est));
+        for (j, m) in svm_methods(&svm[i % svm.len()]).iter().enumerate() {
+            let est = replay(trial, m)?;
+            row.insert(2 + j, score_with_gait(trial, Some(&info.gait), &est));
+        }
+        for m in &svm_methods(loso.model_for(&trial.rec.name)) {
+            let est = replay(trial, m)?;
+            row.push(score_with_gait(trial, Some(&info.gait), &est));
+        }
         results.push(row);
     }
     Ok(Table { names, results })
@@ -685,7 +769,8 @@ pub fn run(dir: &Path) -> Result<String, String> {
     let (trials, infos): (Vec<Trial>, Vec<TrialInfo>) = loaded.into_iter().unzip();
     let stats = all_stats(&trials, &base_config())?;
     let svm = svm_folds(&trials, &stats, SVM_FOLDS)?;
-    let table = evaluate(&trials, &infos, &svm)?;
+    let loso = crate::eval_foot_sessions::Loso::train(&trials, &stats)?;
+    let table = evaluate(&trials, &infos, &svm, &loso)?;
     let Table { names, results } = table;
     let oracle = names.iter().position(|n| n == "oracle labels").unwrap_or(0);
 
@@ -736,7 +821,7 @@ pub fn run(dir: &Path) -> Result<String, String> {
     out.push_str(&format!(
         "Gait per sample from the truth: horizontal foot path over ±0.5 s / 1 s > {RUN_SPEED_MPS} m/s = run, else walk; the stairs/crawling session {OTHER_PREFIX}* = other (see its height range, stance tilt and mean speed). Split: even positions in name order = training (defaults chosen there), odd = held-out.\n\n"
     ));
-    out.push_str("Per trial: position RMSE after the best horizontal rotation + translation, m / loop-closure error, % of path / zero-velocity agreement with the best detector's labels, %.\n\n");
+    out.push_str("Per trial: horizontal position RMSE after the best rotation about the vertical + translation, m / 3-D loop-closure error, % of path / zero-velocity agreement with the best detector's labels, %.\n\n");
     out.push_str(
         "| trial | split | gait | run % | z range m | stance tilt ° | mean speed m/s | path m |",
     );
@@ -763,7 +848,7 @@ pub fn run(dir: &Path) -> Result<String, String> {
         for o in row {
             out.push_str(&format!(
                 " {:.3} / {:.2} / {:.1} |",
-                o.rmse_m, o.closure_pct, o.zv_accuracy_pct
+                o.rmse_h_m, o.closure_pct, o.zv_accuracy_pct
             ));
         }
         out.push('\n');
@@ -787,6 +872,9 @@ pub fn run(dir: &Path) -> Result<String, String> {
         &names,
         &tr,
     );
+    out.push_str(&crate::eval_foot_sessions::session_table(
+        &trials, &names, &results, &loso,
+    ));
     let med_oracle = median(results.iter().map(|r| r[oracle].rmse_m).collect());
     let ours: Vec<f64> = results.iter().map(|r| r[oracle].armse_2d_m).collect();
     let theirs: Vec<f64> = trials
@@ -992,5 +1080,7 @@ pub fn tune(dir: &Path, windows: &[f64]) -> Result<String, String> {
         }
         out.push_str(&format!("→ adaptive {:?}: {:.3}\n", best_ad.1, best_ad.0));
     }
+    out.push_str("\n## adaptive shoe (detector window 0.025 s)\n\n");
+    out.push_str(&crate::eval_foot_tune_shoe::run(dir)?);
     Ok(out)
 }

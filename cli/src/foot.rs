@@ -1,6 +1,19 @@
 //! `stridekit foot FILE.csv`: replay a foot-mounted IMU recording through the foot
 //! navigator and write the trajectory as CSV plus SVG plots next to it.
 //!
+//! Input: a pyshoe / UofT CSV or an x-io (NGIMU) CSV export (see
+//! `stridekit_formats::foot`). The sensor axes come from `--axes` (see
+//! [`FootConfig::axes_from_spec`]); without it, the layout's usual axes (pyshoe:
+//! `frd`; x-io: `flu`, the body frame itself). The IMU profile (`--imu`) likewise
+//! defaults by layout: the UofT trials were recorded with a factory-calibrated
+//! MicroStrain (`calibrated`), anything else is taken as consumer MEMS (`consumer`,
+//! the SDK default: gyro bias measured at the start rest).
+//!
+//! Samples the navigator rejects (repeated or reversed timestamps, NaN, values out
+//! of range, accelerations in g) are skipped and counted by reason, and the counts
+//! are printed (the navigator rejects a sample whose time equals the previous one:
+//! common in logs of a fast sensor on a coarse clock).
+//!
 //! When the file has truth columns (`gt_x_m gt_y_m gt_z_m`, e.g. the pyshoe VICON
 //! trials), the truth is mirrored as `eval foot` does (see `eval_foot::mirror_truth`)
 //! and then carried into the estimate's ENU frame by the best rotation about the
@@ -13,25 +26,162 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use stridekit_core::foot::{FootConfig, FootEstimate};
-use stridekit_formats::read_foot_csv;
+use stridekit_core::foot::{FootConfig, FootError, FootEstimate};
+use stridekit_formats::{read_foot_csv, FootFormat};
 
-use crate::eval_foot::{align, replay, Method, Trial};
+use crate::eval_foot::{align, replay_counted, Method, Trial};
 use crate::report::{line_chart, track_chart, Chart, Series, Style};
 
 /// Plots keep at most about this many points per series (the CSV keeps all).
 const PLOT_POINTS: usize = 4000;
 
-pub fn run(
-    file: &Path,
-    out: &Path,
-    config: FootConfig,
-    labels: Option<String>,
-) -> Result<(), String> {
+/// Which IMU the recording comes from (`--imu`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImuProfile {
+    /// [`FootConfig::default`]: consumer MEMS, gyro bias from the start rest.
+    Consumer,
+    /// [`FootConfig::calibrated_imu`]: factory-calibrated IMU (the UofT MicroStrain).
+    Calibrated,
+}
+
+impl ImuProfile {
+    pub fn parse(s: &str) -> Result<Self, String> {
+        match s {
+            "consumer" => Ok(Self::Consumer),
+            "calibrated" => Ok(Self::Calibrated),
+            _ => Err(format!("unknown --imu {s} (consumer|calibrated)")),
+        }
+    }
+    fn name(self) -> &'static str {
+        match self {
+            Self::Consumer => "consumer",
+            Self::Calibrated => "calibrated",
+        }
+    }
+    fn config(self) -> FootConfig {
+        match self {
+            Self::Consumer => FootConfig::default(),
+            Self::Calibrated => FootConfig::calibrated_imu(),
+        }
+    }
+}
+
+/// Options of `stridekit foot`.
+#[derive(Clone, Debug, Default)]
+pub struct FootArgs {
+    pub file: PathBuf,
+    /// Trajectory CSV (the SVGs go next to it).
+    pub out: PathBuf,
+    /// Drive the updates with this stance label column (`zv_NAME`).
+    pub labels: Option<String>,
+    /// Sensor axes spec (`frd`, `flu`, `x,-y,-z`, …).
+    pub axes: Option<String>,
+    pub imu: Option<ImuProfile>,
+}
+
+/// Samples a replay skipped, by the navigator's reason.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Skipped {
+    /// Time equal to the previous accepted sample's.
+    pub repeated_time: usize,
+    /// Time before the previous accepted sample's.
+    pub time_backwards: usize,
+    pub non_finite: usize,
+    pub out_of_range: usize,
+    /// Rejected before alignment as accelerations in g.
+    pub in_g: usize,
+    pub other: usize,
+    /// Index of the first skipped sample and its error.
+    pub first: Option<(usize, String)>,
+}
+
+impl Skipped {
+    pub fn add(&mut self, index: usize, e: &FootError) {
+        use stridekit_core::input::InputError as I;
+        match e {
+            FootError::Input(i) if i.is_duplicate_time() => self.repeated_time += 1,
+            FootError::Input(I::TimeNotIncreasing { .. }) => self.time_backwards += 1,
+            FootError::Input(I::NonFinite { .. }) => self.non_finite += 1,
+            FootError::Input(I::OutOfRange { .. }) => self.out_of_range += 1,
+            FootError::Input(I::AccelerationInG { .. }) => self.in_g += 1,
+            _ => self.other += 1,
+        }
+        self.first.get_or_insert_with(|| (index, e.to_string()));
+    }
+
+    pub fn total(&self) -> usize {
+        self.repeated_time
+            + self.time_backwards
+            + self.non_finite
+            + self.out_of_range
+            + self.in_g
+            + self.other
+    }
+
+    /// "none", or the counts by reason.
+    pub fn describe(&self) -> String {
+        let parts: Vec<String> = [
+            (self.repeated_time, "time equal to the previous sample's"),
+            (self.time_backwards, "time before the previous sample's"),
+            (self.non_finite, "NaN or infinite value"),
+            (self.out_of_range, "value out of range"),
+            (self.in_g, "accelerations in g, not m/s²"),
+            (self.other, "other"),
+        ]
+        .iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, why)| format!("{n} {why}"))
+        .collect();
+        if parts.is_empty() {
+            "none".into()
+        } else {
+            parts.join(", ")
+        }
+    }
+}
+
+/// The navigator configuration for a recording of `format` under `args`, and a
+/// description of the choices for the output.
+pub fn config_for(args: &FootArgs, format: FootFormat) -> Result<(FootConfig, String), String> {
+    let (default_axes, default_imu) = match format {
+        FootFormat::Pyshoe => ("frd", ImuProfile::Calibrated),
+        FootFormat::Xio => ("flu", ImuProfile::Consumer),
+    };
+    let spec = args.axes.as_deref().unwrap_or(default_axes);
+    let axis_remap = FootConfig::axes_from_spec(spec).map_err(|e| format!("--axes {spec}: {e}"))?;
+    let imu = args.imu.unwrap_or(default_imu);
+    let how = |given: bool| {
+        if given {
+            "given"
+        } else {
+            "default for this layout"
+        }
+    };
+    let text = format!(
+        "{}, axes {spec} ({}), IMU profile {} ({})",
+        format.name(),
+        how(args.axes.is_some()),
+        imu.name(),
+        how(args.imu.is_some()),
+    );
+    Ok((
+        FootConfig {
+            axis_remap,
+            ..imu.config()
+        },
+        text,
+    ))
+}
+
+pub fn run(args: &FootArgs) -> Result<(), String> {
+    let file = &args.file;
+    let out = &args.out;
     let mut rec = read_foot_csv(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let (config, described) = config_for(args, rec.format)?;
     if let Some(t) = rec.truth_m.as_mut() {
         crate::eval_foot::mirror_truth(t);
     }
+    let unreadable = (rec.unreadable_rows, rec.first_unreadable_line);
     let trial = Trial {
         best: "shoe_opt".into(),
         runner_up: None,
@@ -43,9 +193,37 @@ pub fn run(
     let m = Method {
         name: "replay".into(),
         config,
-        labels,
+        labels: args.labels.clone(),
     };
-    let est = replay(&trial, &m)?;
+    let replayed = replay_counted(&trial, &m)?;
+    let est = &replayed.estimates;
+    println!("{}: {}", trial.rec.name, described);
+    println!(
+        "  {} rows, {} samples skipped: {}",
+        trial.rec.len() + unreadable.0,
+        replayed.skipped.total() + unreadable.0,
+        {
+            let mut d = replayed.skipped.describe();
+            if unreadable.0 > 0 {
+                let u = format!(
+                    "{} unreadable rows (first at line {})",
+                    unreadable.0,
+                    unreadable.1.unwrap_or(0)
+                );
+                d = if d == "none" { u } else { format!("{d}, {u}") };
+            }
+            d
+        }
+    );
+    if let Some((i, e)) = &replayed.skipped.first {
+        println!("  first skipped: row {} ({e})", i + 2);
+    }
+    if est.is_empty() {
+        return Err(format!(
+            "{}: no estimate: the navigator never aligned (it needs {} s of rest at the start, in m/s² and rad/s)",
+            trial.rec.name, m.config.alignment_s
+        ));
+    }
     // Truth per estimate, in the estimate's frame.
     let truth: Option<Vec<[f64; 3]>> = trial.rec.truth_m.as_ref().map(|t| {
         let g: Vec<[f64; 3]> = est.iter().map(|(k, _)| t[*k]).collect();
@@ -54,36 +232,58 @@ pub fn run(
         g.iter().map(|p| into_estimate_frame(th, tr, *p)).collect()
     });
 
-    write_csv(out, &est, truth.as_deref())?;
+    write_csv(out, est, truth.as_deref())?;
     let (top, height) = svg_paths(out);
-    plot(&top, &height, &trial.rec.name, &est, truth.as_deref())?;
+    plot(&top, &height, &trial.rec.name, est, truth.as_deref())?;
 
-    if let Some((_, last)) = est.last() {
+    let first = est[0].1;
+    let last = est[est.len() - 1].1;
+    println!(
+        "  {} estimates at {:.1} Hz (detector window {} samples), {} strides, {:.2} m walked, {:.1} s",
+        est.len(),
+        replayed.rate_hz,
+        replayed.window,
+        last.strides,
+        last.distance_m,
+        last.t_s - first.t_s,
+    );
+    let d: Vec<f64> = (0..3)
+        .map(|i| last.position_m[i] - first.position_m[i])
+        .collect();
+    let d3 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    let dh = d[0].hypot(d[1]);
+    let pct = |x: f64| 100.0 * x / last.distance_m.max(1e-9);
+    println!(
+        "  end − start: ({:.3}, {:.3}, {:.3}) m ENU; 3-D {:.3} m = {:.2} % of the distance walked, horizontal {:.3} m = {:.2} %, height {:+.3} m (loop closure, for a walk that ends where it starts)",
+        d[0], d[1], d[2], d3, pct(d3), dh, pct(dh), d[2]
+    );
+    if replayed.resets > 0 {
+        println!("  divergence-guard resets: {}", replayed.resets);
+    }
+    if let Some(g) = &truth {
+        let se: f64 = est
+            .iter()
+            .zip(g)
+            .map(|((_, e), g)| {
+                (0..3)
+                    .map(|i| (e.position_m[i] - g[i]).powi(2))
+                    .sum::<f64>()
+            })
+            .sum();
+        let sh: f64 = est
+            .iter()
+            .zip(g)
+            .map(|((_, e), g)| {
+                (0..2)
+                    .map(|i| (e.position_m[i] - g[i]).powi(2))
+                    .sum::<f64>()
+            })
+            .sum();
         println!(
-            "{}: {} samples, {} strides, {:.2} m walked, end at ({:.2}, {:.2}, {:.2}) m",
-            trial.rec.name,
-            est.len(),
-            last.strides,
-            last.distance_m,
-            last.position_m[0],
-            last.position_m[1],
-            last.position_m[2],
+            "  position RMSE against the aligned truth: {:.3} m (horizontal {:.3} m)",
+            (se / est.len() as f64).sqrt(),
+            (sh / est.len() as f64).sqrt()
         );
-        if let Some(g) = &truth {
-            let se: f64 = est
-                .iter()
-                .zip(g)
-                .map(|((_, e), g)| {
-                    (0..3)
-                        .map(|i| (e.position_m[i] - g[i]).powi(2))
-                        .sum::<f64>()
-                })
-                .sum();
-            println!(
-                "  position RMSE against the aligned truth: {:.3} m",
-                (se / est.len() as f64).sqrt()
-            );
-        }
     }
     println!(
         "  trajectory in {}, plots in {} and {}",
@@ -112,6 +312,9 @@ fn write_csv(
     truth: Option<&[[f64; 3]]>,
 ) -> Result<(), String> {
     let io = |e: std::io::Error| format!("{}: {e}", out.display());
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(io)?;
+    }
     let mut w = std::io::BufWriter::new(std::fs::File::create(out).map_err(io)?);
     writeln!(w, "t_s,x_m,y_m,z_m,vx_mps,vy_mps,vz_mps,yaw_rad,stance,strides,distance_m,gt_x_m,gt_y_m,gt_z_m").map_err(io)?;
     for (j, (_, e)) in est.iter().enumerate() {
@@ -247,6 +450,113 @@ mod tests {
                 assert!((back[i] - e[i]).abs() < 1e-12);
             }
         }
+    }
+
+    /// A simulated 400 Hz walk with the sensor z up and tilted on the shoe, written
+    /// as an x-io CSV export (deg/s, g) with repeated rows as from a coarse clock,
+    /// a reversed timestamp, a NaN and a truncated line: the replay skips and counts
+    /// them and the loop closes.
+    #[test]
+    fn replays_an_xio_export_with_repeated_rows() {
+        use stridekit_core::sim::{simulate_foot, FootScenario};
+        let sim = simulate_foot(&FootScenario {
+            sample_rate_hz: 400.0,
+            mount_rpy_rad: [0.3, -0.5, 0.4],
+            loop_m: [10.0, 5.0],
+            ..FootScenario::walk(7, 1)
+        });
+        let dir = std::env::temp_dir().join(format!("stridekit-xio-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("walk.csv");
+        let mut text = String::from("Time (s),Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s),Accelerometer X (g),Accelerometer Y (g),Accelerometer Z (g)\n");
+        let row = |t: f64, s: &stridekit_core::foot::FootSample| {
+            let w = s.gyro_rads.map(f64::to_degrees);
+            let a = s.accel_mps2.map(|v| v / 9.80665);
+            format!(
+                "{t:.9},{},{},{},{},{},{}\n",
+                w[0], w[1], w[2], a[0], a[1], a[2]
+            )
+        };
+        let (mut repeated, mut backwards, mut nan) = (0, 0, 0);
+        for (i, s) in sim.samples.iter().enumerate() {
+            text.push_str(&row(s.t_s, s));
+            if i > 400 && i % 97 == 0 {
+                text.push_str(&row(s.t_s, s));
+                repeated += 1;
+            }
+            if i == 5000 {
+                text.push_str(&row(s.t_s - 0.1, s));
+                backwards += 1;
+            }
+            if i == 6000 {
+                text.push_str(&format!("{},NaN,0,0,0,0,1\n", s.t_s + 1e-4));
+                nan += 1;
+            }
+        }
+        text.push_str("12.3,4.5\n");
+        std::fs::write(&file, text).unwrap();
+
+        let rec = read_foot_csv(&file).unwrap();
+        assert_eq!(rec.format, FootFormat::Xio);
+        assert_eq!(rec.unreadable_rows, 1);
+        let args = FootArgs {
+            file: file.clone(),
+            out: dir.join("walk_out.csv"),
+            axes: Some("flu".into()),
+            ..Default::default()
+        };
+        let (config, _) = config_for(&args, rec.format).unwrap();
+        assert!(
+            config.gyro_bias_from_alignment,
+            "x-io: consumer profile by default"
+        );
+        let trial = Trial {
+            best: String::new(),
+            runner_up: None,
+            pyshoe_best_m: None,
+            run: false,
+            path_m: 0.0,
+            rec,
+        };
+        let m = Method {
+            name: "t".into(),
+            config,
+            labels: None,
+        };
+        let r = replay_counted(&trial, &m).unwrap();
+        assert_eq!(r.skipped.repeated_time, repeated);
+        assert_eq!(r.skipped.time_backwards, backwards);
+        assert_eq!(r.skipped.non_finite, nan);
+        assert_eq!(r.skipped.total(), repeated + backwards + nan);
+        assert!((r.rate_hz - 400.0).abs() < 1.0, "{}", r.rate_hz);
+        let first = r.estimates[0].1;
+        let last = r.estimates.last().unwrap().1;
+        let d: f64 = (0..3)
+            .map(|i| (last.position_m[i] - first.position_m[i]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let closure = d / last.distance_m;
+        assert!(last.distance_m > 25.0, "{}", last.distance_m);
+        assert!(
+            closure < 0.01,
+            "closure {:.2} % of {:.1} m",
+            closure * 100.0,
+            last.distance_m
+        );
+        // The command itself runs end to end.
+        run(&args).unwrap();
+        assert!(dir.join("walk_out.svg").exists());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn bad_axes_are_refused() {
+        let args = FootArgs {
+            axes: Some("x,y,-z".into()),
+            ..Default::default()
+        };
+        let e = config_for(&args, FootFormat::Xio).unwrap_err();
+        assert!(e.contains("mirror"), "{e}");
     }
 
     #[test]

@@ -3,6 +3,9 @@
 mod activity;
 mod demo;
 mod eval_foot;
+mod eval_foot_diagnose;
+mod eval_foot_sessions;
+mod eval_foot_tune_shoe;
 mod eval_pace;
 mod eval_pace_device;
 mod eval_pdr;
@@ -56,21 +59,33 @@ USAGE:
       Step-length models (constant, linear robust and as published, frequency-only,
       Weinberg): distance error over a 5-minute GNSS outage after calibration, on the
       phone simulator and on the real runs in DIR (default: ../shared/data/pace/original).
-  stridekit foot FILE.csv [--out traj.csv] [--labels NAME]
-      Replay a foot-mounted IMU recording (pyshoe CSV: x fwd, y right, z down)
-      through the foot navigator; write the trajectory CSV (default
-      foot_trajectory.csv) and, next to it, traj.svg (top view) and traj_height.svg
-      (height over time). With truth columns (gt_*), the truth is aligned to the
-      estimate (rotation about the vertical + translation), written beside it in the
-      CSV, drawn in both plots and its position RMSE printed. --labels drives the
-      zero-velocity updates with a stance label column (e.g. vicon_opt) instead of
-      the detector.
-  stridekit eval foot [--data DIR] [--tune]
+  stridekit foot FILE.csv [--out traj.csv] [--labels NAME] [--axes SPEC]
+                 [--imu consumer|calibrated]
+      Replay a foot-mounted IMU recording (pyshoe / UofT CSV, or an x-io NGIMU CSV
+      export: Time (s), Gyroscope (deg/s), Accelerometer (g)) through the foot
+      navigator; write the trajectory CSV (default foot_trajectory.csv) and, next to
+      it, traj.svg (top view) and traj_height.svg (height over time). Samples the
+      navigator rejects (repeated or reversed timestamps, NaN, out of range) are
+      skipped and counted by reason. Prints strides, distance and the end − start
+      displacement (loop closure). --axes: where the sensor axes point, in the
+      order x, y, z, from f/b l/r u/d (frd = x forward, y right, z down, as in
+      pyshoe; flu = x forward, y left, z up), or which signed sensor axis gives
+      body forward, left, up (x,-y,-z = frd); default frd for pyshoe files, flu for
+      x-io. --imu: calibrated (factory-calibrated IMU, default for pyshoe/UofT files)
+      or consumer (gyro bias measured at the start rest; default otherwise). With
+      truth columns (gt_*), the truth is aligned to the estimate (rotation about the
+      vertical + translation), written beside it in the CSV, drawn in both plots
+      and its position RMSE printed. --labels drives the zero-velocity updates with
+      a stance label column (e.g. vicon_opt) instead of the detector.
+  stridekit eval foot [--data DIR] [--tune | --tune-adaptive-shoe | --diagnose]
       Foot-mounted navigation on the pyshoe VICON trials in DIR (default:
-      ../shared/data/foot/pyshoe-vicon): position RMSE, loop closure and zero-velocity
-      agreement per trial and per gait for the fixed, adaptive, SVM (cross-validated
-      over trials) and SHOE detectors and the oracle labels. --tune prints the grid
-      searches on the training split that chose the detector defaults.
+      ../shared/data/foot/pyshoe-vicon): horizontal and 3-D position RMSE, loop
+      closure and zero-velocity agreement per trial, per gait and per session for the
+      fixed, adaptive, SVM (6-fold and leave-one-session-out), SHOE and adaptive SHOE
+      detectors and the oracle labels. --tune prints the grid searches on the
+      training split that chose the defaults (--tune-adaptive-shoe: only the gyro
+      timing and adaptive SHOE part); --diagnose prints stride-length and
+      height-per-stride errors against the truth.
   stridekit train zupt [--data DIR] [--trials A,B,...|--split K/N] [--out FILE]
       Train the SVM zero-velocity detector (six Gaussian-kernel SVMs) on the trials
       in DIR (default: all; --split K/N leaves out fold K of N, by position modulo N)
@@ -110,29 +125,45 @@ fn flag(args: &[String], name: &str) -> Option<String> {
         .and_then(|i| args.get(i + 1).cloned())
 }
 
-/// The first argument that is not one of `valued` (flags taking a value, skipped
-/// with it) or `bare` flags, as an error message; `None` when all are known.
-fn unknown_flags(args: &[String], valued: &[&str], bare: &[&str]) -> Option<String> {
-    let mut i = 0;
+/// Refuses anything in `args[from..]` that is not one of the command's flags:
+/// `with_value` flags take the next argument, `switches` stand alone.
+fn check_flags(
+    args: &[String],
+    from: usize,
+    with_value: &[&str],
+    switches: &[&str],
+) -> Result<(), String> {
+    let mut i = from;
     while i < args.len() {
         let a = args[i].as_str();
-        if valued.contains(&a) {
-            if args.get(i + 1).is_none() {
-                return Some(format!("{a} needs a value"));
+        if with_value.contains(&a) {
+            if args.get(i + 1).is_none_or(|v| v.starts_with("--")) {
+                return Err(format!("{a} needs a value"));
             }
             i += 2;
-        } else if bare.contains(&a) {
+        } else if switches.contains(&a) {
             i += 1;
         } else {
-            let mut known: Vec<&str> = valued.to_vec();
-            known.extend_from_slice(bare);
-            return Some(format!(
-                "unknown argument {a} (known: {})",
+            let mut known: Vec<&str> = with_value.to_vec();
+            known.extend(switches);
+            let command = args[..from.min(args.len())].join(" ");
+            let context = if command.is_empty() {
+                String::new()
+            } else {
+                format!(" for `{command}`")
+            };
+            return Err(format!(
+                "unknown argument {a}{context} (accepted: {})",
                 known.join(", ")
             ));
         }
     }
-    None
+    Ok(())
+}
+
+/// [`check_flags`] over all of `args`, as an optional message.
+fn unknown_flags(args: &[String], valued: &[&str], bare: &[&str]) -> Option<String> {
+    check_flags(args, 0, valued, bare).err()
 }
 
 fn main() -> ExitCode {
@@ -205,23 +236,45 @@ fn main() -> ExitCode {
             }
         }
         Some("foot") => match args.get(1) {
-            Some(file) => {
-                let out = flag(&args, "--out").unwrap_or_else(|| "foot_trajectory.csv".into());
-                foot::run(
-                    &PathBuf::from(file),
-                    &PathBuf::from(out),
-                    eval_foot::base_config(),
-                    flag(&args, "--labels"),
-                )
+            Some(file) if !file.starts_with("--") => {
+                check_flags(&args, 2, &["--out", "--labels", "--axes", "--imu"], &[])
+                    .and_then(|()| {
+                        let imu = flag(&args, "--imu")
+                            .map(|s| foot::ImuProfile::parse(&s))
+                            .transpose()?;
+                        foot::run(&foot::FootArgs {
+                            file: PathBuf::from(file),
+                            out: PathBuf::from(
+                                flag(&args, "--out")
+                                    .unwrap_or_else(|| "foot_trajectory.csv".into()),
+                            ),
+                            labels: flag(&args, "--labels"),
+                            axes: flag(&args, "--axes"),
+                            imu,
+                        })
+                    })
             }
-            None => Err("foot needs a FILE".into()),
+            _ => Err("foot needs a FILE first: stridekit foot FILE.csv [--out traj.csv] [--labels NAME] [--axes SPEC] [--imu consumer|calibrated]".into()),
         },
         Some("eval") if args.get(1).map(String::as_str) == Some("foot") => {
+            if let Err(e) = check_flags(
+                &args,
+                2,
+                &["--data"],
+                &["--tune", "--tune-adaptive-shoe", "--diagnose"],
+            ) {
+                eprintln!("error: {e}");
+                return ExitCode::FAILURE;
+            }
             let dir = flag(&args, "--data")
                 .map(PathBuf::from)
                 .or_else(|| stridekit_formats::data_dir().map(|d| d.join("foot/pyshoe-vicon")));
             match dir {
-                Some(d) if d.is_dir() => if args.iter().any(|a| a == "--tune") {
+                Some(d) if d.is_dir() => if args.iter().any(|a| a == "--diagnose") {
+                    eval_foot_diagnose::run(&d)
+                } else if args.iter().any(|a| a == "--tune-adaptive-shoe") {
+                    eval_foot_tune_shoe::run(&d)
+                } else if args.iter().any(|a| a == "--tune") {
                     eval_foot::tune(&d, &[0.025, 0.05, 0.1])
                 } else {
                     eval_foot::run(&d)
@@ -231,6 +284,10 @@ fn main() -> ExitCode {
             }
         }
         Some("train") if args.get(1).map(String::as_str) == Some("zupt") => {
+            if let Err(e) = check_flags(&args, 2, &["--data", "--trials", "--split", "--out"], &[]) {
+                eprintln!("error: {e}");
+                return ExitCode::FAILURE;
+            }
             let dir = flag(&args, "--data")
                 .map(PathBuf::from)
                 .or_else(|| stridekit_formats::data_dir().map(|d| d.join("foot/pyshoe-vicon")));

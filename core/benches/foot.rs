@@ -19,7 +19,7 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use stridekit_core::foot::{
     AdaptiveThresholds, FixedThresholds, FootConfig, FootNavigator, FootSample, ShoeDetector,
-    ZeroVelocityDetector,
+    SvmAdaptive, ZeroVelocityDetector,
 };
 use stridekit_core::sim::{simulate_foot, FootScenario};
 
@@ -42,8 +42,9 @@ fn samples(n: usize) -> Vec<FootSample> {
         .collect()
 }
 
-fn detectors() -> [(&'static str, ZeroVelocityDetector); 5] {
+fn detectors() -> [(&'static str, ZeroVelocityDetector); 6] {
     [
+        ("adaptive_shoe", ZeroVelocityDetector::default()),
         ("shoe", ZeroVelocityDetector::Shoe(ShoeDetector::default())),
         ("fixed", ZeroVelocityDetector::Fixed(FixedThresholds::WALK)),
         (
@@ -51,7 +52,10 @@ fn detectors() -> [(&'static str, ZeroVelocityDetector); 5] {
             ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
         ),
         ("svm", ZeroVelocityDetector::default_svm()),
-        ("svm+adaptive", ZeroVelocityDetector::default()),
+        (
+            "svm+adaptive",
+            ZeroVelocityDetector::SvmAdaptive(SvmAdaptive::default()),
+        ),
     ]
 }
 

@@ -4,8 +4,8 @@
 
 use std::sync::Arc;
 use stridekit_core::foot::{
-    AdaptiveThresholds, FixedThresholds, FootConfig, FootError, FootEstimate, FootNavigator,
-    ShoeDetector, SvmAdaptive, SvmModel, WindowStats, ZeroVelocityDetector,
+    AdaptiveShoe, AdaptiveThresholds, FixedThresholds, FootConfig, FootError, FootEstimate,
+    FootNavigator, ShoeDetector, SvmAdaptive, SvmModel, WindowStats, ZeroVelocityDetector,
 };
 
 use stridekit_core::sim::{simulate_foot, FootScenario, SimulatedFoot};
@@ -75,7 +75,8 @@ fn simulated_walk_closes_its_loop_with_every_detector() {
     let sim = simulate_foot(&FootScenario::walk(1, 2));
     assert_eq!(sim.strides.len(), 84);
     for det in [
-        ZeroVelocityDetector::default(), // svm+adaptive
+        ZeroVelocityDetector::default(), // adaptive shoe
+        ZeroVelocityDetector::SvmAdaptive(SvmAdaptive::default()),
         ZeroVelocityDetector::Shoe(ShoeDetector::default()),
         ZeroVelocityDetector::Fixed(FixedThresholds::WALK),
         ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
@@ -117,7 +118,8 @@ fn simulated_walk_closes_its_loop_with_every_detector() {
 fn simulated_run_closes_its_loop() {
     let sim = simulate_foot(&FootScenario::run(2, 2));
     for det in [
-        ZeroVelocityDetector::default(), // svm+adaptive
+        ZeroVelocityDetector::default(), // adaptive shoe
+        ZeroVelocityDetector::SvmAdaptive(SvmAdaptive::default()),
         ZeroVelocityDetector::Shoe(ShoeDetector::default()),
         ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
     ] {
@@ -380,7 +382,8 @@ fn snapshot_restore_splits_anywhere() {
         ..FootConfig::default()
     };
     for det in [
-        ZeroVelocityDetector::default(), // svm+adaptive
+        ZeroVelocityDetector::default(), // adaptive shoe
+        ZeroVelocityDetector::SvmAdaptive(SvmAdaptive::default()),
         ZeroVelocityDetector::Shoe(ShoeDetector::default()),
         ZeroVelocityDetector::Fixed(FixedThresholds::WALK),
         ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
@@ -403,8 +406,10 @@ fn snapshot_restore_splits_anywhere() {
             if svm { 3 } else { 80 },
         );
     }
-    // Defaults (no median) and the as-published correction.
+    // Defaults (no median), the calibrated-IMU profile (interval-mean gyro) and the
+    // as-published correction.
     split_everywhere(FootConfig::default(), &sim, 7, 60, 80);
+    split_everywhere(FootConfig::calibrated_imu(), &sim, 7, 60, 80);
     split_everywhere(
         FootConfig {
             correction: stridekit_core::foot::Correction::AsPublished,
@@ -487,4 +492,66 @@ fn svm_adaptive_switches_by_gait_and_snapshots_a_custom_model() {
     };
     let sim = simulate_foot(&FootScenario::walk(12, 1));
     split_everywhere(config, &sim, 499, 120, 2);
+}
+
+#[test]
+fn snapshots_of_another_format_version_are_typed_errors() {
+    // One layout per build: a snapshot written by another version is refused, never
+    // misread.
+    let sim = simulate_foot(&FootScenario::walk(9, 1));
+    let mut nav = FootNavigator::new(FootConfig::default()).unwrap();
+    for s in &sim.samples[..800] {
+        nav.push(s).unwrap();
+    }
+    let mut old = nav.snapshot();
+    old[5..7].copy_from_slice(&2u16.to_le_bytes());
+    let n = old.len() - 4;
+    let crc = stridekit_core::snapshot::crc32(&old[..n]);
+    old[n..].copy_from_slice(&crc.to_le_bytes());
+    assert!(matches!(
+        FootNavigator::restore(&old),
+        Err(FootError::Snapshot(
+            stridekit_core::snapshot::SnapshotError::UnsupportedVersion { found: 2, .. }
+        ))
+    ));
+}
+
+#[test]
+fn adaptive_shoe_threshold_follows_the_gait() {
+    let d = AdaptiveShoe::default();
+    let at = |peak: f64| {
+        d.threshold(&WindowStats {
+            peak_acc_norm_mps2: peak,
+            ..Default::default()
+        })
+    };
+    assert_eq!(at(5.0), d.shoe.threshold);
+    assert_eq!(at(d.ref_peak_mps2), d.shoe.threshold);
+    let r = at(2.0 * d.ref_peak_mps2) / d.shoe.threshold;
+    assert!((r - 2f64.powf(d.exponent)).abs() < 1e-9, "{r}");
+    // A window that is SHOE stance at a slow gait stays stance when running; a
+    // running swing is not stance at walking pace.
+    let s = WindowStats {
+        n: 5,
+        shoe_acc_ss: 5.0 * (0.5 * d.shoe.acc_noise_mps2).powi(2) * d.shoe.threshold,
+        peak_acc_norm_mps2: 12.0,
+        ..Default::default()
+    };
+    assert!(d.is_stance(&s));
+    let swing = WindowStats {
+        shoe_acc_ss: 50.0 * s.shoe_acc_ss,
+        ..s
+    };
+    assert!(!d.is_stance(&swing));
+    assert!(d.is_stance(&WindowStats {
+        peak_acc_norm_mps2: 80.0,
+        ..swing
+    }));
+    for bad in [f64::NAN, -1.0, 11.0] {
+        let c = FootConfig {
+            detector: ZeroVelocityDetector::AdaptiveShoe(AdaptiveShoe { exponent: bad, ..d }),
+            ..FootConfig::default()
+        };
+        assert!(FootNavigator::new(c).is_err(), "exponent {bad}");
+    }
 }

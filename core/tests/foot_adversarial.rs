@@ -5,14 +5,15 @@
 
 use stridekit_core::foot::{
     AdaptiveThresholds, FixedThresholds, FootConfig, FootError, FootEstimate, FootNavigator,
-    FootSample, ShoeDetector, ZeroVelocityDetector,
+    FootSample, ShoeDetector, SvmAdaptive, ZeroVelocityDetector,
 };
 use stridekit_core::input::InputError;
 use stridekit_core::sim::{simulate_foot, FootScenario, Rng};
 
-fn detectors() -> [ZeroVelocityDetector; 5] {
+fn detectors() -> [ZeroVelocityDetector; 6] {
     [
-        ZeroVelocityDetector::default(), // svm+adaptive
+        ZeroVelocityDetector::default(), // adaptive shoe
+        ZeroVelocityDetector::SvmAdaptive(SvmAdaptive::default()),
         ZeroVelocityDetector::Shoe(ShoeDetector::default()),
         ZeroVelocityDetector::Fixed(FixedThresholds::WALK),
         ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),

@@ -7,7 +7,7 @@ use common::allocations_in;
 
 use stridekit_core::foot::{
     AdaptiveThresholds, FixedThresholds, FootConfig, FootNavigator, FootSample, ShoeDetector,
-    ZeroVelocityDetector,
+    SvmAdaptive, ZeroVelocityDetector,
 };
 use stridekit_core::sim::{simulate_foot, FootScenario};
 
@@ -15,7 +15,8 @@ use stridekit_core::sim::{simulate_foot, FootScenario};
 fn pushing_samples_does_not_allocate() {
     let sim = simulate_foot(&FootScenario::walk(31, 1));
     for detector in [
-        ZeroVelocityDetector::default(), // svm+adaptive
+        ZeroVelocityDetector::default(), // adaptive shoe
+        ZeroVelocityDetector::SvmAdaptive(SvmAdaptive::default()),
         ZeroVelocityDetector::Shoe(ShoeDetector::default()),
         ZeroVelocityDetector::Fixed(FixedThresholds::WALK),
         ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),

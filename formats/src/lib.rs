@@ -28,7 +28,7 @@ pub use crate::csv::read_csv;
 pub use crate::data::{data_dir, DATA_ENV_VAR};
 pub use crate::error::FormatError;
 pub use crate::fit::read_fit;
-pub use crate::foot::{list_foot_trials, read_foot_csv, FootRecording};
+pub use crate::foot::{list_foot_trials, parse_foot_csv, read_foot_csv, FootFormat, FootRecording};
 pub use crate::gpx::read_gpx;
 pub use crate::inertial::{read_inertial, read_inertial_dir, InertialRecording, InertialSample};
 pub use crate::oxford::{

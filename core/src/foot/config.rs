@@ -18,6 +18,25 @@ pub enum Correction {
     AsPublished,
 }
 
+/// What the gyroscope's samples stand for in time (the mechanisation pairs them with
+/// the accelerometer's accordingly).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GyroTiming {
+    /// Each sample is the rate at its timestamp (consumer MEMS read out as filtered
+    /// instantaneous rates): the attitude over `[t_{k−1}, t_k]` integrates the
+    /// average of the two samples.
+    #[default]
+    Instantaneous,
+    /// Each sample is the mean rate over the interval that ends at its timestamp
+    /// (IMUs that integrate the angle internally at a high rate and output
+    /// `ΔΘ/Δt`, such as the MicroStrain 3DM-GX3 of the UofT data set, Xsens or
+    /// VectorNav units): the attitude over `[t_{k−1}, t_k]` integrates sample k alone.
+    /// Read as instantaneous, such a gyroscope's attitude lags the accelerometer by
+    /// half a sample, which during the fast pitch rotations of a swing tips the
+    /// specific force (docs/foot.md: the height gained per stride on the UofT trials).
+    IntervalMean,
+}
+
 /// Largest supported detector window, samples.
 pub const MAX_DETECTOR_WINDOW: usize = 31;
 
@@ -42,6 +61,8 @@ pub struct FootConfig {
     pub alignment_s: f64,
     /// Estimate the gyroscope bias as the mean rate over the alignment period.
     pub gyro_bias_from_alignment: bool,
+    /// What a gyroscope sample stands for in time (default: instantaneous).
+    pub gyro_timing: GyroTiming,
     /// Initial yaw, rad, counter-clockwise from East (0: body +x points East).
     pub initial_yaw_rad: f64,
     pub correction: Correction,
@@ -80,6 +101,7 @@ impl Default for FootConfig {
             detector: ZeroVelocityDetector::default(),
             alignment_s: 0.25,
             gyro_bias_from_alignment: true,
+            gyro_timing: GyroTiming::Instantaneous,
             initial_yaw_rad: 0.0,
             correction: Correction::Full,
             accel_noise_density: 0.035,
@@ -104,21 +126,111 @@ impl FootConfig {
     /// set the gyro bias (its mean is dominated by noise and foot micro-motion) and
     /// the bias prior is 1 mrad/s. The defaults ([`Default`]) are for consumer MEMS
     /// (phones, watches, shoe pods) whose turn-on gyro bias of ~0.005 rad/s must be
-    /// taken out at the start, or the heading drifts by ~0.3 rad/min. On the UofT
-    /// trials this profile lowers the median position error of every detector on
-    /// the training split (docs/foot.md).
+    /// taken out at the start, or the heading drifts by ~0.3 rad/min. Such IMUs
+    /// integrate the angle internally and report the mean rate over each output
+    /// interval ([`GyroTiming::IntervalMean`]). On the UofT trials this profile
+    /// lowers the median position error of every detector on the training split
+    /// (docs/foot.md).
     pub fn calibrated_imu() -> Self {
         Self {
             gyro_bias_from_alignment: false,
             initial_gyro_bias_std_rads: 1.0e-3,
+            gyro_timing: GyroTiming::IntervalMean,
             ..Self::default()
         }
     }
 
     /// The axis convention of the pyshoe / University of Toronto data set
-    /// (x forward, y right, z down).
+    /// (x forward, y right, z down): [`FootConfig::axes_from_spec`]`("frd")`.
     pub fn pyshoe_axes() -> AxisRemap {
         AxisRemap::new([0, 1, 2], [false, true, true]).expect("a rotation")
+    }
+
+    /// The sensor → body remap described by a text spec (body: x forward, y left,
+    /// z up). Two forms, case-insensitive, spaces ignored:
+    ///
+    /// - **three letters**, where the sensor's axes point, in the order x, y, z:
+    ///   `f`/`b` forward/back, `l`/`r` left/right, `u`/`d` up/down. `flu` is the body
+    ///   frame itself (no remap); `frd` is x forward, y right, z down (pyshoe, UofT,
+    ///   aerospace); `rfu` is x right, y forward, z up;
+    /// - **three signed sensor axes**, comma-separated, which sensor axis gives body
+    ///   x (forward), y (left) and z (up): `x,-y,-z` is the same as `frd`; `y,-x,z`
+    ///   the same as `rfu`.
+    ///
+    /// Every axis must appear exactly once and the remap must be a rotation (a
+    /// mirror such as `x,y,-z` would make gyroscope and accelerometer disagree);
+    /// anything else is [`FootError::InvalidConfig`] with field `axes`.
+    pub fn axes_from_spec(spec: &str) -> Result<AxisRemap, FootError> {
+        let bad = |reason: &'static str| FootError::InvalidConfig {
+            field: "axes",
+            reason,
+        };
+        let s: String = spec
+            .chars()
+            .filter(|c| !c.is_whitespace())
+            .collect::<String>()
+            .to_ascii_lowercase();
+        let mut source = [usize::MAX; 3];
+        let mut negate = [false; 3];
+        if s.contains(',') || s.contains('-') || s.contains('+') {
+            let parts: Vec<&str> = s.split(',').collect();
+            if parts.len() != 3 {
+                return Err(bad(
+                    "the signed form needs three comma-separated axes, e.g. x,-y,-z",
+                ));
+            }
+            for (body, p) in parts.iter().enumerate() {
+                let (neg, axis) = match p.strip_prefix('-') {
+                    Some(a) => (true, a),
+                    None => (false, p.strip_prefix('+').unwrap_or(p)),
+                };
+                source[body] = match axis {
+                    "x" => 0,
+                    "y" => 1,
+                    "z" => 2,
+                    _ => return Err(bad(
+                        "each signed axis must be x, y or z with an optional sign, e.g. x,-y,-z",
+                    )),
+                };
+                negate[body] = neg;
+            }
+        } else {
+            let letters: Vec<char> = s.chars().collect();
+            if letters.len() != 3 {
+                return Err(bad("use three letters from f/b, l/r, u/d (e.g. frd, flu) or three signed axes (e.g. x,-y,-z)"));
+            }
+            for (sensor, c) in letters.iter().enumerate() {
+                let (body, neg) = match c {
+                    'f' => (0, false),
+                    'b' => (0, true),
+                    'l' => (1, false),
+                    'r' => (1, true),
+                    'u' => (2, false),
+                    'd' => (2, true),
+                    _ => {
+                        return Err(bad(
+                            "each letter must be one of f, b, l, r, u, d (e.g. frd, flu)",
+                        ))
+                    }
+                };
+                if source[body] != usize::MAX {
+                    return Err(bad(
+                        "each of forward/back, left/right, up/down must appear exactly once",
+                    ));
+                }
+                source[body] = sensor;
+                negate[body] = neg;
+            }
+        }
+        let mut seen = [false; 3];
+        for &src in &source {
+            if seen[src] {
+                return Err(bad("each sensor axis x, y, z must appear exactly once"));
+            }
+            seen[src] = true;
+        }
+        AxisRemap::new(source, negate)
+            .map_err(|_| bad("a mirror (determinant −1), not a rotation: flip one more sign"))
     }
 
     pub fn validate(&self) -> Result<(), FootError> {
@@ -173,5 +285,47 @@ impl FootConfig {
             });
         }
         self.detector.validate()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axis_specs() {
+        let frd = FootConfig::axes_from_spec("frd").unwrap();
+        assert_eq!(frd, FootConfig::pyshoe_axes());
+        assert_eq!(FootConfig::axes_from_spec("x,-y,-z").unwrap(), frd);
+        assert_eq!(FootConfig::axes_from_spec(" FRD ").unwrap(), frd);
+        assert_eq!(FootConfig::axes_from_spec("+x, -y, -z").unwrap(), frd);
+        assert_eq!(
+            FootConfig::axes_from_spec("flu").unwrap(),
+            AxisRemap::IDENTITY
+        );
+        assert_eq!(
+            FootConfig::axes_from_spec("x,y,z").unwrap(),
+            AxisRemap::IDENTITY
+        );
+        // Sensor x right, y forward, z up: body forward = sensor y, left = −sensor x.
+        let rfu = FootConfig::axes_from_spec("rfu").unwrap();
+        assert_eq!(rfu, FootConfig::axes_from_spec("y,-x,z").unwrap());
+        assert_eq!(rfu.apply([1.0, 2.0, 3.0]), [2.0, -1.0, 3.0]);
+        // A sensor pointing x forward, y right, z down reads +g on −z at rest;
+        // in the body frame that is +g on z (up).
+        assert_eq!(frd.apply([0.0, 0.0, -9.8]), [0.0, 0.0, 9.8]);
+    }
+
+    #[test]
+    fn bad_axis_specs_are_typed_errors() {
+        for spec in [
+            "", "fr", "frdd", "ffu", "xyz", "frx", "x,y", "x,y,z,x", "x,x,z", "x,y,-z", "fld",
+            "q,-y,-z", "x,--y,-z", "-,y,z",
+        ] {
+            match FootConfig::axes_from_spec(spec) {
+                Err(FootError::InvalidConfig { field: "axes", .. }) => {}
+                other => panic!("{spec:?}: {other:?}"),
+            }
+        }
     }
 }

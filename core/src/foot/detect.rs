@@ -13,6 +13,8 @@
 //!   thresholds from the jog boundary up (the SVM's features overlap in running).
 //! - [`ShoeDetector`]: the SHOE / GLRT detector of Skog et al. (2010), as in
 //!   OpenShoe and pyshoe, as a reference.
+//! - [`AdaptiveShoe`]: SHOE with a threshold that grows with the stride's peak
+//!   specific force (the default).
 
 use std::sync::Arc;
 
@@ -285,6 +287,75 @@ impl ShoeDetector {
     }
 }
 
+/// SHOE with a threshold that follows the gait's intensity: `T < γ₀ ·
+/// max(1, peak‖f‖ / p₀)^k`, peak ‖f‖ over the gait window (about one stride).
+///
+/// Why: SHOE's statistic compares the window with sensor noise alone, but a foot in
+/// stance is not still to sensor noise: the sole compresses, the foot rolls, the
+/// shank's vibration reaches the shoe, and all of it grows with how hard the foot
+/// lands. A fixed γ that calls slow-walking stances right misses whole running
+/// stances, and one that finds running stances calls half of a slow swing stance
+/// (pyshoe's per-trial optimum moves over four orders of magnitude on the UofT
+/// trials, with the gait). Scaling γ with a power of the stride's peak specific
+/// force keeps the walking detector below `p₀` and widens it with the impacts;
+/// one setting for every gait, no learned model, the same cost as SHOE.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AdaptiveShoe {
+    /// Noise levels and γ₀, the threshold at and below `ref_peak_mps2`.
+    pub shoe: ShoeDetector,
+    /// p₀, m/s²: the peak ‖f‖ up to which the threshold stays γ₀.
+    pub ref_peak_mps2: f64,
+    /// k: the threshold grows as (peak / p₀)^k above p₀.
+    pub exponent: f64,
+}
+
+impl Default for AdaptiveShoe {
+    /// γ₀ = 2.5·10³, p₀ = 15 m/s², k = 3.5 (σ_a, σ_ω as SHOE's default): chosen on
+    /// the training half of the UofT VICON trials with `stridekit eval foot
+    /// --tune-adaptive-shoe` (docs/foot.md; the neighbours in the grid score within
+    /// 3 %).
+    fn default() -> Self {
+        Self {
+            shoe: ShoeDetector {
+                threshold: 2.5e3,
+                ..ShoeDetector::default()
+            },
+            ref_peak_mps2: 15.0,
+            exponent: 3.5,
+        }
+    }
+}
+
+impl AdaptiveShoe {
+    /// The threshold for a window.
+    #[inline]
+    pub fn threshold(&self, s: &WindowStats) -> f64 {
+        let r = (s.peak_acc_norm_mps2 / self.ref_peak_mps2).max(1.0);
+        self.shoe.threshold * r.powf(self.exponent)
+    }
+
+    #[inline]
+    pub fn is_stance(&self, s: &WindowStats) -> bool {
+        let t = self.shoe.statistic(s);
+        // The threshold is never below γ₀: the power only when it can matter.
+        t < self.shoe.threshold
+            || (s.peak_acc_norm_mps2 > self.ref_peak_mps2 && t < self.threshold(s))
+    }
+
+    fn validate(&self) -> Result<(), FootError> {
+        use super::error::positive;
+        self.shoe.validate()?;
+        positive("ref_peak_mps2", self.ref_peak_mps2)?;
+        if !(self.exponent.is_finite() && (0.0..=10.0).contains(&self.exponent)) {
+            return Err(FootError::InvalidConfig {
+                field: "exponent",
+                reason: "must be finite and 0..=10",
+            });
+        }
+        Ok(())
+    }
+}
+
 /// Which zero-velocity detector drives the updates.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ZeroVelocityDetector {
@@ -295,11 +366,14 @@ pub enum ZeroVelocityDetector {
     /// The SVM while walking, adaptive thresholds when jogging or running.
     SvmAdaptive(SvmAdaptive),
     Shoe(ShoeDetector),
+    /// SHOE with a threshold that follows the gait's intensity (the default).
+    AdaptiveShoe(AdaptiveShoe),
 }
 
 impl Default for ZeroVelocityDetector {
+    /// [`AdaptiveShoe::default`].
     fn default() -> Self {
-        ZeroVelocityDetector::SvmAdaptive(SvmAdaptive::default())
+        ZeroVelocityDetector::AdaptiveShoe(AdaptiveShoe::default())
     }
 }
 
@@ -321,6 +395,7 @@ impl ZeroVelocityDetector {
             ZeroVelocityDetector::Svm(m) => m.is_stance(s),
             ZeroVelocityDetector::SvmAdaptive(d) => d.is_stance(s),
             ZeroVelocityDetector::Shoe(d) => d.is_stance(s),
+            ZeroVelocityDetector::AdaptiveShoe(d) => d.is_stance(s),
         }
     }
 
@@ -331,6 +406,7 @@ impl ZeroVelocityDetector {
             ZeroVelocityDetector::Svm(_) => Ok(()),
             ZeroVelocityDetector::SvmAdaptive(d) => d.validate(),
             ZeroVelocityDetector::Shoe(d) => d.validate(),
+            ZeroVelocityDetector::AdaptiveShoe(d) => d.validate(),
         }
     }
 
@@ -342,6 +418,7 @@ impl ZeroVelocityDetector {
             ZeroVelocityDetector::Svm(_) => "svm",
             ZeroVelocityDetector::SvmAdaptive(_) => "svm+adaptive",
             ZeroVelocityDetector::Shoe(_) => "shoe",
+            ZeroVelocityDetector::AdaptiveShoe(_) => "adaptive shoe",
         }
     }
 }

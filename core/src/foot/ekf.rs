@@ -119,13 +119,19 @@ impl Strapdown {
         dt_int: f64,
         dt_cov: f64,
         n: &Noise,
+        gyro_interval_mean: bool,
     ) {
         let w_raw = Vector3::new(w_b[0], w_b[1], w_b[2]);
         let f_raw = Vector3::new(f_b[0], f_b[1], f_b[2]);
         // Trapezoidal: the average of this sample and the previous one over the
         // interval (second order; a zero-order hold of the newest sample lags half a
-        // step, which matters across dropped samples and at low rates).
-        let w = (w_raw + self.prev_w) * 0.5 - self.bg;
+        // step, which matters across dropped samples and at low rates). A gyroscope
+        // that reports interval means already stands for the interval.
+        let w = if gyro_interval_mean {
+            w_raw - self.bg
+        } else {
+            (w_raw + self.prev_w) * 0.5 - self.bg
+        };
         let f = (f_raw + self.prev_f) * 0.5 - self.ba;
         self.prev_w = w_raw;
         self.prev_f = f_raw;

@@ -45,17 +45,24 @@ impl MedianFilter {
         }
         let centre = self.ring.back(self.window / 2).unwrap_or(s);
         let mut out = centre;
-        let mut buf = [0.0_f64; MAX_MEDIAN_WINDOW];
-        for ch in 0..6 {
-            for (k, v) in self.ring.iter().enumerate() {
-                buf[k] = v.channel(ch);
+        // One pass over the window (one copy of each sample), then a short sort per
+        // channel.
+        let mut buf = [[0.0_f64; MAX_MEDIAN_WINDOW]; 6];
+        let mut saturated = false;
+        for (k, v) in self.ring.iter().enumerate() {
+            for ch in 0..3 {
+                buf[ch][k] = v.f[ch];
+                buf[ch + 3][k] = v.w[ch];
             }
-            let w = &mut buf[..self.window];
+            saturated |= v.saturated;
+        }
+        for (ch, b) in buf.iter_mut().enumerate() {
+            let w = &mut b[..self.window];
             insertion_sort(w);
             out.set_channel(ch, w[self.window / 2]);
         }
         // A saturated sample anywhere in the window taints the output.
-        out.saturated = self.ring.iter().any(|v| v.saturated);
+        out.saturated = saturated;
         Some(out)
     }
 

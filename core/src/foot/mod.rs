@@ -14,10 +14,10 @@ pub mod navigator;
 pub mod svm;
 pub mod types;
 
-pub use config::{Correction, FootConfig};
+pub use config::{Correction, FootConfig, GyroTiming};
 pub use detect::{
-    AdaptiveThresholds, FixedThresholds, Gait, ShoeDetector, SvmAdaptive, WindowStats,
-    ZeroVelocityDetector,
+    AdaptiveShoe, AdaptiveThresholds, FixedThresholds, Gait, ShoeDetector, SvmAdaptive,
+    WindowStats, ZeroVelocityDetector,
 };
 pub use error::FootError;
 pub use navigator::{FootBatchOutcome, FootNavigator, FootRejection};

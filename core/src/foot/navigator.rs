@@ -31,9 +31,9 @@ use std::sync::Arc;
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
-use super::config::{Correction, FootConfig, MAX_DETECTOR_WINDOW};
+use super::config::{Correction, FootConfig, GyroTiming, MAX_DETECTOR_WINDOW};
 use super::detect::{
-    AdaptiveThresholds, FixedThresholds, ShoeDetector, SvmAdaptive, WindowStats,
+    AdaptiveShoe, AdaptiveThresholds, FixedThresholds, ShoeDetector, SvmAdaptive, WindowStats,
     ZeroVelocityDetector, G_MPS2,
 };
 use super::ekf::{Cov, Noise, Strapdown, IA, IP, IV};
@@ -420,13 +420,14 @@ impl FootNavigator {
         let correction = self.config.correction;
         let zupt_sigma = self.config.zupt_noise_mps;
         let noise = self.noise;
+        let interval_mean = self.config.gyro_timing == GyroTiming::IntervalMean;
         let Some(ins) = self.ins.as_mut() else {
             return FootEstimate::default();
         };
         // What the divergence guard falls back to (the covariance only by its
         // diagonal: copying all of it every sample would cost more than the guard).
         let before = (ins.q, ins.p, ins.ba, ins.bg, ins.cov.diagonal());
-        ins.propagate(&c.f, &c.w, dt_int, dt, &noise);
+        ins.propagate(&c.f, &c.w, dt_int, dt, &noise, interval_mean);
         if stance {
             ins.zupt(zupt_sigma, correction);
         }
@@ -546,8 +547,9 @@ fn saturated(v: &[f64; 3], range: Option<f64>) -> bool {
 
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
-/// Version 2: the input layer's time state ([`TimeGuard`]) replaces the last time.
-const SNAPSHOT_VERSION: u16 = 2;
+/// Version 3: the input layer's time state ([`TimeGuard`]) replaces the last time
+/// (version 2 added `FootConfig::gyro_timing` and the adaptive SHOE detector).
+const SNAPSHOT_VERSION: u16 = 3;
 
 fn write_body(w: &mut Writer, s: &BodySample) {
     w.f64(s.t_s);
@@ -604,6 +606,7 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
         detector,
         alignment_s,
         gyro_bias_from_alignment,
+        gyro_timing,
         initial_yaw_rad,
         correction,
         accel_noise_density,
@@ -645,6 +648,11 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
     });
     w.opt_f64(*accel_range_mps2);
     w.opt_f64(*gyro_range_rads);
+    // Version 2.
+    w.u8(match gyro_timing {
+        GyroTiming::Instantaneous => 0,
+        GyroTiming::IntervalMean => 1,
+    });
     let fixed = |w: &mut Writer, t: &FixedThresholds| {
         let FixedThresholds {
             acc_dev_mps2,
@@ -708,6 +716,27 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
             w.u8(3);
             w.f64s(&[*acc_noise_mps2, *gyro_noise_rads, *threshold]);
         }
+        ZeroVelocityDetector::AdaptiveShoe(d) => {
+            let AdaptiveShoe {
+                shoe:
+                    ShoeDetector {
+                        acc_noise_mps2,
+                        gyro_noise_rads,
+                        threshold,
+                    },
+                ref_peak_mps2,
+                exponent,
+            } = d;
+            // Version 2.
+            w.u8(7);
+            w.f64s(&[
+                *acc_noise_mps2,
+                *gyro_noise_rads,
+                *threshold,
+                *ref_peak_mps2,
+                *exponent,
+            ]);
+        }
     }
 }
 
@@ -731,6 +760,11 @@ fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
     };
     let accel_range_mps2 = r.opt_f64()?;
     let gyro_range_rads = r.opt_f64()?;
+    let gyro_timing = match r.u8()? {
+        0 => GyroTiming::Instantaneous,
+        1 => GyroTiming::IntervalMean,
+        _ => return Err(SnapshotError::Invalid("gyro timing").into()),
+    };
     let fixed = |r: &mut Reader| -> Result<FixedThresholds, SnapshotError> {
         let mut t = [0.0; 4];
         r.f64s(&mut t)?;
@@ -787,6 +821,19 @@ fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
                 threshold: p[2],
             })
         }
+        7 => {
+            let mut p = [0.0; 5];
+            r.f64s(&mut p)?;
+            ZeroVelocityDetector::AdaptiveShoe(AdaptiveShoe {
+                shoe: ShoeDetector {
+                    acc_noise_mps2: p[0],
+                    gyro_noise_rads: p[1],
+                    threshold: p[2],
+                },
+                ref_peak_mps2: p[3],
+                exponent: p[4],
+            })
+        }
         _ => return Err(SnapshotError::Invalid("detector kind").into()),
     };
     Ok(FootConfig {
@@ -797,6 +844,7 @@ fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
         detector,
         alignment_s: v[2],
         gyro_bias_from_alignment,
+        gyro_timing,
         initial_yaw_rad: v[3],
         correction,
         accel_noise_density: v[4],

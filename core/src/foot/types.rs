@@ -24,14 +24,6 @@ pub(crate) struct BodySample {
 
 impl BodySample {
     #[inline]
-    pub fn channel(&self, ch: usize) -> f64 {
-        if ch < 3 {
-            self.f[ch]
-        } else {
-            self.w[ch - 3]
-        }
-    }
-    #[inline]
     pub fn set_channel(&mut self, ch: usize, v: f64) {
         if ch < 3 {
             self.f[ch] = v

@@ -1,15 +1,19 @@
 package io.stridekit.tests
 
+import io.stridekit.FootAxisRemap
 import io.stridekit.FootConfig
 import io.stridekit.FootCorrection
 import io.stridekit.FootDetector
 import io.stridekit.FootDetectorKind
 import io.stridekit.FootEstimate
 import io.stridekit.FootException
+import io.stridekit.FootGyroTiming
 import io.stridekit.FootImuSample
 import io.stridekit.FootNavigator
 import io.stridekit.FootOutput
+import io.stridekit.footAxesFromSpec
 import io.stridekit.footAxesPyshoe
+import io.stridekit.footConfigCalibratedImu
 import io.stridekit.footConfigDefault
 import io.stridekit.footDetectorDefault
 import io.stridekit.footShippedSvmModel
@@ -127,11 +131,10 @@ class FootTest {
             val closure = end.horizontal() / end.distanceM
             println("FootTest: ${walk.name}: ${end.strides} strides, ${"%.2f".format(end.distanceM)} m (truth ${"%.2f".format(walk.truthPathM)} m), " +
                 "end ${"%.3f".format(end.horizontal())} m from start (${"%.2f".format(100 * closure)} %; truth ${"%.3f".format(walk.truthEndM)} m)")
-            // The default detector (SVM while walking + adaptive when running) closes
-            // walking trials to 0.62 % (median, 3-D, calibrated-IMU profile; docs/foot.md,
-            // `stridekit eval foot`) and this trial to about 0.9 % with the consumer
-            // defaults used here (SHOE, the old default: about 3 %); 5 % catches a
-            // broken pipeline without asserting accuracy the detector does not have.
+            // The default detector (adaptive SHOE) closes walking trials to 0.81 %
+            // (median, 3-D, calibrated-IMU profile; docs/foot.md, `stridekit eval foot`);
+            // the consumer defaults are used here; 5 % catches a broken pipeline
+            // without asserting accuracy the detector does not have.
             assertTrue(closure < 0.05, "loop closure ${100 * closure} % of ${end.distanceM} m")
             assertTrue(listOf(end.positionM.east, end.velocityMps.up, end.yawRad).all { it.isFinite() })
             assertTrue(end.positionStdM.east > 0.0 && end.headingStdRad > 0.0)
@@ -237,10 +240,26 @@ class FootTest {
 
     @Test
     fun `configuration defaults, validation and round trip`() {
-        val svmAdaptive = footDetectorDefault(FootDetectorKind.SVM_ADAPTIVE)
-        assertEquals(footConfigDefault(), FootConfig(detector = svmAdaptive, correction = FootCorrection.FULL))
-        assertTrue(svmAdaptive is FootDetector.SvmAdaptive && svmAdaptive.modelText == null, "$svmAdaptive")
+        val adaptiveShoe = footDetectorDefault(FootDetectorKind.ADAPTIVE_SHOE)
+        assertEquals(
+            footConfigDefault(),
+            FootConfig(detector = adaptiveShoe, correction = FootCorrection.FULL, gyroTiming = FootGyroTiming.INSTANTANEOUS),
+        )
+        assertTrue(adaptiveShoe is FootDetector.AdaptiveShoe, "$adaptiveShoe")
         FootNavigator.withDefaults().use { assertEquals(footConfigDefault(), it.config()) }
+        val svmAdaptive = footDetectorDefault(FootDetectorKind.SVM_ADAPTIVE)
+        assertTrue(svmAdaptive is FootDetector.SvmAdaptive && svmAdaptive.modelText == null, "$svmAdaptive")
+
+        // The industrial-IMU profile and axes from a text spec.
+        val calibrated = footConfigCalibratedImu()
+        assertEquals(FootGyroTiming.INTERVAL_MEAN, calibrated.gyroTiming)
+        assertEquals(false, calibrated.gyroBiasFromAlignment)
+        FootNavigator(calibrated).use { assertEquals(calibrated, it.config()) }
+        assertEquals(footAxesPyshoe(), footAxesFromSpec("frd"))
+        assertEquals(footAxesPyshoe(), footAxesFromSpec("x,-y,-z"))
+        assertEquals(FootAxisRemap(), footAxesFromSpec("flu"))
+        val badAxes = assertFailsWith<FootException.InvalidConfig> { footAxesFromSpec("x,y,-z") }
+        assertEquals("axes", badAxes.field)
 
         val svm = footConfigDefault().copy(
             axisRemap = footAxesPyshoe(),
