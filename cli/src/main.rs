@@ -1,14 +1,21 @@
 //! `stridekit`: the command-line tool of the stridekit SDK.
 
 mod activity;
+mod calibrate_pdr;
 mod demo;
 mod eval_foot;
 mod eval_pace;
 mod eval_pdr;
+mod eval_pdr_odometry;
+mod eval_pdr_real;
 mod eval_steplength;
 mod eval_steps;
 mod foot;
 mod odometry;
+mod pdr;
+mod pdr_diagnose;
+mod pdr_metrics;
+mod pdr_walks;
 mod placement;
 mod placement_mlp;
 mod replay;
@@ -223,7 +230,12 @@ fn main() -> ExitCode {
             let seeds = flag(&args, "--seeds")
                 .and_then(|s| s.parse().ok())
                 .unwrap_or(3);
-            eval_pdr::report(seeds).map(|t| println!("{t}"))
+            if let Some(d) = flag(&args, "--data") {
+                eval_pdr_real::run(&PathBuf::from(d), args.iter().any(|a| a == "--diagnose"))
+                    .map(|t| println!("{t}"))
+            } else {
+                eval_pdr::report(seeds).map(|t| println!("{t}"))
+            }
         }
         Some("eval") if args.get(1).map(String::as_str) == Some("steplength") => {
             let dir = flag(&args, "--data").map(PathBuf::from);
@@ -284,6 +296,15 @@ fn main() -> ExitCode {
             }
             None => Err("odometry needs a FILE".into()),
         },
+        Some("pdr") => pdr::PdrArgs::parse(&args[1..])
+            .and_then(|a| pdr::run(&a))
+            .map(|t| print!("{t}")),
+        Some("calibrate") if args.get(1).map(String::as_str) == Some("pdr") => {
+            let line = format!("stridekit {}", args.join(" "));
+            calibrate_pdr::CalibrateArgs::parse(&args[2..])
+                .and_then(|a| calibrate_pdr::run(&a, &line))
+                .map(|t| print!("{t}"))
+        }
         Some("help" | "--help" | "-h") => {
             print!("{USAGE}");
             Ok(())
