@@ -209,7 +209,12 @@ impl PdrCalibration {
                     if !(n > 1e-6) {
                         return Err(err("carrying direction is zero".into()));
                     }
-                    carrying = Some(v.map(|x| x / n));
+                    // Normalised once: a unit vector (as written) is kept bit for bit.
+                    carrying = Some(if (n - 1.0).abs() < 1e-9 {
+                        v
+                    } else {
+                        v.map(|x| x / n)
+                    });
                 }
                 other => return Err(err(format!("unknown record {:?}", truncate(other)))),
             }
@@ -250,6 +255,10 @@ mod tests {
         let t = c.to_text(&["trained by: test".into(), "two\nlines".into()]);
         assert!(t.starts_with("stridekit-pdr-calibration 1\n# trained by: test\n# two\n# lines\n"));
         assert_eq!(PdrCalibration::parse(&t).unwrap(), c);
+        // A direction that is not unit is normalised, then stable.
+        let odd = t.replace("carrying 0.0 1.0 0.0", "carrying 0.08 0.996 0");
+        let once = PdrCalibration::parse(&odd).unwrap();
+        assert_eq!(PdrCalibration::parse(&once.to_text(&[])).unwrap(), once);
         let no_carry = PdrCalibration {
             carrying_body: None,
             ..c
