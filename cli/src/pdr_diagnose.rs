@@ -33,6 +33,30 @@ fn azimuth_of(q: &UnitQuaternion<f64>, axis: Vector3<f64>) -> Option<f64> {
     (v.x.hypot(v.y) > 0.3).then(|| v.x.atan2(v.y))
 }
 
+/// Per sample: t, east, north, steps, distance, attitude azimuth of +y (μ-corrected),
+/// rotation-vector azimuth of +y, walking azimuth.
+type Pt = (
+    f64,
+    f64,
+    f64,
+    u64,
+    f64,
+    Option<f64>,
+    Option<f64>,
+    Option<f64>,
+);
+/// Per leg: length, map azimuth, track azimuth, mean attitude +y azimuth, mean
+/// rotation-vector +y azimuth, mean walking azimuth, time into the walk.
+type Leg = (
+    f64,
+    f64,
+    Option<f64>,
+    Option<f64>,
+    Option<f64>,
+    Option<f64>,
+    f64,
+);
+
 /// Circular mean of angles weighted by `w`.
 fn circ_mean(v: &[(f64, f64)]) -> f64 {
     let (s, c) = v.iter().fold((0.0, 0.0), |a, (x, w)| {
@@ -96,16 +120,7 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
         let mut nav = PhoneNavigator::new(NavigatorConfig::default()).map_err(|e| e.to_string())?;
         // Per sample: t, position, steps, distance, AHRS azimuth of +y (μ-corrected),
         // RV azimuth of +y, walking azimuth.
-        let mut pts: Vec<(
-            f64,
-            f64,
-            f64,
-            u64,
-            f64,
-            Option<f64>,
-            Option<f64>,
-            Option<f64>,
-        )> = Vec::new();
+        let mut pts: Vec<Pt> = Vec::new();
         let mut ri = 0;
         for s in &rec.samples {
             let imu = ImuSample {
@@ -207,7 +222,7 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
             a.speed_mps.push(poly / (t1 - t0));
         }
         // Heading per leg.
-        let mut legs = Vec::new();
+        let mut legs: Vec<Leg> = Vec::new();
         for x in wp.windows(2) {
             let (dx, dy) = (x[1].1 - x[0].1, x[1].2 - x[0].2);
             let len = dx.hypot(dy);
@@ -219,18 +234,7 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
             let (ex, ey) = (e1.1 - e0.1, e1.2 - e0.2);
             let nav_az = (ex.hypot(ey) > 0.5).then(|| ex.atan2(ey));
             // Mean +y azimuths over the leg.
-            let mean_of = |f: &dyn Fn(
-                &(
-                    f64,
-                    f64,
-                    f64,
-                    u64,
-                    f64,
-                    Option<f64>,
-                    Option<f64>,
-                    Option<f64>,
-                ),
-            ) -> Option<f64>| {
+            let mean_of = |f: &dyn Fn(&Pt) -> Option<f64>| {
                 let v: Vec<(f64, f64)> = pts
                     .iter()
                     .filter(|p| p.0 >= x[0].0 && p.0 <= x[1].0)
@@ -251,17 +255,7 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
                 0.5 * (x[0].0 + x[1].0) - t0,
             ));
         }
-        let rot = |get: &dyn Fn(
-            &(
-                f64,
-                f64,
-                Option<f64>,
-                Option<f64>,
-                Option<f64>,
-                Option<f64>,
-                f64,
-            ),
-        ) -> Option<f64>| {
+        let rot = |get: &dyn Fn(&Leg) -> Option<f64>| {
             let v: Vec<(f64, f64)> = legs
                 .iter()
                 .filter_map(|l| get(l).map(|az| (wrap(az - l.1), l.0)))

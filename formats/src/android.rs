@@ -3,16 +3,17 @@
 //! Competition 2.0 data), plain text or gzip (`.gz`).
 //!
 //! ```text
-//! #	startTime:1574559495255                       header lines start with '#':
-//! #	SiteID:…	FloorName:F1                         tab-separated key:value pairs
-//! 1574559495263	TYPE_WAYPOINT	81.317215	93.31349
-//! 1574559495401	TYPE_ACCELEROMETER	-0.855	1.824	9.826	2
-//! 1574559495401	TYPE_GYROSCOPE	-0.391	-0.079	0.092	3
-//! 1574559495401	TYPE_MAGNETIC_FIELD	29.78	6.42	-30.06	3
-//! 1574559495401	TYPE_ROTATION_VECTOR	0.062	0.079	0.570	3
+//! #  startTime:1574559495255                       header lines start with '#':
+//! #  SiteID:…  FloorName:F1                         tab-separated key:value pairs
+//! 1574559495263  TYPE_WAYPOINT  81.317215  93.31349
+//! 1574559495401  TYPE_ACCELEROMETER  -0.855  1.824  9.826  2
+//! 1574559495401  TYPE_GYROSCOPE  -0.391  -0.079  0.092  3
+//! 1574559495401  TYPE_MAGNETIC_FIELD  29.78  6.42  -30.06  3
+//! 1574559495401  TYPE_ROTATION_VECTOR  0.062  0.079  0.570  3
 //! ```
 //!
-//! Columns are separated by tabs (any whitespace is accepted). Column 1 is the time
+//! (shown with spaces; the file has one tab between columns). Columns are separated
+//! by tabs (any whitespace is accepted). Column 1 is the time
 //! in milliseconds (any clock, e.g. `SensorEvent.timestamp` / 1e6 or the wall clock,
 //! the same for every line); `t_s = ms / 1000` on that clock. Column 2 is the event
 //! type, then its values:

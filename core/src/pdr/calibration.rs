@@ -206,7 +206,7 @@ impl PdrCalibration {
                     }
                     let v = [num(f[1])?, num(f[2])?, num(f[3])?];
                     let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-                    if !(n > 1e-6) {
+                    if n.is_nan() || n <= 1e-6 {
                         return Err(err("carrying direction is zero".into()));
                     }
                     // Normalised once: a unit vector (as written) is kept bit for bit.

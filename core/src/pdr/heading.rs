@@ -254,14 +254,27 @@ impl HardIron {
 }
 
 /// One slot of the attitude history: Σ over its samples of the east and north rows
-/// of `Rz(−μ)·R(q)` (body → ENU with the yaw correction applied), so that the
-/// azimuth of any body-frame vector averaged over a time span can be computed later.
+/// of `R(q)` (body → ENU) and the yaw correction μ at its end, so that the azimuth
+/// of any body-frame vector averaged over a time span can be computed later.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Slot {
     t0_s: f64,
     t1_s: f64,
     rows: [f64; 6],
     n: f64,
+    mu_rad: f64,
+}
+
+impl Slot {
+    /// Σ over the slot of the horizontal ENU direction of body vector `f`, with the
+    /// yaw correction applied (azimuth − μ).
+    fn horizontal(&self, f: [f64; 3]) -> (f64, f64) {
+        let r = &self.rows;
+        let e = r[0] * f[0] + r[1] * f[1] + r[2] * f[2];
+        let n = r[3] * f[0] + r[4] * f[1] + r[5] * f[2];
+        let (s, c) = self.mu_rad.sin_cos();
+        (c * e - s * n, s * e + c * n)
+    }
 }
 
 /// Estimates the walking azimuth and the phone's heading offset.
@@ -537,17 +550,16 @@ impl WalkingDirection {
         self.stride
             .add(lin_acc_enu_mps2[0], lin_acc_enu_mps2[1], self.vz_mps);
 
-        // Attitude history: rows east and north of Rz(−μ)·R.
-        let r = q_enu.to_rotation_matrix();
-        let m = r.matrix();
-        let (sm, cm) = self.mu_rad.sin_cos();
+        // Attitude history: rows east and north of R (body → ENU); the slot keeps
+        // the yaw correction μ (it moves over tens of seconds, not within a slot).
+        let (w, x, y, z) = (q_enu.w, q_enu.i, q_enu.j, q_enu.k);
         let rows = [
-            cm * m[(0, 0)] - sm * m[(1, 0)],
-            cm * m[(0, 1)] - sm * m[(1, 1)],
-            cm * m[(0, 2)] - sm * m[(1, 2)],
-            sm * m[(0, 0)] + cm * m[(1, 0)],
-            sm * m[(0, 1)] + cm * m[(1, 1)],
-            sm * m[(0, 2)] + cm * m[(1, 2)],
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - w * z),
+            2.0 * (x * z + w * y),
+            2.0 * (x * y + w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - w * x),
         ];
         match self.history.newest_mut() {
             Some(slot) if t_s - slot.t0_s < SLOT_S && t_s >= slot.t0_s => {
@@ -556,12 +568,14 @@ impl WalkingDirection {
                 }
                 slot.n += 1.0;
                 slot.t1_s = t_s;
+                slot.mu_rad = self.mu_rad;
             }
             _ => self.history.push(Slot {
                 t0_s: t_s,
                 t1_s: t_s,
                 rows,
                 n: 1.0,
+                mu_rad: self.mu_rad,
             }),
         }
 
@@ -571,7 +585,7 @@ impl WalkingDirection {
             let e = rows[0] * f[0] + rows[1] * f[1] + rows[2] * f[2];
             let n = rows[3] * f[0] + rows[4] * f[1] + rows[5] * f[2];
             if e.hypot(n) > 0.2 {
-                self.azimuth_rad = e.atan2(n);
+                self.azimuth_rad = wrap(e.atan2(n) - self.mu_rad);
                 self.known = true;
             }
         }
@@ -604,8 +618,9 @@ impl WalkingDirection {
                 continue;
             }
             let k = (overlap / span).max(1e-6) / s.n;
-            e += k * (s.rows[0] * f[0] + s.rows[1] * f[1] + s.rows[2] * f[2]);
-            n += k * (s.rows[3] * f[0] + s.rows[4] * f[1] + s.rows[5] * f[2]);
+            let (se, sn) = s.horizontal(f);
+            e += k * se;
+            n += k * sn;
             w += k;
         }
         if w == 0.0 {
@@ -615,8 +630,7 @@ impl WalkingDirection {
             } else {
                 self.history.newest()
             }?;
-            e = s.rows[0] * f[0] + s.rows[1] * f[1] + s.rows[2] * f[2];
-            n = s.rows[3] * f[0] + s.rows[4] * f[1] + s.rows[5] * f[2];
+            (e, n) = s.horizontal(f);
             w = s.n;
         }
         (e.hypot(n) > 0.2 * w).then(|| e.atan2(n))
@@ -773,7 +787,7 @@ impl WalkingDirection {
         w.f64(self.axis_strides);
         w.u64(self.history.len() as u64);
         for s in self.history.iter() {
-            w.f64s(&[s.t0_s, s.t1_s, s.n]);
+            w.f64s(&[s.t0_s, s.t1_s, s.n, s.mu_rad]);
             w.f64s(&s.rows);
         }
     }
@@ -806,7 +820,7 @@ impl WalkingDirection {
         let axis_strides = r.f64()?;
         let mut history = Ring::new();
         for _ in 0..r.len(HISTORY_SLOTS)? {
-            let mut h = [0.0; 3];
+            let mut h = [0.0; 4];
             r.f64s(&mut h)?;
             let mut rows = [0.0; 6];
             r.f64s(&mut rows)?;
@@ -817,6 +831,7 @@ impl WalkingDirection {
                 t0_s: h[0],
                 t1_s: h[1],
                 n: h[2],
+                mu_rad: h[3],
                 rows,
             });
         }
