@@ -17,14 +17,16 @@
 //!    it stays meaningful for an upright phone in a pocket, whose yaw angle is not, and
 //!    a limb swing, a rotation about the body's lateral axis, leaves its azimuth
 //!    unchanged). It is
-//!    - *initialised* from the body's motion: walking makes the horizontal acceleration
+//!    - *set* by a personal calibration when there is one ([`WalkingDirection::set_carrying`]),
+//!      else *initialised* from the body's motion: walking makes the horizontal acceleration
 //!      oscillate mostly along the walking direction, so the principal axis of the
 //!      earth-frame horizontal linear acceleration over a stride (2×2 covariance) gives
 //!      the axis; the forward/backward sign comes from the gait phase (inverted
 //!      pendulum: forward acceleration is anti-correlated with vertical velocity when
 //!      walking; correlated for a spring-mass running gait, cadence above
 //!      `RUNNING_STEP_HZ`), or, after a carrying change, from continuity with the last
-//!      walking direction;
+//!      walking direction; then the stride axes are averaged into it (gain 1/n down
+//!      to 0.1: the carrying is constant until it changes);
 //!    - *calibrated* by GNSS: the angle between the GNSS displacement and the
 //!      dead-reckoned displacement over the same stretch (≥ 15 m) rotates it (and
 //!      resolves a wrong sign once);
@@ -33,6 +35,18 @@
 //!      gravity direction in the body frame.
 //!
 //! Walking azimuth = azimuth of `q · forward_body` − `μ`, averaged over each step.
+//! Steps reach the walking direction late (the detector confirms a bout before it
+//! releases its steps, seconds after the first of them), so the attitude is kept as a
+//! short history (16 s of 0.2 s slots: Σ of the east and north rows of the body → ENU
+//! rotation, and μ): [`WalkingDirection::azimuth_between`] gives the walking azimuth
+//! over any recent step span for the current carrying estimate, so a step gets the
+//! direction of its own time, and the steps released before the carrying was known
+//! (the first stride of a walk) can still be placed.
+//!
+//! The attitude comes from outside this module (the navigator's AHRS, or an external
+//! orientation through `PhoneNavigator::push_imu_with_attitude`): a better orientation
+//! filter drops in without changes here.
+//!
 //! Azimuths are radians clockwise from north in (−π, π]; east = sin, north = cos.
 
 use std::f64::consts::PI;

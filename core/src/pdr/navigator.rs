@@ -14,7 +14,14 @@
 //! the same stretch (≥ 15 m) rotates the walking direction's carrying estimate.
 //!
 //! Before the first fix, positions are relative to where the navigator started;
-//! at the first fix the track is re-expressed around it.
+//! at the first fix the track is re-expressed around it. Without any GNSS (indoors)
+//! it dead-reckons from where it started. Each step is placed with the walking
+//! direction over its own span (steps are released by the detector up to seconds
+//! late); steps released before the walking direction is known are held and placed
+//! once it is. [`PhoneNavigator::recent_steps`] gives the placed steps (the
+//! trajectory at step times). A personal [`PdrCalibration`] (step-length model,
+//! carrying) can be loaded and is kept in the snapshot; the orientation can come
+//! from outside ([`PhoneNavigator::push_imu_with_attitude`]) instead of the AHRS.
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
