@@ -33,6 +33,9 @@ pub enum NavError {
     /// A packed buffer is not a whole number of 80-byte records.
     #[error("invalid packed buffer: {reason}")]
     InvalidBuffer { reason: String },
+    /// A personal calibration was refused (wrong version, bad value, too large...).
+    #[error("invalid PDR calibration: {reason}")]
+    InvalidCalibration { reason: String },
     /// A bug inside stridekit (a caught panic). The navigator stays usable.
     #[error("internal error in stridekit: {reason}")]
     Internal { reason: String },
@@ -87,12 +90,206 @@ pub struct RejectedImuSample {
     pub reason: String,
 }
 
+/// A step placed on the track (see the core `NavStep`).
+#[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
+pub struct NavStep {
+    /// Time of the step (heel strike), s, on the samples' clock.
+    pub t_s: f64,
+    /// Position after the step, local ENU, metres.
+    pub east_m: f64,
+    pub north_m: f64,
+    pub length_m: f64,
+    /// Walking azimuth over the step, radians clockwise from north.
+    pub azimuth_rad: f64,
+}
+
+impl From<core::NavStep> for NavStep {
+    fn from(s: core::NavStep) -> Self {
+        Self {
+            t_s: s.t_s,
+            east_m: s.east_m,
+            north_m: s.north_m,
+            length_m: s.length_m,
+            azimuth_rad: s.azimuth_rad,
+        }
+    }
+}
+
 /// What a packed IMU push produced.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct ImuBatchResult {
     pub rejected: Vec<RejectedImuSample>,
+    /// Steps placed during the batch, in time order (the trajectory: a step detected
+    /// before the walking direction was known is placed later, at its own time).
+    pub steps: Vec<NavStep>,
     /// The estimate after the batch (null while nothing was accepted yet).
     pub latest: Option<NavEstimate>,
+}
+
+/// Step-length model of a calibration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, uniffi::Enum)]
+pub enum StepLengthModel {
+    Constant,
+    Linear,
+    LinearAsPublished,
+    LinearFrequencyOnly,
+    Weinberg,
+}
+
+impl From<StepLengthModel> for stridekit_core::steplength::StepLengthModel {
+    fn from(m: StepLengthModel) -> Self {
+        use stridekit_core::steplength::StepLengthModel as M;
+        match m {
+            StepLengthModel::Constant => M::Constant,
+            StepLengthModel::Linear => M::Linear,
+            StepLengthModel::LinearAsPublished => M::LinearAsPublished,
+            StepLengthModel::LinearFrequencyOnly => M::LinearFrequencyOnly,
+            StepLengthModel::Weinberg => M::Weinberg,
+        }
+    }
+}
+
+impl From<stridekit_core::steplength::StepLengthModel> for StepLengthModel {
+    fn from(m: stridekit_core::steplength::StepLengthModel) -> Self {
+        use stridekit_core::steplength::StepLengthModel as M;
+        match m {
+            M::Constant => Self::Constant,
+            M::Linear => Self::Linear,
+            M::LinearAsPublished => Self::LinearAsPublished,
+            M::LinearFrequencyOnly => Self::LinearFrequencyOnly,
+            M::Weinberg => Self::Weinberg,
+        }
+    }
+}
+
+/// What is personal in PDR, learned once per user and phone (`stridekit calibrate
+/// pdr`; the core's `PdrCalibration`): the step-length model's θ of `L = θ·x` with
+/// 1-σ (three values each) and optionally the walking direction in the phone's body
+/// frame (three values).
+#[derive(Clone, Debug, PartialEq, uniffi::Record)]
+pub struct PdrCalibration {
+    pub step_length_model: StepLengthModel,
+    pub step_length_theta: Vec<f64>,
+    pub step_length_sigma: Vec<f64>,
+    pub carrying_body: Option<Vec<f64>>,
+}
+
+fn three(v: &[f64], field: &str) -> Result<[f64; 3], NavError> {
+    <[f64; 3]>::try_from(v).map_err(|_| NavError::InvalidCalibration {
+        reason: format!("{field} must have 3 values, has {}", v.len()),
+    })
+}
+
+impl TryFrom<&PdrCalibration> for core::PdrCalibration {
+    type Error = NavError;
+    fn try_from(c: &PdrCalibration) -> Result<Self, NavError> {
+        let out = core::PdrCalibration {
+            step_length_model: c.step_length_model.into(),
+            step_length_theta: three(&c.step_length_theta, "step_length_theta")?,
+            step_length_sigma: three(&c.step_length_sigma, "step_length_sigma")?,
+            carrying_body: c
+                .carrying_body
+                .as_deref()
+                .map(|v| three(v, "carrying_body"))
+                .transpose()?,
+        };
+        out.validate().map_err(|e| NavError::InvalidCalibration {
+            reason: e.to_string(),
+        })?;
+        Ok(out)
+    }
+}
+
+impl From<&core::PdrCalibration> for PdrCalibration {
+    fn from(c: &core::PdrCalibration) -> Self {
+        Self {
+            step_length_model: c.step_length_model.into(),
+            step_length_theta: c.step_length_theta.to_vec(),
+            step_length_sigma: c.step_length_sigma.to_vec(),
+            carrying_body: c.carrying_body.map(|v| v.to_vec()),
+        }
+    }
+}
+
+/// Parse a calibration file's text (format version 1, see `stridekit calibrate pdr`).
+#[uniffi::export]
+pub fn pdr_calibration_from_text(text: String) -> Result<PdrCalibration, NavError> {
+    guard(|| {
+        core::PdrCalibration::parse(&text)
+            .map(|c| (&c).into())
+            .map_err(|e| NavError::InvalidCalibration {
+                reason: e.to_string(),
+            })
+    })
+}
+
+/// A calibration as the text `pdr_calibration_from_text` reads.
+#[uniffi::export]
+pub fn pdr_calibration_to_text(calibration: PdrCalibration) -> Result<String, NavError> {
+    guard(|| Ok(core::PdrCalibration::try_from(&calibration)?.to_text(&[])))
+}
+
+/// What a Rust replay of packed IMU records produced (see [`pdr_reference_replay`]).
+#[derive(Clone, Debug, PartialEq, uniffi::Record)]
+pub struct PdrReplay {
+    pub steps: Vec<NavStep>,
+    pub rejected: u32,
+    pub latest: Option<NavEstimate>,
+}
+
+/// The reference for host tests of the bindings: the core navigator (default
+/// configuration, `calibration` loaded) fed the packed 80-byte IMU records one by
+/// one in Rust, no batching, no FFI object; every placed step and the final
+/// estimate. Pushing the same records through a `PhoneNavigator` in batches must
+/// give exactly this.
+#[uniffi::export]
+pub fn pdr_reference_replay(
+    imu_packed: Vec<u8>,
+    calibration: Option<PdrCalibration>,
+) -> Result<PdrReplay, NavError> {
+    guard(|| {
+        let records =
+            imu_records(&imu_packed).map_err(|reason| NavError::InvalidBuffer { reason })?;
+        let mut nav = core::PhoneNavigator::new(core::NavigatorConfig::default())
+            .expect("the core default configuration is valid");
+        if let Some(c) = &calibration {
+            nav.set_calibration(&c.try_into()?)
+                .map_err(|e| NavError::InvalidCalibration {
+                    reason: e.to_string(),
+                })?;
+        }
+        let (mut steps, mut rejected, mut placed) = (Vec::new(), 0u32, 0u64);
+        for c in records {
+            let r = imu_record(c);
+            let s = ImuSample {
+                t_s: r.t_s,
+                gyro_rads: r.gyro_rads,
+                accel_mps2: r.accel_mps2,
+                mag_ut: r.mag_ut,
+            };
+            if nav.push_imu(&s).is_err() {
+                rejected += 1;
+            }
+            collect_new_steps(&nav, &mut placed, &mut steps);
+        }
+        Ok(PdrReplay {
+            steps,
+            rejected,
+            latest: nav.estimate().map(Into::into),
+        })
+    })
+}
+
+/// Append the steps placed since `placed` (and update it).
+fn collect_new_steps(nav: &core::PhoneNavigator, placed: &mut u64, out: &mut Vec<NavStep>) {
+    let (recent, n) = nav.recent_steps();
+    if n > *placed {
+        let new = usize::try_from(n - *placed).unwrap_or(usize::MAX);
+        let kept: Vec<core::NavStep> = recent.collect();
+        let from = kept.len().saturating_sub(new);
+        out.extend(kept[from..].iter().map(|s| NavStep::from(*s)));
+        *placed = n;
+    }
 }
 
 /// Pedestrian dead reckoning with a phone. Safe to call from several threads.
@@ -159,6 +356,40 @@ impl PhoneNavigator {
         })
     }
 
+    /// A navigator with the default configuration and a personal calibration
+    /// (typed `InvalidCalibration` error when it is refused).
+    #[uniffi::constructor]
+    pub fn with_calibration(calibration: PdrCalibration) -> Result<Arc<Self>, NavError> {
+        guard(|| {
+            let c = core::PdrCalibration::try_from(&calibration)?;
+            let n = core::PhoneNavigator::with_calibration(core::NavigatorConfig::default(), &c)
+                .map_err(|e| NavError::InvalidCalibration {
+                    reason: e.to_string(),
+                })?;
+            Ok(Arc::new(Self {
+                inner: Mutex::new(n),
+            }))
+        })
+    }
+
+    /// Load a personal calibration (best before the first sample; state unchanged
+    /// on error).
+    pub fn set_calibration(&self, calibration: PdrCalibration) -> Result<(), NavError> {
+        guard(|| {
+            let c = core::PdrCalibration::try_from(&calibration)?;
+            self.lock()
+                .set_calibration(&c)
+                .map_err(|e| NavError::InvalidCalibration {
+                    reason: e.to_string(),
+                })
+        })
+    }
+
+    /// The personal calibration loaded, if any (kept in the snapshot).
+    pub fn calibration(&self) -> Option<PdrCalibration> {
+        self.lock().calibration().map(Into::into)
+    }
+
     /// A navigator continuing exactly where `snapshot()` was taken.
     #[uniffi::constructor]
     pub fn restore(snapshot: Vec<u8>) -> Result<Arc<Self>, NavError> {
@@ -181,6 +412,8 @@ impl PhoneNavigator {
                 imu_records(&data).map_err(|reason| NavError::InvalidBuffer { reason })?;
             let mut nav = self.lock();
             let mut rejected = Vec::new();
+            let mut steps = Vec::new();
+            let mut placed = nav.recent_steps().1;
             for (index, c) in records.enumerate() {
                 let r = imu_record(c);
                 let s = ImuSample {
@@ -195,9 +428,11 @@ impl PhoneNavigator {
                         reason: e.to_string(),
                     });
                 }
+                collect_new_steps(&nav, &mut placed, &mut steps);
             }
             Ok(ImuBatchResult {
                 rejected,
+                steps,
                 latest: nav.estimate().map(Into::into),
             })
         })

@@ -1,6 +1,7 @@
 //! `stridekit`: the command-line tool of the stridekit SDK.
 
 mod activity;
+mod calibrate_pdr;
 mod demo;
 mod eval_foot;
 mod eval_foot_diagnose;
@@ -9,10 +10,16 @@ mod eval_foot_tune_shoe;
 mod eval_pace;
 mod eval_pace_device;
 mod eval_pdr;
+mod eval_pdr_odometry;
+mod eval_pdr_real;
 mod eval_steplength;
 mod eval_steps;
 mod foot;
 mod odometry;
+mod pdr;
+mod pdr_diagnose;
+mod pdr_metrics;
+mod pdr_walks;
 mod placement;
 mod placement_mlp;
 mod rejected;
@@ -52,9 +59,27 @@ USAGE:
       step-event F1 per trace and per placement, also at 100 and 50 Hz, with
       jittered timestamps and 10 % dropped (native and 50 Hz) and with dropped bursts.
       --sensitivity adds parameter sensitivity and a leave-one-user-out check.
-  stridekit eval pdr [--seeds N]
+  stridekit eval pdr [--data DIR] [--diagnose]
+      Pedestrian dead reckoning on real indoor walks with surveyed waypoints (Android
+      sensor logs; default DIR: ../shared/data/phone-indoor), no GNSS: ATE, start-pinned
+      error, end error and distance error per floor and overall for the defaults (with
+      and without magnetometer), calibrated leave-one-floor-out, Android's rotation
+      vector as orientation and the learned odometry. --diagnose prints where the
+      error comes from instead.
+  stridekit eval pdr --sim [--seeds N]
       Pedestrian dead reckoning on the phone simulator, every placement: step count,
-      distance and end-point error after a 10-minute GNSS outage (default 3 seeds).
+      distance and end-point error after a 10-minute GNSS outage and around a closed
+      loop (default 3 seeds).
+  stridekit pdr FILE [--out traj.csv] [--calibration FILE] [--no-mag]
+      Replay a phone recording (Android sensor log .txt/.txt.gz, see
+      formats/src/android.rs) through PhoneNavigator without GNSS; write the
+      trajectory (one row per step: t_s,east_m,north_m,step_length_m,azimuth_deg,steps;
+      default pdr_trajectory.csv) and beside it an SVG of the track over the aligned
+      waypoints; rejected samples are skipped and counted.
+  stridekit calibrate pdr --data DIR --out FILE [--model weinberg|linear|linear-f|constant]
+      Learn the personal PDR calibration (step-length model, how the phone is
+      carried) from walks with waypoints and write it (format in
+      core/src/pdr/calibration.rs); load it with stridekit pdr --calibration FILE.
   stridekit eval steplength [--data DIR]
       Step-length models (constant, linear robust and as published, frequency-only,
       Weinberg): distance error over a 5-minute GNSS outage after calibration, on the
@@ -164,6 +189,52 @@ fn check_flags(
 /// [`check_flags`] over all of `args`, as an optional message.
 fn unknown_flags(args: &[String], valued: &[&str], bare: &[&str]) -> Option<String> {
     check_flags(args, 0, valued, bare).err()
+}
+
+/// `eval pdr` on the simulator or on real walks.
+enum EvalPdr {
+    Sim { seeds: u64 },
+    Real { data: PathBuf, diagnose: bool },
+}
+
+/// Flags of `eval pdr`: `--sim [--seeds N]` or `[--data DIR] [--diagnose]`.
+fn eval_pdr_args(args: &[String]) -> Result<EvalPdr, String> {
+    let (mut sim, mut seeds, mut data, mut diagnose) = (false, 3, None, false);
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--sim" => sim = true,
+            "--seeds" => {
+                sim = true;
+                seeds = it
+                    .next()
+                    .and_then(|s| s.parse().ok())
+                    .ok_or("--seeds needs a number")?;
+            }
+            "--data" => data = Some(PathBuf::from(it.next().ok_or("--data needs a DIR")?)),
+            "--diagnose" => diagnose = true,
+            other => {
+                return Err(format!(
+                    "unknown option {other} for eval pdr (--sim [--seeds N] | [--data DIR] [--diagnose])"
+                ))
+            }
+        }
+    }
+    if sim {
+        if data.is_some() || diagnose {
+            return Err("eval pdr: --sim/--seeds and --data/--diagnose exclude each other".into());
+        }
+        return Ok(EvalPdr::Sim { seeds });
+    }
+    let data = match data {
+        Some(d) => d,
+        None => stridekit_formats::data_dir()
+            .map(|d| d.join("phone-indoor"))
+            .ok_or(
+                "real indoor walks not found: pass --data DIR or set STRIDEKIT_DATA (or use --sim)",
+            )?,
+    };
+    Ok(EvalPdr::Real { data, diagnose })
 }
 
 fn main() -> ExitCode {
@@ -326,12 +397,13 @@ fn main() -> ExitCode {
                 _ => Err("Oxford traces not found: pass --data DIR or set STRIDEKIT_DATA".into()),
             }
         }
-        Some("eval") if args.get(1).map(String::as_str) == Some("pdr") => {
-            let seeds = flag(&args, "--seeds")
-                .and_then(|s| s.parse().ok())
-                .unwrap_or(3);
-            eval_pdr::report(seeds).map(|t| println!("{t}"))
-        }
+        Some("eval") if args.get(1).map(String::as_str) == Some("pdr") => eval_pdr_args(&args[2..])
+            .and_then(|a| match a {
+                EvalPdr::Sim { seeds } => eval_pdr::report(seeds).map(|t| println!("{t}")),
+                EvalPdr::Real { data, diagnose } => {
+                    eval_pdr_real::run(&data, diagnose).map(|t| println!("{t}"))
+                }
+            }),
         Some("eval") if args.get(1).map(String::as_str) == Some("steplength") => {
             let dir = flag(&args, "--data").map(PathBuf::from);
             eval_steplength::report(dir.as_deref()).map(|t| println!("{t}"))
@@ -391,6 +463,15 @@ fn main() -> ExitCode {
             }
             None => Err("odometry needs a FILE".into()),
         },
+        Some("pdr") => pdr::PdrArgs::parse(&args[1..])
+            .and_then(|a| pdr::run(&a))
+            .map(|t| print!("{t}")),
+        Some("calibrate") if args.get(1).map(String::as_str) == Some("pdr") => {
+            let line = format!("stridekit {}", args.join(" "));
+            calibrate_pdr::CalibrateArgs::parse(&args[2..])
+                .and_then(|a| calibrate_pdr::run(&a, &line))
+                .map(|t| print!("{t}"))
+        }
         Some("help" | "--help" | "-h") => {
             print!("{USAGE}");
             Ok(())

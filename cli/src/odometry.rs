@@ -86,6 +86,7 @@ fn from_sim(sim: &stridekit_core::sim::SimulatedPhone, p: PhonePlacement) -> Rec
             .iter()
             .map(|t| (t.t_s, t.east_m, t.north_m))
             .collect(),
+        ..Default::default()
     }
 }
 

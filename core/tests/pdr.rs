@@ -100,3 +100,118 @@ fn a_walk_split_and_restored_gives_the_same_output() {
         assert!(rest == reference[split..], "differs after split {split}");
     }
 }
+
+/// A walk without GNSS (indoors): every detected step is placed on the track, those
+/// of the first burst (released before the walking direction was known) included,
+/// so the track's length is the distance walked.
+#[test]
+fn without_gnss_every_step_is_placed() {
+    let sim = simulate_phone(&PhoneScenario {
+        gnss: false,
+        ..PhoneScenario::walk(4, PhonePlacement::InHand, 1.3, 40.0)
+    });
+    let mut nav = PhoneNavigator::new(NavigatorConfig::default()).unwrap();
+    let mut path = 0.0;
+    let mut last = (0.0, 0.0);
+    let mut seen = 0;
+    for s in &sim.samples {
+        nav.push_imu(&ImuSample {
+            t_s: s.t_s,
+            gyro_rads: s.gyro_radps,
+            accel_mps2: s.accel_mps2,
+            mag_ut: Some(s.mag_ut),
+        })
+        .unwrap();
+        let (recent, n) = nav.recent_steps();
+        let all: Vec<_> = recent.collect();
+        for st in &all[all.len() - (n - seen) as usize..] {
+            path += (st.east_m - last.0).hypot(st.north_m - last.1);
+            last = (st.east_m, st.north_m);
+        }
+        seen = n;
+    }
+    let e = nav.estimate().expect("an estimate after input");
+    assert!(e.steps > 50 && e.lat_deg.is_none(), "{e:?}");
+    assert_eq!(seen, e.steps, "every step placed");
+    assert!(
+        (path - e.distance_m).abs() < 1e-6 * e.distance_m,
+        "{path} vs {}",
+        e.distance_m
+    );
+}
+
+/// A personal calibration sets the step length and the carrying, survives a snapshot,
+/// and a refused one changes nothing.
+#[test]
+fn a_calibration_is_used_and_kept_in_the_snapshot() {
+    use stridekit_core::pdr::PdrCalibration;
+    use stridekit_core::steplength::StepLengthModel;
+    let c = PdrCalibration {
+        step_length_model: StepLengthModel::Constant,
+        step_length_theta: [0.0, 0.0, 0.61],
+        step_length_sigma: [1.0, 1.0, 0.001],
+        carrying_body: Some([0.0, 1.0, 0.0]),
+    };
+    let xs = inputs(30.0);
+    let imu: Vec<Input> = xs
+        .into_iter()
+        .filter(|x| matches!(x, Input::Imu(_)))
+        .collect();
+    let mut nav = PhoneNavigator::with_calibration(NavigatorConfig::default(), &c).unwrap();
+    assert_eq!(nav.calibration(), Some(&c));
+    let (a, b) = imu.split_at(imu.len() / 2);
+    feed(&mut nav, a);
+    let mut resumed = PhoneNavigator::restore(&nav.snapshot()).unwrap();
+    assert_eq!(resumed.calibration(), Some(&c));
+    let e1 = feed(&mut nav, b);
+    let e2 = feed(&mut resumed, b);
+    assert_eq!(e1, e2);
+    let e = e1.last().unwrap();
+    assert!((e.step_length_m.unwrap() - 0.61).abs() < 0.01, "{e:?}");
+    let bad = PdrCalibration {
+        step_length_sigma: [0.0, 1.0, 1.0],
+        ..c
+    };
+    let before = nav.snapshot();
+    assert!(nav.set_calibration(&bad).is_err());
+    assert_eq!(before, nav.snapshot());
+}
+
+/// An external orientation (here the simulator's truth) drives the walking direction
+/// instead of the AHRS; a quaternion that is not unit is refused without change.
+#[test]
+fn an_external_attitude_replaces_the_ahrs() {
+    let sim = simulate_phone(&PhoneScenario {
+        gnss: false,
+        ..PhoneScenario::walk(6, PhonePlacement::InHand, 1.3, 30.0)
+    });
+    let mut nav = PhoneNavigator::new(NavigatorConfig::default()).unwrap();
+    for s in &sim.samples {
+        let q = sim.truth_at(s.t_s).attitude_wxyz;
+        nav.push_imu_with_attitude(
+            &ImuSample {
+                t_s: s.t_s,
+                gyro_rads: s.gyro_radps,
+                accel_mps2: s.accel_mps2,
+                mag_ut: None,
+            },
+            q,
+        )
+        .unwrap();
+    }
+    let e = nav.estimate().expect("an estimate after input");
+    assert!(e.steps > 30 && e.east_m.hypot(e.north_m) > 10.0, "{e:?}");
+    assert!(nav.orientation().is_none(), "the internal AHRS did not run");
+    let before = nav.snapshot();
+    let t = e.t_s + 0.01;
+    let s = ImuSample {
+        t_s: t,
+        gyro_rads: [0.0; 3],
+        accel_mps2: [0.0, 0.0, 9.8],
+        mag_ut: None,
+    };
+    assert!(nav
+        .push_imu_with_attitude(&s, [2.0, 0.0, 0.0, 0.0])
+        .is_err());
+    assert_eq!(before, nav.snapshot());
+}

@@ -77,3 +77,52 @@ fn navigator_does_not_allocate_per_sample() {
         }
     }
 }
+
+/// With a personal calibration loaded and through the external-attitude entry point
+/// too: no allocation per sample.
+#[test]
+fn calibrated_and_external_attitude_paths_do_not_allocate() {
+    use stridekit_core::pdr::PdrCalibration;
+    use stridekit_core::steplength::StepLengthModel;
+    let c = PdrCalibration {
+        step_length_model: StepLengthModel::Weinberg,
+        step_length_theta: [0.39, 0.0, 0.0],
+        step_length_sigma: [0.004, 1.0, 1.0],
+        carrying_body: Some([0.0, 1.0, 0.0]),
+    };
+    let mut sc = PhoneScenario::walk(12, PhonePlacement::InHand, 1.3, 90.0);
+    sc.gnss = false;
+    let sim = simulate_phone(&sc);
+    let imu: Vec<(ImuSample, [f64; 4])> = sim
+        .samples
+        .iter()
+        .map(|s| {
+            (
+                ImuSample {
+                    t_s: s.t_s,
+                    gyro_rads: s.gyro_radps,
+                    accel_mps2: s.accel_mps2,
+                    mag_ut: Some(s.mag_ut),
+                },
+                sim.truth_at(s.t_s).attitude_wxyz,
+            )
+        })
+        .collect();
+    for external in [false, true] {
+        let mut nav = PhoneNavigator::with_calibration(NavigatorConfig::default(), &c).unwrap();
+        let (n, steps) = allocations_in(|| {
+            for (s, q) in &imu {
+                if external {
+                    nav.push_imu_with_attitude(s, *q).unwrap();
+                } else {
+                    nav.push_imu(s).unwrap();
+                }
+                std::hint::black_box(nav.estimate());
+                std::hint::black_box(nav.recent_steps().1);
+            }
+            nav.estimate().expect("an estimate after input").steps
+        });
+        assert!(steps > 60, "external {external}: {steps} steps");
+        assert_eq!(n, 0, "external {external}: allocations on the sample path");
+    }
+}

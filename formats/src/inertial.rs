@@ -16,19 +16,49 @@ pub struct InertialSample {
     pub mag_ut: Option<[f64; 3]>,
 }
 
+/// An uncalibrated gyroscope or magnetometer event with the platform's bias
+/// estimate (Android `TYPE_*_UNCALIBRATED`): rad/s or µT, device frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Uncalibrated {
+    pub t_s: f64,
+    /// `true`: magnetometer (µT); `false`: gyroscope (rad/s).
+    pub magnetometer: bool,
+    pub raw: [f64; 3],
+    pub bias: [f64; 3],
+}
+
 /// IMU samples and true positions (x, y horizontal, z up, metres; the truth's own
-/// frame: ENU for the simulator, the Tango frame for RIDI / RoNIN).
+/// frame: ENU for the simulator, the Tango frame for RIDI / RoNIN, the floor map for
+/// Android logs with waypoints).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct InertialRecording {
     pub name: String,
     /// Placement name when known (`in_hand`, `bag`, …, as in the odometry model).
     pub placement: Option<String>,
     pub samples: Vec<InertialSample>,
-    /// (t s, x m, y m).
+    /// (t s, x m, y m): dense for RIDI / RoNIN / the simulator, the surveyed
+    /// waypoints for Android logs.
     pub truth: Vec<(f64, f64, f64)>,
+    /// The platform's own orientation (Android `TYPE_ROTATION_VECTOR`), device → ENU,
+    /// `(t_s, [w, x, y, z])`; empty when not recorded.
+    pub orientation: Vec<(f64, [f64; 4])>,
+    /// Uncalibrated gyroscope / magnetometer events, when recorded.
+    pub uncalibrated: Vec<Uncalibrated>,
+    /// Header key/value pairs (Android logs: `FloorName`, `Model`, …).
+    pub meta: Vec<(String, String)>,
+    /// Lines or events the reader skipped, by reason, with counts.
+    pub skipped: Vec<(String, u64)>,
 }
 
 impl InertialRecording {
+    /// The first header value under `key`.
+    pub fn meta_value(&self, key: &str) -> Option<&str> {
+        self.meta
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
+    }
+
     /// True horizontal position at `t` (linear interpolation, clamped at the ends).
     pub fn position_at(&self, t: f64) -> (f64, f64) {
         let tr = &self.truth;
@@ -122,10 +152,14 @@ pub(crate) fn parse_rows(
     Ok((samples, truth))
 }
 
-/// Reads a RIDI or RoNIN-export recording: a `.csv` whose header has `time_s` is a
-/// RoNIN export, one with `time` a RIDI file; a directory holding
+/// Reads a RIDI or RoNIN-export recording or an Android sensor log: a `.txt` or
+/// `.txt.gz` file is an Android sensor log ([`crate::android`]); a `.csv` whose header
+/// has `time_s` is a RoNIN export, one with `time` a RIDI file; a directory holding
 /// `processed/data.csv` is a RIDI sequence.
 pub fn read_inertial(path: &Path) -> Result<InertialRecording, FormatError> {
+    if crate::android::is_android_log(path) {
+        return crate::android::read_android_log(path);
+    }
     let file = if path.is_dir() {
         path.join("processed").join("data.csv")
     } else {

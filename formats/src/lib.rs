@@ -8,6 +8,7 @@
 //! (`RunCadence`, `Cadence`) and GPX (`gpxtpx:cad`) store strides per minute (one foot), so
 //! their values are doubled.
 
+mod android;
 mod csv;
 mod data;
 mod error;
@@ -24,13 +25,16 @@ mod xml;
 
 use std::path::Path;
 
+pub use crate::android::{is_android_log, list_android_logs, parse_android_log, read_android_log};
 pub use crate::csv::read_csv;
 pub use crate::data::{data_dir, DATA_ENV_VAR};
 pub use crate::error::FormatError;
 pub use crate::fit::read_fit;
 pub use crate::foot::{list_foot_trials, parse_foot_csv, read_foot_csv, FootFormat, FootRecording};
 pub use crate::gpx::read_gpx;
-pub use crate::inertial::{read_inertial, read_inertial_dir, InertialRecording, InertialSample};
+pub use crate::inertial::{
+    read_inertial, read_inertial_dir, InertialRecording, InertialSample, Uncalibrated,
+};
 pub use crate::oxford::{
     list_oxford_traces, read_oxford_accel_raw, read_oxford_trace, OxfordAccel, OxfordPosition,
     OxfordTrace,

@@ -38,6 +38,7 @@ pub fn parse_ridi_csv(name: &str, text: &str) -> Result<InertialRecording, Forma
         placement: ridi_placement(name),
         samples,
         truth,
+        ..Default::default()
     })
 }
 

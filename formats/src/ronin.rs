@@ -27,6 +27,7 @@ pub fn parse_ronin_csv(name: &str, text: &str) -> Result<InertialRecording, Form
         placement: None,
         samples,
         truth,
+        ..Default::default()
     })
 }
 

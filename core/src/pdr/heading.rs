@@ -17,14 +17,16 @@
 //!    it stays meaningful for an upright phone in a pocket, whose yaw angle is not, and
 //!    a limb swing, a rotation about the body's lateral axis, leaves its azimuth
 //!    unchanged). It is
-//!    - *initialised* from the body's motion: walking makes the horizontal acceleration
+//!    - *set* by a personal calibration when there is one ([`WalkingDirection::set_carrying`]),
+//!      else *initialised* from the body's motion: walking makes the horizontal acceleration
 //!      oscillate mostly along the walking direction, so the principal axis of the
 //!      earth-frame horizontal linear acceleration over a stride (2×2 covariance) gives
 //!      the axis; the forward/backward sign comes from the gait phase (inverted
 //!      pendulum: forward acceleration is anti-correlated with vertical velocity when
 //!      walking; correlated for a spring-mass running gait, cadence above
 //!      `RUNNING_STEP_HZ`), or, after a carrying change, from continuity with the last
-//!      walking direction;
+//!      walking direction; then the stride axes are averaged into it (gain 1/n down
+//!      to 0.1: the carrying is constant until it changes);
 //!    - *calibrated* by GNSS: the angle between the GNSS displacement and the
 //!      dead-reckoned displacement over the same stretch (≥ 15 m) rotates it (and
 //!      resolves a wrong sign once);
@@ -33,12 +35,25 @@
 //!      gravity direction in the body frame.
 //!
 //! Walking azimuth = azimuth of `q · forward_body` − `μ`, averaged over each step.
+//! Steps reach the walking direction late (the detector confirms a bout before it
+//! releases its steps, seconds after the first of them), so the attitude is kept as a
+//! short history (16 s of 0.2 s slots: Σ of the east and north rows of the body → ENU
+//! rotation, and μ): [`WalkingDirection::azimuth_between`] gives the walking azimuth
+//! over any recent step span for the current carrying estimate, so a step gets the
+//! direction of its own time, and the steps released before the carrying was known
+//! (the first stride of a walk) can still be placed.
+//!
+//! The attitude comes from outside this module (the navigator's AHRS, or an external
+//! orientation through `PhoneNavigator::push_imu_with_attitude`): a better orientation
+//! filter drops in without changes here.
+//!
 //! Azimuths are radians clockwise from north in (−π, π]; east = sin, north = cos.
 
 use std::f64::consts::PI;
 
 use nalgebra::{Matrix4, Quaternion, UnitQuaternion, Vector3, Vector4};
 
+use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Step frequency above which the gait is taken as running (spring-mass), Hz.
@@ -46,6 +61,8 @@ pub const RUNNING_STEP_HZ: f64 = 2.4;
 /// Gain of the pull towards a stride's axis at full quality (per stride), before
 /// GNSS calibrated the carrying.
 const AXIS_GAIN: f64 = 0.3;
+/// Least gain of the stride-axis average (≈ 10 strides of memory).
+const AXIS_MIN_GAIN: f64 = 0.1;
 /// Strides whose along/across variance ratio is below this carry no direction.
 const MIN_AXIS_RATIO: f64 = 1.5;
 /// Magnetic yaw loop: offset and rate time constants, s.
@@ -72,6 +89,11 @@ const CARRY_CHANGE_RAD: f64 = 0.6;
 const TILT_TAU_S: f64 = 3.0;
 /// Standard gravity, m/s².
 const GRAVITY_MPS2: f64 = 9.80665;
+/// Attitude history for step azimuths: slot length, s, and slots kept (16 s: longer
+/// than the step detector's longest release delay, a bout confirmed after its
+/// buffered candidates).
+const SLOT_S: f64 = 0.2;
+pub const HISTORY_SLOTS: usize = 80;
 /// Calibration from GNSS stretches (a Kalman filter on the azimuth error and, without
 /// a magnetometer, its drift rate): prior σ of the carrying azimuth, rad, and of the
 /// drift rate, rad/s; random walks of both, rad²/s and rad²/s³.
@@ -245,15 +267,38 @@ impl HardIron {
     }
 }
 
+/// One slot of the attitude history: Σ over its samples of the east and north rows
+/// of `R(q)` (body → ENU) and the yaw correction μ at its end, so that the azimuth
+/// of any body-frame vector averaged over a time span can be computed later.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Slot {
+    t0_s: f64,
+    t1_s: f64,
+    rows: [f64; 6],
+    n: f64,
+    mu_rad: f64,
+}
+
+impl Slot {
+    /// Σ over the slot of the horizontal ENU direction of body vector `f`, with the
+    /// yaw correction applied (azimuth − μ).
+    fn horizontal(&self, f: [f64; 3]) -> (f64, f64) {
+        let r = &self.rows;
+        let e = r[0] * f[0] + r[1] * f[1] + r[2] * f[2];
+        let n = r[3] * f[0] + r[4] * f[1] + r[5] * f[2];
+        let (s, c) = self.mu_rad.sin_cos();
+        (c * e - s * n, s * e + c * n)
+    }
+}
+
 /// Estimates the walking azimuth and the phone's heading offset.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WalkingDirection {
     /// Latest walking azimuth (per sample), once known.
     azimuth_rad: f64,
     known: bool,
-    /// Sum of sin/cos of the walking azimuth since the last step.
-    step_sin: f64,
-    step_cos: f64,
+    /// Attitude history (see [`Slot`]).
+    history: Ring<Slot, HISTORY_SLOTS>,
     /// AHRS azimuth − true azimuth, and its drift rate, rad, rad/s.
     mu_rad: f64,
     mu_rate_rads: f64,
@@ -284,6 +329,8 @@ pub struct WalkingDirection {
     mean_force_enu: [f64; 3],
     stride: StrideStats,
     steps_in_stride: u32,
+    /// Stride axes averaged into the carrying since it was initialised.
+    axis_strides: f64,
     vz_mps: f64,
     last_t_s: f64,
     last_stride_t_s: f64,
@@ -306,8 +353,7 @@ impl WalkingDirection {
         Self {
             azimuth_rad: 0.0,
             known: false,
-            step_sin: 0.0,
-            step_cos: 0.0,
+            history: Ring::new(),
             mu_rad: 0.0,
             mu_rate_rads: 0.0,
             mu_known: false,
@@ -327,10 +373,22 @@ impl WalkingDirection {
             mean_force_enu: [0.0, 0.0, GRAVITY_MPS2],
             stride: StrideStats::default(),
             steps_in_stride: 0,
+            axis_strides: 0.0,
             vz_mps: 0.0,
             last_t_s: f64::NAN,
             last_stride_t_s: f64::NAN,
         }
+    }
+
+    /// Set how the phone is carried (the walking direction in the body frame, e.g. a
+    /// personal calibration): held like a GNSS-calibrated carrying until a carrying
+    /// change; GNSS can still refine it.
+    pub fn set_carrying(&mut self, forward_body: [f64; 3]) {
+        let v = unit(forward_body);
+        self.forward_body = v.into();
+        self.forward_known = true;
+        self.calibrated = true;
+        self.cal_p = CAL_P0;
     }
 
     /// Walking azimuth, radians clockwise from north, once known.
@@ -506,35 +564,100 @@ impl WalkingDirection {
         self.stride
             .add(lin_acc_enu_mps2[0], lin_acc_enu_mps2[1], self.vz_mps);
 
+        // Attitude history: rows east and north of R (body → ENU); the slot keeps
+        // the yaw correction μ (it moves over tens of seconds, not within a slot).
+        let (w, x, y, z) = (q_enu.w, q_enu.i, q_enu.j, q_enu.k);
+        let rows = [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - w * z),
+            2.0 * (x * z + w * y),
+            2.0 * (x * y + w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - w * x),
+        ];
+        match self.history.newest_mut() {
+            Some(slot) if t_s - slot.t0_s < SLOT_S && t_s >= slot.t0_s => {
+                for (a, b) in slot.rows.iter_mut().zip(rows) {
+                    *a += b;
+                }
+                slot.n += 1.0;
+                slot.t1_s = t_s;
+                slot.mu_rad = self.mu_rad;
+            }
+            _ => self.history.push(Slot {
+                t0_s: t_s,
+                t1_s: t_s,
+                rows,
+                n: 1.0,
+                mu_rad: self.mu_rad,
+            }),
+        }
+
         // Walking azimuth of this sample.
         if self.forward_known {
-            let v = q_enu * Vector3::from(self.forward_body);
-            if v.x.hypot(v.y) > 0.2 {
-                let az = wrap(v.x.atan2(v.y) - self.mu_rad);
-                self.azimuth_rad = az;
+            let f = self.forward_body;
+            let e = rows[0] * f[0] + rows[1] * f[1] + rows[2] * f[2];
+            let n = rows[3] * f[0] + rows[4] * f[1] + rows[5] * f[2];
+            if e.hypot(n) > 0.2 {
+                self.azimuth_rad = wrap(e.atan2(n) - self.mu_rad);
                 self.known = true;
-                let (s, c) = az.sin_cos();
-                self.step_sin += s;
-                self.step_cos += c;
             }
         }
     }
 
-    /// A step was detected: returns the walking azimuth over the step (once known).
+    /// The walking azimuth averaged over `t0_s..=t1_s` (a step), from the attitude
+    /// history and the current carrying estimate; `None` while the carrying is
+    /// unknown. Spans older than the history use its oldest slot, spans in a gap the
+    /// nearest slot.
+    pub fn azimuth_between(&self, t0_s: f64, t1_s: f64) -> Option<f64> {
+        if !self.forward_known || self.history.is_empty() {
+            return None;
+        }
+        let f = self.forward_body;
+        let (mut e, mut n, mut w) = (0.0, 0.0, 0.0);
+        let len = self.history.len();
+        for i in 0..len {
+            let Some(s) = self.history.get(i) else {
+                continue;
+            };
+            // A slot spans from its start to the next slot's start (the newest: to
+            // its last sample).
+            let end = self
+                .history
+                .get(i + 1)
+                .map_or(s.t1_s, |next| next.t0_s.min(s.t0_s + SLOT_S));
+            let span = (end - s.t0_s).max(1e-9);
+            let overlap = (end.min(t1_s) - s.t0_s.max(t0_s)).max(0.0);
+            if overlap <= 0.0 && !(s.t0_s <= t1_s && t1_s <= end) {
+                continue;
+            }
+            let k = (overlap / span).max(1e-6) / s.n;
+            let (se, sn) = s.horizontal(f);
+            e += k * se;
+            n += k * sn;
+            w += k;
+        }
+        if w == 0.0 {
+            // Outside the history: the nearest slot.
+            let s = if self.history.get(0).is_some_and(|s| t1_s < s.t0_s) {
+                self.history.get(0)
+            } else {
+                self.history.newest()
+            }?;
+            (e, n) = s.horizontal(f);
+            w = s.n;
+        }
+        (e.hypot(n) > 0.2 * w).then(|| e.atan2(n))
+    }
+
+    /// A step was detected (its azimuth: [`azimuth_between`](Self::azimuth_between)).
     /// Every second step closes a stride: the hard-iron fit is re-solved, and until GNSS
     /// calibrated the carrying, the stride's axis updates it. `step_hz` selects the
     /// walking or running cue for the forward direction.
-    pub fn push_step(&mut self, step_hz: f64) -> Option<f64> {
-        let step_az = if self.step_sin != 0.0 || self.step_cos != 0.0 {
-            Some(self.step_sin.atan2(self.step_cos))
-        } else {
-            self.azimuth_rad()
-        };
-        self.step_sin = 0.0;
-        self.step_cos = 0.0;
+    pub fn push_step(&mut self, step_hz: f64) {
         self.steps_in_stride += 1;
         if self.steps_in_stride < 2 {
-            return step_az;
+            return;
         }
         self.steps_in_stride = 0;
         let stats = std::mem::take(&mut self.stride);
@@ -544,13 +667,13 @@ impl WalkingDirection {
         }
         self.last_stride_t_s = self.last_t_s;
         if self.calibrated {
-            return step_az;
+            return;
         }
         let Some((axis_ahrs, ratio)) = stats.axis() else {
-            return step_az;
+            return;
         };
         if ratio < MIN_AXIS_RATIO {
-            return step_az;
+            return;
         }
         let quality = ((ratio - MIN_AXIS_RATIO) / (4.0 * MIN_AXIS_RATIO)).clamp(0.0, 1.0);
         let axis = wrap(axis_ahrs - self.mu_rad);
@@ -577,15 +700,19 @@ impl WalkingDirection {
             let u = Vector3::new(dir_ahrs.sin(), dir_ahrs.cos(), 0.0);
             self.forward_body = self.quat().inverse_transform_vector(&u).into();
             self.forward_known = true;
-            return step_az;
+            self.axis_strides = 1.0;
+            return;
         }
         // Of the axis' two directions, take the one nearer the current estimate.
         let mut target = axis;
         if wrap(target - self.azimuth_rad).abs() > 0.5 * PI {
             target = wrap(target + PI);
         }
-        self.rotate_forward(AXIS_GAIN * quality * wrap(target - self.azimuth_rad));
-        step_az
+        // The carrying is constant until it changes (detected above): average the
+        // stride axes (gain 1/n), down to a floor that follows slow changes.
+        let gain = (1.0 / (self.axis_strides + 1.0)).clamp(AXIS_MIN_GAIN, AXIS_GAIN);
+        self.axis_strides += quality;
+        self.rotate_forward(gain * quality * wrap(target - self.azimuth_rad));
     }
 
     /// GNSS says the dead-reckoned displacement over a stretch of `window_s` seconds
@@ -642,8 +769,6 @@ impl WalkingDirection {
     pub(crate) fn write(&self, w: &mut Writer) {
         w.f64s(&[
             self.azimuth_rad,
-            self.step_sin,
-            self.step_cos,
             self.mu_rad,
             self.mu_rate_rads,
             self.mag_ref_ut,
@@ -673,14 +798,20 @@ impl WalkingDirection {
             w.bool(b);
         }
         w.u64(self.steps_in_stride as u64);
+        w.f64(self.axis_strides);
+        w.u64(self.history.len() as u64);
+        for s in self.history.iter() {
+            w.f64s(&[s.t0_s, s.t1_s, s.n, s.mu_rad]);
+            w.f64s(&s.rows);
+        }
     }
 
     pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
-        let mut v = [0.0; 10];
-        r.f64s(&mut v[..8])?;
+        let mut v = [0.0; 8];
+        r.f64s(&mut v[..6])?;
         // NaN before the first sample / stride.
-        v[8] = r.f64_or_nan()?;
-        v[9] = r.f64_or_nan()?;
+        v[6] = r.f64_or_nan()?;
+        v[7] = r.f64_or_nan()?;
         let mut mean_force_enu = [0.0; 3];
         r.f64s(&mut mean_force_enu)?;
         let mut cal_p = [0.0; 3];
@@ -703,6 +834,29 @@ impl WalkingDirection {
             *x = r.bool()?;
         }
         let steps_in_stride = r.len(2)? as u32;
+        let axis_strides = r.f64()?;
+        let mut history = Ring::new();
+        for _ in 0..r.len(HISTORY_SLOTS)? {
+            let mut h = [0.0; 4];
+            r.f64s(&mut h)?;
+            let mut rows = [0.0; 6];
+            r.f64s(&mut rows)?;
+            // A slot of n ≥ 1 samples within the time limits, its rows sums of n
+            // unit-vector components, its μ an angle.
+            let t_ok = |t: f64| t.abs() <= crate::input::limits::MAX_ABS_T_S + 1.0;
+            if !(t_ok(h[0]) && t_ok(h[1]) && (1.0..=1e9).contains(&h[2]) && h[3].abs() <= 100.0)
+                || rows.iter().any(|x| x.abs() > h[2] * 1.01)
+            {
+                return Err(SnapshotError::Invalid("walking direction history"));
+            }
+            history.push(Slot {
+                t0_s: h[0],
+                t1_s: h[1],
+                n: h[2],
+                mu_rad: h[3],
+                rows,
+            });
+        }
         let qn = q.iter().map(|x| x * x).sum::<f64>();
         if (qn - 1.0).abs() >= 1e-6 {
             return Err(SnapshotError::Invalid("walking direction orientation"));
@@ -714,15 +868,15 @@ impl WalkingDirection {
         // vectors, forces within the door's limits, sums that forgetting keeps
         // bounded, a covariance.
         let checks = [
-            within(&[v[0], v[3]], 100.0),
-            within(&[v[1], v[2]], 1e6),
-            v[4].abs() <= 1.0,
-            (0.0..=mag_max).contains(&v[5]),
-            v[6].abs() <= 4.0,
-            v[7].abs() <= 1e3,
-            [v[8], v[9]]
+            within(&[v[0], v[1]], 100.0),
+            v[2].abs() <= 1.0,
+            (0.0..=mag_max).contains(&v[3]),
+            v[4].abs() <= 4.0,
+            v[5].abs() <= 1e3,
+            [v[6], v[7]]
                 .iter()
                 .all(|t| t.is_nan() || t.abs() <= MAX_ABS_T_S + 1.0),
+            (0.0..=1e9).contains(&axis_strides),
             within(&mean_force_enu, MAX_ACCEL_NORM_MPS2),
             cal_p[0] >= 0.0 && cal_p[2] >= 0.0 && within(&cal_p, 1e6),
             within(&hard_iron.sums, 1e20) && within(&hard_iron.h_ut, mag_max),
@@ -735,15 +889,14 @@ impl WalkingDirection {
         }
         Ok(Self {
             azimuth_rad: v[0],
-            step_sin: v[1],
-            step_cos: v[2],
-            mu_rad: v[3],
-            mu_rate_rads: v[4],
-            mag_ref_ut: v[5],
-            dip_ref_rad: v[6],
-            vz_mps: v[7],
-            last_t_s: v[8],
-            last_stride_t_s: v[9],
+            history,
+            mu_rad: v[1],
+            mu_rate_rads: v[2],
+            mag_ref_ut: v[3],
+            dip_ref_rad: v[4],
+            vz_mps: v[5],
+            last_t_s: v[6],
+            last_stride_t_s: v[7],
             mean_force_enu,
             cal_p,
             hard_iron,
@@ -760,6 +913,7 @@ impl WalkingDirection {
             calibrated: b[5],
             up_known: b[6],
             steps_in_stride,
+            axis_strides,
         })
     }
 }

@@ -2,8 +2,12 @@
 //! ([`PhoneNavigator`]), built from the AHRS, the step detector, the step-length
 //! estimator and the walking-direction estimator ([`WalkingDirection`]).
 
+pub mod calibration;
 pub mod heading;
 pub mod navigator;
 
+pub use calibration::{CalibrationError, PdrCalibration};
 pub use heading::WalkingDirection;
-pub use navigator::{NavError, NavEstimate, NavigatorConfig, PhoneNavigator};
+pub use navigator::{
+    NavError, NavEstimate, NavStep, NavigatorConfig, PhoneNavigator, RECENT_STEPS,
+};

@@ -14,7 +14,14 @@
 //! the same stretch (≥ 15 m) rotates the walking direction's carrying estimate.
 //!
 //! Before the first fix, positions are relative to where the navigator started;
-//! at the first fix the track is re-expressed around it.
+//! at the first fix the track is re-expressed around it. Without any GNSS (indoors)
+//! it dead-reckons from where it started. Each step is placed with the walking
+//! direction over its own span (steps are released by the detector up to seconds
+//! late); steps released before the walking direction is known are held and placed
+//! once it is. [`PhoneNavigator::recent_steps`] gives the placed steps (the
+//! trajectory at step times). A personal [`PdrCalibration`] (step-length model,
+//! carrying) can be loaded and is kept in the snapshot; the orientation can come
+//! from outside ([`PhoneNavigator::push_imu_with_attitude`]) instead of the AHRS.
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
@@ -22,15 +29,24 @@ use crate::ahrs::{Ahrs, AhrsError, AhrsSettings, EarthFrame, ImuSample};
 use crate::geo::LocalFrame;
 use crate::input::{self, InputError, Stream, TimeGuard};
 use crate::pace::GnssFix;
+use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 use crate::stepdetect::{StepDetectError, StepDetector, StepDetectorConfig, StepEvent};
 use crate::steplength::{StepLengthConfig, StepLengthError, StepLengthEstimator, StepLengthModel};
 
+use super::calibration::{CalibrationError, PdrCalibration};
 use super::heading::WalkingDirection;
 
 const SNAPSHOT_KIND: u8 = 5;
-/// Version 3: the input layer's time state per stream.
-const SNAPSHOT_VERSION: u16 = 3;
+/// Version 4: the input layer's time state per stream (version 3 added the attitude
+/// history, deferred and recent steps).
+const SNAPSHOT_VERSION: u16 = 4;
+/// Steps waiting for the carrying to be known, and recent placed steps kept.
+const DEFERRED_STEPS: usize = 32;
+pub const RECENT_STEPS: usize = 32;
+/// Span of a step whose duration is unknown (first of a bout) or implausibly long, s.
+const DEFAULT_STEP_S: f64 = 0.55;
+const MAX_STEP_S: f64 = 2.0;
 /// 68 % radius of a circular 2-D Gaussian is 1.515 σ per axis.
 const RADIUS68_TO_SIGMA: f64 = 1.0 / 1.515;
 /// Per-axis σ assumed for a fix without accuracy, m.
@@ -64,6 +80,12 @@ pub enum NavError {
     /// The step-length configuration is not usable.
     #[error(transparent)]
     StepLength(StepLengthError),
+    /// A calibration could not be read or applied.
+    #[error("calibration: {0}")]
+    Calibration(#[from] CalibrationError),
+    /// An external attitude quaternion is not of unit norm.
+    #[error("attitude quaternion: norm {norm} is not 1")]
+    Attitude { norm: f64 },
     /// A snapshot could not be restored.
     #[error("cannot restore navigator snapshot: {0}")]
     Snapshot(#[from] SnapshotError),
@@ -113,7 +135,10 @@ impl Default for NavigatorConfig {
         Self {
             ahrs: AhrsSettings::default(),
             detector: StepDetectorConfig::default(),
-            step_length_model: StepLengthModel::Linear,
+            // Weinberg: the step's acceleration range follows the step length when
+            // the walker shortens steps at the same cadence (slowing down, turning,
+            // indoors), which the cadence-driven linear prior cannot.
+            step_length_model: StepLengthModel::Weinberg,
             step_length: StepLengthConfig::default(),
         }
     }
@@ -145,6 +170,27 @@ pub struct NavEstimate {
     pub step_length_m: Option<f64>,
 }
 
+/// A step placed on the track: where it ended.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct NavStep {
+    /// Time of the step (the detector's heel strike), s.
+    pub t_s: f64,
+    /// Position after the step, ENU, m (same frame as [`NavEstimate`]).
+    pub east_m: f64,
+    pub north_m: f64,
+    pub length_m: f64,
+    /// Walking azimuth over the step, radians clockwise from north.
+    pub azimuth_rad: f64,
+}
+
+/// A detected step waiting for the walking direction to be known.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct PendingStep {
+    t0_s: f64,
+    t1_s: f64,
+    length_m: f64,
+}
+
 /// Pedestrian dead reckoning with a phone.
 #[derive(Clone, Debug)]
 pub struct PhoneNavigator {
@@ -171,6 +217,14 @@ pub struct PhoneNavigator {
     /// Where the current GNSS stretch starts: time, fix east/north, dead-reckoned
     /// east/north.
     course_anchor: [f64; 5],
+    /// Steps detected before the walking direction was known: placed once it is
+    /// (at their own times, from the attitude history).
+    deferred: Ring<PendingStep, DEFERRED_STEPS>,
+    /// The latest placed steps and how many were placed in all.
+    recent: Ring<NavStep, RECENT_STEPS>,
+    placed: u64,
+    /// The personal calibration loaded, if any.
+    calibration: Option<PdrCalibration>,
 }
 
 /// NED → ENU rotation (swaps north and east, flips the vertical).
@@ -201,15 +255,54 @@ impl PhoneNavigator {
             dr_east_m: 0.0,
             dr_north_m: 0.0,
             course_anchor: [f64::NAN; 5],
+            deferred: Ring::new(),
+            recent: Ring::new(),
+            placed: 0,
+            calibration: None,
         })
+    }
+
+    /// A navigator with a personal calibration loaded (see [`Self::set_calibration`]).
+    pub fn with_calibration(
+        config: NavigatorConfig,
+        calibration: &PdrCalibration,
+    ) -> Result<Self, NavError> {
+        let mut n = Self::new(config)?;
+        n.set_calibration(calibration)?;
+        Ok(n)
+    }
+
+    /// Load a personal calibration: the step-length model starts from it (its online
+    /// GNSS calibration restarts from there) and, when it has one, the carrying
+    /// direction. Best done before the first sample; the state is unchanged on error.
+    pub fn set_calibration(&mut self, c: &PdrCalibration) -> Result<(), NavError> {
+        c.validate()?;
+        let lengths = StepLengthEstimator::calibrated(
+            c.step_length_model,
+            self.config.step_length,
+            c.step_length_theta,
+            c.step_length_sigma,
+        )?;
+        self.lengths = lengths;
+        self.config.step_length_model = c.step_length_model;
+        if let Some(f) = c.carrying_body {
+            self.direction.set_carrying(f);
+        }
+        self.calibration = Some(*c);
+        Ok(())
+    }
+
+    /// The personal calibration loaded, if any.
+    pub fn calibration(&self) -> Option<&PdrCalibration> {
+        self.calibration.as_ref()
     }
 
     pub fn config(&self) -> &NavigatorConfig {
         &self.config
     }
 
-    /// One IMU sample (sensor frame; the AHRS settings say how to remap it).
-    pub fn push_imu(&mut self, s: &ImuSample) -> Result<(), NavError> {
+    /// Checks shared by both IMU entry points, before anything changes.
+    fn check_imu(&self, s: &ImuSample) -> Result<(), NavError> {
         // The door: the whole sample is checked once here (the sub-engines check the
         // same limits again); then the detector's check (its g-units heuristic) runs
         // without side effects, so a rejection by either engine leaves both untouched
@@ -221,9 +314,53 @@ impl PhoneNavigator {
             input::mag(m)?;
         }
         self.detector.check_sample(s.t_s, s.accel_mps2)?;
+        Ok(())
+    }
+
+    /// One IMU sample (sensor frame; the AHRS settings say how to remap it).
+    pub fn push_imu(&mut self, s: &ImuSample) -> Result<(), NavError> {
+        self.check_imu(s)?;
         // The AHRS runs without the magnetometer: the walking direction corrects its
         // yaw from the field itself (see `super::heading`).
         self.ahrs.update(s.t_s, s.gyro_rads, s.accel_mps2, None)?;
+        let q_enu = self.ahrs.quaternion().map(|[w, x, y, z]| {
+            let q = UnitQuaternion::new_unchecked(Quaternion::new(w, x, y, z));
+            match self.config.ahrs.frame {
+                EarthFrame::Enu => q,
+                EarthFrame::Ned => ned_to_enu() * q,
+            }
+        });
+        self.advance(s, q_enu)
+    }
+
+    /// One IMU sample with the orientation from elsewhere instead of the internal
+    /// AHRS: `q_body_to_enu` = `[w, x, y, z]` rotating the (remapped) body frame into
+    /// East-North-Up — e.g. a better orientation filter, or the platform's fused
+    /// orientation (Android's rotation vector is exactly this). The magnetometer, if
+    /// given, still drives the yaw correction; pass none when the attitude already
+    /// has an absolute heading. The internal AHRS does not advance.
+    pub fn push_imu_with_attitude(
+        &mut self,
+        s: &ImuSample,
+        q_body_to_enu: [f64; 4],
+    ) -> Result<(), NavError> {
+        self.check_imu(s)?;
+        let [w, x, y, z] = q_body_to_enu;
+        let n = (w * w + x * x + y * y + z * z).sqrt();
+        if !(n.is_finite() && (n - 1.0).abs() < 1e-3) {
+            return Err(NavError::Attitude { norm: n });
+        }
+        let q = UnitQuaternion::new_normalize(Quaternion::new(w, x, y, z));
+        self.advance(s, Some(q))
+    }
+
+    /// Detector, walking direction and steps for an accepted sample with its
+    /// orientation (body → ENU), if known yet.
+    fn advance(
+        &mut self,
+        s: &ImuSample,
+        q_enu: Option<UnitQuaternion<f64>>,
+    ) -> Result<(), NavError> {
         let first = self.detector.push(s.t_s, s.accel_mps2)?;
         self.imu_time.accept(s.t_s);
         self.last_t_s = if self.last_t_s.is_nan() {
@@ -231,12 +368,7 @@ impl PhoneNavigator {
         } else {
             self.last_t_s.max(s.t_s)
         };
-        if let Some([w, x, y, z]) = self.ahrs.quaternion() {
-            let q = UnitQuaternion::new_unchecked(Quaternion::new(w, x, y, z));
-            let q_enu = match self.config.ahrs.frame {
-                EarthFrame::Enu => q,
-                EarthFrame::Ned => ned_to_enu() * q,
-            };
+        if let Some(q_enu) = q_enu {
             let remap = &self.config.ahrs.axis_remap;
             let force = q_enu * Vector3::from(remap.apply(s.accel_mps2));
             let mag = s.mag_ut.map(|m| remap.apply(m));
@@ -254,22 +386,61 @@ impl PhoneNavigator {
     fn on_step(&mut self, step: &StepEvent) -> Result<(), NavError> {
         let hz = step.frequency_hz();
         let length = self.lengths.push_step(step)?;
-        let az = self
-            .direction
+        self.direction
             .push_step(if hz.is_finite() { hz } else { 1.8 });
         self.steps += 1;
         self.last_step_length_m = length;
         self.distance_m += length;
-        if let Some(az) = az {
-            let (de, dn) = (length * az.sin(), length * az.cos());
-            self.east_m += de;
-            self.north_m += dn;
-            self.dr_east_m += de;
-            self.dr_north_m += dn;
-            self.pos_var_m2 +=
-                (STEP_LENGTH_REL_SIGMA * length).powi(2) + (DIRECTION_SIGMA_RAD * length).powi(2);
+        let span = if step.duration_s.is_finite() && step.duration_s <= MAX_STEP_S {
+            step.duration_s
+        } else {
+            DEFAULT_STEP_S
+        };
+        let pending = PendingStep {
+            t0_s: step.t_s - span,
+            t1_s: step.t_s,
+            length_m: length,
+        };
+        if self.direction.forward_body().is_none() {
+            // The carrying is not known yet (a walk's first stride): place the step
+            // once it is, at its own time.
+            self.deferred.push(pending);
+            return Ok(());
         }
+        while let Some(p) = self.deferred.pop_front() {
+            self.place(p);
+        }
+        self.place(pending);
         Ok(())
+    }
+
+    /// Move the position by one step along the walking azimuth over its span.
+    fn place(&mut self, p: PendingStep) {
+        let Some(az) = self.direction.azimuth_between(p.t0_s, p.t1_s) else {
+            return;
+        };
+        let length = p.length_m;
+        let (de, dn) = (length * az.sin(), length * az.cos());
+        self.east_m += de;
+        self.north_m += dn;
+        self.dr_east_m += de;
+        self.dr_north_m += dn;
+        self.pos_var_m2 +=
+            (STEP_LENGTH_REL_SIGMA * length).powi(2) + (DIRECTION_SIGMA_RAD * length).powi(2);
+        self.placed += 1;
+        self.recent.push(NavStep {
+            t_s: p.t1_s,
+            east_m: self.east_m,
+            north_m: self.north_m,
+            length_m: length,
+            azimuth_rad: az,
+        });
+    }
+
+    /// The latest placed steps (at most [`RECENT_STEPS`], oldest first) and how many
+    /// steps were placed in all: a caller that remembers the count reads the new ones.
+    pub fn recent_steps(&self) -> (impl DoubleEndedIterator<Item = NavStep> + '_, u64) {
+        (self.recent.iter(), self.placed)
     }
 
     /// One GNSS fix: anchors the frame at the first one, then corrects the position,
@@ -429,12 +600,35 @@ impl PhoneNavigator {
         self.fix_time.write(&mut w);
         w.f64s(&self.course_anchor);
         w.u64(self.steps);
+        w.u64(self.deferred.len() as u64);
+        for p in self.deferred.iter() {
+            w.f64s(&[p.t0_s, p.t1_s, p.length_m]);
+        }
+        w.u64(self.recent.len() as u64);
+        for p in self.recent.iter() {
+            w.f64s(&[p.t_s, p.east_m, p.north_m, p.length_m, p.azimuth_rad]);
+        }
+        w.u64(self.placed);
+        match &self.calibration {
+            Some(c) => {
+                w.bool(true);
+                w.bytes(c.to_text(&[]).as_bytes());
+            }
+            None => w.bool(false),
+        }
         w.finish()
     }
 
     /// A navigator continuing exactly where the snapshot was taken.
     pub fn restore(bytes: &[u8]) -> Result<Self, NavError> {
-        let (mut r, _) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let (mut r, version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        if version < SNAPSHOT_VERSION {
+            return Err(SnapshotError::UnsupportedVersion {
+                found: version,
+                supported: SNAPSHOT_VERSION,
+            }
+            .into());
+        }
         let ahrs = Ahrs::restore(r.bytes()?)?;
         let detector = StepDetector::restore(r.bytes()?)?;
         let lengths = StepLengthEstimator::restore(r.bytes()?)?;
@@ -463,6 +657,36 @@ impl PhoneNavigator {
             *v = r.f64_or_nan()?;
         }
         let steps = r.u64()?;
+        let mut deferred = Ring::new();
+        for _ in 0..r.len(DEFERRED_STEPS)? {
+            let mut v = [0.0; 3];
+            r.f64s(&mut v)?;
+            deferred.push(PendingStep {
+                t0_s: v[0],
+                t1_s: v[1],
+                length_m: v[2],
+            });
+        }
+        let mut recent = Ring::new();
+        for _ in 0..r.len(RECENT_STEPS)? {
+            let mut v = [0.0; 5];
+            r.f64s(&mut v)?;
+            recent.push(NavStep {
+                t_s: v[0],
+                east_m: v[1],
+                north_m: v[2],
+                length_m: v[3],
+                azimuth_rad: v[4],
+            });
+        }
+        let placed = r.u64()?;
+        let calibration = if r.bool()? {
+            let text = std::str::from_utf8(r.bytes()?)
+                .map_err(|_| SnapshotError::Invalid("calibration"))?;
+            Some(PdrCalibration::parse(text).map_err(|_| SnapshotError::Invalid("calibration"))?)
+        } else {
+            None
+        };
         r.end()?;
         let newest = imu_time
             .last_t_s()
@@ -512,6 +736,10 @@ impl PhoneNavigator {
             dr_north_m,
             course_anchor,
             steps,
+            deferred,
+            recent,
+            placed,
+            calibration,
         })
     }
 }

@@ -70,6 +70,11 @@ impl Regression {
         }
     }
 
+    /// One diagonal entry of Λ (index into the row-major 3×3).
+    pub fn info_diagonal(&self, i: usize) -> f64 {
+        self.info[i]
+    }
+
     /// Add one sample `y ≈ θ·x` with 1-σ `sigma` (no solve).
     pub fn add(&mut self, x: [f64; 3], y: f64, sigma: f64) {
         let w = 1.0 / (sigma * sigma);

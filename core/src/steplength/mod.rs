@@ -177,6 +177,26 @@ impl StepLengthEstimator {
         })
     }
 
+    /// An estimator starting from a personal calibration (θ with 1-σ `sigma`, e.g.
+    /// learned from earlier walks) instead of the population prior; GNSS still
+    /// refines it.
+    pub fn calibrated(
+        model: StepLengthModel,
+        config: StepLengthConfig,
+        theta: [f64; 3],
+        sigma: [f64; 3],
+    ) -> Result<Self, StepLengthError> {
+        let mut s = Self::new(model, config)?;
+        if !(theta.iter().all(|v| v.is_finite()) && sigma.iter().all(|v| v.is_finite() && *v > 0.0))
+        {
+            return Err(StepLengthError::InvalidConfig {
+                reason: "calibration θ must be finite and σ positive".into(),
+            });
+        }
+        s.reg = Regression::new(theta, sigma);
+        Ok(s)
+    }
+
     pub fn model(&self) -> StepLengthModel {
         self.model
     }
@@ -192,7 +212,14 @@ impl StepLengthEstimator {
 
     /// The model's feature vector for a step.
     fn features(&self, f_hz: f64, sv: f64, w: f64) -> [f64; 3] {
-        match self.model {
+        Self::model_features(self.model, f_hz, sv, w)
+    }
+
+    /// The feature vector x of `L = θ·x` for a step of frequency `f_hz`, magnitude
+    /// variance `sv` and Weinberg feature `w` = (a_max − a_min)^¼ (for calibration
+    /// done elsewhere, e.g. from surveyed walks).
+    pub fn model_features(model: StepLengthModel, f_hz: f64, sv: f64, w: f64) -> [f64; 3] {
+        match model {
             StepLengthModel::Constant => [0.0, 0.0, 1.0],
             StepLengthModel::Linear | StepLengthModel::LinearAsPublished => [f_hz, sv, 1.0],
             StepLengthModel::LinearFrequencyOnly => [f_hz, 0.0, 1.0],
@@ -575,6 +602,13 @@ impl PartialEq for StepLengthEstimator {
     fn eq(&self, other: &Self) -> bool {
         self.snapshot() == other.snapshot()
     }
+}
+
+/// The population prior of a model: means and 1-σ of θ.
+pub fn prior_of(model: StepLengthModel, c: &StepLengthConfig) -> ([f64; 3], [f64; 3]) {
+    let r = prior(model, c);
+    let s = [0, 4, 8].map(|i| 1.0 / r.info_diagonal(i).sqrt());
+    (r.theta, s)
 }
 
 /// The population prior of a model.

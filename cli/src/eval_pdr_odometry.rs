@@ -1,0 +1,177 @@
+//! The learned odometry (`stridekit_core::odometry`) on the real indoor walks, in the
+//! same table as the PDR (`eval pdr --data DIR`), and its training on them
+//! (`stridekit train odometry --android DIR`).
+//!
+//! Labels: the velocity between consecutive waypoints (straight legs at constant
+//! speed: the waypoints interpolated linearly). The map's axes are not the engine's
+//! ENU, and the direction labels are expressed in the engine's stabilised frame, so
+//! each training walk's waypoints are first turned into the engine's frame by the
+//! rotation that best maps them onto the track of the current model (the shipped,
+//! simulator-trained one) at the waypoint times: the frame alignment RoNIN does with
+//! its start orientation, done here from the track because there is no orientation
+//! truth. Speeds do not depend on it. Training is leave one floor out: each floor is
+//! scored by a model fitted on the other floors' walks only.
+
+use stridekit_core::odometry::train::{fit_model, labelled_windows, LabelledWindow, Truth};
+use stridekit_core::odometry::{
+    OdometryConfig, OdometryModel, OdometrySample, PhoneOdometry, PipelineParams, PlacementSource,
+};
+use stridekit_core::placement::Placement;
+
+use crate::eval_pdr_real::{floors, MethodResult};
+use crate::pdr_metrics::{apply_rigid, best_rigid, evaluate, track_at, TrackPoint};
+use crate::pdr_walks::Walk;
+
+/// The walks' waypoints turned into the engine's frame, linearly interpolated.
+struct AlignedTruth(Vec<(f64, f64, f64)>);
+
+impl Truth for AlignedTruth {
+    fn position_at(&self, t: f64) -> (f64, f64) {
+        let tr = &self.0;
+        let i = tr.partition_point(|p| p.0 <= t);
+        if i == 0 {
+            return (tr[0].1, tr[0].2);
+        }
+        if i >= tr.len() {
+            let p = tr[tr.len() - 1];
+            return (p.1, p.2);
+        }
+        let (a, b) = (tr[i - 1], tr[i]);
+        let f = ((t - a.0) / (b.0 - a.0).max(1e-9)).clamp(0.0, 1.0);
+        (a.1 + f * (b.1 - a.1), a.2 + f * (b.2 - a.2))
+    }
+}
+
+fn samples_of(w: &Walk) -> Vec<OdometrySample> {
+    w.rec
+        .samples
+        .iter()
+        .map(|s| OdometrySample {
+            t_s: s.t_s,
+            accel_mps2: s.accel_mps2,
+            gyro_rads: s.gyro_rads,
+            mag_ut: s.mag_ut,
+        })
+        .collect()
+}
+
+/// The odometry's track over a walk (position at each window centre), starting at
+/// the origin at the first sample.
+pub fn track(w: &Walk, model: &OdometryModel) -> Result<Vec<TrackPoint>, String> {
+    let cfg = OdometryConfig {
+        placement: PlacementSource::Unknown,
+        ..OdometryConfig::default()
+    };
+    let mut eng = PhoneOdometry::new(cfg, model.clone()).map_err(|e| e.to_string())?;
+    let mut out = vec![TrackPoint {
+        t_s: w.rec.samples.first().map_or(0.0, |s| s.t_s),
+        ..Default::default()
+    }];
+    eng.push_batch(&samples_of(w), |e| {
+        out.push(TrackPoint {
+            t_s: e.t_s,
+            x_m: e.position_m[0],
+            y_m: e.position_m[1],
+            distance_m: 0.0,
+        })
+    });
+    Ok(out)
+}
+
+/// Labelled windows of one walk, its waypoints aligned to `model`'s track.
+fn windows(
+    w: &Walk,
+    model: &OdometryModel,
+    params: PipelineParams,
+) -> Result<Vec<LabelledWindow>, String> {
+    let t = track(w, model)?;
+    let wp = &w.rec.truth;
+    let est: Vec<(f64, f64)> = wp
+        .iter()
+        .map(|p| {
+            let q = track_at(&t, p.0);
+            (q.0, q.1)
+        })
+        .collect();
+    let truth: Vec<(f64, f64)> = wp.iter().map(|p| (p.1, p.2)).collect();
+    let to_engine = best_rigid(&truth, &est);
+    let aligned = AlignedTruth(
+        wp.iter()
+            .zip(&truth)
+            .map(|(p, q)| {
+                let a = apply_rigid(*q, to_engine);
+                (p.0, a.0, a.1)
+            })
+            .collect(),
+    );
+    // Only windows inside the waypoint span have labels.
+    let (t0, t1) = (wp[0].0, wp[wp.len() - 1].0);
+    Ok(
+        labelled_windows(&samples_of(w), &aligned, Some(Placement::InHand), params)
+            .into_iter()
+            .filter(|x| x.features.t_start_s >= t0 && x.features.t_end_s <= t1)
+            .collect(),
+    )
+}
+
+/// Fit a model on `walks` (all hand-held: the general and the in-hand regressors).
+pub fn train(
+    walks: &[&Walk],
+    params: PipelineParams,
+    comments: Vec<String>,
+) -> Result<OdometryModel, String> {
+    let shipped = OdometryModel::shipped();
+    let mut all = Vec::new();
+    for w in walks {
+        all.extend(windows(w, &shipped, params)?);
+    }
+    fit_model(&all, params, comments).ok_or_else(|| "too few labelled windows to fit".to_string())
+}
+
+fn score(
+    name: &str,
+    walks: &[Walk],
+    model_of: impl Fn(&Walk) -> OdometryModel,
+) -> Result<MethodResult, String> {
+    let mut by_walk = Vec::new();
+    for (i, w) in walks.iter().enumerate() {
+        let t = track(w, &model_of(w))?;
+        if let Some(m) = evaluate(&t, &w.rec.truth) {
+            by_walk.push((w.floor.clone(), m));
+        }
+        if (i + 1) % 50 == 0 || i + 1 == walks.len() {
+            eprint!("\r{name}: {}/{}   ", i + 1, walks.len());
+        }
+    }
+    eprintln!();
+    Ok(MethodResult {
+        name: name.into(),
+        by_walk,
+    })
+}
+
+/// The odometry rows of `eval pdr --data`: the shipped (simulator-trained) model and
+/// the model trained on the real walks, leave one floor out.
+pub fn methods(walks: &[Walk]) -> Result<Vec<MethodResult>, String> {
+    let params = PipelineParams::default();
+    let mut lofo = std::collections::BTreeMap::new();
+    for f in floors(walks) {
+        let train_walks: Vec<&Walk> = walks.iter().filter(|w| w.floor != f).collect();
+        eprint!("\rtraining odometry without {f}   ");
+        lofo.insert(f.clone(), train(&train_walks, params, Vec::new())?);
+    }
+    eprintln!();
+    let shipped = OdometryModel::shipped();
+    Ok(vec![
+        score(
+            "learned odometry, shipped model (simulator-trained)",
+            walks,
+            |_| shipped.clone(),
+        )?,
+        score(
+            "learned odometry, trained on these walks leave-one-floor-out",
+            walks,
+            |w| lofo[&w.floor].clone(),
+        )?,
+    ])
+}

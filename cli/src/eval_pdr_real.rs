@@ -1,0 +1,232 @@
+//! `stridekit eval pdr --data DIR`: pedestrian dead reckoning on real indoor walks
+//! with surveyed waypoints (`phone-indoor/`: Android sensor logs), no GNSS. One
+//! trajectory per walk from its first sample (the first waypoint), compared at the
+//! waypoint times with the measures of `pdr_metrics` (median over walks), per floor
+//! and overall, for:
+//!
+//! - the navigator's defaults, with and without the magnetometer;
+//! - calibrated, leave one floor out: `calibrate pdr`'s learning on the other
+//!   floors, scored on the held-out one (and, for reference, calibrated on all walks,
+//!   i.e. fitted on the test data);
+//! - Android's rotation vector as the orientation (a comparison, not a product path);
+//! - the learned odometry (`eval_pdr_odometry`), trained leave one floor out.
+//!
+//! `--diagnose` prints where the error comes from instead (`pdr_diagnose`).
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use stridekit_core::pdr::{NavigatorConfig, PdrCalibration};
+
+use crate::calibrate_pdr::learn;
+use crate::pdr_metrics::{evaluate, median, Metrics};
+use crate::pdr_walks::{load_walks, replay, ReplayOptions, Walk};
+
+/// Progress of reading the walks, on stderr.
+pub fn reading_progress(i: usize, n: usize) {
+    if i % 20 == 0 || i == n {
+        eprint!("\rreading walks {i}/{n}");
+        if i == n {
+            eprintln!();
+        }
+    }
+}
+
+/// Measures of one method on every walk, by floor.
+pub struct MethodResult {
+    pub name: String,
+    pub by_walk: Vec<(String, Metrics)>,
+}
+
+impl MethodResult {
+    fn cells(ms: &[&Metrics]) -> String {
+        format!(
+            "{} | {:.2} m | {:.2} m | {:.1} % | {:+.1} % ({:.1} %)",
+            ms.len(),
+            median(ms.iter().map(|m| m.ate_m)),
+            median(ms.iter().map(|m| m.start_pinned_m)),
+            median(ms.iter().map(|m| m.end_pct)),
+            median(ms.iter().map(|m| m.distance_pct)),
+            median(ms.iter().map(|m| m.distance_pct.abs())),
+        )
+    }
+
+    pub fn overall(&self) -> String {
+        let all: Vec<&Metrics> = self.by_walk.iter().map(|m| &m.1).collect();
+        Self::cells(&all)
+    }
+
+    pub fn floor(&self, floor: &str) -> String {
+        let f: Vec<&Metrics> = self
+            .by_walk
+            .iter()
+            .filter(|m| m.0 == floor)
+            .map(|m| &m.1)
+            .collect();
+        Self::cells(&f)
+    }
+}
+
+/// Replay every walk with options chosen per walk.
+fn score(
+    name: &str,
+    walks: &[Walk],
+    options: impl Fn(&Walk) -> ReplayOptions,
+) -> Result<MethodResult, String> {
+    score_track(name, walks, options, false)
+}
+
+/// `live`: score the live estimate (as an app sees it while walking) instead of the
+/// trajectory of steps at their own times.
+fn score_track(
+    name: &str,
+    walks: &[Walk],
+    options: impl Fn(&Walk) -> ReplayOptions,
+    live: bool,
+) -> Result<MethodResult, String> {
+    let mut by_walk = Vec::with_capacity(walks.len());
+    for (i, w) in walks.iter().enumerate() {
+        let r = replay(&w.rec, &options(w))?;
+        let track = if live { &r.live } else { &r.track };
+        if let Some(m) = evaluate(track, &w.rec.truth) {
+            by_walk.push((w.floor.clone(), m));
+        }
+        if (i + 1) % 50 == 0 || i + 1 == walks.len() {
+            eprint!("\r{name}: {}/{}   ", i + 1, walks.len());
+        }
+    }
+    eprintln!();
+    Ok(MethodResult {
+        name: name.to_string(),
+        by_walk,
+    })
+}
+
+/// Calibrations learned leave one floor out: floor → calibration from the others.
+pub fn lofo_calibrations(
+    walks: &[Walk],
+    config: &NavigatorConfig,
+) -> Result<BTreeMap<String, PdrCalibration>, String> {
+    let mut out = BTreeMap::new();
+    for f in floors(walks) {
+        let train: Vec<&Walk> = walks.iter().filter(|w| w.floor != f).collect();
+        eprint!("\rcalibrating without {f} ({} walks)   ", train.len());
+        out.insert(f.clone(), learn(&train, config, config.step_length_model)?);
+    }
+    eprintln!();
+    Ok(out)
+}
+
+pub fn floors(walks: &[Walk]) -> Vec<String> {
+    let mut f: Vec<String> = walks.iter().map(|w| w.floor.clone()).collect();
+    f.sort();
+    f.dedup();
+    f
+}
+
+/// The whole evaluation as markdown.
+pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
+    let walks = load_walks(dir, reading_progress)?;
+    if diagnose {
+        let mut s = crate::pdr_diagnose::run(&walks, true)?;
+        s += &crate::pdr_diagnose::run(&walks, false)?;
+        return Ok(s);
+    }
+    let config = NavigatorConfig::default();
+    let lofo = lofo_calibrations(&walks, &config)?;
+    let all_refs: Vec<&Walk> = walks.iter().collect();
+    let fitted = learn(&all_refs, &config, config.step_length_model)?;
+    let base = ReplayOptions::default();
+    let mut methods = vec![
+        score("defaults, magnetometer", &walks, |_| base.clone())?,
+        score_track(
+            "defaults, magnetometer, live estimate",
+            &walks,
+            |_| base.clone(),
+            true,
+        )?,
+        score("defaults, no magnetometer", &walks, |_| ReplayOptions {
+            mag: false,
+            ..base.clone()
+        })?,
+        score(
+            "calibrated leave-one-floor-out, magnetometer",
+            &walks,
+            |w| ReplayOptions {
+                calibration: lofo.get(&w.floor).copied(),
+                ..base.clone()
+            },
+        )?,
+        score(
+            "calibrated leave-one-floor-out, no magnetometer",
+            &walks,
+            |w| ReplayOptions {
+                calibration: lofo.get(&w.floor).copied(),
+                mag: false,
+                ..base.clone()
+            },
+        )?,
+        score(
+            "calibrated on all walks (fitted), magnetometer",
+            &walks,
+            |_| ReplayOptions {
+                calibration: Some(fitted),
+                ..base.clone()
+            },
+        )?,
+        score(
+            "rotation vector as orientation (comparison)",
+            &walks,
+            |_| ReplayOptions {
+                rotation_vector: true,
+                mag: false,
+                ..base.clone()
+            },
+        )?,
+    ];
+    methods.extend(crate::eval_pdr_odometry::methods(&walks)?);
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "Real indoor walks ({} walks with waypoints under {}; no GNSS): one trajectory per walk from its first sample, compared at the waypoint times. Cells: walks | median ATE (best rotation + translation) | median start-pinned mean error | median end error (% of the waypoint polyline) | median distance error (median |distance error|).\n",
+        walks.len(),
+        dir.display()
+    );
+    let _ = writeln!(
+        out,
+        "| method | walks | ATE | start-pinned | end | distance |\n|---|---|---|---|---|---|"
+    );
+    for m in &methods {
+        let _ = writeln!(out, "| {} | {} |", m.name, m.overall());
+    }
+    for f in floors(&walks) {
+        let _ = writeln!(
+            out,
+            "\nFloor {f}:\n\n| method | walks | ATE | start-pinned | end | distance |\n|---|---|---|---|---|---|"
+        );
+        for m in &methods {
+            let _ = writeln!(out, "| {} | {} |", m.name, m.floor(&f));
+        }
+    }
+    let _ = writeln!(
+        out,
+        "\nCalibrations (leave one floor out, learned on the other floors):\n"
+    );
+    for (f, c) in &lofo {
+        let _ = writeln!(
+            out,
+            "- without {f}: {:?} θ = [{:.4}, {:.5}, {:.4}], carrying {}",
+            c.step_length_model,
+            c.step_length_theta[0],
+            c.step_length_theta[1],
+            c.step_length_theta[2],
+            c.carrying_body
+                .map_or("not fixed (estimates disagree)".into(), |v| format!(
+                    "[{:.3}, {:.3}, {:.3}]",
+                    v[0], v[1], v[2]
+                ))
+        );
+    }
+    Ok(out)
+}

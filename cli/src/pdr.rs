@@ -1,0 +1,167 @@
+//! `stridekit pdr FILE [--out traj.csv] [--calibration FILE] [--no-mag]`: replay a
+//! phone recording (an Android sensor log, `.txt` or `.txt.gz`, or any recording
+//! `stridekit-formats` reads) through `PhoneNavigator` with no GNSS.
+//!
+//! Writes the trajectory CSV, one row per step at the step's own time (`t_s` on the
+//! file's clock: ms / 1000 for Android logs), in the navigator's local frame (east /
+//! north of where the walk started; north from the magnetometer, or the initial
+//! heading with `--no-mag`):
+//!
+//! ```text
+//! t_s,east_m,north_m,step_length_m,azimuth_deg,steps
+//! ```
+//!
+//! and beside it (same name, `.svg`) the track with the recording's waypoints
+//! carried into the track's frame by the best rotation + translation (the map's axes
+//! are not north-aligned). Rejected samples are skipped and counted by reason; the
+//! accuracy measures are printed when the file has at least two waypoints.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::pdr_metrics::{apply_rigid, best_rigid, evaluate, track_at};
+use crate::pdr_walks::{load_walk, replay, ReplayOptions};
+use crate::report::{track_chart, Series, Style};
+
+/// Options of `stridekit pdr`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PdrArgs {
+    pub file: PathBuf,
+    /// Trajectory CSV (default `pdr_trajectory.csv`); the SVG goes beside it.
+    pub out: Option<PathBuf>,
+    pub calibration: Option<PathBuf>,
+    pub no_mag: bool,
+}
+
+impl PdrArgs {
+    /// Parse `FILE [--out F] [--calibration F] [--no-mag]`; unknown flags are refused.
+    pub fn parse(args: &[String]) -> Result<Self, String> {
+        let mut a = PdrArgs::default();
+        let mut file = None;
+        let mut it = args.iter();
+        while let Some(x) = it.next() {
+            match x.as_str() {
+                "--out" => a.out = Some(it.next().ok_or("--out needs a FILE")?.into()),
+                "--calibration" => {
+                    a.calibration = Some(it.next().ok_or("--calibration needs a FILE")?.into())
+                }
+                "--no-mag" => a.no_mag = true,
+                f if f.starts_with("--") => {
+                    return Err(format!(
+                        "unknown option {f} for pdr (FILE [--out traj.csv] [--calibration FILE] [--no-mag])"
+                    ))
+                }
+                f if file.is_none() => file = Some(PathBuf::from(f)),
+                f => return Err(format!("pdr takes one FILE, got a second: {f}")),
+            }
+        }
+        a.file = file.ok_or("pdr needs a FILE")?;
+        Ok(a)
+    }
+}
+
+pub fn run(a: &PdrArgs) -> Result<String, String> {
+    let walk = load_walk(&a.file)?;
+    let calibration = match &a.calibration {
+        Some(p) => Some(crate::calibrate_pdr::read(p)?),
+        None => None,
+    };
+    let o = ReplayOptions {
+        mag: !a.no_mag,
+        calibration,
+        ..Default::default()
+    };
+    let r = replay(&walk.rec, &o)?;
+    let out = a
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("pdr_trajectory.csv"));
+    write_csv(&out, &r.steps)?;
+    let svg = out.with_extension("svg");
+    let mut summary = format!(
+        "{}: {} samples, {} steps, {:.1} m walked; trajectory {} ({} rows), plot {}\n",
+        walk.rec.name,
+        walk.rec.samples.len(),
+        r.steps.len(),
+        r.steps.last().map_or(0.0, |s| s.distance_m),
+        out.display(),
+        r.steps.len(),
+        svg.display()
+    );
+    if r.rejected.is_empty() {
+        summary += "rejected samples: none\n";
+    } else {
+        for (why, n) in &r.rejected {
+            summary += &format!("rejected samples: {n} × {why}\n");
+        }
+    }
+    for (why, n) in &walk.rec.skipped {
+        summary += &format!("skipped by the reader: {n} × {why}\n");
+    }
+    let wp = &walk.rec.truth;
+    let track: Vec<(f64, f64)> = r.track.iter().map(|p| (p.x_m, p.y_m)).collect();
+    let mut series = vec![Series {
+        name: "PDR track".into(),
+        points: track,
+        color: None,
+        style: Style::Line,
+    }];
+    if wp.len() >= 2 {
+        // Waypoints into the track's frame: the inverse of the best rigid map of the
+        // track (at the waypoint times) onto them.
+        let est: Vec<(f64, f64)> = wp
+            .iter()
+            .map(|w| {
+                let p = track_at(&r.track, w.0);
+                (p.0, p.1)
+            })
+            .collect();
+        let truth: Vec<(f64, f64)> = wp.iter().map(|w| (w.1, w.2)).collect();
+        let inv = best_rigid(&truth, &est);
+        series.push(Series {
+            name: "waypoints (aligned)".into(),
+            points: truth.iter().map(|p| apply_rigid(*p, inv)).collect(),
+            color: Some((214, 39, 40)),
+            style: Style::Line,
+        });
+        series.push(Series {
+            name: String::new(),
+            points: truth.iter().map(|p| apply_rigid(*p, inv)).collect(),
+            style: Style::Points,
+            color: Some((214, 39, 40)),
+        });
+        if let Some(m) = evaluate(&r.track, wp) {
+            summary += &format!(
+                "against {} waypoints ({:.1} m polyline): ATE {:.2} m, start-pinned {:.2} m, end {:.1} %, distance {:+.1} %\n",
+                wp.len(),
+                m.polyline_m,
+                m.ate_m,
+                m.start_pinned_m,
+                m.end_pct,
+                m.distance_pct
+            );
+        }
+    }
+    track_chart(&svg, &walk.rec.name, &series).map_err(|e| e.to_string())?;
+    Ok(summary)
+}
+
+fn write_csv(path: &Path, steps: &[crate::pdr_walks::StepRow]) -> Result<(), String> {
+    let err = |e: std::io::Error| format!("{}: {e}", path.display());
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(err)?);
+    writeln!(f, "t_s,east_m,north_m,step_length_m,azimuth_deg,steps").map_err(err)?;
+    for (i, s) in steps.iter().enumerate() {
+        writeln!(
+            f,
+            "{:.3},{:.3},{:.3},{:.3},{:.1},{}",
+            s.t_s,
+            s.east_m,
+            s.north_m,
+            s.length_m,
+            s.azimuth_rad.to_degrees(),
+            i + 1
+        )
+        .map_err(err)?;
+    }
+    f.flush().map_err(err)
+}

@@ -1,0 +1,148 @@
+//! `stridekit pdr` and `stridekit calibrate pdr` as a user runs them, on a small
+//! hand-written Android sensor log (a phone bouncing at a walking cadence, turning
+//! slowly), with a repeated timestamp and a malformed line that must be skipped and
+//! counted, not fatal.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn stridekit() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_stridekit"))
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("stridekit-pdr-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// 40 s at 50 Hz: vertical bounce at 1.8 steps/s with a forward surge, a slow turn,
+/// waypoints every 10 s along a straight line (their geometry is not the point).
+fn write_log(path: &Path) {
+    let mut s = String::from("#\tstartTime:1000\n#\tFloorName:F9\n");
+    let t0 = 1_000_000i64;
+    for k in 0..5 {
+        let _ = writeln!(s, "{}\tTYPE_WAYPOINT\t{}\t0", t0 + 10_000 * k, 10 * k);
+    }
+    for i in 0..2000 {
+        let ms = t0 + 20 * i;
+        let t = i as f64 * 0.02;
+        let ph = 2.0 * std::f64::consts::PI * 1.8 * t;
+        // Heel strikes: a short impact once per step (the detector wants one), and a
+        // little deterministic jitter.
+        let impact = if (ph / (2.0 * std::f64::consts::PI)).fract() < 0.04 {
+            4.0
+        } else {
+            0.0
+        };
+        let jitter = 0.2 * ((i * 7919) % 13) as f64 / 13.0;
+        let (az, ay) = (9.81 + 3.0 * ph.sin() + impact + jitter, 1.5 * ph.cos());
+        let _ = writeln!(s, "{ms}\tTYPE_ACCELEROMETER\t0.1\t{ay:.5}\t{az:.5}\t3");
+        let _ = writeln!(s, "{ms}\tTYPE_GYROSCOPE\t0\t0\t0.02\t3");
+        let _ = writeln!(s, "{ms}\tTYPE_MAGNETIC_FIELD\t0\t20\t-40\t3");
+        if i == 700 {
+            // Repeated timestamp: rejected by the navigator, counted.
+            let _ = writeln!(s, "{ms}\tTYPE_ACCELEROMETER\t0.1\t{ay:.5}\t{az:.5}\t3");
+            let _ = writeln!(s, "{ms}\tTYPE_ACCELEROMETER\tgarbage");
+            let _ = writeln!(s, "{ms}\tTYPE_WIFI\tx\ty");
+        }
+    }
+    std::fs::write(path, s).unwrap();
+}
+
+#[test]
+fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
+    let dir = temp_dir("replay");
+    let log = dir.join("walks").join("walk.txt");
+    std::fs::create_dir_all(log.parent().unwrap()).unwrap();
+    write_log(&log);
+    let csv = dir.join("traj.csv");
+    let out = stridekit()
+        .arg("pdr")
+        .arg(&log)
+        .arg("--out")
+        .arg(&csv)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("rejected samples: 1 ×"), "{stdout}");
+    assert!(
+        stdout.contains("skipped by the reader: 1 × malformed TYPE_ACCELEROMETER"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("skipped by the reader: 1 × TYPE_WIFI"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("against 5 waypoints"), "{stdout}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("t_s,east_m,north_m,step_length_m,azimuth_deg,steps")
+    );
+    let rows: Vec<&str> = lines.collect();
+    assert!(rows.len() > 40, "{} steps", rows.len());
+    // t_s on the file's clock: ms / 1000.
+    let t: f64 = rows[0].split(',').next().unwrap().parse().unwrap();
+    assert!((1000.0..1040.0).contains(&t), "{t}");
+    assert!(dir.join("traj.svg").is_file());
+
+    // Calibrate from the folder, then replay with it.
+    let cal = dir.join("me.pdrcal");
+    let out = stridekit()
+        .args(["calibrate", "pdr", "--data"])
+        .arg(dir.join("walks"))
+        .arg("--out")
+        .arg(&cal)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&cal).unwrap();
+    assert!(text.starts_with("stridekit-pdr-calibration 1\n"), "{text}");
+    let out = stridekit()
+        .arg("pdr")
+        .arg(&log)
+        .arg("--out")
+        .arg(dir.join("cal.csv"))
+        .arg("--calibration")
+        .arg(&cal)
+        .arg("--no-mag")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    // Typed refusals: unknown flag, bad calibration file.
+    let out = stridekit()
+        .args(["pdr", "x.txt", "--fast"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown option --fast"));
+    std::fs::write(dir.join("bad.pdrcal"), "stridekit-pdr-calibration 7\n").unwrap();
+    let out = stridekit()
+        .arg("pdr")
+        .arg(&log)
+        .arg("--calibration")
+        .arg(dir.join("bad.pdrcal"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("version 7"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,416 @@
+//! Reader for Android sensor logs: one sensor event per line, as an app logs them
+//! from a `SensorEventListener` (the format of the Microsoft Indoor Location
+//! Competition 2.0 data), plain text or gzip (`.gz`).
+//!
+//! ```text
+//! #  startTime:1574559495255                       header lines start with '#':
+//! #  SiteID:…  FloorName:F1                         tab-separated key:value pairs
+//! 1574559495263  TYPE_WAYPOINT  81.317215  93.31349
+//! 1574559495401  TYPE_ACCELEROMETER  -0.855  1.824  9.826  2
+//! 1574559495401  TYPE_GYROSCOPE  -0.391  -0.079  0.092  3
+//! 1574559495401  TYPE_MAGNETIC_FIELD  29.78  6.42  -30.06  3
+//! 1574559495401  TYPE_ROTATION_VECTOR  0.062  0.079  0.570  3
+//! ```
+//!
+//! (shown with spaces; the file has one tab between columns). Columns are separated
+//! by tabs (any whitespace is accepted). Column 1 is the time
+//! in milliseconds (any clock, e.g. `SensorEvent.timestamp` / 1e6 or the wall clock,
+//! the same for every line); `t_s = ms / 1000` on that clock. Column 2 is the event
+//! type, then its values:
+//!
+//! | type | values | unit |
+//! |---|---|---|
+//! | `TYPE_ACCELEROMETER` | x y z [accuracy] | m/s², gravity included, device axes |
+//! | `TYPE_GYROSCOPE` | x y z [accuracy] | rad/s |
+//! | `TYPE_MAGNETIC_FIELD` | x y z [accuracy] | µT (calibrated by Android) |
+//! | `TYPE_GYROSCOPE_UNCALIBRATED` | x y z bx by bz [accuracy] | rad/s, with Android's bias estimate |
+//! | `TYPE_MAGNETIC_FIELD_UNCALIBRATED` | x y z bx by bz [accuracy] | µT, with the hard-iron estimate |
+//! | `TYPE_ROTATION_VECTOR` | x y z [w or accuracy] | unit quaternion's vector part; device → ENU |
+//! | `TYPE_WAYPOINT` | x y | metres in the map's frame (the ground truth) |
+//!
+//! Other types (WiFi, Bluetooth, `TYPE_ACCELEROMETER_UNCALIBRATED`, …) are skipped
+//! and counted by type; so are lines whose values do not parse (counted as
+//! `malformed TYPE_…`). Nothing is dropped for being odd in time: samples out of
+//! order or with a repeated timestamp are passed on as they are, for the engine to
+//! reject and the replay to count.
+//!
+//! IMU samples are built at the accelerometer's timestamps: the gyroscope and the
+//! magnetometer are interpolated linearly between their two events around each
+//! accelerometer sample (held up to [`MAX_HOLD_S`] beyond their first and last
+//! events). Accelerometer samples with no gyroscope event within that reach are
+//! skipped and counted (`accelerometer without gyroscope`); the magnetometer is `None`
+//! where it has none.
+//!
+//! Rotation vector: a 4th value in −1..=1 is taken as w (API 18+ reports it in
+//! `values[3]`), otherwise (absent, or an accuracy such as 3) w = √(1 − x² − y² − z²).
+//!
+//! **Logging it yourself** (Kotlin, in a `SensorEventListener`):
+//!
+//! ```kotlin
+//! override fun onSensorChanged(e: SensorEvent) {
+//!     val name = when (e.sensor.type) {
+//!         Sensor.TYPE_ACCELEROMETER -> "TYPE_ACCELEROMETER"
+//!         Sensor.TYPE_GYROSCOPE -> "TYPE_GYROSCOPE"
+//!         Sensor.TYPE_MAGNETIC_FIELD -> "TYPE_MAGNETIC_FIELD"
+//!         Sensor.TYPE_ROTATION_VECTOR -> "TYPE_ROTATION_VECTOR"
+//!         else -> return
+//!     }
+//!     val ms = e.timestamp / 1_000_000          // elapsedRealtimeNanos → ms
+//!     out.write("$ms\t$name\t${e.values.take(3).joinToString("\t")}\t${e.accuracy}\n")
+//! }
+//! ```
+//!
+//! and, for ground truth, `"$ms\tTYPE_WAYPOINT\t$x\t$y\n"` when the walker passes a
+//! surveyed point (same clock).
+
+use std::collections::BTreeMap;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use crate::error::FormatError;
+use crate::inertial::{InertialRecording, InertialSample, Uncalibrated};
+
+const FORMAT: &str = "Android sensor log";
+/// A gyroscope or magnetometer reading is held this long beyond its first / last
+/// event, s (a few sample periods at 50–200 Hz).
+pub const MAX_HOLD_S: f64 = 0.1;
+/// Largest file this reader accepts, bytes (decompressed): 1 GiB.
+pub const MAX_LOG_BYTES: u64 = 1 << 30;
+
+/// One timed 3-vector.
+type Timed = (f64, [f64; 3]);
+
+/// Reads an Android sensor log (`.gz`: gzip, else plain text).
+pub fn read_android_log(path: &Path) -> Result<InertialRecording, FormatError> {
+    let file = std::fs::File::open(path)?;
+    let gz = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+    let mut bytes = Vec::new();
+    if gz {
+        flate2::read::GzDecoder::new(file)
+            .take(MAX_LOG_BYTES + 1)
+            .read_to_end(&mut bytes)?;
+    } else {
+        file.take(MAX_LOG_BYTES + 1).read_to_end(&mut bytes)?;
+    }
+    if bytes.len() as u64 > MAX_LOG_BYTES {
+        return Err(FormatError::parse(FORMAT, "larger than 1 GiB"));
+    }
+    let text = String::from_utf8_lossy(&bytes);
+    parse_android_log(&log_name(path), &text)
+}
+
+/// The file name without `.gz` and `.txt`.
+fn log_name(path: &Path) -> String {
+    let mut name = path
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    for ext in [".gz", ".txt"] {
+        if name.len() > ext.len() && name.to_ascii_lowercase().ends_with(ext) {
+            name.truncate(name.len() - ext.len());
+        }
+    }
+    name
+}
+
+/// Whether a path looks like an Android sensor log (`*.txt` or `*.txt.gz`).
+pub fn is_android_log(path: &Path) -> bool {
+    let n = path
+        .file_name()
+        .map(|s| s.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    path.is_file() && (n.ends_with(".txt") || n.ends_with(".txt.gz"))
+}
+
+/// Every Android sensor log under `dir` (recursively), sorted by path.
+pub fn list_android_logs(dir: &Path) -> Result<Vec<PathBuf>, FormatError> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d)? {
+            let p = e?.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if is_android_log(&p) {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    Ok(out)
+}
+
+fn numbers<const N: usize>(fields: &[&str]) -> Option<[f64; N]> {
+    if fields.len() < N {
+        return None;
+    }
+    let mut v = [0.0; N];
+    for (x, f) in v.iter_mut().zip(fields) {
+        *x = f.parse().ok()?;
+    }
+    Some(v)
+}
+
+/// Linear interpolation of a time-ordered stream at `t` (held up to `MAX_HOLD_S`
+/// beyond its ends); `cursor` moves forward between calls for increasing `t`.
+fn interpolate(stream: &[Timed], cursor: &mut usize, t: f64) -> Option<[f64; 3]> {
+    if stream.is_empty() {
+        return None;
+    }
+    // Back up if t went backwards (out-of-order input), then forward.
+    while *cursor > 0 && stream[*cursor].0 > t {
+        *cursor -= 1;
+    }
+    while *cursor + 1 < stream.len() && stream[*cursor + 1].0 <= t {
+        *cursor += 1;
+    }
+    let (t0, a) = stream[*cursor];
+    if t < t0 {
+        return (t0 - t <= MAX_HOLD_S).then_some(a);
+    }
+    match stream.get(*cursor + 1) {
+        Some(&(t1, b)) if t1 > t0 => {
+            let k = (t - t0) / (t1 - t0);
+            Some([
+                a[0] + k * (b[0] - a[0]),
+                a[1] + k * (b[1] - a[1]),
+                a[2] + k * (b[2] - a[2]),
+            ])
+        }
+        _ => (t - t0 <= MAX_HOLD_S).then_some(a),
+    }
+}
+
+/// Parse the text of an Android sensor log (see the module docs).
+pub fn parse_android_log(name: &str, text: &str) -> Result<InertialRecording, FormatError> {
+    let mut meta = Vec::new();
+    let mut skipped: BTreeMap<String, u64> = BTreeMap::new();
+    let mut accel: Vec<Timed> = Vec::new();
+    let mut gyro: Vec<Timed> = Vec::new();
+    let mut mag: Vec<Timed> = Vec::new();
+    let mut truth = Vec::new();
+    let mut orientation = Vec::new();
+    let mut uncalibrated = Vec::new();
+    for line in text.lines() {
+        let line = line.trim();
+        if line.is_empty() {
+            continue;
+        }
+        if let Some(h) = line.strip_prefix('#') {
+            for kv in h.split('\t') {
+                if let Some((k, v)) = kv.trim().split_once(':') {
+                    meta.push((k.trim().to_string(), v.trim().to_string()));
+                }
+            }
+            continue;
+        }
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        let (Some(ms), Some(kind)) = (fields.first(), fields.get(1)) else {
+            *skipped.entry("malformed line".into()).or_default() += 1;
+            continue;
+        };
+        let values = &fields[2..];
+        let t_s = match ms.parse::<f64>() {
+            Ok(ms) if ms.is_finite() => ms / 1000.0,
+            _ => {
+                *skipped.entry(format!("malformed {kind}")).or_default() += 1;
+                continue;
+            }
+        };
+        let ok = match *kind {
+            "TYPE_ACCELEROMETER" => numbers::<3>(values).map(|v| accel.push((t_s, v))),
+            "TYPE_GYROSCOPE" => numbers::<3>(values).map(|v| gyro.push((t_s, v))),
+            "TYPE_MAGNETIC_FIELD" => numbers::<3>(values).map(|v| mag.push((t_s, v))),
+            "TYPE_GYROSCOPE_UNCALIBRATED" | "TYPE_MAGNETIC_FIELD_UNCALIBRATED" => {
+                numbers::<6>(values).map(|v| {
+                    uncalibrated.push(Uncalibrated {
+                        t_s,
+                        magnetometer: *kind == "TYPE_MAGNETIC_FIELD_UNCALIBRATED",
+                        raw: [v[0], v[1], v[2]],
+                        bias: [v[3], v[4], v[5]],
+                    })
+                })
+            }
+            "TYPE_ROTATION_VECTOR" => numbers::<3>(values).map(|[x, y, z]| {
+                let w4 = values.get(3).and_then(|s| s.parse::<f64>().ok());
+                let w = match w4 {
+                    // A 4th value that is a plausible w (API 18+: values[3]) and makes
+                    // a unit quaternion; an accuracy (e.g. 3) is not.
+                    Some(w)
+                        if w.abs() <= 1.0 && (x * x + y * y + z * z + w * w - 1.0).abs() < 1e-3 =>
+                    {
+                        w
+                    }
+                    _ => (1.0 - x * x - y * y - z * z).max(0.0).sqrt(),
+                };
+                orientation.push((t_s, [w, x, y, z]));
+            }),
+            "TYPE_WAYPOINT" => numbers::<2>(values).map(|[x, y]| truth.push((t_s, x, y))),
+            other => {
+                *skipped.entry(other.to_string()).or_default() += 1;
+                Some(())
+            }
+        };
+        if ok.is_none() {
+            *skipped.entry(format!("malformed {kind}")).or_default() += 1;
+        }
+    }
+    if accel.is_empty() {
+        return Err(FormatError::Empty);
+    }
+    // Streams sorted by time for the interpolation (stable: equal times keep their
+    // order). Accelerometer samples stay in file order.
+    let by_time = |a: &Timed, b: &Timed| a.0.total_cmp(&b.0);
+    gyro.sort_by(by_time);
+    mag.sort_by(by_time);
+    truth.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (mut gc, mut mc) = (0, 0);
+    let mut samples = Vec::with_capacity(accel.len());
+    for &(t_s, a) in &accel {
+        let Some(g) = interpolate(&gyro, &mut gc, t_s) else {
+            *skipped
+                .entry("accelerometer without gyroscope".into())
+                .or_default() += 1;
+            continue;
+        };
+        samples.push(InertialSample {
+            t_s,
+            accel_mps2: a,
+            gyro_rads: g,
+            mag_ut: interpolate(&mag, &mut mc, t_s),
+        });
+    }
+    if samples.is_empty() {
+        return Err(FormatError::parse(FORMAT, "no gyroscope events"));
+    }
+    Ok(InertialRecording {
+        name: name.to_string(),
+        placement: None,
+        samples,
+        truth,
+        orientation,
+        uncalibrated,
+        meta,
+        skipped: skipped.into_iter().collect(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SMALL: &str = "#\tstartTime:1000\n\
+#\tSiteID:abc\tSiteName:Mall\tFloorName:F2\n\
+1000\tTYPE_WAYPOINT\t1.5\t2.5\n\
+1000\tTYPE_ACCELEROMETER\t0.1\t0.2\t9.8\t3\n\
+1000\tTYPE_MAGNETIC_FIELD\t10\t20\t-30\t3\n\
+1000\tTYPE_GYROSCOPE\t0.01\t0.02\t0.03\t3\n\
+1000\tTYPE_ROTATION_VECTOR\t0\t0\t0.6\t3\n\
+1000\tTYPE_WIFI\tssid\tbssid\t-60\n\
+1020\tTYPE_ACCELEROMETER\t0.3\t0.2\t9.8\t3\n\
+1020\tTYPE_GYROSCOPE\t0.03\t0.02\t0.03\t3\n\
+1020\tTYPE_MAGNETIC_FIELD_UNCALIBRATED\t1\t2\t3\t0.5\t0.5\t0.5\t3\n\
+1030\tTYPE_GYROSCOPE\tnot-a-number\t0\t0\t3\n\
+1040\tTYPE_ACCELEROMETER\t0.5\t0.2\t9.8\t3\n\
+1040\tTYPE_GYROSCOPE\t0.05\t0.02\t0.03\t3\n\
+1040\tTYPE_MAGNETIC_FIELD\t12\t20\t-30\t3\n\
+1060\tTYPE_ACCELEROMETER\t0.5\t0.2\t9.8\t3\n\
+2000\tTYPE_WAYPOINT\t3.5\t2.5\n";
+
+    #[test]
+    fn reads_a_small_log() {
+        let r = parse_android_log("walk", SMALL).unwrap();
+        assert_eq!(r.samples.len(), 4);
+        let s = &r.samples;
+        assert_eq!(s[0].t_s, 1.0);
+        assert!((s[1].t_s - 1.02).abs() < 1e-12);
+        assert_eq!(s[0].accel_mps2, [0.1, 0.2, 9.8]);
+        assert_eq!(s[1].gyro_rads, [0.03, 0.02, 0.03]);
+        // Magnetometer interpolated between 1.000 and 1.040 s.
+        let m = s[1].mag_ut.unwrap();
+        assert!((m[0] - 11.0).abs() < 1e-9 && m[1] == 20.0);
+        // Held 20 ms past the last gyro/mag event.
+        assert_eq!(s[3].gyro_rads, [0.05, 0.02, 0.03]);
+        assert_eq!(s[3].mag_ut, Some([12.0, 20.0, -30.0]));
+        assert_eq!(r.truth, vec![(1.0, 1.5, 2.5), (2.0, 3.5, 2.5)]);
+        let (w, x, y, z) = (
+            r.orientation[0].1[0],
+            r.orientation[0].1[1],
+            r.orientation[0].1[2],
+            r.orientation[0].1[3],
+        );
+        assert!((w - 0.8).abs() < 1e-12 && x == 0.0 && y == 0.0 && z == 0.6);
+        assert_eq!(r.uncalibrated.len(), 1);
+        assert!(r.uncalibrated[0].magnetometer);
+        assert_eq!(r.uncalibrated[0].bias, [0.5; 3]);
+        assert_eq!(r.meta_value("FloorName"), Some("F2"));
+        assert_eq!(r.meta_value("startTime"), Some("1000"));
+        let skipped: BTreeMap<_, _> = r.skipped.iter().cloned().collect();
+        assert_eq!(skipped.get("TYPE_WIFI"), Some(&1));
+        assert_eq!(skipped.get("malformed TYPE_GYROSCOPE"), Some(&1));
+        let (x, y) = r.position_at(1.5);
+        assert!((x - 2.5).abs() < 1e-12 && y == 2.5);
+    }
+
+    #[test]
+    fn rotation_vector_with_w_and_repeated_times_are_kept() {
+        let text = "5\tTYPE_GYROSCOPE\t0\t0\t0\n\
+5\tTYPE_ACCELEROMETER\t0\t0\t9.8\n\
+5\tTYPE_ACCELEROMETER\t0\t0\t9.9\n\
+5\tTYPE_ROTATION_VECTOR\t0\t0\t0.6\t0.8\t0.1\n";
+        let r = parse_android_log("x", text).unwrap();
+        // Both samples at the same time: the engine rejects the second, the replay counts.
+        assert_eq!(r.samples.len(), 2);
+        assert_eq!(r.samples[0].t_s, r.samples[1].t_s);
+        assert_eq!(r.orientation[0].1, [0.8, 0.0, 0.0, 0.6]);
+        assert!(r.samples[0].mag_ut.is_none());
+    }
+
+    #[test]
+    fn errors_are_typed() {
+        assert!(matches!(
+            parse_android_log("x", "# only a header\n"),
+            Err(FormatError::Empty)
+        ));
+        assert!(matches!(
+            parse_android_log("x", "1\tTYPE_ACCELEROMETER\t0\t0\t9.8\n"),
+            Err(FormatError::Parse { .. })
+        ));
+        // Accelerometer far from any gyroscope event: skipped and counted.
+        let r = parse_android_log(
+            "x",
+            "1000\tTYPE_GYROSCOPE\t0\t0\t0\n1000\tTYPE_ACCELEROMETER\t0\t0\t9.8\n5000\tTYPE_ACCELEROMETER\t0\t0\t9.8\n",
+        )
+        .unwrap();
+        assert_eq!(r.samples.len(), 1);
+        assert_eq!(
+            r.skipped,
+            vec![("accelerometer without gyroscope".into(), 1)]
+        );
+    }
+
+    #[test]
+    fn reads_gzip_and_names_the_log() {
+        use std::io::Write;
+        let dir = std::env::temp_dir().join(format!("stridekit-android-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("F2")).unwrap();
+        let path = dir.join("F2").join("walk1.txt.gz");
+        let mut gz = flate2::write::GzEncoder::new(
+            std::fs::File::create(&path).unwrap(),
+            flate2::Compression::fast(),
+        );
+        gz.write_all(SMALL.as_bytes()).unwrap();
+        gz.finish().unwrap();
+        std::fs::write(dir.join("plain.txt"), SMALL).unwrap();
+        let a = read_android_log(&path).unwrap();
+        let b = read_android_log(&dir.join("plain.txt")).unwrap();
+        assert_eq!(a.name, "walk1");
+        assert_eq!(b.name, "plain");
+        assert_eq!(a.samples, b.samples);
+        let logs = list_android_logs(&dir).unwrap();
+        assert_eq!(logs.len(), 2);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
