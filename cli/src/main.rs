@@ -3,12 +3,15 @@
 mod activity;
 mod demo;
 mod eval_foot;
+mod eval_orientation;
 mod eval_pace;
 mod eval_pdr;
 mod eval_steplength;
 mod eval_steps;
 mod foot;
 mod odometry;
+mod orientation;
+mod orientation_metric;
 mod placement;
 mod placement_mlp;
 mod replay;
@@ -91,6 +94,20 @@ USAGE:
       Replay a recording (RIDI sequence, RIDI data.csv, RoNIN CSV export or a
       simulator walk) through the learned pipeline and the baselines; print ATE / RTE
       and write an SVG of the trajectories against the truth.
+  stridekit orientation FILE [--out q.csv] [--imu-only]
+      Replay a recording with IMU and magnetometer samples (the BROAD CSV, .csv or
+      .csv.gz) through the default orientation filter; write one row per accepted
+      sample, t_s,qw,qx,qy,qz (body -> East-North-Up) and the filter's flags (default
+      orientation.csv). Rejected samples are skipped and counted by reason. With
+      optical truth in the file, prints the BROAD errors. --imu-only ignores the
+      magnetometer.
+  stridekit eval orientation [--data DIR] [--imu-only]
+      Orientation filters against optical motion capture on the BROAD trials in DIR
+      (default: ../shared/data/orientation/broad): RMSE of the total, heading and
+      inclination error during movement per trial and as means, for the default,
+      Madgwick and the variants kept; and leave-half-out figures (settings chosen on
+      the odd trials scored on the even ones, and the reverse). --imu-only: without
+      the magnetometer (inclination).
   stridekit help
 ";
 
@@ -98,6 +115,28 @@ fn flag(args: &[String], name: &str) -> Option<String> {
     args.iter()
         .position(|a| a == name)
         .and_then(|i| args.get(i + 1).cloned())
+}
+
+/// Refuses flags a command does not know (`takes_value`: flags followed by a value).
+fn check_flags(args: &[String], from: usize, takes_value: &[&str], switches: &[&str]) -> Result<(), String> {
+    let mut i = from;
+    while i < args.len() {
+        let a = args[i].as_str();
+        if takes_value.contains(&a) {
+            if i + 1 >= args.len() {
+                return Err(format!("{a} needs a value"));
+            }
+            i += 2;
+        } else if switches.contains(&a) {
+            i += 1;
+        } else {
+            return Err(format!(
+                "unknown argument {a} (expected {})",
+                takes_value.iter().chain(switches).copied().collect::<Vec<_>>().join(", ")
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn main() -> ExitCode {
@@ -284,6 +323,37 @@ fn main() -> ExitCode {
             }
             None => Err("odometry needs a FILE".into()),
         },
+        Some("orientation") => match args.get(1) {
+            Some(file) if !file.starts_with("--") => {
+                check_flags(&args, 2, &["--out"], &["--imu-only"]).and_then(|_| {
+                    orientation::run(&orientation::OrientationArgs {
+                        file: PathBuf::from(file),
+                        out: PathBuf::from(
+                            flag(&args, "--out").unwrap_or_else(|| "orientation.csv".into()),
+                        ),
+                        imu_only: args.iter().any(|a| a == "--imu-only"),
+                    })
+                })
+            }
+            _ => Err("orientation needs a FILE".into()),
+        },
+        Some("eval") if args.get(1).map(String::as_str) == Some("orientation") => {
+            check_flags(&args, 2, &["--data"], &["--imu-only"]).and_then(|_| {
+                let dir = flag(&args, "--data").map(PathBuf::from).or_else(|| {
+                    stridekit_formats::data_dir().map(|d| d.join("orientation/broad"))
+                });
+                match dir {
+                    Some(d) if d.is_dir() => eval_orientation::run(&eval_orientation::EvalOrientationArgs {
+                        data: d,
+                        imu_only: args.iter().any(|a| a == "--imu-only"),
+                    })
+                    .map(|t| println!("{t}")),
+                    _ => Err(
+                        "BROAD trials not found: pass --data DIR or set STRIDEKIT_DATA".into(),
+                    ),
+                }
+            })
+        }
         Some("help" | "--help" | "-h") => {
             print!("{USAGE}");
             Ok(())

@@ -1,0 +1,286 @@
+//! `stridekit eval orientation`: the orientation filters against optical motion
+//! capture on the BROAD trials, with the benchmark's own metric
+//! ([`crate::orientation_metric`]): per trial and as means over trials, for the
+//! default filter, Madgwick (defaults and plain with BROAD's best common gain) and
+//! the variants of the decoupled filter kept for comparison; plus leave-half-out
+//! figures (settings chosen on the odd-numbered trials, scored on the even ones,
+//! and the reverse). Evaluation code: lives in the CLI, not in the shipped core.
+
+use std::path::{Path, PathBuf};
+
+use stridekit_core::ahrs::{Ahrs, AhrsSettings, DecoupledSettings};
+use stridekit_formats::{list_broad_trials, read_broad, OrientationRecording};
+
+use crate::orientation_metric::{ErrorSums, Rmse};
+
+/// Options of `stridekit eval orientation`.
+#[derive(Clone, Debug)]
+pub struct EvalOrientationArgs {
+    /// Folder with the BROAD trials (`*.csv.gz`).
+    pub data: PathBuf,
+    /// Without the magnetometer: only the inclination is meaningful.
+    pub imu_only: bool,
+}
+
+/// BROAD's best common Madgwick gain (the authors' example code, all 39 trials).
+pub const BROAD_MADGWICK_GAIN: f64 = 0.12;
+
+/// One filter configuration under test.
+pub struct Variant {
+    pub name: &'static str,
+    pub settings: AhrsSettings,
+}
+
+/// The filters of the comparison: the default, the Madgwick variants, and the
+/// decoupled filter with one feature switched off at a time (ablations).
+pub fn variants() -> Vec<Variant> {
+    let d = AhrsSettings::default();
+    let with = |f: &dyn Fn(&mut DecoupledSettings)| {
+        let mut s = d;
+        f(&mut s.decoupled);
+        s
+    };
+    vec![
+        Variant {
+            name: "default (decoupled)",
+            settings: d,
+        },
+        Variant {
+            name: "Madgwick, stridekit defaults (`AhrsSettings::madgwick()`)",
+            settings: AhrsSettings::madgwick(),
+        },
+        Variant {
+            name: "Madgwick plain, β = 0.12 (`AhrsSettings::plain(0.12)`)",
+            settings: AhrsSettings::plain(BROAD_MADGWICK_GAIN),
+        },
+        Variant {
+            name: "decoupled, no bias estimation",
+            settings: AhrsSettings {
+                bias_estimation: false,
+                ..d
+            },
+        },
+        Variant {
+            name: "decoupled, bias at rest only (no motion bias)",
+            settings: with(&|s| s.motion_bias_time_constant_s = f64::INFINITY),
+        },
+        Variant {
+            name: "decoupled, no magnetic rejection",
+            settings: with(&|s| {
+                s.mag_norm_threshold = f64::INFINITY;
+                s.mag_dip_threshold_rad = f64::INFINITY;
+            }),
+        },
+    ]
+}
+
+/// Replays one trial; returns the error sums and the number of rejected samples.
+pub fn score_trial(
+    settings: AhrsSettings,
+    rec: &OrientationRecording,
+    imu_only: bool,
+) -> Result<(ErrorSums, usize), String> {
+    let mut ahrs = Ahrs::new(settings).map_err(|e| e.to_string())?;
+    let mut sums = ErrorSums::default();
+    let mut rejected = 0;
+    for ((s, truth), &moving) in rec.samples.iter().zip(&rec.truth).zip(&rec.movement) {
+        let mag = if imu_only { None } else { s.mag_ut };
+        if ahrs.update(s.t_s, s.gyro_rads, s.accel_mps2, mag).is_err() {
+            rejected += 1;
+            continue;
+        }
+        if let (true, Some(t), Some(q)) = (moving, truth, ahrs.quaternion()) {
+            sums.add(&q, t);
+        }
+    }
+    Ok((sums, rejected))
+}
+
+/// RMSE per trial of one settings set.
+fn score_all(
+    settings: AhrsSettings,
+    trials: &[OrientationRecording],
+    imu_only: bool,
+) -> Result<Vec<Rmse>, String> {
+    trials
+        .iter()
+        .map(|t| score_trial(settings, t, imu_only).map(|(s, _)| s.rmse()))
+        .collect()
+}
+
+fn number(t: &OrientationRecording) -> u32 {
+    t.trial_number().unwrap_or(0)
+}
+
+/// Undisturbed trials (BROAD 1–23) and magnet trials (28–36).
+fn is_undisturbed(t: &OrientationRecording) -> bool {
+    (1..=23).contains(&number(t))
+}
+fn is_magnet(t: &OrientationRecording) -> bool {
+    (28..=36).contains(&number(t))
+}
+
+fn mean_where(
+    r: &[Rmse],
+    trials: &[OrientationRecording],
+    keep: impl Fn(&OrientationRecording) -> bool,
+) -> Rmse {
+    Rmse::mean(
+        r.iter()
+            .zip(trials)
+            .filter(|(_, t)| keep(t))
+            .map(|(r, _)| r),
+    )
+}
+
+/// The candidate settings of the leave-half-out check: the three time constants the
+/// filter's accuracy depends on, each at ⅔×, 1× and 1.5× its default.
+fn grid() -> Vec<(String, AhrsSettings)> {
+    let d = DecoupledSettings::default();
+    let mut out = Vec::new();
+    for fa in [2.0 / 3.0, 1.0, 1.5] {
+        for fm in [2.0 / 3.0, 1.0, 1.5] {
+            for fb in [0.5, 1.0, 2.0] {
+                let decoupled = DecoupledSettings {
+                    accel_time_constant_s: d.accel_time_constant_s * fa,
+                    mag_time_constant_s: d.mag_time_constant_s * fm,
+                    motion_bias_time_constant_s: d.motion_bias_time_constant_s * fb,
+                    ..d
+                };
+                out.push((
+                    format!(
+                        "{:.2} s, {:.1} s, {:.0} s",
+                        decoupled.accel_time_constant_s,
+                        decoupled.mag_time_constant_s,
+                        decoupled.motion_bias_time_constant_s
+                    ),
+                    AhrsSettings {
+                        decoupled,
+                        ..AhrsSettings::default()
+                    },
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// Reads every trial of `dir`.
+pub fn load(dir: &Path) -> Result<Vec<OrientationRecording>, String> {
+    let paths = list_broad_trials(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    if paths.is_empty() {
+        return Err(format!("no BROAD trials (*.csv.gz) in {}", dir.display()));
+    }
+    paths
+        .iter()
+        .map(|p| read_broad(p).map_err(|e| format!("{}: {e}", p.display())))
+        .collect()
+}
+
+/// The whole report as markdown.
+pub fn run(args: &EvalOrientationArgs) -> Result<String, String> {
+    let trials = load(&args.data)?;
+    let imu = args.imu_only;
+    let variants = variants();
+    let mut results = Vec::new();
+    for v in &variants {
+        eprintln!("eval orientation: {}", v.name);
+        results.push(score_all(v.settings, &trials, imu)?);
+    }
+    let mut out = String::new();
+    let mode = if imu {
+        "IMU only (no magnetometer): inclination error"
+    } else {
+        "MARG (with magnetometer): total / heading / inclination error"
+    };
+    let cell = |r: &Rmse| {
+        if imu {
+            format!("{:.2}", r.inclination_deg)
+        } else {
+            r.cell()
+        }
+    };
+    out.push_str(&format!(
+        "BROAD, {} trials, {mode}, RMSE during movement in degrees, mean over trials; \
+         one settings set per filter for all trials.\n\n",
+        trials.len()
+    ));
+    out.push_str(
+        "| filter | all trials | undisturbed (1–23) | magnet (28–36) | odd trials | even trials |\n\
+         |---|---|---|---|---|---|\n",
+    );
+    for (v, r) in variants.iter().zip(&results) {
+        out.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {} |\n",
+            v.name,
+            cell(&Rmse::mean(r)),
+            cell(&mean_where(r, &trials, is_undisturbed)),
+            cell(&mean_where(r, &trials, is_magnet)),
+            cell(&mean_where(r, &trials, |t| number(t) % 2 == 1)),
+            cell(&mean_where(r, &trials, |t| number(t) % 2 == 0)),
+        ));
+    }
+
+    // Per trial: the default and the two Madgwick rows.
+    out.push_str(&format!("\nPer trial ({}):\n\n", if imu { "inclination" } else { "total / heading / inclination" }));
+    out.push_str("| trial |");
+    for v in &variants[..3] {
+        out.push_str(&format!(" {} |", v.name));
+    }
+    out.push_str("\n|---|---|---|---|\n");
+    for (i, t) in trials.iter().enumerate() {
+        out.push_str(&format!("| {} |", t.name));
+        for r in &results[..3] {
+            out.push_str(&format!(" {} |", cell(&r[i])));
+        }
+        out.push('\n');
+    }
+
+    // Leave half out.
+    let grid = grid();
+    eprintln!("eval orientation: leave-half-out grid of {} settings", grid.len());
+    let mut per: Vec<Vec<Rmse>> = Vec::new();
+    for (_, s) in &grid {
+        per.push(score_all(*s, &trials, imu)?);
+    }
+    let objective = |r: &Rmse| if imu { r.inclination_deg } else { r.total_deg };
+    out.push_str(&format!(
+        "\nLeave half out: {} settings of the decoupled filter (accelerometer, magnetometer \
+         and motion-bias time constants, each at ⅔×/1×/1.5× resp. ½×/1×/2× its default); \
+         the one with the lowest mean {} on one half is scored on the other.\n\n",
+        grid.len(),
+        if imu { "inclination error" } else { "total error" }
+    ));
+    out.push_str(
+        "| chosen on | settings chosen (accel τ, mag τ, motion-bias τ) | chosen half | held-out half, chosen | held-out half, fixed default |\n\
+         |---|---|---|---|---|\n",
+    );
+    let default = &results[0];
+    let mut held = Vec::new();
+    for (fit_odd, name) in [(true, "odd trials → even"), (false, "even trials → odd")] {
+        let fit = |t: &OrientationRecording| (number(t) % 2 == 1) == fit_odd;
+        let best = (0..grid.len())
+            .min_by(|&a, &b| {
+                objective(&mean_where(&per[a], &trials, fit))
+                    .total_cmp(&objective(&mean_where(&per[b], &trials, fit)))
+            })
+            .unwrap_or(0);
+        let chosen_fit = mean_where(&per[best], &trials, fit);
+        let chosen_held = mean_where(&per[best], &trials, |t| !fit(t));
+        let default_held = mean_where(default, &trials, |t| !fit(t));
+        held.extend(per[best].iter().zip(&trials).filter(|(_, t)| !fit(t)).map(|(r, _)| *r));
+        out.push_str(&format!(
+            "| {name} | {} | {} | {} | {} |\n",
+            grid[best].0,
+            cell(&chosen_fit),
+            cell(&chosen_held),
+            cell(&default_held)
+        ));
+    }
+    out.push_str(&format!(
+        "| **both halves held out** | | | **{}** | **{}** |\n",
+        cell(&Rmse::mean(&held)),
+        cell(&Rmse::mean(default))
+    ));
+    Ok(out)
+}

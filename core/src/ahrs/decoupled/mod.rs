@@ -1,0 +1,391 @@
+//! The decoupled orientation filter: stridekit's default AHRS
+//! ([`AhrsAlgorithm::Decoupled`](super::AhrsAlgorithm::Decoupled)).
+//!
+//! Designed from the physics of the three sensors, after studying why VQF (Laidig &
+//! Seel 2023) is accurate and how x-io's Fusion rejects and recovers; stridekit's own
+//! code. The orientation body → ENU is a product of three parts, each corrected by the
+//! sensor that observes it and nothing else:
+//!
+//! ```text
+//!   q = Rz(δ) ⊗ q_inc ⊗ q_gyr
+//!        │       │       └─ gyroscope strapdown, bias-corrected   (tilt.rs, bias.rs)
+//!        │       └─ inclination: accelerometer averaged in the
+//!        │          almost-inertial frame of q_gyr                 (tilt.rs)
+//!        └─ heading about the vertical: magnetometer, with
+//!           disturbance rejection and recovery                     (heading.rs, magnetic.rs)
+//! ```
+//!
+//! - **Inclination** ([`tilt`]): the specific force rotated into the gyroscope's
+//!   frame averages to gravity (bounded velocity ⇒ zero-mean linear acceleration), so
+//!   linear acceleration is filtered out without rejecting samples, and rotation does
+//!   not smear the average.
+//! - **Gyroscope bias** ([`bias`]): at rest ([`rest`]) from the gyroscope itself, in
+//!   motion from the inclination corrections (what the residual bias does to the
+//!   almost-inertial frame), optionally about the vertical from the heading
+//!   corrections.
+//! - **Heading** ([`heading`]): the magnetometer only ever turns the estimate about
+//!   the vertical, so a disturbed field cannot tilt it; disturbances (magnitude or
+//!   dip off the learned field) are rejected and the heading is held on the
+//!   gyroscope, with recovery after a long disturbance ([`magnetic`]).
+//!
+//! One update is ~300 floating-point operations and allocates nothing.
+
+pub mod bias;
+pub mod heading;
+pub mod magnetic;
+pub mod rest;
+pub mod settings;
+pub mod tilt;
+
+use self::bias::Bias;
+use self::heading::{wrap_pi, Heading};
+use self::magnetic::{MagDisturbance, MagLimits};
+use self::rest::{Rest, RestLimits};
+use self::tilt::Tilt;
+use super::flags::AhrsFlags;
+use super::frame::EarthFrame;
+use super::madgwick::GYRO_CLIP_SHARE;
+use super::quat::{self, Quat};
+use super::settings::AhrsSettings;
+use crate::snapshot::{Reader, SnapshotError, Writer};
+
+pub use self::settings::DecoupledSettings;
+
+/// Cap of the accelerometer's running-mean count (beyond it the nominal gain rules).
+const AVERAGED_CAP: f64 = 1e9;
+
+/// The decoupled filter's state; driven by [`Ahrs`](super::Ahrs), which owns the
+/// door checks.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Decoupled {
+    // Derived from the settings (not serialised).
+    accel_tau_s: f64,
+    mag_tau_s: f64,
+    motion_bias_gain: f64,
+    heading_bias_gain: f64,
+    rest_bias_tau_s: f64,
+    max_bias_rads: f64,
+    gyro_clip_rads: f64,
+    bias_estimation: bool,
+    rest_limits: RestLimits,
+    mag_limits: MagLimits,
+    // State.
+    tilt: Tilt,
+    bias: Bias,
+    rest: Rest,
+    heading: Heading,
+    mag: MagDisturbance,
+    /// Accelerometer samples averaged since the (re)start (capped).
+    accel_averaged: f64,
+    /// Flags carried from sample to sample (angular-rate and magnetic recovery).
+    flags: AhrsFlags,
+}
+
+impl Decoupled {
+    pub(crate) fn new(s: &AhrsSettings) -> Self {
+        let d = &s.decoupled;
+        Self {
+            accel_tau_s: d.accel_time_constant_s,
+            mag_tau_s: d.mag_time_constant_s,
+            motion_bias_gain: 1.0 / d.motion_bias_time_constant_s,
+            heading_bias_gain: 1.0 / d.heading_bias_time_constant_s,
+            rest_bias_tau_s: d.rest_bias_time_constant_s,
+            max_bias_rads: d.max_bias_rads,
+            gyro_clip_rads: GYRO_CLIP_SHARE * s.gyro_range_rads,
+            bias_estimation: s.bias_estimation,
+            rest_limits: RestLimits {
+                gyro2: d.rest_gyro_rads * d.rest_gyro_rads,
+                accel2: d.rest_accel_mps2 * d.rest_accel_mps2,
+                max_bias: d.max_bias_rads,
+                time_s: d.rest_time_s,
+            },
+            mag_limits: MagLimits {
+                norm_rel: d.mag_norm_threshold,
+                dip_rad: d.mag_dip_threshold_rad,
+                min_undisturbed_s: d.mag_min_undisturbed_s,
+                max_rejection_s: d.mag_max_rejection_s,
+            },
+            tilt: Tilt {
+                q_gyr: [1.0, 0.0, 0.0, 0.0],
+                q_inc: [1.0, 0.0, 0.0, 0.0],
+                ..Tilt::default()
+            },
+            bias: Bias::default(),
+            rest: Rest::default(),
+            heading: Heading::default(),
+            mag: MagDisturbance::default(),
+            accel_averaged: 0.0,
+            flags: AhrsFlags::default(),
+        }
+    }
+
+    /// Orientation body → ENU (unit length to rounding).
+    #[inline(always)]
+    pub(crate) fn q_enu(&self) -> Quat {
+        let q = self.tilt.q_body_to_e();
+        let (s, c) = (0.5 * self.heading.delta_rad).sin_cos();
+        // Rz(δ) ⊗ q with Rz(δ) = (cos δ/2, 0, 0, sin δ/2).
+        [
+            c * q[0] - s * q[3],
+            c * q[1] - s * q[2],
+            c * q[2] + s * q[1],
+            c * q[3] + s * q[0],
+        ]
+    }
+
+    pub(crate) fn gyro_bias_rads(&self) -> [f64; 3] {
+        self.bias.b
+    }
+
+    /// (Re)start from one sample (the learned bias is kept).
+    pub(crate) fn start(
+        &mut self,
+        s: &AhrsSettings,
+        gyro: &[f64; 3],
+        accel: &[f64; 3],
+        mag: Option<&[f64; 3]>,
+    ) -> AhrsFlags {
+        self.tilt.start(accel);
+        self.rest.start(gyro, accel);
+        self.accel_averaged = 1.0;
+        self.mag.restart(&self.mag_limits);
+        self.heading = Heading::default();
+        let measured = mag.and_then(|m| self.measure(m));
+        match measured {
+            Some(f) => {
+                self.heading.reset_to(f.heading_rad);
+                self.mag.assess(f.norm_ut, f.dip_rad, 0.0, &self.mag_limits);
+            }
+            None => {
+                // No field: the output frame's yaw starts at 0 (as the Madgwick filter).
+                let q_out = quat::mul(&s.frame.enu_to_frame(), &self.tilt.q_body_to_e());
+                let (_, _, yaw) = quat::to_euler(&q_out);
+                self.heading.delta_rad = match s.frame {
+                    EarthFrame::Enu => -yaw,
+                    EarthFrame::Ned => yaw,
+                };
+            }
+        }
+        self.flags = AhrsFlags {
+            reinitialised: true,
+            initialising: true,
+            ..AhrsFlags::default()
+        };
+        self.flags
+    }
+
+    /// Magnitude, dip and measured heading offset of a field sample (body frame).
+    #[inline(always)]
+    fn measure(&self, m: &[f64; 3]) -> Option<Field> {
+        let q = self.tilt.q_body_to_e();
+        let e = quat::rotate(&q, m);
+        let h2 = e[0] * e[0] + e[1] * e[1];
+        let n2 = h2 + e[2] * e[2];
+        if n2 <= 0.0 {
+            return None;
+        }
+        let h = h2.sqrt();
+        Some(Field {
+            norm_ut: n2.sqrt(),
+            dip_rad: (-e[2]).atan2(h),
+            // Rz(δ) must turn the horizontal field (azimuth ψ east of north) to north:
+            // δ = ψ.
+            heading_rad: e[0].atan2(e[1]),
+            body_to_e: q,
+        })
+    }
+
+    /// One accepted sample after the first.
+    #[inline(always)]
+    pub(crate) fn step(
+        &mut self,
+        dt: f64,
+        gyro: [f64; 3],
+        a: &[f64; 3],
+        mag: Option<&[f64; 3]>,
+    ) -> AhrsFlags {
+        let mut flags = AhrsFlags {
+            angular_rate_recovery: self.flags.angular_rate_recovery,
+            mag_recovery: self.flags.mag_recovery,
+            ..AhrsFlags::default()
+        };
+
+        // Angular-rate recovery: a clipped reading makes the integration wrong; restart
+        // the averages so that accelerometer and magnetometer take over at once.
+        let clip = self.gyro_clip_rads;
+        let clipped = (gyro[0].abs() > clip) | (gyro[1].abs() > clip) | (gyro[2].abs() > clip);
+
+        // Rest and the bias at rest.
+        if self.bias_estimation {
+            let at_rest = self.rest.step(&gyro, a, dt, &self.rest_limits);
+            if at_rest {
+                let k = dt / (self.rest_bias_tau_s + dt);
+                self.bias.rest(&gyro, k, self.max_bias_rads);
+            }
+            flags.at_rest = at_rest;
+            flags.bias_learning = at_rest;
+        }
+        let b = &self.bias.b;
+        let w = [gyro[0] - b[0], gyro[1] - b[1], gyro[2] - b[2]];
+        self.tilt.integrate(&w, dt);
+        if clipped {
+            flags.angular_rate_recovery = true;
+            self.tilt.reset_average(a);
+            self.accel_averaged = 1.0;
+            self.heading.restart_averaging();
+        }
+
+        // Inclination from the accelerometer averaged in the almost-inertial frame.
+        let k_nominal = dt / (self.accel_tau_s + dt);
+        let mean = 1.0 / (self.accel_averaged + 1.0);
+        let accel_init = mean > k_nominal;
+        let k = if accel_init { mean } else { k_nominal };
+        self.accel_averaged = if self.accel_averaged < AVERAGED_CAP {
+            self.accel_averaged + 1.0
+        } else {
+            AVERAGED_CAP
+        };
+        match self.tilt.correct(a, k) {
+            Some(c) => {
+                if self.bias_estimation & !flags.at_rest & !accel_init & !clipped {
+                    let q = self.tilt.q_body_to_e();
+                    let c_body = quat::rotate(&quat::conj(&q), &c);
+                    self.bias
+                        .motion(&c_body, self.motion_bias_gain, self.max_bias_rads);
+                    flags.bias_motion = self.motion_bias_gain > 0.0;
+                }
+            }
+            None => flags.accel_rejected = true,
+        }
+
+        // Heading from the magnetometer.
+        let mut heading_init = false;
+        if let Some(f) = mag.and_then(|m| self.measure(m)) {
+            if !self.heading.valid {
+                self.heading.reset_to(f.heading_rad);
+                self.mag.restart(&self.mag_limits);
+            }
+            let v = self.mag.assess(f.norm_ut, f.dip_rad, dt, &self.mag_limits);
+            if v.recovered {
+                self.heading.restart_averaging();
+                flags.mag_recovery = true;
+            }
+            flags.mag_disturbed = v.disturbed;
+            if v.use_it {
+                let kh = dt / (self.mag_tau_s + dt);
+                heading_init = self.heading.averaging(kh);
+                let innovation = wrap_pi(f.heading_rad - self.heading.delta_rad);
+                let d = self.heading.correct(innovation, kh);
+                if self.bias_estimation & !heading_init & (self.heading_bias_gain > 0.0) {
+                    // A turn of d about the vertical, in the body frame.
+                    let up = quat::rotate(&quat::conj(&f.body_to_e), &[0.0, 0.0, d]);
+                    self.bias.motion(&up, self.heading_bias_gain, self.max_bias_rads);
+                }
+                if !heading_init {
+                    flags.mag_recovery = false;
+                }
+            } else {
+                flags.mag_rejected = true;
+                flags.heading_held = true;
+            }
+        }
+        if flags.angular_rate_recovery & !accel_init & !heading_init {
+            flags.angular_rate_recovery = clipped;
+        }
+        flags.initialising = accel_init | heading_init;
+        self.flags = flags;
+        flags
+    }
+
+    pub(crate) fn write_state(&self, w: &mut Writer) {
+        let t = &self.tilt;
+        w.f64s(&t.q_gyr);
+        w.f64s(&t.q_inc);
+        w.f64s(&t.lp1);
+        w.f64s(&t.lp2);
+        w.f64s(&self.bias.b);
+        w.f64s(&self.rest.gyro_mean);
+        w.f64s(&self.rest.accel_mean);
+        w.f64(self.rest.still_s);
+        w.f64(self.heading.delta_rad);
+        w.bool(self.heading.valid);
+        w.f64(self.heading.averaged);
+        let m = &self.mag;
+        w.f64s(&[m.ref_norm_ut, m.ref_dip_rad]);
+        w.bool(m.ref_valid);
+        w.f64s(&[m.norm_ut, m.dip_rad, m.undisturbed_s, m.rejected_s]);
+        w.f64(self.accel_averaged);
+    }
+
+    pub(crate) fn read_state(&mut self, r: &mut Reader) -> Result<(), SnapshotError> {
+        let t = &mut self.tilt;
+        r.f64s(&mut t.q_gyr)?;
+        r.f64s(&mut t.q_inc)?;
+        r.f64s(&mut t.lp1)?;
+        r.f64s(&mut t.lp2)?;
+        r.f64s(&mut self.bias.b)?;
+        r.f64s(&mut self.rest.gyro_mean)?;
+        r.f64s(&mut self.rest.accel_mean)?;
+        self.rest.still_s = r.f64()?;
+        self.heading.delta_rad = r.f64()?;
+        self.heading.valid = r.bool()?;
+        self.heading.averaged = r.f64()?;
+        let m = &mut self.mag;
+        let mut v = [0.0; 2];
+        r.f64s(&mut v)?;
+        [m.ref_norm_ut, m.ref_dip_rad] = v;
+        m.ref_valid = r.bool()?;
+        let mut v = [0.0; 4];
+        r.f64s(&mut v)?;
+        [m.norm_ut, m.dip_rad, m.undisturbed_s, m.rejected_s] = v;
+        self.accel_averaged = r.f64()?;
+        let t = &self.tilt;
+        let finite = [t.lp1, t.lp2, self.bias.b, self.rest.gyro_mean, self.rest.accel_mean]
+            .iter()
+            .flatten()
+            .chain(&[
+                self.rest.still_s,
+                self.heading.delta_rad,
+                self.heading.averaged,
+                m.ref_norm_ut,
+                m.ref_dip_rad,
+                m.norm_ut,
+                m.dip_rad,
+                m.undisturbed_s,
+                m.rejected_s,
+                self.accel_averaged,
+            ])
+            .all(|x| x.is_finite());
+        if !finite {
+            return Err(SnapshotError::Invalid("non-finite state"));
+        }
+        for q in [&t.q_gyr, &t.q_inc] {
+            let n = q.iter().map(|c| c * c).sum::<f64>();
+            if n.is_nan() || (n - 1.0).abs() >= 1e-6 {
+                return Err(SnapshotError::Invalid("quaternion not unit"));
+            }
+        }
+        if self.bias.b.iter().any(|b| b.abs() > self.max_bias_rads)
+            || self.heading.delta_rad.abs() > std::f64::consts::PI
+            || self.accel_averaged < 0.0
+            || self.heading.averaged < 0.0
+        {
+            return Err(SnapshotError::Invalid("state out of range"));
+        }
+        Ok(())
+    }
+
+    /// The flags carried from sample to sample (restored from a snapshot).
+    pub(crate) fn set_flags(&mut self, flags: AhrsFlags) {
+        self.flags = flags;
+    }
+}
+
+/// A field sample seen in E'.
+#[derive(Clone, Copy, Debug)]
+struct Field {
+    norm_ut: f64,
+    dip_rad: f64,
+    heading_rad: f64,
+    body_to_e: Quat,
+}
