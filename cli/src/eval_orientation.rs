@@ -20,6 +20,35 @@ pub struct EvalOrientationArgs {
     pub data: PathBuf,
     /// Without the magnetometer: only the inclination is meaningful.
     pub imu_only: bool,
+    /// `NAME=VALUE` changes of the default filter's settings (sensitivity checks).
+    pub set: Vec<(String, f64)>,
+    /// Only the default filter (with `set` applied): no comparison, no grid.
+    pub quick: bool,
+}
+
+/// Changes one setting of the decoupled filter by name (`--set NAME=VALUE`).
+pub fn set_decoupled(s: &mut AhrsSettings, name: &str, v: f64) -> Result<(), String> {
+    let d = &mut s.decoupled;
+    let field = match name {
+        "accel_time_constant_s" => &mut d.accel_time_constant_s,
+        "mag_time_constant_s" => &mut d.mag_time_constant_s,
+        "motion_bias_time_constant_s" => &mut d.motion_bias_time_constant_s,
+        "heading_bias_time_constant_s" => &mut d.heading_bias_time_constant_s,
+        "bias_random_walk" => &mut d.bias_random_walk,
+        "motion_bias_accuracy_rads" => &mut d.motion_bias_accuracy_rads,
+        "rest_gyro_rads" => &mut d.rest_gyro_rads,
+        "rest_accel_mps2" => &mut d.rest_accel_mps2,
+        "rest_time_s" => &mut d.rest_time_s,
+        "rest_bias_time_constant_s" => &mut d.rest_bias_time_constant_s,
+        "max_bias_rads" => &mut d.max_bias_rads,
+        "mag_norm_threshold" => &mut d.mag_norm_threshold,
+        "mag_dip_threshold_rad" => &mut d.mag_dip_threshold_rad,
+        "mag_min_undisturbed_s" => &mut d.mag_min_undisturbed_s,
+        "mag_max_rejection_s" => &mut d.mag_max_rejection_s,
+        _ => return Err(format!("unknown setting {name} (see DecoupledSettings)")),
+    };
+    *field = v;
+    s.validate().map_err(|e| e.to_string())
 }
 
 /// BROAD's best common Madgwick gain (the authors' example code, all 39 trials).
@@ -181,7 +210,28 @@ pub fn load(dir: &Path) -> Result<Vec<OrientationRecording>, String> {
 pub fn run(args: &EvalOrientationArgs) -> Result<String, String> {
     let trials = load(&args.data)?;
     let imu = args.imu_only;
-    let variants = variants();
+    let mut variants = variants();
+    for (k, v) in &args.set {
+        set_decoupled(&mut variants[0].settings, k, *v)?;
+    }
+    if !args.set.is_empty() {
+        variants[0].name = "default with --set changes";
+    }
+    if args.quick {
+        variants.truncate(1);
+        let r = score_all(variants[0].settings, &trials, imu)?;
+        let mut out = format!(
+            "{}: all {} | undisturbed {} | magnet {}\n",
+            variants[0].name,
+            Rmse::mean(&r).cell(),
+            mean_where(&r, &trials, is_undisturbed).cell(),
+            mean_where(&r, &trials, is_magnet).cell()
+        );
+        for (t, r) in trials.iter().zip(&r) {
+            out.push_str(&format!("  {:<45} {}\n", t.name, r.cell()));
+        }
+        return Ok(out);
+    }
     let mut results = Vec::new();
     for v in &variants {
         eprintln!("eval orientation: {}", v.name);
@@ -222,7 +272,14 @@ pub fn run(args: &EvalOrientationArgs) -> Result<String, String> {
     }
 
     // Per trial: the default and the two Madgwick rows.
-    out.push_str(&format!("\nPer trial ({}):\n\n", if imu { "inclination" } else { "total / heading / inclination" }));
+    out.push_str(&format!(
+        "\nPer trial ({}):\n\n",
+        if imu {
+            "inclination"
+        } else {
+            "total / heading / inclination"
+        }
+    ));
     out.push_str("| trial |");
     for v in &variants[..3] {
         out.push_str(&format!(" {} |", v.name));
@@ -238,7 +295,10 @@ pub fn run(args: &EvalOrientationArgs) -> Result<String, String> {
 
     // Leave half out.
     let grid = grid();
-    eprintln!("eval orientation: leave-half-out grid of {} settings", grid.len());
+    eprintln!(
+        "eval orientation: leave-half-out grid of {} settings",
+        grid.len()
+    );
     let mut per: Vec<Vec<Rmse>> = Vec::new();
     for (_, s) in &grid {
         per.push(score_all(*s, &trials, imu)?);
@@ -249,7 +309,11 @@ pub fn run(args: &EvalOrientationArgs) -> Result<String, String> {
          and motion-bias time constants, each at ⅔×/1×/1.5× resp. ½×/1×/2× its default); \
          the one with the lowest mean {} on one half is scored on the other.\n\n",
         grid.len(),
-        if imu { "inclination error" } else { "total error" }
+        if imu {
+            "inclination error"
+        } else {
+            "total error"
+        }
     ));
     out.push_str(
         "| chosen on | settings chosen (accel τ, mag τ, motion-bias τ) | chosen half | held-out half, chosen | held-out half, fixed default |\n\
@@ -268,7 +332,13 @@ pub fn run(args: &EvalOrientationArgs) -> Result<String, String> {
         let chosen_fit = mean_where(&per[best], &trials, fit);
         let chosen_held = mean_where(&per[best], &trials, |t| !fit(t));
         let default_held = mean_where(default, &trials, |t| !fit(t));
-        held.extend(per[best].iter().zip(&trials).filter(|(_, t)| !fit(t)).map(|(r, _)| *r));
+        held.extend(
+            per[best]
+                .iter()
+                .zip(&trials)
+                .filter(|(_, t)| !fit(t))
+                .map(|(r, _)| *r),
+        );
         out.push_str(&format!(
             "| {name} | {} | {} | {} | {} |\n",
             grid[best].0,

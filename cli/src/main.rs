@@ -101,13 +101,14 @@ USAGE:
       orientation.csv). Rejected samples are skipped and counted by reason. With
       optical truth in the file, prints the BROAD errors. --imu-only ignores the
       magnetometer.
-  stridekit eval orientation [--data DIR] [--imu-only]
+  stridekit eval orientation [--data DIR] [--imu-only] [--set NAME=VALUE ...] [--quick]
       Orientation filters against optical motion capture on the BROAD trials in DIR
       (default: ../shared/data/orientation/broad): RMSE of the total, heading and
       inclination error during movement per trial and as means, for the default,
       Madgwick and the variants kept; and leave-half-out figures (settings chosen on
       the odd trials scored on the even ones, and the reverse). --imu-only: without
-      the magnetometer (inclination).
+      the magnetometer (inclination). --set changes a setting of the default filter
+      (DecoupledSettings field names) for sensitivity checks; --quick scores only it.
   stridekit help
 ";
 
@@ -118,7 +119,12 @@ fn flag(args: &[String], name: &str) -> Option<String> {
 }
 
 /// Refuses flags a command does not know (`takes_value`: flags followed by a value).
-fn check_flags(args: &[String], from: usize, takes_value: &[&str], switches: &[&str]) -> Result<(), String> {
+fn check_flags(
+    args: &[String],
+    from: usize,
+    takes_value: &[&str],
+    switches: &[&str],
+) -> Result<(), String> {
     let mut i = from;
     while i < args.len() {
         let a = args[i].as_str();
@@ -132,7 +138,12 @@ fn check_flags(args: &[String], from: usize, takes_value: &[&str], switches: &[&
         } else {
             return Err(format!(
                 "unknown argument {a} (expected {})",
-                takes_value.iter().chain(switches).copied().collect::<Vec<_>>().join(", ")
+                takes_value
+                    .iter()
+                    .chain(switches)
+                    .copied()
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ));
         }
     }
@@ -338,19 +349,33 @@ fn main() -> ExitCode {
             _ => Err("orientation needs a FILE".into()),
         },
         Some("eval") if args.get(1).map(String::as_str) == Some("orientation") => {
-            check_flags(&args, 2, &["--data"], &["--imu-only"]).and_then(|_| {
-                let dir = flag(&args, "--data").map(PathBuf::from).or_else(|| {
-                    stridekit_formats::data_dir().map(|d| d.join("orientation/broad"))
-                });
+            check_flags(&args, 2, &["--data", "--set"], &["--imu-only", "--quick"]).and_then(|_| {
+                let mut set = Vec::new();
+                for kv in args.windows(2).filter(|w| w[0] == "--set").map(|w| &w[1]) {
+                    match kv
+                        .split_once('=')
+                        .and_then(|(k, v)| v.parse::<f64>().ok().map(|v| (k.to_string(), v)))
+                    {
+                        Some(p) => set.push(p),
+                        None => return Err(format!("--set takes NAME=NUMBER, got {kv}")),
+                    }
+                }
+                let dir = flag(&args, "--data")
+                    .map(PathBuf::from)
+                    .or_else(|| stridekit_formats::data_dir().map(|d| d.join("orientation/broad")));
                 match dir {
-                    Some(d) if d.is_dir() => eval_orientation::run(&eval_orientation::EvalOrientationArgs {
-                        data: d,
-                        imu_only: args.iter().any(|a| a == "--imu-only"),
-                    })
-                    .map(|t| println!("{t}")),
-                    _ => Err(
-                        "BROAD trials not found: pass --data DIR or set STRIDEKIT_DATA".into(),
-                    ),
+                    Some(d) if d.is_dir() => {
+                        eval_orientation::run(&eval_orientation::EvalOrientationArgs {
+                            data: d,
+                            imu_only: args.iter().any(|a| a == "--imu-only"),
+                            set,
+                            quick: args.iter().any(|a| a == "--quick"),
+                        })
+                        .map(|t| println!("{t}"))
+                    }
+                    _ => {
+                        Err("BROAD trials not found: pass --data DIR or set STRIDEKIT_DATA".into())
+                    }
                 }
             })
         }

@@ -36,8 +36,8 @@ pub fn reason(e: &AhrsError) -> String {
 pub fn run(args: &OrientationArgs) -> Result<(), String> {
     let rec = read_broad(&args.file).map_err(|e| format!("{}: {e}", args.file.display()))?;
     let mut ahrs = Ahrs::new(AhrsSettings::default()).map_err(|e| e.to_string())?;
-    let file = std::fs::File::create(&args.out)
-        .map_err(|e| format!("{}: {e}", args.out.display()))?;
+    let file =
+        std::fs::File::create(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
     let mut w = std::io::BufWriter::new(file);
     let io = |e: std::io::Error| format!("{}: {e}", args.out.display());
     write!(w, "t_s,qw,qx,qy,qz").map_err(io)?;
@@ -54,8 +54,12 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
             Ok(flags) => {
                 accepted += 1;
                 let q = ahrs.quaternion().unwrap_or([1.0, 0.0, 0.0, 0.0]);
-                write!(w, "{:.6},{:.9},{:.9},{:.9},{:.9}", s.t_s, q[0], q[1], q[2], q[3])
-                    .map_err(io)?;
+                write!(
+                    w,
+                    "{:.6},{:.9},{:.9},{:.9},{:.9}",
+                    s.t_s, q[0], q[1], q[2], q[3]
+                )
+                .map_err(io)?;
                 for f in flags.to_array() {
                     write!(w, ",{}", f as u8).map_err(io)?;
                 }

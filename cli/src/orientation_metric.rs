@@ -29,7 +29,12 @@ pub fn error_angles(est: &[f64; 4], truth: &[f64; 4]) -> (f64, f64, f64) {
     let (ne, nt) = (n(est), n(truth));
     let a = est.map(|c| c / ne);
     // truth⁻¹ = conjugate of the unit quaternion.
-    let b = [truth[0] / nt, -truth[1] / nt, -truth[2] / nt, -truth[3] / nt];
+    let b = [
+        truth[0] / nt,
+        -truth[1] / nt,
+        -truth[2] / nt,
+        -truth[3] / nt,
+    ];
     let e = [
         a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
         a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],

@@ -72,8 +72,16 @@ pub fn parse_broad(input: impl BufRead) -> Result<OrientationRecording, FormatEr
     let header = lines.next().ok_or(FormatError::Empty)??;
     let c = Columns(header.split(',').map(str::trim).collect());
     let t = c.get("t_s")?;
-    let gyr = [c.get("gyr_x_rads")?, c.get("gyr_y_rads")?, c.get("gyr_z_rads")?];
-    let acc = [c.get("acc_x_mps2")?, c.get("acc_y_mps2")?, c.get("acc_z_mps2")?];
+    let gyr = [
+        c.get("gyr_x_rads")?,
+        c.get("gyr_y_rads")?,
+        c.get("gyr_z_rads")?,
+    ];
+    let acc = [
+        c.get("acc_x_mps2")?,
+        c.get("acc_y_mps2")?,
+        c.get("acc_z_mps2")?,
+    ];
     let mag = match (c.opt("mag_x_ut"), c.opt("mag_y_ut"), c.opt("mag_z_ut")) {
         (Some(x), Some(y), Some(z)) => Some([x, y, z]),
         _ => None,
@@ -120,9 +128,8 @@ pub fn parse_broad(input: impl BufRead) -> Result<OrientationRecording, FormatEr
             let v = |i| cell(i).map(|x| x.unwrap_or(f64::NAN));
             Ok([v(cols[0])?, v(cols[1])?, v(cols[2])?])
         };
-        let t_s = cell(t)?.ok_or_else(|| {
-            FormatError::parse(FORMAT, format!("line {line_no}: empty t_s"))
-        })?;
+        let t_s = cell(t)?
+            .ok_or_else(|| FormatError::parse(FORMAT, format!("line {line_no}: empty t_s")))?;
         rec.samples.push(InertialSample {
             t_s,
             gyro_rads: sensor(gyr)?,
@@ -239,7 +246,10 @@ t_s,gyr_x_rads,gyr_y_rads,gyr_z_rads,acc_x_mps2,acc_y_mps2,acc_z_mps2,mag_x_ut,m
         let bad = format!("{header}\n0,1,2,x,0,0,9.8,1,2,3,1,0,0,0,1\n");
         match parse_broad(bad.as_bytes()) {
             Err(FormatError::Parse { message, .. }) => {
-                assert!(message.contains("line 2") && message.contains("column 4"), "{message}")
+                assert!(
+                    message.contains("line 2") && message.contains("column 4"),
+                    "{message}"
+                )
             }
             other => panic!("{other:?}"),
         }

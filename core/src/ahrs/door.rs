@@ -14,6 +14,13 @@
 //! only after more than 1.3 s of free fall. Both return
 //! [`AhrsError::AccelerationNotInMps2`]. Switching from m/s² to g mid-stream is
 //! caught after ~1.8 s.
+//!
+//! # Absurd but finite values
+//! Readings beyond ±[`GYRO_SATURATION_RADS`], ±[`ACCEL_SATURATION_MPS2`] and
+//! ±[`MAG_SATURATION_UT`] per axis — orders of magnitude beyond any sensor's range —
+//! are saturated there, so that no square or product in a filter can overflow: a
+//! finite input never makes the orientation non-finite. (A gyroscope reading that
+//! large is far beyond its range: the filters' clipping recovery takes over.)
 
 use super::error::{finite3, AhrsError};
 use super::frame::AxisRemap;
@@ -29,6 +36,25 @@ const G_UNITS_STILL_RADS: f64 = 0.5;
 const ACCEL_MEAN_TAU_S: f64 = 1.0;
 const ACCEL_MEAN_SPAN_S: f64 = 1.0;
 const ACCEL_MEAN_MIN_MPS2: f64 = 2.5;
+/// Saturation of absurd readings (see the module docs): gyroscope, rad/s (~570 000°/s).
+pub const GYRO_SATURATION_RADS: f64 = 1e4;
+/// ... accelerometer, m/s² (~10 000 g).
+pub const ACCEL_SATURATION_MPS2: f64 = 1e5;
+/// ... magnetometer, µT (1 T).
+pub const MAG_SATURATION_UT: f64 = 1e6;
+
+#[inline(always)]
+fn saturate(v: [f64; 3], limit: f64) -> [f64; 3] {
+    v.map(|x| {
+        if x > limit {
+            limit
+        } else if x < -limit {
+            -limit
+        } else {
+            x
+        }
+    })
+}
 
 /// State of the door: time and the running mean |a| of the units check.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -82,8 +108,17 @@ impl Door {
         }
         let (gyro, accel, mag) = match remap {
             None => (gyro_rads, accel_mps2, mag_ut),
-            Some(r) => (r.apply(gyro_rads), r.apply(accel_mps2), mag_ut.map(|m| r.apply(m))),
+            Some(r) => (
+                r.apply(gyro_rads),
+                r.apply(accel_mps2),
+                mag_ut.map(|m| r.apply(m)),
+            ),
         };
+        let (gyro, accel, mag) = (
+            saturate(gyro, GYRO_SATURATION_RADS),
+            saturate(accel, ACCEL_SATURATION_MPS2),
+            mag.map(|m| saturate(m, MAG_SATURATION_UT)),
+        );
         let a2 = accel[0] * accel[0] + accel[1] * accel[1] + accel[2] * accel[2];
         let a_norm = a2.sqrt();
         let dt = t_s - self.last_t_s;

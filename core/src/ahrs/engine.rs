@@ -31,6 +31,9 @@ const SNAPSHOT_KIND: u8 = 2;
 /// Snapshot format version written by this build (1: Madgwick only, before issue 12).
 const SNAPSHOT_VERSION: u16 = 2;
 
+// Not boxed: the state is a few hundred bytes, created once, and an indirection
+// would sit on every update.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 enum Filter {
     Decoupled(Decoupled),
@@ -381,7 +384,10 @@ fn write_settings(w: &mut Writer, s: &AhrsSettings) {
 }
 
 /// Frame, remap and the eleven numbers of format 1 (shared by both versions).
-fn read_common_settings(r: &mut Reader, algorithm: AhrsAlgorithm) -> Result<AhrsSettings, AhrsError> {
+fn read_common_settings(
+    r: &mut Reader,
+    algorithm: AhrsAlgorithm,
+) -> Result<AhrsSettings, AhrsError> {
     let frame = EarthFrame::from_u8(r.u8()?).ok_or(SnapshotError::Invalid("frame"))?;
     let mut source = [0usize; 3];
     let mut negate = [false; 3];
@@ -414,10 +420,9 @@ fn read_common_settings(r: &mut Reader, algorithm: AhrsAlgorithm) -> Result<Ahrs
 }
 
 fn read_settings(r: &mut Reader) -> Result<AhrsSettings, AhrsError> {
-    let algorithm =
-        AhrsAlgorithm::from_u8(r.u8()?).ok_or(SnapshotError::Invalid("algorithm"))?;
+    let algorithm = AhrsAlgorithm::from_u8(r.u8()?).ok_or(SnapshotError::Invalid("algorithm"))?;
     let mut s = read_common_settings(r, algorithm)?;
-    let mut d = [0.0; 13];
+    let mut d = [0.0; 15];
     r.f64s(&mut d)?;
     s.decoupled = DecoupledSettings::from_array(d);
     Ok(s)

@@ -120,7 +120,7 @@ mod tests {
             heading_held: true,
             ..AhrsFlags::default()
         };
-        assert_eq!(f.to_array()[11], true);
+        assert!(f.to_array()[11]);
         assert_eq!(AhrsFlags::NAMES[11], "heading_held");
     }
 }

@@ -83,8 +83,7 @@ impl MagDisturbance {
             self.norm_ut += k * (norm_ut - self.norm_ut);
             self.dip_rad += k * (dip_rad - self.dip_rad);
         }
-        let disturbed = ((self.norm_ut - self.ref_norm_ut).abs()
-            > lim.norm_rel * self.ref_norm_ut)
+        let disturbed = ((self.norm_ut - self.ref_norm_ut).abs() > lim.norm_rel * self.ref_norm_ut)
             | ((self.dip_rad - self.ref_dip_rad).abs() > lim.dip_rad);
         self.undisturbed_s = if disturbed {
             0.0
@@ -150,7 +149,9 @@ mod tests {
         }
         assert!(seen > 190);
         // Gone: trusted again only after 0.5 s undisturbed.
-        let used: Vec<bool> = (0..100).map(|_| m.assess(45.0, 1.2, dt, &LIM).use_it).collect();
+        let used: Vec<bool> = (0..100)
+            .map(|_| m.assess(45.0, 1.2, dt, &LIM).use_it)
+            .collect();
         let first = used.iter().position(|&u| u).unwrap();
         assert!((50..=60).contains(&first), "{first}");
         // A new field for longer than the rejection limit becomes the reference.

@@ -51,8 +51,13 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 
 pub use self::settings::DecoupledSettings;
 
-/// Cap of the accelerometer's running-mean count (beyond it the nominal gain rules).
-const AVERAGED_CAP: f64 = 1e9;
+/// The bias uncertainty at which the averaging time is the nominal one, rad/s
+/// (0.3°/s): the lag such a bias causes over 3 s (≈1°) is then about what linear
+/// acceleration leaves in a 3 s average of hand motion. With a worse-known bias
+/// (after a start without rest), the average is shortened by (σ_b/0.3°/s)^(-1/2);
+/// once rest or motion has taught the bias, it is the nominal one.
+pub const BALANCE_BIAS_RADS: f64 = 0.3 * std::f64::consts::PI / 180.0;
+const BALANCE_BIAS_VAR: f64 = BALANCE_BIAS_RADS * BALANCE_BIAS_RADS;
 
 /// The decoupled filter's state; driven by [`Ahrs`](super::Ahrs), which owns the
 /// door checks.
@@ -62,6 +67,8 @@ pub(crate) struct Decoupled {
     accel_tau_s: f64,
     mag_tau_s: f64,
     motion_bias_gain: f64,
+    bias_q: f64,
+    motion_accuracy_var: f64,
     heading_bias_gain: f64,
     rest_bias_tau_s: f64,
     max_bias_rads: f64,
@@ -75,8 +82,9 @@ pub(crate) struct Decoupled {
     rest: Rest,
     heading: Heading,
     mag: MagDisturbance,
-    /// Accelerometer samples averaged since the (re)start (capped).
-    accel_averaged: f64,
+    /// Time since the (re)start, s (capped at the averaging time): the averaging time
+    /// grows with it, so the first seconds converge as fast as the data allow.
+    accel_elapsed_s: f64,
     /// Flags carried from sample to sample (angular-rate and magnetic recovery).
     flags: AhrsFlags,
 }
@@ -88,6 +96,8 @@ impl Decoupled {
             accel_tau_s: d.accel_time_constant_s,
             mag_tau_s: d.mag_time_constant_s,
             motion_bias_gain: 1.0 / d.motion_bias_time_constant_s,
+            bias_q: d.bias_random_walk * d.bias_random_walk,
+            motion_accuracy_var: d.motion_bias_accuracy_rads * d.motion_bias_accuracy_rads,
             heading_bias_gain: 1.0 / d.heading_bias_time_constant_s,
             rest_bias_tau_s: d.rest_bias_time_constant_s,
             max_bias_rads: d.max_bias_rads,
@@ -110,11 +120,14 @@ impl Decoupled {
                 q_inc: [1.0, 0.0, 0.0, 0.0],
                 ..Tilt::default()
             },
-            bias: Bias::default(),
+            bias: Bias {
+                b: [0.0; 3],
+                var: d.max_bias_rads * d.max_bias_rads,
+            },
             rest: Rest::default(),
             heading: Heading::default(),
             mag: MagDisturbance::default(),
-            accel_averaged: 0.0,
+            accel_elapsed_s: 0.0,
             flags: AhrsFlags::default(),
         }
     }
@@ -147,7 +160,7 @@ impl Decoupled {
     ) -> AhrsFlags {
         self.tilt.start(accel);
         self.rest.start(gyro, accel);
-        self.accel_averaged = 1.0;
+        self.accel_elapsed_s = 0.0;
         self.mag.restart(&self.mag_limits);
         self.heading = Heading::default();
         let measured = mag.and_then(|m| self.measure(m));
@@ -217,6 +230,8 @@ impl Decoupled {
 
         // Rest and the bias at rest.
         if self.bias_estimation {
+            let max_var = self.max_bias_rads * self.max_bias_rads;
+            self.bias.predict(self.bias_q * dt, max_var);
             let at_rest = self.rest.step(&gyro, a, dt, &self.rest_limits);
             if at_rest {
                 let k = dt / (self.rest_bias_tau_s + dt);
@@ -231,28 +246,40 @@ impl Decoupled {
         if clipped {
             flags.angular_rate_recovery = true;
             self.tilt.reset_average(a);
-            self.accel_averaged = 1.0;
+            self.accel_elapsed_s = 0.0;
             self.heading.restart_averaging();
         }
 
         // Inclination from the accelerometer averaged in the almost-inertial frame.
-        let k_nominal = dt / (self.accel_tau_s + dt);
-        let mean = 1.0 / (self.accel_averaged + 1.0);
-        let accel_init = mean > k_nominal;
-        let k = if accel_init { mean } else { k_nominal };
-        self.accel_averaged = if self.accel_averaged < AVERAGED_CAP {
-            self.accel_averaged + 1.0
+        self.accel_elapsed_s += dt;
+        let accel_init = self.accel_elapsed_s < self.accel_tau_s;
+        let mut t_avg = if accel_init {
+            self.accel_elapsed_s
         } else {
-            AVERAGED_CAP
+            self.accel_elapsed_s = self.accel_tau_s;
+            self.accel_tau_s
         };
-        match self.tilt.correct(a, k) {
+        // While the bias is poorly known, a shorter average: the lag an unknown bias
+        // σ_b causes (σ_b·T) and the linear acceleration left in the average (∝ 1/T)
+        // balance at T ∝ 1/√σ_b (see BALANCE_BIAS_RADS).
+        let var = self.bias.var;
+        if self.bias_estimation & (var > BALANCE_BIAS_VAR) {
+            t_avg *= (BALANCE_BIAS_VAR / var).sqrt().sqrt();
+        }
+        match self.tilt.correct(a, dt, t_avg) {
             Some(c) => {
                 if self.bias_estimation & !flags.at_rest & !accel_init & !clipped {
                     let q = self.tilt.q_body_to_e();
                     let c_body = quat::rotate(&quat::conj(&q), &c);
-                    self.bias
-                        .motion(&c_body, self.motion_bias_gain, self.max_bias_rads);
-                    flags.bias_motion = self.motion_bias_gain > 0.0;
+                    let g = self.motion_bias_gain;
+                    self.bias.motion(
+                        &c_body,
+                        g,
+                        g * dt,
+                        self.motion_accuracy_var,
+                        self.max_bias_rads,
+                    );
+                    flags.bias_motion = g > 0.0;
                 }
             }
             None => flags.accel_rejected = true,
@@ -279,7 +306,8 @@ impl Decoupled {
                 if self.bias_estimation & !heading_init & (self.heading_bias_gain > 0.0) {
                     // A turn of d about the vertical, in the body frame.
                     let up = quat::rotate(&quat::conj(&f.body_to_e), &[0.0, 0.0, d]);
-                    self.bias.motion(&up, self.heading_bias_gain, self.max_bias_rads);
+                    self.bias
+                        .heading(&up, self.heading_bias_gain, self.max_bias_rads);
                 }
                 if !heading_init {
                     flags.mag_recovery = false;
@@ -301,9 +329,10 @@ impl Decoupled {
         let t = &self.tilt;
         w.f64s(&t.q_gyr);
         w.f64s(&t.q_inc);
-        w.f64s(&t.lp1);
-        w.f64s(&t.lp2);
+        w.f64s(&t.avg);
+        w.f64s(&t.avg_rate);
         w.f64s(&self.bias.b);
+        w.f64(self.bias.var);
         w.f64s(&self.rest.gyro_mean);
         w.f64s(&self.rest.accel_mean);
         w.f64(self.rest.still_s);
@@ -314,16 +343,17 @@ impl Decoupled {
         w.f64s(&[m.ref_norm_ut, m.ref_dip_rad]);
         w.bool(m.ref_valid);
         w.f64s(&[m.norm_ut, m.dip_rad, m.undisturbed_s, m.rejected_s]);
-        w.f64(self.accel_averaged);
+        w.f64(self.accel_elapsed_s);
     }
 
     pub(crate) fn read_state(&mut self, r: &mut Reader) -> Result<(), SnapshotError> {
         let t = &mut self.tilt;
         r.f64s(&mut t.q_gyr)?;
         r.f64s(&mut t.q_inc)?;
-        r.f64s(&mut t.lp1)?;
-        r.f64s(&mut t.lp2)?;
+        r.f64s(&mut t.avg)?;
+        r.f64s(&mut t.avg_rate)?;
         r.f64s(&mut self.bias.b)?;
+        self.bias.var = r.f64()?;
         r.f64s(&mut self.rest.gyro_mean)?;
         r.f64s(&mut self.rest.accel_mean)?;
         self.rest.still_s = r.f64()?;
@@ -338,24 +368,31 @@ impl Decoupled {
         let mut v = [0.0; 4];
         r.f64s(&mut v)?;
         [m.norm_ut, m.dip_rad, m.undisturbed_s, m.rejected_s] = v;
-        self.accel_averaged = r.f64()?;
+        self.accel_elapsed_s = r.f64()?;
         let t = &self.tilt;
-        let finite = [t.lp1, t.lp2, self.bias.b, self.rest.gyro_mean, self.rest.accel_mean]
-            .iter()
-            .flatten()
-            .chain(&[
-                self.rest.still_s,
-                self.heading.delta_rad,
-                self.heading.averaged,
-                m.ref_norm_ut,
-                m.ref_dip_rad,
-                m.norm_ut,
-                m.dip_rad,
-                m.undisturbed_s,
-                m.rejected_s,
-                self.accel_averaged,
-            ])
-            .all(|x| x.is_finite());
+        let finite = [
+            t.avg,
+            t.avg_rate,
+            self.bias.b,
+            self.rest.gyro_mean,
+            self.rest.accel_mean,
+        ]
+        .iter()
+        .flatten()
+        .chain(&[
+            self.rest.still_s,
+            self.heading.delta_rad,
+            self.heading.averaged,
+            m.ref_norm_ut,
+            m.ref_dip_rad,
+            m.norm_ut,
+            m.dip_rad,
+            m.undisturbed_s,
+            m.rejected_s,
+            self.accel_elapsed_s,
+            self.bias.var,
+        ])
+        .all(|x| x.is_finite());
         if !finite {
             return Err(SnapshotError::Invalid("non-finite state"));
         }
@@ -367,7 +404,8 @@ impl Decoupled {
         }
         if self.bias.b.iter().any(|b| b.abs() > self.max_bias_rads)
             || self.heading.delta_rad.abs() > std::f64::consts::PI
-            || self.accel_averaged < 0.0
+            || self.accel_elapsed_s < 0.0
+            || self.bias.var < 0.0
             || self.heading.averaged < 0.0
         {
             return Err(SnapshotError::Invalid("state out of range"));

@@ -6,12 +6,13 @@ use crate::ahrs::error::AhrsError;
 
 const DEG: f64 = PI / 180.0;
 
-/// Time constant of each of the two low-pass stages that average the accelerometer
-/// in the almost-inertial frame, s. Hand-held and body motion has bounded velocity,
-/// so its mean acceleration over a window T is Δv/T: about 0.2 m/s² (1°) over the
-/// ≈3 s the two stages average, while the gyroscope (bias-corrected) drifts by
-/// hundredths of a degree in that time.
-pub const DEFAULT_ACCEL_TIME_CONSTANT_S: f64 = 1.5;
+/// Averaging time of the accelerometer in the almost-inertial frame (the delay of the
+/// second-order low-pass at low frequencies, √2/ω_c), s. Hand-held and body motion
+/// has bounded velocity, so its mean acceleration over a window T is Δv/T: about
+/// 0.2 m/s² (1°) over 3 s for a hand moving at up to 0.6 m/s, while the gyroscope
+/// (bias-corrected) drifts by hundredths of a degree in that time. (The same value
+/// as VQF's default τ_acc, which is defined the same way.)
+pub const DEFAULT_ACCEL_TIME_CONSTANT_S: f64 = 3.0;
 /// Time constant of the heading correction from the magnetometer, s. The horizontal
 /// field (≈15–20 µT in Europe) meets magnetometer noise and field inhomogeneity of
 /// ≈1 µT, i.e. ≈3–4° per sample; the bias-corrected gyroscope drifts ≈0.01°/s, so
@@ -21,6 +22,14 @@ pub const DEFAULT_MAG_TIME_CONSTANT_S: f64 = 10.0;
 /// corrections), s. Linear accelerations that leak through the low-pass add noise to
 /// the corrections; integrating them over minutes keeps the bias within ~0.01°/s.
 pub const DEFAULT_MOTION_BIAS_TIME_CONSTANT_S: f64 = 100.0;
+/// Random walk of the gyroscope bias, rad/s per √s (0.003°/s/√s: consumer MEMS
+/// gyroscopes wander by ≈0.03°/s in 100 s, more with temperature changes). Sets how
+/// fast a bias learned at rest goes stale, and so how much motion may teach it.
+pub const DEFAULT_BIAS_RANDOM_WALK: f64 = 0.003 * PI / 180.0;
+/// How well the inclination corrections in motion can tell the bias, rad/s (0.05°/s:
+/// linear acceleration leaking through the average and the drift of fast hand motion
+/// in any strapdown integration are of this order and are not bias).
+pub const DEFAULT_MOTION_BIAS_ACCURACY_RADS: f64 = 0.05 * PI / 180.0;
 /// Time constant of the gyroscope bias about the vertical from the heading
 /// corrections, s (+∞ switches it off). Slower than the motion bias: the
 /// magnetometer is disturbed more often than gravity.
@@ -58,6 +67,10 @@ pub struct DecoupledSettings {
     pub mag_time_constant_s: f64,
     /// See [`DEFAULT_MOTION_BIAS_TIME_CONSTANT_S`].
     pub motion_bias_time_constant_s: f64,
+    /// See [`DEFAULT_BIAS_RANDOM_WALK`].
+    pub bias_random_walk: f64,
+    /// See [`DEFAULT_MOTION_BIAS_ACCURACY_RADS`].
+    pub motion_bias_accuracy_rads: f64,
     /// See [`DEFAULT_HEADING_BIAS_TIME_CONSTANT_S`].
     pub heading_bias_time_constant_s: f64,
     /// See [`DEFAULT_REST_GYRO_RADS`].
@@ -86,6 +99,8 @@ impl Default for DecoupledSettings {
             accel_time_constant_s: DEFAULT_ACCEL_TIME_CONSTANT_S,
             mag_time_constant_s: DEFAULT_MAG_TIME_CONSTANT_S,
             motion_bias_time_constant_s: DEFAULT_MOTION_BIAS_TIME_CONSTANT_S,
+            bias_random_walk: DEFAULT_BIAS_RANDOM_WALK,
+            motion_bias_accuracy_rads: DEFAULT_MOTION_BIAS_ACCURACY_RADS,
             heading_bias_time_constant_s: DEFAULT_HEADING_BIAS_TIME_CONSTANT_S,
             rest_gyro_rads: DEFAULT_REST_GYRO_RADS,
             rest_accel_mps2: DEFAULT_REST_ACCEL_MPS2,
@@ -102,11 +117,13 @@ impl Default for DecoupledSettings {
 
 impl DecoupledSettings {
     /// The values in snapshot order.
-    pub(crate) fn to_array(self) -> [f64; 13] {
+    pub(crate) fn to_array(self) -> [f64; 15] {
         [
             self.accel_time_constant_s,
             self.mag_time_constant_s,
             self.motion_bias_time_constant_s,
+            self.bias_random_walk,
+            self.motion_bias_accuracy_rads,
             self.heading_bias_time_constant_s,
             self.rest_gyro_rads,
             self.rest_accel_mps2,
@@ -120,21 +137,23 @@ impl DecoupledSettings {
         ]
     }
 
-    pub(crate) fn from_array(v: [f64; 13]) -> Self {
+    pub(crate) fn from_array(v: [f64; 15]) -> Self {
         Self {
             accel_time_constant_s: v[0],
             mag_time_constant_s: v[1],
             motion_bias_time_constant_s: v[2],
-            heading_bias_time_constant_s: v[3],
-            rest_gyro_rads: v[4],
-            rest_accel_mps2: v[5],
-            rest_time_s: v[6],
-            rest_bias_time_constant_s: v[7],
-            max_bias_rads: v[8],
-            mag_norm_threshold: v[9],
-            mag_dip_threshold_rad: v[10],
-            mag_min_undisturbed_s: v[11],
-            mag_max_rejection_s: v[12],
+            bias_random_walk: v[3],
+            motion_bias_accuracy_rads: v[4],
+            heading_bias_time_constant_s: v[5],
+            rest_gyro_rads: v[6],
+            rest_accel_mps2: v[7],
+            rest_time_s: v[8],
+            rest_bias_time_constant_s: v[9],
+            max_bias_rads: v[10],
+            mag_norm_threshold: v[11],
+            mag_dip_threshold_rad: v[12],
+            mag_min_undisturbed_s: v[13],
+            mag_max_rejection_s: v[14],
         }
     }
 
@@ -151,8 +170,14 @@ impl DecoupledSettings {
             return Err(bad("mag_time_constant_s", "must be in 0.01..=1000 s"));
         }
         for (field, v) in [
-            ("motion_bias_time_constant_s", self.motion_bias_time_constant_s),
-            ("heading_bias_time_constant_s", self.heading_bias_time_constant_s),
+            (
+                "motion_bias_time_constant_s",
+                self.motion_bias_time_constant_s,
+            ),
+            (
+                "heading_bias_time_constant_s",
+                self.heading_bias_time_constant_s,
+            ),
         ] {
             // The bias loops must be much slower than the corrections they feed on.
             if v.is_nan() || v < 1.0 {
@@ -168,6 +193,15 @@ impl DecoupledSettings {
             if v.is_nan() || v <= 0.0 {
                 return Err(bad(field, "must be positive (or +∞ to switch it off)"));
             }
+        }
+        if !finite_in(self.bias_random_walk, 0.0, 0.1) {
+            return Err(bad("bias_random_walk", "must be in 0..=0.1 rad/s/√s"));
+        }
+        if !finite_in(self.motion_bias_accuracy_rads, 1e-6, 1.0) {
+            return Err(bad(
+                "motion_bias_accuracy_rads",
+                "must be in 1e-6..=1 rad/s",
+            ));
         }
         if !finite_in(self.rest_time_s, 0.0, 60.0) {
             return Err(bad("rest_time_s", "must be in 0..=60 s"));

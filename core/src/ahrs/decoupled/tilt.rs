@@ -5,9 +5,11 @@
 //! `I` barely moves against the earth (only the residual bias turns it, hundredths of
 //! a degree per second), so the accelerometer rotated into `I` is gravity plus the
 //! device's linear acceleration — and that averages out: velocity is bounded, so the
-//! mean acceleration over T seconds is Δv/T. Two first-order low-pass stages average
-//! `a_I` (the rotation is undone *before* averaging, so turning the device does not
-//! smear gravity, unlike a low-pass in the body frame). The inclination correction
+//! mean acceleration over T seconds is Δv/T. A second-order low-pass with
+//! Butterworth damping (ζ = 1/√2, cut-off ω_c = √2/T so that T is its delay at low
+//! frequencies) averages `a_I` (the rotation is undone *before* averaging, so turning
+//! the device does not smear gravity, unlike a low-pass in the body frame). Against two
+//! first-order stages of the same delay it halves what passes at high frequencies. The inclination correction
 //! `q_inc` (I → E', E' = the earth frame up to a rotation about the vertical) is the
 //! smallest rotation that makes the averaged vector vertical, applied in full every
 //! sample: the inclination follows the average without lag of its own.
@@ -27,9 +29,9 @@ pub(crate) struct Tilt {
     pub(crate) q_gyr: Quat,
     /// I → E' (inclination corrections).
     pub(crate) q_inc: Quat,
-    /// Two low-pass stages of the specific force in I, m/s².
-    pub(crate) lp1: [f64; 3],
-    pub(crate) lp2: [f64; 3],
+    /// Low-pass of the specific force in I, m/s², and its rate of change, m/s³.
+    pub(crate) avg: [f64; 3],
+    pub(crate) avg_rate: [f64; 3],
 }
 
 impl Tilt {
@@ -37,8 +39,8 @@ impl Tilt {
     /// this sample, the inclination from it alone.
     pub(crate) fn start(&mut self, a: &[f64; 3]) {
         self.q_gyr = [1.0, 0.0, 0.0, 0.0];
-        self.lp1 = *a;
-        self.lp2 = *a;
+        self.avg = *a;
+        self.avg_rate = [0.0; 3];
         self.q_inc = [1.0, 0.0, 0.0, 0.0];
         if let Some(c) = vertical_correction(a) {
             self.q_inc = c;
@@ -63,17 +65,27 @@ impl Tilt {
         self.q_gyr = renormalise(quat::mul(&self.q_gyr, &dq));
     }
 
-    /// Average the specific force `a` (body frame) in I with gain `k` per stage, then
-    /// make the average vertical. Returns the correction as a rotation vector in E'
-    /// (rad, horizontal), or `None` when the average is zero.
+    /// Average the specific force `a` (body frame) in I over `dt` with averaging time
+    /// `t_avg` (s), then make the average vertical. Returns the correction as a
+    /// rotation vector in E' (rad, horizontal), or `None` when the average is zero.
     #[inline(always)]
-    pub(crate) fn correct(&mut self, a: &[f64; 3], k: f64) -> Option<[f64; 3]> {
+    pub(crate) fn correct(&mut self, a: &[f64; 3], dt: f64, t_avg: f64) -> Option<[f64; 3]> {
         let a_i = quat::rotate(&self.q_gyr, a);
-        for i in 0..3 {
-            self.lp1[i] += k * (a_i[i] - self.lp1[i]);
-            self.lp2[i] += k * (self.lp1[i] - self.lp2[i]);
+        // x'' = ω²(u − x) − 2ζω x', ζ = 1/√2, ω = √2/T, by semi-implicit Euler; the step
+        // is bounded to ω·dt ≤ 1/√2 (stable for any interval).
+        let w = std::f64::consts::SQRT_2 / t_avg;
+        let h = if w * dt < std::f64::consts::FRAC_1_SQRT_2 {
+            dt
+        } else {
+            std::f64::consts::FRAC_1_SQRT_2 / w
+        };
+        let (w2h, damp) = (w * w * h, std::f64::consts::SQRT_2 * w * h);
+        for ((x, r), u) in self.avg.iter_mut().zip(&mut self.avg_rate).zip(a_i) {
+            let rate = *r + (w2h * (u - *x) - damp * *r);
+            *r = rate;
+            *x += h * rate;
         }
-        let v = quat::rotate(&self.q_inc, &self.lp2);
+        let v = quat::rotate(&self.q_inc, &self.avg);
         let c = vertical_correction(&v)?;
         self.q_inc = renormalise(quat::mul(&c, &self.q_inc));
         // Rotation vector of c: 2·(x, y, 0)·θ/(2 sin(θ/2)) ≈ 2·(x, y, 0) for the small
@@ -90,9 +102,8 @@ impl Tilt {
     /// Restart the averages from the current sample (after a clipped gyroscope, whose
     /// integration is no longer trusted).
     pub(crate) fn reset_average(&mut self, a: &[f64; 3]) {
-        let a_i = quat::rotate(&self.q_gyr, a);
-        self.lp1 = a_i;
-        self.lp2 = a_i;
+        self.avg = quat::rotate(&self.q_gyr, a);
+        self.avg_rate = [0.0; 3];
     }
 }
 
@@ -154,7 +165,12 @@ mod tests {
 
     #[test]
     fn vertical_correction_makes_vectors_vertical() {
-        for v in [[0.3, -0.2, 9.0], [5.0, 5.0, -1.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]] {
+        for v in [
+            [0.3, -0.2, 9.0],
+            [5.0, 5.0, -1.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 0.0],
+        ] {
             let q = vertical_correction(&v).unwrap();
             let r = quat::rotate(&q, &v);
             let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
@@ -180,9 +196,18 @@ mod tests {
                 t.integrate(&w, dt);
             }
             let half = 0.5 * rate * dt * n as f64;
-            let want = [half.cos(), axis[0] * half.sin(), axis[1] * half.sin(), axis[2] * half.sin()];
+            let want = [
+                half.cos(),
+                axis[0] * half.sin(),
+                axis[1] * half.sin(),
+                axis[2] * half.sin(),
+            ];
             for i in 0..4 {
-                assert!((t.q_gyr[i] - want[i]).abs() < 1e-9, "{:?} vs {want:?}", t.q_gyr);
+                assert!(
+                    (t.q_gyr[i] - want[i]).abs() < 1e-9,
+                    "{:?} vs {want:?}",
+                    t.q_gyr
+                );
             }
         }
     }
