@@ -47,7 +47,7 @@ impl Bias {
         self.var = min(self.var + q_dt, max_var);
     }
 
-    /// At rest: follow the raw reading with gain `k` (= dt / (τ + dt)).
+    /// At rest: follow the raw reading with gain `k` (= dt / τ, at most 1).
     #[inline(always)]
     pub(crate) fn rest(&mut self, gyro: &[f64; 3], k: f64, limit: f64) {
         for (b, g) in self.b.iter_mut().zip(gyro) {

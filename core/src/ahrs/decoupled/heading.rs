@@ -48,11 +48,15 @@ impl Heading {
     }
 
     /// Move δ towards the measurement: `innovation` = measured − δ (wrapped), nominal
-    /// gain `k` = dt / (τ + dt). Returns the change of δ, rad.
+    /// gain `k` = dt / τ (at most 1). Returns the change of δ, rad.
     #[inline(always)]
     pub(crate) fn correct(&mut self, innovation: f64, k: f64) -> f64 {
-        let mean = 1.0 / (self.averaged + 1.0);
-        let g = if mean > k { mean } else { k };
+        // The running mean's gain 1/(n+1) while it exceeds k (a division only then).
+        let g = if self.averaging(k) {
+            1.0 / (self.averaged + 1.0)
+        } else {
+            k
+        };
         self.averaged = if self.averaged < AVERAGED_CAP {
             self.averaged + 1.0
         } else {

@@ -19,6 +19,18 @@ pub const CURRENT_TIME_CONSTANT_S: f64 = 0.05;
 /// Time constant of the learned field's magnitude and dip, s.
 pub const REFERENCE_TIME_CONSTANT_S: f64 = 20.0;
 
+/// Gain of a first-order low-pass over `dt` with time constant 1/`inv_tau`:
+/// dt/τ (the first-order term of 1 − e^(−dt/τ); no division), at most 1.
+#[inline(always)]
+pub(crate) fn gain(dt: f64, inv_tau: f64) -> f64 {
+    let k = dt * inv_tau;
+    if k < 1.0 {
+        k
+    } else {
+        1.0
+    }
+}
+
 /// Disturbance detector state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct MagDisturbance {
@@ -79,7 +91,7 @@ impl MagDisturbance {
             self.ref_dip_rad = dip_rad;
             self.ref_valid = true;
         } else {
-            let k = dt / (CURRENT_TIME_CONSTANT_S + dt);
+            let k = gain(dt, 1.0 / CURRENT_TIME_CONSTANT_S);
             self.norm_ut += k * (norm_ut - self.norm_ut);
             self.dip_rad += k * (dip_rad - self.dip_rad);
         }
@@ -99,7 +111,7 @@ impl MagDisturbance {
         };
         if v.use_it {
             self.rejected_s = 0.0;
-            let k = dt / (REFERENCE_TIME_CONSTANT_S + dt);
+            let k = gain(dt, 1.0 / REFERENCE_TIME_CONSTANT_S);
             self.ref_norm_ut += k * (self.norm_ut - self.ref_norm_ut);
             self.ref_dip_rad += k * (self.dip_rad - self.ref_dip_rad);
         } else {

@@ -39,7 +39,7 @@ pub mod tilt;
 
 use self::bias::Bias;
 use self::heading::{wrap_pi, Heading};
-use self::magnetic::{MagDisturbance, MagLimits};
+use self::magnetic::{gain, MagDisturbance, MagLimits};
 use self::rest::{Rest, RestLimits};
 use self::tilt::Tilt;
 use super::flags::AhrsFlags;
@@ -50,6 +50,10 @@ use super::settings::AhrsSettings;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 pub use self::settings::DecoupledSettings;
+
+/// The slow loops (motion bias, magnetometer heading: time constants ≥ 10 s) run at
+/// most this often, s (100 Hz).
+pub const SLOW_PERIOD_S: f64 = 0.01;
 
 /// The bias uncertainty at which the averaging time is the nominal one, rad/s
 /// (0.3°/s): the lag such a bias causes over 3 s (≈1°) is then about what linear
@@ -65,12 +69,14 @@ const BALANCE_BIAS_VAR: f64 = BALANCE_BIAS_RADS * BALANCE_BIAS_RADS;
 pub(crate) struct Decoupled {
     // Derived from the settings (not serialised).
     accel_tau_s: f64,
-    mag_tau_s: f64,
+    /// Cut-off of the accelerometer average, rad/s (√2 / averaging time).
+    accel_omega: f64,
     motion_bias_gain: f64,
     bias_q: f64,
     motion_accuracy_var: f64,
     heading_bias_gain: f64,
-    rest_bias_tau_s: f64,
+    inv_rest_bias_tau: f64,
+    inv_mag_tau: f64,
     max_bias_rads: f64,
     gyro_clip_rads: f64,
     bias_estimation: bool,
@@ -85,7 +91,15 @@ pub(crate) struct Decoupled {
     /// Time since the (re)start, s (capped at the averaging time): the averaging time
     /// grows with it, so the first seconds converge as fast as the data allow.
     accel_elapsed_s: f64,
-    /// Flags carried from sample to sample (angular-rate and magnetic recovery).
+    /// Inclination corrections summed since the last motion-bias update (E', rad),
+    /// and the times since the last motion-bias and magnetometer updates, s.
+    bias_corr: [f64; 3],
+    bias_elapsed_s: f64,
+    mag_elapsed_s: f64,
+    /// The heading is still a running mean (initialising).
+    heading_init: bool,
+    /// Flags carried from sample to sample (angular-rate and magnetic recovery, the
+    /// last magnetometer verdict).
     flags: AhrsFlags,
 }
 
@@ -94,12 +108,13 @@ impl Decoupled {
         let d = &s.decoupled;
         Self {
             accel_tau_s: d.accel_time_constant_s,
-            mag_tau_s: d.mag_time_constant_s,
+            accel_omega: std::f64::consts::SQRT_2 / d.accel_time_constant_s,
             motion_bias_gain: 1.0 / d.motion_bias_time_constant_s,
             bias_q: d.bias_random_walk * d.bias_random_walk,
             motion_accuracy_var: d.motion_bias_accuracy_rads * d.motion_bias_accuracy_rads,
             heading_bias_gain: 1.0 / d.heading_bias_time_constant_s,
-            rest_bias_tau_s: d.rest_bias_time_constant_s,
+            inv_rest_bias_tau: 1.0 / d.rest_bias_time_constant_s,
+            inv_mag_tau: 1.0 / d.mag_time_constant_s,
             max_bias_rads: d.max_bias_rads,
             gyro_clip_rads: GYRO_CLIP_SHARE * s.gyro_range_rads,
             bias_estimation: s.bias_estimation,
@@ -128,6 +143,10 @@ impl Decoupled {
             heading: Heading::default(),
             mag: MagDisturbance::default(),
             accel_elapsed_s: 0.0,
+            bias_corr: [0.0; 3],
+            bias_elapsed_s: 0.0,
+            mag_elapsed_s: 0.0,
+            heading_init: false,
             flags: AhrsFlags::default(),
         }
     }
@@ -163,7 +182,11 @@ impl Decoupled {
         self.accel_elapsed_s = 0.0;
         self.mag.restart(&self.mag_limits);
         self.heading = Heading::default();
-        let measured = mag.and_then(|m| self.measure(m));
+        self.bias_corr = [0.0; 3];
+        self.bias_elapsed_s = 0.0;
+        self.mag_elapsed_s = 0.0;
+        let measured = mag.and_then(|m| measure(&self.tilt.q_body_to_e(), m));
+        self.heading_init = measured.is_some();
         match measured {
             Some(f) => {
                 self.heading.reset_to(f.heading_rad);
@@ -185,27 +208,6 @@ impl Decoupled {
             ..AhrsFlags::default()
         };
         self.flags
-    }
-
-    /// Magnitude, dip and measured heading offset of a field sample (body frame).
-    #[inline(always)]
-    fn measure(&self, m: &[f64; 3]) -> Option<Field> {
-        let q = self.tilt.q_body_to_e();
-        let e = quat::rotate(&q, m);
-        let h2 = e[0] * e[0] + e[1] * e[1];
-        let n2 = h2 + e[2] * e[2];
-        if n2 <= 0.0 {
-            return None;
-        }
-        let h = h2.sqrt();
-        Some(Field {
-            norm_ut: n2.sqrt(),
-            dip_rad: (-e[2]).atan2(h),
-            // Rz(δ) must turn the horizontal field (azimuth ψ east of north) to north:
-            // δ = ψ.
-            heading_rad: e[0].atan2(e[1]),
-            body_to_e: q,
-        })
     }
 
     /// One accepted sample after the first.
@@ -234,7 +236,7 @@ impl Decoupled {
             self.bias.predict(self.bias_q * dt, max_var);
             let at_rest = self.rest.step(&gyro, a, dt, &self.rest_limits);
             if at_rest {
-                let k = dt / (self.rest_bias_tau_s + dt);
+                let k = gain(dt, self.inv_rest_bias_tau);
                 self.bias.rest(&gyro, k, self.max_bias_rads);
             }
             flags.at_rest = at_rest;
@@ -263,66 +265,110 @@ impl Decoupled {
         // σ_b causes (σ_b·T) and the linear acceleration left in the average (∝ 1/T)
         // balance at T ∝ 1/√σ_b (see BALANCE_BIAS_RADS).
         let var = self.bias.var;
-        if self.bias_estimation & (var > BALANCE_BIAS_VAR) {
-            t_avg *= (BALANCE_BIAS_VAR / var).sqrt().sqrt();
-        }
-        match self.tilt.correct(a, dt, t_avg) {
+        let shorten = self.bias_estimation & (var > BALANCE_BIAS_VAR);
+        let omega = if accel_init | shorten {
+            if shorten {
+                t_avg *= (BALANCE_BIAS_VAR / var).sqrt().sqrt();
+            }
+            std::f64::consts::SQRT_2 / t_avg
+        } else {
+            self.accel_omega
+        };
+        let learn_motion = self.bias_estimation & !flags.at_rest & !accel_init & !clipped;
+        match self.tilt.correct(a, dt, omega) {
             Some(c) => {
-                if self.bias_estimation & !flags.at_rest & !accel_init & !clipped {
-                    let q = self.tilt.q_body_to_e();
-                    let c_body = quat::rotate(&quat::conj(&q), &c);
-                    let g = self.motion_bias_gain;
-                    self.bias.motion(
-                        &c_body,
-                        g,
-                        g * dt,
-                        self.motion_accuracy_var,
-                        self.max_bias_rads,
-                    );
-                    flags.bias_motion = g > 0.0;
+                if learn_motion {
+                    for (s, c) in self.bias_corr.iter_mut().zip(c) {
+                        *s += c;
+                    }
+                    flags.bias_motion = self.motion_bias_gain > 0.0;
                 }
             }
             None => flags.accel_rejected = true,
         }
 
-        // Heading from the magnetometer.
-        let mut heading_init = false;
-        if let Some(f) = mag.and_then(|m| self.measure(m)) {
-            if !self.heading.valid {
-                self.heading.reset_to(f.heading_rad);
-                self.mag.restart(&self.mag_limits);
-            }
-            let v = self.mag.assess(f.norm_ut, f.dip_rad, dt, &self.mag_limits);
-            if v.recovered {
-                self.heading.restart_averaging();
-                flags.mag_recovery = true;
-            }
-            flags.mag_disturbed = v.disturbed;
-            if v.use_it {
-                let kh = dt / (self.mag_tau_s + dt);
-                heading_init = self.heading.averaging(kh);
-                let innovation = wrap_pi(f.heading_rad - self.heading.delta_rad);
-                let d = self.heading.correct(innovation, kh);
-                if self.bias_estimation & !heading_init & (self.heading_bias_gain > 0.0) {
-                    // A turn of d about the vertical, in the body frame.
-                    let up = quat::rotate(&quat::conj(&f.body_to_e), &[0.0, 0.0, d]);
-                    self.bias
-                        .heading(&up, self.heading_bias_gain, self.max_bias_rads);
+        // The slow loops (time constants of 10 s and more) run at most every
+        // SLOW_PERIOD_S: the motion bias from the corrections summed since, the
+        // heading from the magnetometer sample at hand.
+        self.bias_elapsed_s += dt;
+        self.mag_elapsed_s += dt;
+        let mag_due = mag.is_some() & ((self.mag_elapsed_s >= SLOW_PERIOD_S) | !self.heading.valid);
+        let bias_due = self.bias_elapsed_s >= SLOW_PERIOD_S;
+        if mag_due | bias_due {
+            let q_be = self.tilt.q_body_to_e();
+            if bias_due {
+                let dt_b = self.bias_elapsed_s;
+                self.bias_elapsed_s = 0.0;
+                let c = self.bias_corr;
+                if (c[0] != 0.0) | (c[1] != 0.0) {
+                    self.bias_corr = [0.0; 3];
+                    let c_body = quat::rotate(&quat::conj(&q_be), &c);
+                    let g = self.motion_bias_gain;
+                    self.bias.motion(
+                        &c_body,
+                        g,
+                        g * dt_b,
+                        self.motion_accuracy_var,
+                        self.max_bias_rads,
+                    );
                 }
-                if !heading_init {
-                    flags.mag_recovery = false;
-                }
-            } else {
-                flags.mag_rejected = true;
-                flags.heading_held = true;
             }
+            if let (true, Some(m)) = (mag_due, mag) {
+                let dt_m = self.mag_elapsed_s;
+                self.mag_elapsed_s = 0.0;
+                let v = self.correct_heading(&q_be, m, dt_m);
+                flags.mag_disturbed = v.disturbed;
+                flags.mag_rejected = v.rejected;
+                flags.heading_held = v.rejected;
+                flags.mag_recovery = (flags.mag_recovery | v.recovered) & !v.converged;
+            }
+        } else if mag.is_some() {
+            // Between magnetometer updates the verdict of the last one stands.
+            flags.mag_disturbed = self.flags.mag_disturbed;
+            flags.mag_rejected = self.flags.mag_rejected;
+            flags.heading_held = self.flags.heading_held;
         }
-        if flags.angular_rate_recovery & !accel_init & !heading_init {
+        if flags.angular_rate_recovery & !accel_init & !self.heading_init {
             flags.angular_rate_recovery = clipped;
         }
-        flags.initialising = accel_init | heading_init;
+        flags.initialising = accel_init | self.heading_init;
         self.flags = flags;
         flags
+    }
+
+    /// One magnetometer update of the heading (`dt` since the previous one).
+    #[inline(always)]
+    fn correct_heading(&mut self, q_be: &Quat, m: &[f64; 3], dt: f64) -> HeadingUpdate {
+        let mut out = HeadingUpdate::default();
+        let Some(f) = measure(q_be, m) else {
+            return out;
+        };
+        if !self.heading.valid {
+            self.heading.reset_to(f.heading_rad);
+            self.mag.restart(&self.mag_limits);
+        }
+        let v = self.mag.assess(f.norm_ut, f.dip_rad, dt, &self.mag_limits);
+        if v.recovered {
+            self.heading.restart_averaging();
+            out.recovered = true;
+        }
+        out.disturbed = v.disturbed;
+        if v.use_it {
+            let kh = gain(dt, self.inv_mag_tau);
+            self.heading_init = self.heading.averaging(kh);
+            let innovation = wrap_pi(f.heading_rad - self.heading.delta_rad);
+            let d = self.heading.correct(innovation, kh);
+            if self.bias_estimation & !self.heading_init & (self.heading_bias_gain > 0.0) {
+                // A turn of d about the vertical, in the body frame.
+                let up = quat::rotate(&quat::conj(q_be), &[0.0, 0.0, d]);
+                self.bias
+                    .heading(&up, self.heading_bias_gain, self.max_bias_rads);
+            }
+            out.converged = !self.heading_init;
+        } else {
+            out.rejected = true;
+        }
+        out
     }
 
     pub(crate) fn write_state(&self, w: &mut Writer) {
@@ -344,6 +390,10 @@ impl Decoupled {
         w.bool(m.ref_valid);
         w.f64s(&[m.norm_ut, m.dip_rad, m.undisturbed_s, m.rejected_s]);
         w.f64(self.accel_elapsed_s);
+        w.f64s(&self.bias_corr);
+        w.f64(self.bias_elapsed_s);
+        w.f64(self.mag_elapsed_s);
+        w.bool(self.heading_init);
     }
 
     pub(crate) fn read_state(&mut self, r: &mut Reader) -> Result<(), SnapshotError> {
@@ -369,6 +419,10 @@ impl Decoupled {
         r.f64s(&mut v)?;
         [m.norm_ut, m.dip_rad, m.undisturbed_s, m.rejected_s] = v;
         self.accel_elapsed_s = r.f64()?;
+        r.f64s(&mut self.bias_corr)?;
+        self.bias_elapsed_s = r.f64()?;
+        self.mag_elapsed_s = r.f64()?;
+        self.heading_init = r.bool()?;
         let t = &self.tilt;
         let finite = [
             t.avg,
@@ -419,11 +473,41 @@ impl Decoupled {
     }
 }
 
+/// What one magnetometer update did (returned by value: the flags stay in registers).
+#[derive(Clone, Copy, Debug, Default)]
+struct HeadingUpdate {
+    disturbed: bool,
+    rejected: bool,
+    /// A recovery started now.
+    recovered: bool,
+    /// The heading is past its running mean (a recovery, if any, is over).
+    converged: bool,
+}
+
 /// A field sample seen in E'.
 #[derive(Clone, Copy, Debug)]
 struct Field {
     norm_ut: f64,
     dip_rad: f64,
     heading_rad: f64,
-    body_to_e: Quat,
+}
+
+/// Magnitude, dip and measured heading offset of a field sample `m` (body frame),
+/// with `q` body → E'.
+#[inline(always)]
+fn measure(q: &Quat, m: &[f64; 3]) -> Option<Field> {
+    let e = quat::rotate(q, m);
+    let h2 = e[0] * e[0] + e[1] * e[1];
+    let n2 = h2 + e[2] * e[2];
+    if n2 <= 0.0 {
+        return None;
+    }
+    let h = h2.sqrt();
+    Some(Field {
+        norm_ut: n2.sqrt(),
+        dip_rad: (-e[2]).atan2(h),
+        // Rz(δ) must turn the horizontal field (azimuth ψ east of north) to north:
+        // δ = ψ.
+        heading_rad: e[0].atan2(e[1]),
+    })
 }

@@ -48,7 +48,7 @@ impl Rest {
         dt: f64,
         lim: &RestLimits,
     ) -> bool {
-        let k = dt / (REST_MEAN_TIME_CONSTANT_S + dt);
+        let k = super::magnetic::gain(dt, 1.0 / REST_MEAN_TIME_CONSTANT_S);
         let (mut dg2, mut da2) = (0.0, 0.0);
         let mut slow = true;
         for i in 0..3 {
@@ -91,7 +91,7 @@ mod tests {
                 first = Some(i);
             }
         }
-        assert!((149..=151).contains(&first.unwrap()), "{first:?}");
+        assert!((149..=152).contains(&first.unwrap()), "{first:?}");
         // A steady turn at 0.1 rad/s is not rest, however smooth.
         for _ in 0..400 {
             assert!(!r.step(&[0.0, 0.0, 0.1], &[0.0, 0.0, 9.81], 0.01, &lim));

@@ -43,7 +43,7 @@ impl Tilt {
         self.avg_rate = [0.0; 3];
         self.q_inc = [1.0, 0.0, 0.0, 0.0];
         if let Some(c) = vertical_correction(a) {
-            self.q_inc = c;
+            self.q_inc = quat::normalised(c);
         }
     }
 
@@ -65,15 +65,15 @@ impl Tilt {
         self.q_gyr = renormalise(quat::mul(&self.q_gyr, &dq));
     }
 
-    /// Average the specific force `a` (body frame) in I over `dt` with averaging time
-    /// `t_avg` (s), then make the average vertical. Returns the correction as a
-    /// rotation vector in E' (rad, horizontal), or `None` when the average is zero.
+    /// Average the specific force `a` (body frame) in I over `dt` with cut-off `w`
+    /// (rad/s; √2 / averaging time), then make the average vertical. Returns the
+    /// correction as a rotation vector in E' (rad, horizontal), or `None` when the
+    /// average is zero.
     #[inline(always)]
-    pub(crate) fn correct(&mut self, a: &[f64; 3], dt: f64, t_avg: f64) -> Option<[f64; 3]> {
+    pub(crate) fn correct(&mut self, a: &[f64; 3], dt: f64, w: f64) -> Option<[f64; 3]> {
         let a_i = quat::rotate(&self.q_gyr, a);
         // x'' = ω²(u − x) − 2ζω x', ζ = 1/√2, ω = √2/T, by semi-implicit Euler; the step
         // is bounded to ω·dt ≤ 1/√2 (stable for any interval).
-        let w = std::f64::consts::SQRT_2 / t_avg;
         let h = if w * dt < std::f64::consts::FRAC_1_SQRT_2 {
             dt
         } else {
@@ -88,8 +88,8 @@ impl Tilt {
         let v = quat::rotate(&self.q_inc, &self.avg);
         let c = vertical_correction(&v)?;
         self.q_inc = renormalise(quat::mul(&c, &self.q_inc));
-        // Rotation vector of c: 2·(x, y, 0)·θ/(2 sin(θ/2)) ≈ 2·(x, y, 0) for the small
-        // angles of one sample.
+        // Rotation vector of c: (v_y, −v_x, 0)/n · θ/sin θ ≈ 2·(c_x, c_y, 0) for the
+        // small angles of one sample.
         Some([2.0 * c[1], 2.0 * c[2], 0.0])
     }
 
@@ -108,20 +108,42 @@ impl Tilt {
 }
 
 /// Smallest rotation taking `v` to the vertical (+z), or `None` for a zero vector.
-/// With v̂ = v/|v|: axis v̂ × ẑ = (v̂_y, −v̂_x, 0), cos θ = v̂_z, so
-/// q = (cos θ/2, (v̂_y, −v̂_x, 0) / (2 cos θ/2)).
+/// With n = |v|, cos θ = v_z/n and axis v × ẑ = (v_y, −v_x, 0): the half-angle
+/// quaternion is ∝ (1 + cos θ, sin θ · axis) = (n + v_z, v_y, −v_x, 0)/n. Scaled by
+/// 1/(2n) its norm is cos(θ/2): unit to second order in θ, which the renormalisation
+/// after the product absorbs. One square root, one division.
+///
+/// Fast path: after every sample's correction the average is vertical, so the next
+/// one is off by at most milliradians. For r² = v_x² + v_y² < 10⁻⁴ v_z² (0.57°), with
+/// ε = r²/v_z²: 1/n = (1 − ε/2 + 3ε²/8)/v_z + O(ε³), so the same quaternion is
+/// (1 − ε/4 + 3ε²/16, v_y·f, −v_x·f, 0) with f = (1 − ε/2 + 3ε²/8)/(2v_z), to
+/// O(ε³) ≤ 10⁻¹² — one division and no square root on the chain from sample to
+/// sample.
 #[inline(always)]
 pub(crate) fn vertical_correction(v: &[f64; 3]) -> Option<Quat> {
-    let n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    if n2 <= 0.0 {
+    let r2 = v[0] * v[0] + v[1] * v[1];
+    let vz2 = v[2] * v[2];
+    if (v[2] > 0.0) & (r2 < 1e-4 * vz2) {
+        let inv = 1.0 / v[2];
+        let eps = r2 * (inv * inv);
+        let f = 0.5 * inv * (1.0 - eps * (0.5 - 0.375 * eps));
+        return Some([1.0 - eps * (0.25 - 0.1875 * eps), v[1] * f, -v[0] * f, 0.0]);
+    }
+    vertical_correction_exact(v, r2 + vz2)
+}
+
+/// [`vertical_correction`] for any tilt (cold: start, recovery, fast turns).
+#[cold]
+#[inline(never)]
+fn vertical_correction_exact(v: &[f64; 3], n2: f64) -> Option<Quat> {
+    if n2 <= 0.0 || !n2.is_finite() {
         return None;
     }
     let n = n2.sqrt();
-    let cz = v[2] / n;
-    let w = (0.5 * (1.0 + cz)).sqrt();
-    Some(if w > 1e-6 {
-        let f = 0.5 / (w * n);
-        [w, v[1] * f, -v[0] * f, 0.0]
+    let w = n + v[2];
+    Some(if w > 1e-6 * n {
+        let f = 0.5 / n;
+        [w * f, v[1] * f, -v[0] * f, 0.0]
     } else {
         // Upside down: any horizontal axis will do.
         [0.0, 1.0, 0.0, 0.0]
@@ -171,7 +193,7 @@ mod tests {
             [0.0, 0.0, 1.0],
             [1.0, 0.0, 0.0],
         ] {
-            let q = vertical_correction(&v).unwrap();
+            let q = quat::normalised(vertical_correction(&v).unwrap());
             let r = quat::rotate(&q, &v);
             let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
             assert!(r[0].abs() < 1e-12 && r[1].abs() < 1e-12, "{r:?}");
@@ -179,7 +201,7 @@ mod tests {
             assert_eq!(q[3], 0.0, "no rotation about the vertical");
         }
         assert!(vertical_correction(&[0.0; 3]).is_none());
-        let q = vertical_correction(&[0.0, 0.0, -1.0]).unwrap();
+        let q = quat::normalised(vertical_correction(&[0.0, 0.0, -1.0]).unwrap());
         assert!((quat::rotate(&q, &[0.0, 0.0, -1.0])[2] - 1.0).abs() < 1e-12);
     }
 
