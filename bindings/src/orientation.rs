@@ -52,9 +52,9 @@ pub struct OrientationSettings {
     /// Time constant of the heading correction from the magnetometer, s.
     #[uniffi(default = 10.0)]
     pub mag_time_constant_s: f64,
-    /// Time constant of the gyroscope bias learned in motion, s.
-    #[uniffi(default = 100.0)]
-    pub motion_bias_time_constant_s: f64,
+    /// Time constant of the gyroscope bias learned in motion, s (null: off, the default).
+    #[uniffi(default = None)]
+    pub motion_bias_time_constant_s: Option<f64>,
     /// Random walk of the gyroscope bias, rad/s/√s (0.003°/s/√s).
     #[uniffi(default = 0.00005235987755982989)]
     pub bias_random_walk: f64,
@@ -123,7 +123,10 @@ impl From<core::AhrsSettings> for OrientationSettings {
             },
             accel_time_constant_s: d.accel_time_constant_s,
             mag_time_constant_s: d.mag_time_constant_s,
-            motion_bias_time_constant_s: d.motion_bias_time_constant_s,
+            motion_bias_time_constant_s: d
+                .motion_bias_time_constant_s
+                .is_finite()
+                .then_some(d.motion_bias_time_constant_s),
             bias_random_walk: d.bias_random_walk,
             motion_bias_accuracy_rads: d.motion_bias_accuracy_rads,
             heading_bias_time_constant_s: d
@@ -163,7 +166,7 @@ impl TryFrom<OrientationSettings> for core::AhrsSettings {
             decoupled: core::DecoupledSettings {
                 accel_time_constant_s: r.accel_time_constant_s,
                 mag_time_constant_s: r.mag_time_constant_s,
-                motion_bias_time_constant_s: r.motion_bias_time_constant_s,
+                motion_bias_time_constant_s: r.motion_bias_time_constant_s.unwrap_or(f64::INFINITY),
                 bias_random_walk: r.bias_random_walk,
                 motion_bias_accuracy_rads: r.motion_bias_accuracy_rads,
                 heading_bias_time_constant_s: r
@@ -529,7 +532,7 @@ mod tests {
             (
                 3.0,
                 10.0,
-                100.0,
+                f64::INFINITY,
                 0.00005235987755982989,
                 0.0008726646259971648,
                 f64::INFINITY

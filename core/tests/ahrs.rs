@@ -1077,7 +1077,10 @@ fn decoupled_learns_the_bias_in_motion_without_rest() {
         (q, V3::zeros())
     };
     let samples = stream(&truth, 100.0, 400.0, &sensor, false);
-    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    // Motion bias learning is off by default (see DEFAULT_MOTION_BIAS_TIME_CONSTANT_S).
+    let mut settings = AhrsSettings::default();
+    settings.decoupled.motion_bias_time_constant_s = 100.0;
+    let mut a = Ahrs::new(settings).unwrap();
     let out = run(&mut a, &samples);
     let end = out.last().unwrap();
     assert!(out.iter().all(|o| !o.flags.at_rest));
