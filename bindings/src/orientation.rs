@@ -39,12 +39,12 @@ pub enum OrientationFrame {
 /// Settings of an [`OrientationFilter`]. The literal defaults below are the core's
 /// (`AhrsSettings::default()`); `orientationSettingsDefault()` returns the same record
 /// from the core, and a test checks that both agree. Times in seconds; a time constant
-/// of null switches that correction off where noted.
+/// of null switches that correction off where noted. `algorithm` and `frame` have no
+/// literal default (uniffi 0.32 cannot give enum fields one): the core's are
+/// `DECOUPLED` and `ENU`.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct OrientationSettings {
-    #[uniffi(default = "Decoupled")]
     pub algorithm: OrientationAlgorithm,
-    #[uniffi(default = "Enu")]
     pub frame: OrientationFrame,
     /// Averaging time of the accelerometer in the almost-inertial frame, s.
     #[uniffi(default = 3.0)]

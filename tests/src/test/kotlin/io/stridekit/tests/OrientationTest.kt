@@ -129,7 +129,8 @@ class OrientationTest {
 
     @Test
     fun `settings defaults agree with the core, errors are typed, bad records are skipped`() {
-        assertEquals(orientationSettingsDefault(), OrientationSettings(), "literal defaults = the core's")
+        assertEquals(orientationSettingsDefault(), OrientationSettings(algorithm = OrientationAlgorithm.DECOUPLED, frame = OrientationFrame.ENU),
+            "literal defaults = the core's")
         val d = orientationSettingsDefault()
         assertEquals(OrientationAlgorithm.DECOUPLED, d.algorithm)
         assertEquals(OrientationFrame.ENU, d.frame)
