@@ -20,8 +20,8 @@
 //! The other engines follow the same pattern with their own error type:
 //! [`navigator::PhoneNavigator`] (`NavError`), [`foot::FootNavigator`] (`FootError`,
 //! Kotlin `FootException`; packed 56-byte IMU records, see the [`foot`] module docs),
-//! [`placement::PlacementClassifier`] (`PlacementError`) and [`odometry::PhoneOdometry`]
-//! (`OdometryError`). On Android, `init_android_logging(level)` sends the SDK's `log`
+//! [`placement::PlacementClassifier`] (`PlacementError`), [`odometry::PhoneOdometry`]
+//! (`OdometryError`) and [`orientation::OrientationFilter`] (`OrientationError`). On Android, `init_android_logging(level)` sends the SDK's `log`
 //! records to logcat (a no-op elsewhere).
 
 uniffi::setup_scaffolding!();
@@ -31,6 +31,7 @@ pub mod foot;
 mod logging;
 pub mod navigator;
 pub mod odometry;
+pub mod orientation;
 pub mod packed;
 pub mod placement;
 mod sim;

@@ -7,6 +7,7 @@ mod eval_foot;
 mod eval_foot_diagnose;
 mod eval_foot_sessions;
 mod eval_foot_tune_shoe;
+mod eval_orientation;
 mod eval_pace;
 mod eval_pace_device;
 mod eval_pdr;
@@ -16,6 +17,8 @@ mod eval_steplength;
 mod eval_steps;
 mod foot;
 mod odometry;
+mod orientation;
+mod orientation_metric;
 mod pdr;
 mod pdr_diagnose;
 mod pdr_metrics;
@@ -141,6 +144,21 @@ USAGE:
       Replay a recording (RIDI sequence, RIDI data.csv, RoNIN CSV export or a
       simulator walk) through the learned pipeline and the baselines; print ATE / RTE
       and write an SVG of the trajectories against the truth.
+  stridekit orientation FILE [--out q.csv] [--imu-only]
+      Replay a recording with IMU and magnetometer samples (the BROAD CSV, .csv or
+      .csv.gz) through the default orientation filter; write one row per accepted
+      sample, t_s,qw,qx,qy,qz (body -> East-North-Up) and the filter's flags (default
+      orientation.csv). Rejected samples are skipped and counted by reason. With
+      optical truth in the file, prints the BROAD errors. --imu-only ignores the
+      magnetometer.
+  stridekit eval orientation [--data DIR] [--imu-only] [--set NAME=VALUE ...] [--quick]
+      Orientation filters against optical motion capture on the BROAD trials in DIR
+      (default: ../shared/data/orientation/broad): RMSE of the total, heading and
+      inclination error during movement per trial and as means, for the default,
+      Madgwick and the variants kept; and leave-half-out figures (settings chosen on
+      the odd trials scored on the even ones, and the reverse). --imu-only: without
+      the magnetometer (inclination). --set changes a setting of the default filter
+      (DecoupledSettings field names) for sensitivity checks; --quick scores only it.
   stridekit help
 ";
 
@@ -471,6 +489,51 @@ fn main() -> ExitCode {
             calibrate_pdr::CalibrateArgs::parse(&args[2..])
                 .and_then(|a| calibrate_pdr::run(&a, &line))
                 .map(|t| print!("{t}"))
+        }
+        Some("orientation") => match args.get(1) {
+            Some(file) if !file.starts_with("--") => {
+                check_flags(&args, 2, &["--out"], &["--imu-only"]).and_then(|_| {
+                    orientation::run(&orientation::OrientationArgs {
+                        file: PathBuf::from(file),
+                        out: PathBuf::from(
+                            flag(&args, "--out").unwrap_or_else(|| "orientation.csv".into()),
+                        ),
+                        imu_only: args.iter().any(|a| a == "--imu-only"),
+                    })
+                })
+            }
+            _ => Err("orientation needs a FILE".into()),
+        },
+        Some("eval") if args.get(1).map(String::as_str) == Some("orientation") => {
+            check_flags(&args, 2, &["--data", "--set"], &["--imu-only", "--quick"]).and_then(|_| {
+                let mut set = Vec::new();
+                for kv in args.windows(2).filter(|w| w[0] == "--set").map(|w| &w[1]) {
+                    match kv
+                        .split_once('=')
+                        .and_then(|(k, v)| v.parse::<f64>().ok().map(|v| (k.to_string(), v)))
+                    {
+                        Some(p) => set.push(p),
+                        None => return Err(format!("--set takes NAME=NUMBER, got {kv}")),
+                    }
+                }
+                let dir = flag(&args, "--data")
+                    .map(PathBuf::from)
+                    .or_else(|| stridekit_formats::data_dir().map(|d| d.join("orientation/broad")));
+                match dir {
+                    Some(d) if d.is_dir() => {
+                        eval_orientation::run(&eval_orientation::EvalOrientationArgs {
+                            data: d,
+                            imu_only: args.iter().any(|a| a == "--imu-only"),
+                            set,
+                            quick: args.iter().any(|a| a == "--quick"),
+                        })
+                        .map(|t| println!("{t}"))
+                    }
+                    _ => {
+                        Err("BROAD trials not found: pass --data DIR or set STRIDEKIT_DATA".into())
+                    }
+                }
+            })
         }
         Some("help" | "--help" | "-h") => {
             print!("{USAGE}");

@@ -14,6 +14,37 @@ pub struct Rejected {
     by_reason: BTreeMap<String, u64>,
 }
 
+/// The reason a sample was refused at the door, without the sample's own values, so
+/// that equal reasons count together. Equal timestamps (sensor batching, coarse clocks)
+/// are told apart from timestamps going backwards.
+pub fn input_reason(e: &InputError) -> String {
+    match e {
+        InputError::TimeNotIncreasing { stream, .. } if e.is_duplicate_time() => {
+            format!("{stream} stream: duplicate timestamp (equal to the previous sample's)")
+        }
+        InputError::TimeNotIncreasing { stream, .. } => {
+            format!("{stream} stream: timestamp before the previous sample's")
+        }
+        InputError::NonFinite { field } => format!("{field} not a finite number"),
+        InputError::OutOfRange {
+            field,
+            min,
+            max,
+            unit,
+            ..
+        } => format!("{field} out of range ({min} to {max} {unit})"),
+        InputError::TimeUnit { stream, likely, .. } => {
+            format!("{stream} timestamps look like {likely}, not seconds")
+        }
+        InputError::TimeJump { stream, .. } => {
+            format!("{stream} stream: clock jumped by more than a year")
+        }
+        InputError::AccelerationInG { .. } => {
+            "acceleration looks like g, not m/s² (multiply by 9.80665)".into()
+        }
+    }
+}
+
 impl Rejected {
     pub fn total(&self) -> u64 {
         self.by_reason.values().sum()
@@ -23,35 +54,9 @@ impl Rejected {
         *self.by_reason.entry(reason).or_insert(0) += 1;
     }
 
-    /// A sample refused at the door: the reason without the sample's own values, so
-    /// that equal reasons count together. Equal timestamps (sensor batching, coarse
-    /// clocks) are told apart from timestamps going backwards.
+    /// A sample refused at the door (see [`input_reason`]).
     pub fn input(&mut self, e: &InputError) {
-        self.add(match e {
-            InputError::TimeNotIncreasing { stream, .. } if e.is_duplicate_time() => {
-                format!("{stream} stream: duplicate timestamp (equal to the previous sample's)")
-            }
-            InputError::TimeNotIncreasing { stream, .. } => {
-                format!("{stream} stream: timestamp before the previous sample's")
-            }
-            InputError::NonFinite { field } => format!("{field} not a finite number"),
-            InputError::OutOfRange {
-                field,
-                min,
-                max,
-                unit,
-                ..
-            } => format!("{field} out of range ({min} to {max} {unit})"),
-            InputError::TimeUnit { stream, likely, .. } => {
-                format!("{stream} timestamps look like {likely}, not seconds")
-            }
-            InputError::TimeJump { stream, .. } => {
-                format!("{stream} stream: clock jumped by more than a year")
-            }
-            InputError::AccelerationInG { .. } => {
-                "acceleration looks like g, not m/s² (multiply by 9.80665)".into()
-            }
-        });
+        self.add(input_reason(e));
     }
 
     pub fn pace(&mut self, e: &PaceError) {

@@ -1,5 +1,6 @@
-//! Cost of one AHRS update: stridekit's Madgwick filter against the `ahrs` crate's
-//! `Madgwick` (project target: ≤ 0.8× the crate's time per update).
+//! Cost of one AHRS update: stridekit's filters against the `ahrs` crate's `Madgwick`
+//! on a synthetic loop (project target for Madgwick: ≤ 0.8× the crate's time per
+//! update), and on a real trial (target for the default: ≤ 0.5× VQF's C++ core).
 //!
 //! Both filters consume the same 1024-sample loop of a synthetic hand-held motion at
 //! 100 Hz (gyroscope, accelerometer, magnetometer consistent with one orientation
@@ -7,22 +8,34 @@
 //! iteration. stridekit's filter needs increasing time, so each iteration advances
 //! `t_s` by 10 ms; the state keeps evolving as in real use (no clones in the timing).
 //!
-//! - `stridekit_default`: every feature on (door checks, initialisation, rejection
-//!   and recovery, bias learning);
+//! - `stridekit_default`: the default (decoupled) filter, every feature on;
+//! - `stridekit_madgwick`: `AhrsSettings::madgwick()` (door checks, initialisation,
+//!   rejection and recovery, bias learning);
 //! - `stridekit_plain`: `AhrsSettings::plain` (the paper's filter; door checks stay);
 //! - `ahrs_crate`: `ahrs::Madgwick::update_imu` / `update` (fixed sample period).
 //!
 //! `update_*` returns flags only; the derived outputs (Euler angles, heading, linear
 //! acceleration) cost an extra `output()` call, measured on its own.
 //!
-//! Run: `cargo bench -p stridekit-core --bench ahrs` (add `-- --quick` for a short run).
+//! `broad_trial`: one whole pass over a real recording (BROAD trial 01, 56 940 samples
+//! at 285.7 Hz with magnetometer, read from `../shared/data/orientation/broad/` or
+//! `$STRIDEKIT_DATA`; skipped with a message when absent): a fresh filter fed every
+//! sample in order, as in `stridekit eval orientation`. Time per update = time per
+//! iteration / 56 940. `scripts/bench-vqf` runs this group and VQF's C++ core (PyPI
+//! `vqf`, batch) on the same trial and prints the ratio.
+//!
+//! Run: `cargo bench -p stridekit-core --bench ahrs` (add `-- --quick` for a short run,
+//! `-- broad_trial` for the real trial only).
 
 use std::hint::black_box;
 
 use ahrs::Ahrs as _;
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use nalgebra::{UnitQuaternion, Vector3};
-use stridekit_core::ahrs::{Ahrs, AhrsSettings};
+use stridekit_core::ahrs::{Ahrs, AhrsSettings, ImuSample};
+
+/// The trial the real-data bench replays.
+pub const BROAD_TRIAL: &str = "orientation/broad/01_undisturbed_slow_rotation_A.csv.gz";
 
 const N: usize = 1024;
 const DT: f64 = 0.01;
@@ -102,6 +115,7 @@ fn group(
     let mut group = c.benchmark_group(name);
     for (name, settings) in [
         ("stridekit_default", AhrsSettings::default()),
+        ("stridekit_madgwick", AhrsSettings::madgwick()),
         ("stridekit_plain", AhrsSettings::plain(BETA)),
     ] {
         let (mut a, mut t) = warmed(settings, &s, update);
@@ -147,5 +161,74 @@ fn bench_output(c: &mut Criterion) {
     c.bench_function("output", |b| b.iter(|| black_box(&a).output()));
 }
 
-criterion_group!(benches, bench_imu, bench_marg, bench_output);
+fn bench_broad(c: &mut Criterion) {
+    let Some(dir) = stridekit_formats::data_dir() else {
+        eprintln!("broad_trial: skipped (../shared/data not found; set STRIDEKIT_DATA)");
+        return;
+    };
+    let path = dir.join(BROAD_TRIAL);
+    let rec = match stridekit_formats::read_broad(&path) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("broad_trial: skipped ({}: {e})", path.display());
+            return;
+        }
+    };
+    let samples: Vec<ImuSample> = rec
+        .samples
+        .iter()
+        .map(|s| ImuSample {
+            t_s: s.t_s,
+            gyro_rads: s.gyro_rads,
+            accel_mps2: s.accel_mps2,
+            mag_ut: s.mag_ut,
+        })
+        .collect();
+    let mut group = c.benchmark_group("broad_trial");
+    group.throughput(Throughput::Elements(samples.len() as u64));
+    group.sample_size(20);
+    // CPU time of this thread, not wall clock: on a shared machine (the one these
+    // figures come from runs several builds at once) wall-clock swings 2×, while the
+    // CPU time a pass needs does not. `scripts/bench-vqf` times VQF the same way.
+    for (name, settings, with_mag) in [
+        ("default_marg", AhrsSettings::default(), true),
+        ("default_imu", AhrsSettings::default(), false),
+        ("madgwick_marg", AhrsSettings::madgwick(), true),
+        ("plain_marg", AhrsSettings::plain(0.12), true),
+    ] {
+        group.bench_function(name, |b| {
+            b.iter_custom(|iters| {
+                let start = thread_cpu_time();
+                for _ in 0..iters {
+                    let mut a = Ahrs::new(settings).expect("valid settings");
+                    for s in &samples {
+                        let mag = if with_mag { s.mag_ut } else { None };
+                        let _ = black_box(a.update(s.t_s, s.gyro_rads, s.accel_mps2, mag));
+                    }
+                    black_box(a.quaternion());
+                }
+                thread_cpu_time().saturating_sub(start)
+            })
+        });
+    }
+    group.finish();
+}
+
+/// CPU time consumed by this thread (Linux: `/proc/thread-self/schedstat`, ns on
+/// CPU); elsewhere the wall clock since the first call.
+fn thread_cpu_time() -> std::time::Duration {
+    if let Ok(s) = std::fs::read_to_string("/proc/thread-self/schedstat") {
+        if let Some(ns) = s
+            .split_whitespace()
+            .next()
+            .and_then(|v| v.parse::<u64>().ok())
+        {
+            return std::time::Duration::from_nanos(ns);
+        }
+    }
+    static START: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+    START.get_or_init(std::time::Instant::now).elapsed()
+}
+
+criterion_group!(benches, bench_imu, bench_marg, bench_output, bench_broad);
 criterion_main!(benches);

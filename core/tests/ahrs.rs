@@ -1,5 +1,9 @@
 //! Behaviour of the AHRS (`stridekit_core::ahrs`) on known motions, its robustness
 //! features, its door checks, snapshots, and a cross-check against the `ahrs` crate.
+//! Tests that hold for any filter run for both algorithms (the decoupled default and
+//! Madgwick); the Madgwick-only features (gain ramp, rejection thresholds, recovery
+//! trigger) are tested on `AhrsSettings::madgwick()`, the decoupled filter's own
+//! (rest, bias in motion, heading held, recovery) on the default.
 //!
 //! Motions are generated analytically: a truth orientation `q(t)` (body → ENU) and a
 //! linear acceleration `a(t)` (ENU). The gyroscope reads the body rate
@@ -13,8 +17,20 @@ use stridekit_core::input::InputError;
 use ahrs::Ahrs as _;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use stridekit_core::ahrs::{
-    Ahrs, AhrsError, AhrsOutput, AhrsRejection, AhrsSettings, AxisRemap, EarthFrame, ImuSample,
+    Ahrs, AhrsAlgorithm, AhrsError, AhrsOutput, AhrsRejection, AhrsSettings, AxisRemap, EarthFrame,
+    ImuSample,
 };
+
+/// Both filters.
+const ALGOS: [AhrsAlgorithm; 2] = [AhrsAlgorithm::Decoupled, AhrsAlgorithm::Madgwick];
+
+/// The default settings of a filter.
+fn defaults(algorithm: AhrsAlgorithm) -> AhrsSettings {
+    match algorithm {
+        AhrsAlgorithm::Decoupled => AhrsSettings::default(),
+        AhrsAlgorithm::Madgwick => AhrsSettings::madgwick(),
+    }
+}
 
 const G: f64 = 9.80665;
 const DEG: f64 = PI / 180.0;
@@ -160,50 +176,62 @@ fn static_tilt_converges_in_both_frames() {
         (150.0, -20.0),
     ];
     let mut worst = (0.0f64, 0.0f64);
-    for frame in [EarthFrame::Enu, EarthFrame::Ned] {
-        for &(r, p) in &tilts {
-            let q_true = euler_q(r * DEG, p * DEG, 40.0 * DEG);
-            let truth = move |_t: f64| (q_true, V3::zeros());
-            for with_mag in [false, true] {
-                let samples = stream(&truth, 100.0, 6.0, &PHONE, with_mag);
-                let mut a = Ahrs::new(AhrsSettings::default().with_frame(frame)).unwrap();
-                let out = run(&mut a, &samples);
-                // After the 3 s initialisation phase.
-                for o in &out[300..] {
-                    assert!(!o.flags.initialising);
-                    let tilt = tilt_err(o, &q_true);
-                    assert!(
-                        tilt < 1.0 * DEG,
-                        "{frame:?} r{r} p{p} mag{with_mag}: tilt {}",
-                        tilt / DEG
-                    );
-                    worst.0 = worst.0.max(tilt);
-                    if with_mag {
-                        let err = o.unit_quaternion().angle_to(&to_frame(&q_true, frame));
-                        assert!(
-                            err < 1.0 * DEG,
-                            "{frame:?} r{r} p{p}: attitude {}",
-                            err / DEG
-                        );
-                        worst.1 = worst.1.max(err);
-                    }
-                }
-                // Euler angles in the frame's convention.
-                let o = out.last().unwrap();
-                let (tr, tp, ty) = to_frame(&q_true, frame).euler_angles();
-                if with_mag {
-                    assert!(wrap_pi(o.roll_rad - tr).abs() < 1.0 * DEG);
-                    assert!((o.pitch_rad - tp).abs() < 1.0 * DEG);
-                    assert!(wrap_pi(o.yaw_rad - ty).abs() < 1.0 * DEG);
-                    let want_heading = match frame {
-                        EarthFrame::Enu => true_heading_enu(&q_true),
-                        EarthFrame::Ned => ty.rem_euclid(TAU),
+    for alg in ALGOS {
+        for frame in [EarthFrame::Enu, EarthFrame::Ned] {
+            for &(r, p) in &tilts {
+                let q_true = euler_q(r * DEG, p * DEG, 40.0 * DEG);
+                let truth = move |_t: f64| (q_true, V3::zeros());
+                for with_mag in [false, true] {
+                    let samples = stream(&truth, 100.0, 12.0, &PHONE, with_mag);
+                    let mut a = Ahrs::new(defaults(alg).with_frame(frame)).unwrap();
+                    let out = run(&mut a, &samples);
+                    // Madgwick: after its 3 s initialisation phase. Decoupled: accurate
+                    // after 3 s, the heading's running mean hands over to the low-pass
+                    // after ~10 s.
+                    let settled = match (alg, with_mag) {
+                        (AhrsAlgorithm::Decoupled, true) => 1100,
+                        _ => 300,
                     };
-                    assert!(wrap_pi(o.heading_rad - want_heading).abs() < 1.0 * DEG);
-                }
-                // Linear acceleration at rest is ~0.
-                for k in 0..3 {
-                    assert!(o.linear_accel_earth_mps2[k].abs() < 0.3);
+                    assert!(!out[settled].flags.initialising, "{alg:?} mag {with_mag}");
+                    for o in &out[300..] {
+                        let tilt = tilt_err(o, &q_true);
+                        assert!(
+                            tilt < 1.0 * DEG,
+                            "{frame:?} r{r} p{p} mag{with_mag}: tilt {}",
+                            tilt / DEG
+                        );
+                        worst.0 = worst.0.max(tilt);
+                        if with_mag {
+                            let err = o.unit_quaternion().angle_to(&to_frame(&q_true, frame));
+                            assert!(
+                                err < 1.0 * DEG,
+                                "{frame:?} r{r} p{p}: attitude {}",
+                                err / DEG
+                            );
+                            worst.1 = worst.1.max(err);
+                        }
+                    }
+                    // Euler angles in the frame's convention.
+                    let o = out.last().unwrap();
+                    let (tr, tp, ty) = to_frame(&q_true, frame).euler_angles();
+                    if with_mag {
+                        assert!(wrap_pi(o.roll_rad - tr).abs() < 1.0 * DEG);
+                        assert!((o.pitch_rad - tp).abs() < 1.0 * DEG);
+                        assert!(wrap_pi(o.yaw_rad - ty).abs() < 1.0 * DEG);
+                        let want_heading = match frame {
+                            EarthFrame::Enu => true_heading_enu(&q_true),
+                            EarthFrame::Ned => ty.rem_euclid(TAU),
+                        };
+                        assert!(wrap_pi(o.heading_rad - want_heading).abs() < 1.0 * DEG);
+                    }
+                    // Linear acceleration at rest is ~0.
+                    for k in 0..3 {
+                        assert!(o.linear_accel_earth_mps2[k].abs() < 0.3);
+                    }
+                    // Without a magnetometer the initial yaw in the output frame is 0.
+                    if !with_mag {
+                        assert!(wrap_pi(out[0].yaw_rad).abs() < 1e-9, "{alg:?} {frame:?}");
+                    }
                 }
             }
         }
@@ -224,30 +252,32 @@ fn constant_rate_rotation_about_each_axis() {
         let start = euler_q(10.0 * DEG, -5.0 * DEG, 0.0);
         let truth = move |t: f64| (start * Uq::from_scaled_axis(ax * rate * t), V3::zeros());
         let samples = stream(&truth, 100.0, 20.0, &PHONE, false);
-        let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
-        let out = run(&mut a, &samples);
-        let mut worst = 0.0f64;
-        let (mut hmin, mut hmax) = (f64::MAX, f64::MIN);
-        for (o, s) in out.iter().zip(&samples).skip(300) {
-            let q_true = truth(s.t_s).0;
-            let err = o.unit_quaternion().angle_to(&q_true);
-            worst = worst.max(err);
-            assert!((0.0..TAU).contains(&o.heading_rad));
-            hmin = hmin.min(o.heading_rad);
-            hmax = hmax.max(o.heading_rad);
-            if axis == 2 {
-                let dh = wrap_pi(o.heading_rad - true_heading_enu(&q_true));
-                assert!(dh.abs() < 1.0 * DEG, "heading off by {}°", dh / DEG);
+        for alg in ALGOS {
+            let mut a = Ahrs::new(defaults(alg)).unwrap();
+            let out = run(&mut a, &samples);
+            let mut worst = 0.0f64;
+            let (mut hmin, mut hmax) = (f64::MAX, f64::MIN);
+            for (o, s) in out.iter().zip(&samples).skip(300) {
+                let q_true = truth(s.t_s).0;
+                let err = o.unit_quaternion().angle_to(&q_true);
+                worst = worst.max(err);
+                assert!((0.0..TAU).contains(&o.heading_rad));
+                hmin = hmin.min(o.heading_rad);
+                hmax = hmax.max(o.heading_rad);
+                if axis == 2 {
+                    let dh = wrap_pi(o.heading_rad - true_heading_enu(&q_true));
+                    assert!(dh.abs() < 1.0 * DEG, "heading off by {}°", dh / DEG);
+                }
             }
-        }
-        println!(
-            "rotation about axis {axis} at {rate} rad/s: worst attitude error {:.3}°",
-            worst / DEG
-        );
-        assert!(worst < 2.0 * DEG, "axis {axis}: {}°", worst / DEG);
-        if axis == 2 {
-            // 20 rad of yaw: the heading wrapped around several times.
-            assert!(hmin < 0.1 && hmax > TAU - 0.1);
+            println!(
+                "{alg:?}: rotation about axis {axis} at {rate} rad/s: worst attitude error {:.3}°",
+                worst / DEG
+            );
+            assert!(worst < 2.0 * DEG, "axis {axis}: {}°", worst / DEG);
+            if axis == 2 {
+                // 20 rad of yaw: the heading wrapped around several times.
+                assert!(hmin < 0.1 && hmax > TAU - 0.1);
+            }
         }
     }
 }
@@ -283,9 +313,9 @@ fn simulated_walk_tracks_tilt_heading_and_linear_acceleration() {
         gyro_bias: [0.01, -0.01, 0.005],
         ..PHONE
     };
-    for with_mag in [false, true] {
+    for (alg, with_mag) in ALGOS.into_iter().flat_map(|a| [(a, false), (a, true)]) {
         let samples = stream(&walk, 100.0, 60.0, &sensor, with_mag);
-        let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+        let mut a = Ahrs::new(defaults(alg)).unwrap();
         let out = run(&mut a, &samples);
         let (mut tilt_max, mut tilt_ss, mut head_max, mut lin_ss, mut n) =
             (0.0f64, 0.0, 0.0f64, 0.0, 0.0);
@@ -313,7 +343,7 @@ fn simulated_walk_tracks_tilt_heading_and_linear_acceleration() {
         let tilt_rms = (tilt_ss / n).sqrt();
         let lin_rms = (lin_ss / n).sqrt();
         println!(
-            "walk (mag {with_mag}): tilt rms {:.3}° max {:.3}°, heading max err {:.3}° \
+            "{alg:?} walk (mag {with_mag}): tilt rms {:.3}° max {:.3}°, heading max err {:.3}° \
              (meaningful with mag), linear accel rms err {:.3} m/s², accel rejected {:.0}% \
              of samples",
             tilt_rms / DEG,
@@ -341,35 +371,37 @@ fn gyro_bias_is_learned_at_rest_and_heading_drift_reduced() {
     let q_true = euler_q(5.0 * DEG, -10.0 * DEG, 0.0);
     let truth = move |_t: f64| (q_true, V3::zeros());
     let samples = stream(&truth, 100.0, 90.0, &sensor, false);
-    let mut drift = [0.0; 2];
-    for (i, learn) in [true, false].into_iter().enumerate() {
-        let settings = AhrsSettings {
-            bias_estimation: learn,
-            ..AhrsSettings::default()
-        };
-        let mut a = Ahrs::new(settings).unwrap();
-        let out = run(&mut a, &samples);
-        let last = out.last().unwrap();
-        drift[i] = wrap_pi(last.heading_rad - out[0].heading_rad).abs();
-        if learn {
-            for (est, truth) in last.gyro_bias_rads.iter().zip(bias) {
-                assert!((est - truth).abs() < 1e-3, "{est} vs {truth}");
+    for alg in ALGOS {
+        let mut drift = [0.0; 2];
+        for (i, learn) in [true, false].into_iter().enumerate() {
+            let settings = AhrsSettings {
+                bias_estimation: learn,
+                ..defaults(alg)
+            };
+            let mut a = Ahrs::new(settings).unwrap();
+            let out = run(&mut a, &samples);
+            let last = out.last().unwrap();
+            drift[i] = wrap_pi(last.heading_rad - out[0].heading_rad).abs();
+            if learn {
+                for (est, truth) in last.gyro_bias_rads.iter().zip(bias) {
+                    assert!((est - truth).abs() < 1e-3, "{est} vs {truth}");
+                }
+                assert!(last.flags.bias_learning);
+                // Tilt is unbiased once the bias is gone.
+                assert!(tilt_err(last, &q_true) < 0.5 * DEG);
+            } else {
+                assert_eq!(last.gyro_bias_rads, [0.0; 3]);
             }
-            assert!(last.flags.bias_learning);
-            // Tilt is unbiased once the bias is gone.
-            assert!(tilt_err(last, &q_true) < 0.5 * DEG);
-        } else {
-            assert_eq!(last.gyro_bias_rads, [0.0; 3]);
         }
+        println!(
+            "{alg:?}: bias 0.02 rad/s on yaw, 90 s at rest: heading drift {:.2}° with bias \
+         estimation, {:.2}° without",
+            drift[0] / DEG,
+            drift[1] / DEG
+        );
+        assert!(drift[0] < 0.25 * drift[1]);
+        assert!(drift[0] < 20.0 * DEG);
     }
-    println!(
-        "bias 0.02 rad/s on yaw, 90 s at rest: heading drift {:.2}° with bias estimation, \
-         {:.2}° without",
-        drift[0] / DEG,
-        drift[1] / DEG
-    );
-    assert!(drift[0] < 0.25 * drift[1]);
-    assert!(drift[0] < 20.0 * DEG);
 }
 
 // ---------------------------------------------------------------- rejection
@@ -393,12 +425,12 @@ fn acceleration_bursts_are_rejected() {
     let mut worst = [0.0f64; 2];
     for (i, reject) in [true, false].into_iter().enumerate() {
         let settings = if reject {
-            AhrsSettings::default()
+            AhrsSettings::madgwick()
         } else {
             AhrsSettings {
                 accel_rejection_mps2: f64::INFINITY,
                 accel_rejection_rad: f64::INFINITY,
-                ..AhrsSettings::default()
+                ..AhrsSettings::madgwick()
             }
         };
         let mut a = Ahrs::new(settings).unwrap();
@@ -433,7 +465,7 @@ fn acceleration_recovery_fixes_a_wrong_estimate() {
     for s in &mut samples {
         s.gyro_rads = [0.001, -0.002, 0.001];
     }
-    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let mut a = Ahrs::new(AhrsSettings::madgwick()).unwrap();
     let out = run(&mut a, &samples);
     let at = |t: f64| &out[(t * 100.0) as usize];
     assert!(at(8.5).flags.accel_rejected && !at(8.5).flags.accel_recovery);
@@ -469,7 +501,7 @@ impl Truth for MagnetNearby {
 }
 
 #[test]
-fn magnetic_disturbance_is_rejected_and_heading_held() {
+fn madgwick_magnetic_disturbance_is_rejected_and_heading_held() {
     let truth = MagnetNearby {
         q: euler_q(5.0 * DEG, -8.0 * DEG, 30.0 * DEG),
     };
@@ -478,12 +510,12 @@ fn magnetic_disturbance_is_rejected_and_heading_held() {
     let mut worst = [0.0f64; 2];
     for (i, reject) in [true, false].into_iter().enumerate() {
         let settings = if reject {
-            AhrsSettings::default()
+            AhrsSettings::madgwick()
         } else {
             AhrsSettings {
                 mag_rejection_ut: f64::INFINITY,
                 mag_rejection_dip_rad: f64::INFINITY,
-                ..AhrsSettings::default()
+                ..AhrsSettings::madgwick()
             }
         };
         let mut a = Ahrs::new(settings).unwrap();
@@ -531,12 +563,12 @@ impl Truth for FieldChange {
 }
 
 #[test]
-fn magnetic_recovery_adopts_a_new_field() {
+fn madgwick_magnetic_recovery_adopts_a_new_field() {
     let truth = FieldChange {
         q: euler_q(0.0, 0.0, -50.0 * DEG),
     };
     let samples = stream(&truth, 100.0, 25.0, &PHONE, true);
-    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let mut a = Ahrs::new(AhrsSettings::madgwick()).unwrap();
     let out = run(&mut a, &samples);
     assert!(out[1050].flags.mag_rejected);
     let first = out.iter().position(|o| o.flags.mag_recovery).unwrap();
@@ -552,11 +584,11 @@ fn magnetic_recovery_adopts_a_new_field() {
 }
 
 #[test]
-fn gyro_clipping_restarts_initialisation() {
+fn madgwick_gyro_clipping_restarts_initialisation() {
     let truth = |_t: f64| (Uq::identity(), V3::zeros());
     let mut samples = stream(&truth, 100.0, 10.0, &PHONE, false);
     samples[600].gyro_rads = [40.0, 0.0, 0.0]; // beyond 98 % of 2000 °/s
-    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let mut a = Ahrs::new(AhrsSettings::madgwick()).unwrap();
     let out = run(&mut a, &samples);
     assert!(!out[599].flags.initialising);
     assert!(out[600].flags.angular_rate_recovery && out[600].flags.initialising);
@@ -570,9 +602,15 @@ fn gyro_clipping_restarts_initialisation() {
 
 #[test]
 fn bad_samples_are_rejected_and_leave_the_state_untouched() {
+    for alg in ALGOS {
+        bad_samples_are_rejected_and_leave_the_state_untouched_for(alg);
+    }
+}
+
+fn bad_samples_are_rejected_and_leave_the_state_untouched_for(alg: AhrsAlgorithm) {
     let truth = |_t: f64| (euler_q(0.2, 0.1, 0.3), V3::zeros());
     let samples = stream(&truth, 100.0, 2.0, &PHONE, true);
-    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let mut a = Ahrs::new(defaults(alg)).unwrap();
     run(&mut a, &samples[..150]);
     let s = samples[150];
     let before = a.clone();
@@ -634,12 +672,18 @@ fn bad_samples_are_rejected_and_leave_the_state_untouched() {
 
 #[test]
 fn accelerations_in_g_are_refused() {
+    for alg in ALGOS {
+        accelerations_in_g_are_refused_for(alg);
+    }
+}
+
+fn accelerations_in_g_are_refused_for(alg: AhrsAlgorithm) {
     let truth = |_t: f64| (euler_q(0.1, -0.2, 0.0), V3::zeros());
     let samples = stream(&truth, 100.0, 6.0, &PHONE, false);
     let in_g = |s: &ImuSample| s.accel_mps2.map(|v| v / G);
 
     // (1) At rest from the first sample: refused at once, nothing starts.
-    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let mut a = Ahrs::new(defaults(alg)).unwrap();
     let fresh = a.clone();
     let e = a
         .update_imu(0.0, samples[0].gyro_rads, in_g(&samples[0]))
@@ -651,7 +695,7 @@ fn accelerations_in_g_are_refused() {
     assert!(a.output().is_none());
 
     // (2) The app switches to g mid-stream: refused within ~1.5 s, state untouched.
-    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let mut a = Ahrs::new(defaults(alg)).unwrap();
     run(&mut a, &samples[..300]);
     let mut first_err = None;
     for s in &samples[300..] {
@@ -685,12 +729,18 @@ fn accelerations_in_g_are_refused() {
         )
     };
     let samples = stream(&run_truth, 100.0, 10.0, &PHONE, false);
-    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let mut a = Ahrs::new(defaults(alg)).unwrap();
     run(&mut a, &samples);
 }
 
 #[test]
 fn a_long_gap_reinitialises_and_keeps_the_bias() {
+    for alg in ALGOS {
+        a_long_gap_reinitialises_and_keeps_the_bias_for(alg);
+    }
+}
+
+fn a_long_gap_reinitialises_and_keeps_the_bias_for(alg: AhrsAlgorithm) {
     let sensor = Sensor {
         gyro_bias: [0.0, 0.0, 0.01],
         ..PHONE
@@ -705,7 +755,7 @@ fn a_long_gap_reinitialises_and_keeps_the_bias() {
     let mut samples = stream(&truth, 100.0, 25.0, &sensor, false);
     // 3 s without samples (the app was suspended) while the phone was turned.
     samples.retain(|s| !(17.0..20.0).contains(&s.t_s));
-    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let mut a = Ahrs::new(defaults(alg)).unwrap();
     let out = run(&mut a, &samples);
     let i = samples.iter().position(|s| s.t_s >= 20.0).unwrap();
     assert!(out[i].flags.reinitialised && out[i].flags.initialising);
@@ -721,11 +771,17 @@ fn a_long_gap_reinitialises_and_keeps_the_bias() {
 
 #[test]
 fn batch_equals_single_updates_and_reports_rejections() {
+    for alg in ALGOS {
+        batch_equals_single_updates_and_reports_rejections_for(alg);
+    }
+}
+
+fn batch_equals_single_updates_and_reports_rejections_for(alg: AhrsAlgorithm) {
     let samples = stream(&walk, 50.0, 10.0, &PHONE, true);
     let mut bad = samples.clone();
     bad[100].accel_mps2[1] = f64::NAN;
     bad[200].t_s = bad[199].t_s;
-    let mut one = Ahrs::new(AhrsSettings::default()).unwrap();
+    let mut one = Ahrs::new(defaults(alg)).unwrap();
     let mut expect = Vec::new();
     for s in &bad {
         if one
@@ -735,7 +791,7 @@ fn batch_equals_single_updates_and_reports_rejections() {
             expect.push(one.output().unwrap());
         }
     }
-    let mut batch = Ahrs::new(AhrsSettings::default()).unwrap();
+    let mut batch = Ahrs::new(defaults(alg)).unwrap();
     let mut out = Vec::with_capacity(bad.len());
     let mut rej = Vec::with_capacity(4);
     let n = batch.update_batch(&bad, &mut out, &mut rej);
@@ -758,8 +814,14 @@ fn batch_equals_single_updates_and_reports_rejections() {
 
 #[test]
 fn updates_do_not_allocate() {
+    for alg in ALGOS {
+        updates_do_not_allocate_for(alg);
+    }
+}
+
+fn updates_do_not_allocate_for(alg: AhrsAlgorithm) {
     let samples = stream(&walk, 100.0, 5.0, &PHONE, true);
-    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let mut a = Ahrs::new(defaults(alg)).unwrap();
     let mut out = Vec::with_capacity(samples.len());
     let mut rej: Vec<AhrsRejection> = Vec::with_capacity(4);
     let (n, _) = allocations_in(|| {
@@ -778,13 +840,19 @@ fn updates_do_not_allocate() {
 
 #[test]
 fn snapshot_split_run_is_bit_identical() {
+    for alg in ALGOS {
+        snapshot_split_run_is_bit_identical_for(alg);
+    }
+}
+
+fn snapshot_split_run_is_bit_identical_for(alg: AhrsAlgorithm) {
     let sensor = Sensor {
         gyro_bias: [0.01, 0.0, -0.01],
         ..PHONE
     };
     for with_mag in [true, false] {
         let samples = stream(&walk, 100.0, 20.0, &sensor, with_mag);
-        let settings = AhrsSettings::default().with_frame(EarthFrame::Ned);
+        let settings = defaults(alg).with_frame(EarthFrame::Ned);
         let mut whole = Ahrs::new(settings).unwrap();
         let all = run(&mut whole, &samples);
         let mut first = Ahrs::new(settings).unwrap();
@@ -803,7 +871,7 @@ fn snapshot_split_run_is_bit_identical() {
         assert_eq!(whole.snapshot(), second.snapshot());
     }
     // Corruption and foreign snapshots are refused.
-    let a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let a = Ahrs::new(defaults(alg)).unwrap();
     let mut bytes = a.snapshot();
     bytes[12] ^= 0x40;
     assert!(matches!(Ahrs::restore(&bytes), Err(AhrsError::Snapshot(_))));
@@ -820,6 +888,12 @@ fn snapshot_split_run_is_bit_identical() {
 
 #[test]
 fn axis_remap_is_applied_at_the_door() {
+    for alg in ALGOS {
+        axis_remap_is_applied_at_the_door_for(alg);
+    }
+}
+
+fn axis_remap_is_applied_at_the_door_for(alg: AhrsAlgorithm) {
     // The sensor is mounted rotated: sensor = (−body_y, body_x, body_z), a 90° turn.
     // The remap body = (sensor_y, −sensor_x, sensor_z) undoes it.
     let samples = stream(&walk, 100.0, 10.0, &PHONE, true);
@@ -836,10 +910,10 @@ fn axis_remap_is_applied_at_the_door() {
         })
         .collect();
     let remap = AxisRemap::new([1, 0, 2], [false, true, false]).unwrap();
-    let mut plain = Ahrs::new(AhrsSettings::default()).unwrap();
+    let mut plain = Ahrs::new(defaults(alg)).unwrap();
     let mut mapped = Ahrs::new(AhrsSettings {
         axis_remap: remap,
-        ..AhrsSettings::default()
+        ..defaults(alg)
     })
     .unwrap();
     assert_eq!(run(&mut plain, &samples), run(&mut mapped, &rotated));
@@ -896,6 +970,284 @@ fn plain_filter_matches_the_ahrs_crate() {
                 // so differences up to ~1e-7 rad (β = 0.5) appear; ~1e-11 at β = 0.1.
                 assert!(worst < 1e-6, "{worst}");
             }
+        }
+    }
+}
+
+// ---------------------------------------------------------------- the decoupled filter
+
+/// A magnet near a still phone between `from` and `to` s.
+struct MagnetBetween {
+    q: Uq,
+    from: f64,
+    to: f64,
+}
+
+impl Truth for MagnetBetween {
+    fn at(&self, _t: f64) -> (Uq, V3) {
+        (self.q, V3::zeros())
+    }
+    fn mag_disturbance(&self, t: f64) -> V3 {
+        if (self.from..self.to).contains(&t) {
+            V3::new(60.0, -40.0, 30.0)
+        } else {
+            V3::zeros()
+        }
+    }
+}
+
+#[test]
+fn decoupled_holds_the_heading_through_a_magnetic_disturbance() {
+    let truth = MagnetBetween {
+        q: euler_q(5.0 * DEG, -8.0 * DEG, 30.0 * DEG),
+        from: 20.0,
+        to: 24.0,
+    };
+    let samples = stream(&truth, 100.0, 35.0, &PHONE, true);
+    let want = true_heading_enu(&truth.q);
+    let mut worst = [0.0f64; 2];
+    for (i, reject) in [true, false].into_iter().enumerate() {
+        let mut settings = AhrsSettings::default();
+        if !reject {
+            settings.decoupled.mag_norm_threshold = f64::INFINITY;
+            settings.decoupled.mag_dip_threshold_rad = f64::INFINITY;
+        }
+        let mut a = Ahrs::new(settings).unwrap();
+        let out = run(&mut a, &samples);
+        for (o, s) in out.iter().zip(&samples).skip(400) {
+            worst[i] = worst[i].max(wrap_pi(o.heading_rad - want).abs());
+            if reject {
+                // Detected within the 50 ms mean; the heading is held until the field
+                // has looked undisturbed for 0.5 s.
+                let inside = (20.1..24.0).contains(&s.t_s);
+                let outside = s.t_s < 20.0 || s.t_s > 24.6;
+                if inside {
+                    assert!(
+                        o.flags.mag_disturbed && o.flags.heading_held,
+                        "t = {}",
+                        s.t_s
+                    );
+                    assert!(o.flags.mag_rejected);
+                }
+                if outside {
+                    assert!(
+                        !o.flags.mag_disturbed && !o.flags.heading_held,
+                        "t = {}",
+                        s.t_s
+                    );
+                }
+                // The inclination never depends on the magnetometer.
+                assert!(tilt_err(o, &truth.q) < 1.0 * DEG);
+            }
+        }
+    }
+    println!(
+        "decoupled, magnet 4 s: worst heading error {:.3}° with rejection, {:.2}° without",
+        worst[0] / DEG,
+        worst[1] / DEG
+    );
+    assert!(worst[0] < 1.0 * DEG);
+    assert!(worst[1] > 10.0 * DEG);
+}
+
+#[test]
+fn decoupled_adopts_a_lasting_new_field_after_the_rejection_limit() {
+    let truth = FieldChange {
+        q: euler_q(0.0, 0.0, -50.0 * DEG),
+    };
+    let samples = stream(&truth, 100.0, 90.0, &PHONE, true);
+    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let out = run(&mut a, &samples);
+    assert!(out[1100].flags.mag_disturbed && out[1100].flags.heading_held);
+    let first = out.iter().position(|o| o.flags.mag_recovery).unwrap();
+    println!(
+        "decoupled: magnetic recovery at t = {:.2} s",
+        samples[first].t_s
+    );
+    // Field changed at 10 s (detected within ~0.1 s), given up on 60 s later.
+    assert!((69.9..70.3).contains(&samples[first].t_s));
+    let end = out.last().unwrap();
+    assert!(!end.flags.mag_disturbed && !end.flags.heading_held && !end.flags.mag_recovery);
+    let want = true_heading_enu(&truth.q);
+    assert!(wrap_pi(end.heading_rad - want).abs() < 1.0 * DEG);
+}
+
+#[test]
+fn decoupled_learns_the_bias_in_motion_without_rest() {
+    let bias = [0.01, -0.012, 0.008];
+    let sensor = Sensor {
+        gyro_bias: bias,
+        ..PHONE
+    };
+    // Never still: a slow tumble about a wandering axis, so every body axis spends
+    // time horizontal (where the accelerometer observes its bias).
+    let truth = |t: f64| {
+        let q = euler_q(
+            0.6 * (0.11 * t).sin(),
+            0.5 * (0.07 * t + 1.0).sin(),
+            0.3 * t,
+        ) * euler_q(0.0, FRAC_PI_2 * (0.013 * t).sin(), 0.0);
+        (q, V3::zeros())
+    };
+    let samples = stream(&truth, 100.0, 400.0, &sensor, false);
+    // Motion bias learning is off by default (see DEFAULT_MOTION_BIAS_TIME_CONSTANT_S).
+    let mut settings = AhrsSettings::default();
+    settings.decoupled.motion_bias_time_constant_s = 100.0;
+    let mut a = Ahrs::new(settings).unwrap();
+    let out = run(&mut a, &samples);
+    let end = out.last().unwrap();
+    assert!(out.iter().all(|o| !o.flags.at_rest));
+    assert!(end.flags.bias_motion);
+    let err2: f64 = end
+        .gyro_bias_rads
+        .iter()
+        .zip(bias)
+        .map(|(e, b)| (e - b) * (e - b))
+        .sum();
+    let bias_norm = bias.iter().map(|b| b * b).sum::<f64>().sqrt();
+    println!(
+        "decoupled, bias in motion after 400 s: estimate {:?}, truth {bias:?}",
+        end.gyro_bias_rads
+    );
+    // Learned over minutes (the yaw turn spins the horizontal axes under the 3 s
+    // average, which slows it); more than half of it after 400 s.
+    assert!(err2.sqrt() < 0.5 * bias_norm, "{:?}", end.gyro_bias_rads);
+    let worst_tilt = out[30_000..]
+        .iter()
+        .zip(&samples[30_000..])
+        .map(|(o, s)| tilt_err(o, &truth(s.t_s).0))
+        .fold(0.0, f64::max);
+    assert!(worst_tilt < 1.0 * DEG, "{}", worst_tilt / DEG);
+}
+
+#[test]
+fn decoupled_averages_out_zero_mean_linear_acceleration() {
+    let q_true = euler_q(10.0 * DEG, 5.0 * DEG, 0.0);
+    // Pushes of 6 m/s² for 0.25 s, then the same braking: 0.75 m/s at most, no
+    // net velocity (as a hand-held device moved about).
+    let truth = move |t: f64| {
+        let ph = t % 3.0;
+        let a = if t < 6.0 {
+            0.0
+        } else if ph < 0.25 {
+            6.0
+        } else if ph < 0.5 {
+            -6.0
+        } else {
+            0.0
+        };
+        (q_true, V3::new(a, 0.5 * a, 0.0))
+    };
+    let samples = stream(&truth, 100.0, 36.0, &PHONE, false);
+    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let out = run(&mut a, &samples);
+    let worst = out[500..]
+        .iter()
+        .map(|o| tilt_err(o, &q_true))
+        .fold(0.0, f64::max);
+    println!(
+        "decoupled, ±6 m/s² pushes: worst tilt error {:.3}°",
+        worst / DEG
+    );
+    assert!(worst < 1.0 * DEG);
+}
+
+#[test]
+fn decoupled_gyro_clipping_recovers_from_the_accelerometer() {
+    let truth = |_t: f64| (Uq::identity(), V3::zeros());
+    let mut samples = stream(&truth, 100.0, 12.0, &PHONE, false);
+    samples[600].gyro_rads = [40.0, 0.0, 0.0]; // beyond 98 % of 2000 °/s: 23° wrong
+    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let out = run(&mut a, &samples);
+    assert!(!out[599].flags.angular_rate_recovery);
+    assert!(out[600].flags.angular_rate_recovery && out[600].flags.initialising);
+    assert!(out[800].flags.angular_rate_recovery);
+    let end = out.last().unwrap();
+    assert!(!end.flags.angular_rate_recovery && !end.flags.initialising);
+    assert!(tilt_err(end, &Uq::identity()) < 0.5 * DEG);
+}
+
+// ---------------------------------------------------------------- absurd inputs, versions
+
+#[test]
+fn absurd_but_finite_inputs_never_make_the_orientation_non_finite() {
+    let big = [
+        1e300,
+        -1e308,
+        f64::MAX,
+        -f64::MAX,
+        1e-300,
+        5e-324,
+        0.0,
+        1e12,
+    ];
+    for alg in ALGOS {
+        let mut a = Ahrs::new(defaults(alg)).unwrap();
+        let mut t = 0.0;
+        let mut n = Noise(99);
+        for i in 0..20_000usize {
+            t += if i % 97 == 0 {
+                2.0
+            } else {
+                0.01 * (1.0 + 0.5 * n.next())
+            };
+            let pick = |k: usize, normal: f64| {
+                if (i + k) % 7 == 0 {
+                    big[(i / 7 + k) % big.len()]
+                } else {
+                    normal
+                }
+            };
+            let g = [pick(0, 0.1), pick(1, -0.2), pick(2, 0.05)];
+            let acc = [pick(3, 0.5), pick(4, 0.1), pick(5, 9.8)];
+            let m = (i % 3 != 0).then(|| [pick(6, 20.0), pick(7, 0.0), pick(8, -40.0)]);
+            let _ = a.update(t, g, acc, m);
+            if let Some(o) = a.output() {
+                let qn: f64 = o.quaternion.iter().map(|c| c * c).sum();
+                assert!(
+                    o.quaternion.iter().all(|c| c.is_finite()) && (qn - 1.0).abs() < 1e-9,
+                    "{alg:?} sample {i}: {o:?}"
+                );
+                assert!(
+                    o.heading_rad.is_finite() && o.gyro_bias_rads.iter().all(|b| b.is_finite())
+                );
+                assert!(o.linear_accel_earth_mps2.iter().all(|v| v.is_finite()));
+            }
+        }
+        // And it still converges on sane data afterwards.
+        let q_true = euler_q(0.3, -0.2, 0.0);
+        let truth = move |_t: f64| (q_true, V3::zeros());
+        for s in stream(&truth, 100.0, 20.0, &PHONE, false) {
+            a.update(t + 3.0 + s.t_s, s.gyro_rads, s.accel_mps2, None)
+                .unwrap();
+        }
+        assert!(
+            tilt_err(&a.output().unwrap(), &q_true) < 1.0 * DEG,
+            "{alg:?}"
+        );
+        assert!(Ahrs::restore(&a.snapshot()).is_ok());
+    }
+}
+
+#[test]
+fn snapshots_of_another_format_are_a_typed_version_error() {
+    // One layout per build: the format-1 fixture (Madgwick, written before the
+    // decoupled filter) and a newer version are refused, never misread.
+    let text = include_str!("data/ahrs_snapshot_v1.txt");
+    let hex = text.lines().find(|l| !l.starts_with('#')).unwrap();
+    let bytes: Vec<u8> = (0..hex.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(&hex[i..i + 2], 16).unwrap())
+        .collect();
+    for (bytes, found) in [
+        (bytes, 1),
+        (stridekit_core::snapshot::Writer::new(2, 4).finish(), 4),
+    ] {
+        match Ahrs::restore(&bytes) {
+            Err(AhrsError::Snapshot(
+                stridekit_core::snapshot::SnapshotError::UnsupportedVersion { found: f, .. },
+            )) => assert_eq!(f, found),
+            other => panic!("{other:?}"),
         }
     }
 }

@@ -1,4 +1,5 @@
-//! Importers for real activity files: FIT, TCX, GPX and CSV.
+//! Importers for real activity files: FIT, TCX, GPX and CSV; and for the recordings
+//! the evaluations replay (Oxford steps, pyshoe foot, RIDI / RoNIN, BROAD orientation).
 //!
 //! Every reader returns the same [`Record`] list: sorted by time, with records that share a
 //! timestamp merged into one (the first record wins, later ones only fill its missing
@@ -9,6 +10,7 @@
 //! their values are doubled.
 
 mod android;
+mod broad;
 mod csv;
 mod data;
 mod error;
@@ -26,6 +28,7 @@ mod xml;
 use std::path::Path;
 
 pub use crate::android::{is_android_log, list_android_logs, parse_android_log, read_android_log};
+pub use crate::broad::{list_broad_trials, parse_broad, read_broad, OrientationRecording};
 pub use crate::csv::read_csv;
 pub use crate::data::{data_dir, DATA_ENV_VAR};
 pub use crate::error::FormatError;

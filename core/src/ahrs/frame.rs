@@ -55,6 +55,15 @@ impl EarthFrame {
         }
     }
 
+    /// `q_frame = C ⊗ q_ENU`: the constant rotation from East-North-Up to this frame
+    /// (NED: 180° about (1, 1, 0)/√2, which swaps x and y and negates z).
+    pub(crate) fn enu_to_frame(self) -> [f64; 4] {
+        match self {
+            EarthFrame::Enu => [1.0, 0.0, 0.0, 0.0],
+            EarthFrame::Ned => [0.0, SQRT_HALF, SQRT_HALF, 0.0],
+        }
+    }
+
     pub(crate) fn to_u8(self) -> u8 {
         match self {
             EarthFrame::Enu => 0,

@@ -1,4 +1,7 @@
-//! Madgwick's gradient-descent orientation filter with Fusion-style robustness.
+//! Madgwick's gradient-descent orientation filter with Fusion-style robustness
+//! ([`AhrsAlgorithm::Madgwick`](super::AhrsAlgorithm::Madgwick), the default until
+//! issue 12; [`AhrsSettings::madgwick`] gives its settings, [`AhrsSettings::plain`] the
+//! paper's filter).
 //!
 //! # The filter
 //! The orientation is a unit quaternion `q` (body → earth). Between samples it is
@@ -51,28 +54,6 @@
 //!   (high gain, no rejection) restarts from the current orientation.
 //! - **Gyroscope bias** is learned while still ([`super::bias`]) and subtracted.
 //!
-//! # Time
-//! `dt` comes from the timestamps. The first sample initialises. A sample not later
-//! than the previous one is rejected ([`AhrsError::TimeNotIncreasing`]). A gap longer
-//! than `max_gap_s` (default 1 s) is not integrated: the motion during it is unknown,
-//! so the filter re-initialises from that sample (flag `reinitialised`), keeping the
-//! learned gyroscope bias. The correction step is scaled by `min(dt, 0.1 s)`, so a
-//! slow or irregular stream cannot make one step overshoot; the gyroscope is
-//! integrated to first order (as the paper) unless one sample turns more than 0.1 rad,
-//! where the exact exponential map is used.
-//!
-//! # Units at the door
-//! Accelerations must be m/s². A common mistake is passing g (iOS Core Motion): the
-//! filter would still find the tilt (it normalises `a`), but every threshold would be
-//! off by 9.8×. Heuristic: (1) the sample that (re)initialises the filter is refused
-//! if |a| is in 0.8..=1.2 while the gyroscope reads below 0.5 rad/s — a device at
-//! rest in g units; in m/s² that would be near free fall at rest, which does not
-//! happen; (2) afterwards the mean |a| over ~1 s (exponential, τ = 1 s) must stay
-//! above 2.5 m/s²: in g units it sits near 1 even while running, in m/s² it falls
-//! that low only after more than 1.3 s of free fall. Both return
-//! [`AhrsError::AccelerationNotInMps2`] and leave the state unchanged. Switching
-//! from m/s² to g mid-stream is caught after ~1.8 s.
-//!
 //! # Cost
 //! One update is a chain of dependent floating-point operations from one sample's
 //! `q` to the next (the state is stored and loaded back by the next sample), so the
@@ -88,40 +69,31 @@
 //! `min`/`max` without NaN fix-ups (the door already refused NaN); the orientation
 //! stored as two halves that the next sample can load straight from the store buffer
 //! (`quat::SplitQuat`). Derived outputs (Euler angles, heading, linear
-//! acceleration) are computed only by [`Ahrs::output`]. See `benches/ahrs.rs` for the
-//! comparison with the `ahrs` crate.
+//! acceleration) are computed only by [`Ahrs::output`](super::Ahrs::output). See
+//! `benches/ahrs.rs` for the comparison with the `ahrs` crate.
 
 use super::bias::{GyroBias, STILL_ACCEL_MPS2};
-use super::error::AhrsError;
 use super::flags::AhrsFlags;
-use super::frame::{AxisRemap, EarthFrame};
-use super::output::{AhrsOutput, AhrsRejection, ImuSample};
+use super::frame::EarthFrame;
 use super::quat::{self, max, min, Quat};
 use super::settings::AhrsSettings;
-use crate::input::{self, AccelUnits, Stream, TimeGuard};
 use crate::snapshot::{Reader, SnapshotError, Writer};
-
-/// Snapshot engine kind byte for the AHRS.
-const SNAPSHOT_KIND: u8 = 2;
-/// Snapshot format version written by this build.
-/// Version 2: the input layer's time state ([`TimeGuard`]) replaces the last time.
-const SNAPSHOT_VERSION: u16 = 2;
-/// Accelerometer and magnetometer vectors shorter than this give no direction (a
-/// free fall, a zeroed sensor): no correction from them (m/s², µT). Also keeps
-/// 1/|v|² finite for tiny finite inputs.
-const MIN_VECTOR_NORM: f64 = 1e-6;
 
 /// Longest interval the correction step is scaled by, s.
 pub const MAX_CORRECTION_DT_S: f64 = 0.1;
 /// Above this half-angle² per sample, gyroscope integration is exact (0.1 rad turn).
 const EXACT_HALF_ANGLE2: f64 = 0.05 * 0.05;
 /// A gyroscope axis beyond this share of the range has clipped.
-const GYRO_CLIP_SHARE: f64 = 0.98;
+pub(crate) const GYRO_CLIP_SHARE: f64 = 0.98;
 /// Time constant of the learned Earth field, s, and during initialisation.
 const MAG_REF_TAU_S: f64 = 20.0;
 const MAG_REF_INIT_TAU_S: f64 = 0.5;
 /// A field vector this close to gravity cannot give a heading (relative cross product).
 const MIN_HEADING_SIN: f64 = 1e-3;
+/// Accelerometer and magnetometer vectors shorter than this give no direction (a
+/// free fall, a zeroed sensor): no correction from them (m/s², µT). Also keeps
+/// 1/|v|² finite for tiny finite inputs.
+const MIN_VECTOR_NORM: f64 = 1e-6;
 
 /// Rejection trigger of one sensor (Fusion's recovery trigger, in seconds).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -145,12 +117,10 @@ impl Recovery {
     }
 }
 
-/// Madgwick AHRS with initialisation, rejection, recovery and bias estimation.
-/// Create with [`Ahrs::new`], feed [`Ahrs::update_imu`] / [`Ahrs::update_marg`] (or
-/// [`Ahrs::update_batch`]), read [`Ahrs::output`].
+/// Madgwick's filter state with Fusion's initialisation, rejection, recovery and bias
+/// estimation; driven by [`Ahrs`](super::Ahrs), which owns the door checks.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Ahrs {
-    settings: AhrsSettings,
+pub(crate) struct Madgwick {
     // Derived from the settings (not serialised).
     /// |f_g|² above which the accelerometer is rejected (2 − 2 cos θ).
     accel_err2_limit: f64,
@@ -160,14 +130,7 @@ pub struct Ahrs {
     gyro_clip_rads: f64,
     /// Gain decrease per second while initialising (+∞: no initialisation phase).
     ramp_rate: f64,
-    /// The axis remap is the identity (skip it).
-    remap_identity: bool,
     // State.
-    started: bool,
-    last_t_s: f64,
-    /// The input layer's time state (same last time as `last_t_s`, plus the
-    /// slow-interval count of the time-unit check).
-    time: TimeGuard,
     /// Orientation body → North-West-Up, [w, x, y, z].
     q: quat::SplitQuat,
     /// Current (ramped) gain, rad/s.
@@ -181,18 +144,13 @@ pub struct Ahrs {
     mag_ref_ut: [f64; 3],
     mag_ref_valid: bool,
     bias: GyroBias,
-    /// Mean |a| (units heuristic), m/s², and how long it has run, s (capped).
-    units: AccelUnits,
-    /// Latest accepted specific force, body frame, m/s².
-    last_accel_mps2: [f64; 3],
+    /// Flags of the latest sample (the initialising state carries over).
     flags: AhrsFlags,
 }
 
-impl Ahrs {
-    /// A filter with validated settings; it starts at the first sample.
-    pub fn new(settings: AhrsSettings) -> Result<Self, AhrsError> {
-        settings.validate()?;
-        let s = &settings;
+impl Madgwick {
+    /// A filter for validated settings; it starts at the first sample.
+    pub(crate) fn new(s: &AhrsSettings) -> Self {
         let accel_err2_limit = if s.accel_rejection_rad < std::f64::consts::PI {
             2.0 - 2.0 * s.accel_rejection_rad.cos()
         } else {
@@ -208,16 +166,11 @@ impl Ahrs {
         } else {
             f64::INFINITY
         };
-        Ok(Self {
-            settings,
+        Self {
             accel_err2_limit,
             mag_cos_dip_limit,
             gyro_clip_rads: GYRO_CLIP_SHARE * s.gyro_range_rads,
             ramp_rate,
-            remap_identity: s.axis_remap == AxisRemap::IDENTITY,
-            started: false,
-            last_t_s: 0.0,
-            time: TimeGuard::new(Stream::Imu),
             q: quat::SplitQuat::new([1.0, 0.0, 0.0, 0.0]),
             gain: s.gain,
             accel_rec: Recovery::default(),
@@ -225,133 +178,37 @@ impl Ahrs {
             mag_ref_ut: [0.0; 3],
             mag_ref_valid: false,
             bias: GyroBias::default(),
-            units: AccelUnits::new(),
-            last_accel_mps2: [0.0; 3],
             flags: AhrsFlags::default(),
-        })
-    }
-
-    pub fn settings(&self) -> &AhrsSettings {
-        &self.settings
-    }
-
-    /// Whether a sample was accepted yet.
-    pub fn is_started(&self) -> bool {
-        self.started
-    }
-
-    /// Flags of the latest accepted sample.
-    pub fn flags(&self) -> AhrsFlags {
-        self.flags
+        }
     }
 
     /// Estimated gyroscope bias, rad/s, body frame.
-    pub fn gyro_bias_rads(&self) -> [f64; 3] {
+    pub(crate) fn gyro_bias_rads(&self) -> [f64; 3] {
         self.bias.bias_rads
     }
 
-    /// Current filter gain β, rad/s (above `settings.gain` while initialising).
-    pub fn gain(&self) -> f64 {
+    /// Current filter gain β, rad/s.
+    pub(crate) fn gain(&self) -> f64 {
         self.gain
     }
 
-    /// Time of the latest accepted sample, s.
-    pub fn last_t_s(&self) -> Option<f64> {
-        self.started.then_some(self.last_t_s)
-    }
-
-    /// Orientation body → earth in the configured frame, [w, x, y, z] (cheap: no
-    /// trigonometry). `None` before the first sample.
-    pub fn quaternion(&self) -> Option<[f64; 4]> {
-        self.started.then(|| {
-            quat::normalised(quat::mul(
-                &self.settings.frame.nwu_to_frame(),
-                &self.q.get(),
-            ))
-        })
-    }
-
-    /// IMU update: gyroscope (rad/s) and accelerometer (specific force, m/s²), sensor
-    /// frame, at `t_s` (s). Returns the flags; read the full state with [`Ahrs::output`].
-    #[inline]
-    pub fn update_imu(
-        &mut self,
-        t_s: f64,
-        gyro_rads: [f64; 3],
-        accel_mps2: [f64; 3],
-    ) -> Result<AhrsFlags, AhrsError> {
-        self.update(t_s, gyro_rads, accel_mps2, None)
-    }
-
-    /// MARG update: as [`Ahrs::update_imu`] plus the magnetic field (µT, sensor frame).
-    #[inline]
-    pub fn update_marg(
-        &mut self,
-        t_s: f64,
-        gyro_rads: [f64; 3],
-        accel_mps2: [f64; 3],
-        mag_ut: [f64; 3],
-    ) -> Result<AhrsFlags, AhrsError> {
-        self.update(t_s, gyro_rads, accel_mps2, Some(mag_ut))
-    }
-
-    /// One sample with an optional magnetometer reading.
+    /// Orientation body → North-West-Up (unit length to rounding).
     #[inline(always)]
-    pub fn update(
-        &mut self,
-        t_s: f64,
-        gyro_rads: [f64; 3],
-        accel_mps2: [f64; 3],
-        mag_ut: Option<[f64; 3]>,
-    ) -> Result<AhrsFlags, AhrsError> {
-        // --- The door: nothing below mutates until every check passed.
-        let since = self.time.check(t_s)?;
-        input::gyro(&gyro_rads)?;
-        input::accel(&accel_mps2)?;
-        if let Some(m) = &mag_ut {
-            input::mag(m)?;
-        }
-        let (gyro, accel, mag) = if self.remap_identity {
-            (gyro_rads, accel_mps2, mag_ut)
-        } else {
-            let remap: AxisRemap = self.settings.axis_remap;
-            (
-                remap.apply(gyro_rads),
-                remap.apply(accel_mps2),
-                mag_ut.map(|m| remap.apply(m)),
-            )
-        };
-        let a2 = accel[0] * accel[0] + accel[1] * accel[1] + accel[2] * accel[2];
-        let a_norm = a2.sqrt();
-        let dt = since.unwrap_or(f64::INFINITY);
-        if dt > self.settings.max_gap_s {
-            // (Re)initialisation: the g-units check of a first sample.
-            let mean = self.units.check(None, a_norm)?;
-            self.start(t_s, &accel, a_norm, mag.as_ref());
-            self.units.accept(mean);
-            return Ok(self.flags);
-        }
-        let mean = self.units.check(Some(dt), a_norm)?;
-        // --- Accepted.
-        self.time.accept(t_s);
-        self.units.accept(mean);
-        self.last_t_s = t_s;
-        self.last_accel_mps2 = accel;
-        // The flags are returned from the local copy: reading them back from `self`
-        // right after their byte-wise store stalls store-to-load forwarding.
-        Ok(self.step(dt, gyro, &accel, a2, a_norm, mag.as_ref()))
+    pub(crate) fn q_nwu(&self) -> Quat {
+        self.q.get()
     }
 
     /// (Re)start the orientation from one sample.
-    fn start(&mut self, t_s: f64, accel: &[f64; 3], a_norm: f64, mag: Option<&[f64; 3]>) {
-        let s = &self.settings;
+    pub(crate) fn start(
+        &mut self,
+        s: &AhrsSettings,
+        accel: &[f64; 3],
+        a_norm: f64,
+        mag: Option<&[f64; 3]>,
+    ) -> AhrsFlags {
         self.q.set(initial_orientation(s.frame, accel, a_norm, mag));
         let init = self.ramp_rate.is_finite();
         self.gain = if init { s.initial_gain } else { s.gain };
-        self.started = true;
-        self.last_t_s = t_s;
-        self.time.accept(t_s);
-        self.last_accel_mps2 = *accel;
         self.accel_rec = Recovery::default();
         self.mag_rec = Recovery::default();
         self.bias.still_s = 0.0;
@@ -369,12 +226,15 @@ impl Ahrs {
             initialising: init,
             ..AhrsFlags::default()
         };
+        self.flags
     }
 
     /// One accepted sample after the first: bias, corrections, integration.
     #[inline(always)]
-    fn step(
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn step(
         &mut self,
+        s: &AhrsSettings,
         dt: f64,
         gyro: [f64; 3],
         a: &[f64; 3],
@@ -382,7 +242,6 @@ impl Ahrs {
         a_norm: f64,
         mag: Option<&[f64; 3]>,
     ) -> AhrsFlags {
-        let s = &self.settings;
         let mut flags = AhrsFlags {
             initialising: self.flags.initialising,
             angular_rate_recovery: self.flags.angular_rate_recovery,
@@ -550,107 +409,8 @@ impl Ahrs {
         flags
     }
 
-    /// Orientation and derived quantities after the latest accepted sample; `None`
-    /// before the first.
-    pub fn output(&self) -> Option<AhrsOutput> {
-        self.started.then(|| self.make_output())
-    }
-
-    fn make_output(&self) -> AhrsOutput {
-        let frame = self.settings.frame;
-        let q = quat::normalised(quat::mul(&frame.nwu_to_frame(), &self.q.get()));
-        let (roll_rad, pitch_rad, yaw_rad) = quat::to_euler(&q);
-        let heading = match frame {
-            EarthFrame::Enu => -yaw_rad,
-            EarthFrame::Ned => yaw_rad,
-        };
-        let mut heading_rad = heading.rem_euclid(std::f64::consts::TAU) + 0.0;
-        if heading_rad >= std::f64::consts::TAU {
-            heading_rad = 0.0;
-        }
-        // Up in the body frame: third row of R(q_NWU).
-        let [w, x, y, z] = quat::normalised(self.q.get());
-        let g = self.settings.gravity_mps2;
-        let gravity_body_mps2 = [
-            g * 2.0 * (x * z - w * y),
-            g * 2.0 * (w * x + y * z),
-            g * (1.0 - 2.0 * (x * x + y * y)),
-        ];
-        let a = &self.last_accel_mps2;
-        let linear_accel_body_mps2 = [
-            a[0] - gravity_body_mps2[0],
-            a[1] - gravity_body_mps2[1],
-            a[2] - gravity_body_mps2[2],
-        ];
-        let linear_accel_earth_mps2 = quat::rotate(&q, &linear_accel_body_mps2);
-        AhrsOutput {
-            t_s: self.last_t_s,
-            frame,
-            quaternion: q,
-            roll_rad,
-            pitch_rad,
-            yaw_rad,
-            heading_rad,
-            gravity_body_mps2,
-            linear_accel_body_mps2,
-            linear_accel_earth_mps2,
-            gyro_bias_rads: self.bias.bias_rads,
-            flags: self.flags,
-        }
-    }
-
-    /// Feed many samples in order; one output per accepted sample goes to `out`,
-    /// every rejected sample (state untouched, the rest of the batch still processed)
-    /// to `rejected`. Returns the number accepted. Allocates nothing itself (only
-    /// `out` / `rejected` may grow: reserve capacity to avoid that).
-    pub fn update_batch<O, R>(
-        &mut self,
-        samples: &[ImuSample],
-        out: &mut O,
-        rejected: &mut R,
-    ) -> usize
-    where
-        O: Extend<AhrsOutput>,
-        R: Extend<AhrsRejection>,
-    {
-        let mut accepted = 0;
-        for (index, s) in samples.iter().enumerate() {
-            match self.update(s.t_s, s.gyro_rads, s.accel_mps2, s.mag_ut) {
-                Ok(_) => {
-                    accepted += 1;
-                    out.extend(Some(self.make_output()));
-                }
-                Err(error) => rejected.extend(Some(AhrsRejection { index, error })),
-            }
-        }
-        accepted
-    }
-
-    /// The whole state as bytes (versioned, checksummed): restoring continues with
-    /// bit-identical output.
-    pub fn snapshot(&self) -> Vec<u8> {
-        let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
-        let s = &self.settings;
-        w.u8(s.frame.to_u8());
-        for (src, neg) in s.axis_remap.source().iter().zip(s.axis_remap.negate()) {
-            w.u8(*src as u8);
-            w.bool(neg);
-        }
-        w.f64s(&[
-            s.gain,
-            s.initial_gain,
-            s.initialisation_period_s,
-            s.gyro_range_rads,
-            s.accel_rejection_mps2,
-            s.accel_rejection_rad,
-            s.mag_rejection_ut,
-            s.mag_rejection_dip_rad,
-            s.recovery_trigger_period_s,
-            s.gravity_mps2,
-            s.max_gap_s,
-        ]);
-        w.bool(s.bias_estimation);
-        self.time.write(&mut w);
+    /// State after the settings, in the order of snapshot format 1 (q … still time).
+    pub(crate) fn write_state(&self, w: &mut Writer) {
         w.f64s(&self.q.get());
         w.f64(self.gain);
         for r in [&self.accel_rec, &self.mag_rec] {
@@ -661,103 +421,61 @@ impl Ahrs {
         w.bool(self.mag_ref_valid);
         w.f64s(&self.bias.bias_rads);
         w.f64(self.bias.still_s);
-        self.units.write(&mut w);
-        w.f64s(&self.last_accel_mps2);
-        w.u8(self.flags.to_bits());
-        w.finish()
     }
 
-    /// A filter continuing exactly where the snapshot was taken.
-    pub fn restore(bytes: &[u8]) -> Result<Self, AhrsError> {
-        let (mut r, _) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
-        let frame = EarthFrame::from_u8(r.u8()?).ok_or(SnapshotError::Invalid("frame"))?;
-        let mut source = [0usize; 3];
-        let mut negate = [false; 3];
-        for i in 0..3 {
-            source[i] = r.u8()? as usize;
-            negate[i] = r.bool()?;
-        }
-        let axis_remap =
-            AxisRemap::new(source, negate).map_err(|_| SnapshotError::Invalid("axis remap"))?;
-        let mut v = [0.0; 11];
-        r.f64s(&mut v)?;
-        let settings = AhrsSettings {
-            frame,
-            axis_remap,
-            gain: v[0],
-            initial_gain: v[1],
-            initialisation_period_s: v[2],
-            gyro_range_rads: v[3],
-            accel_rejection_mps2: v[4],
-            accel_rejection_rad: v[5],
-            mag_rejection_ut: v[6],
-            mag_rejection_dip_rad: v[7],
-            recovery_trigger_period_s: v[8],
-            gravity_mps2: v[9],
-            max_gap_s: v[10],
-            bias_estimation: r.bool()?,
-        };
-        let mut a = Ahrs::new(settings).map_err(|_| SnapshotError::Invalid("settings"))?;
-        a.time = TimeGuard::read(&mut r, Stream::Imu)?;
-        a.started = a.time.last_t_s().is_some();
-        a.last_t_s = a.time.last_t_s().unwrap_or(0.0);
+    /// Reads what [`Madgwick::write_state`] wrote and checks it against the
+    /// settings: every number finite (the reader refused NaN and ±∞) and within what
+    /// an update can produce.
+    pub(crate) fn read_state(
+        &mut self,
+        r: &mut Reader,
+        s: &AhrsSettings,
+    ) -> Result<(), SnapshotError> {
         let mut q = [0.0; 4];
         r.f64s(&mut q)?;
-        a.q.set(q);
-        a.gain = r.f64()?;
-        for rec in [&mut a.accel_rec, &mut a.mag_rec] {
+        self.q.set(q);
+        self.gain = r.f64()?;
+        for rec in [&mut self.accel_rec, &mut self.mag_rec] {
             rec.trigger_s = r.f64()?;
             rec.recovering = r.bool()?;
         }
-        r.f64s(&mut a.mag_ref_ut)?;
-        a.mag_ref_valid = r.bool()?;
-        r.f64s(&mut a.bias.bias_rads)?;
-        a.bias.still_s = r.f64()?;
-        a.units = AccelUnits::read(&mut r)?;
-        r.f64s(&mut a.last_accel_mps2)?;
-        a.flags = AhrsFlags::from_bits(r.u8()?);
-        r.end()?;
-        a.check_state().map_err(SnapshotError::Invalid)?;
-        Ok(a)
-    }
-
-    /// Whether a restored state is one the filter can be in: every number finite
-    /// (the reader refused NaN and ±∞) and within what the update can produce.
-    fn check_state(&self) -> Result<(), &'static str> {
-        let s = &self.settings;
-        let qn = self.q.get().iter().map(|c| c * c).sum::<f64>();
+        r.f64s(&mut self.mag_ref_ut)?;
+        self.mag_ref_valid = r.bool()?;
+        r.f64s(&mut self.bias.bias_rads)?;
+        self.bias.still_s = r.f64()?;
+        let qn = q.iter().map(|c| c * c).sum::<f64>();
         if (qn - 1.0).abs() >= 1e-6 {
-            return Err("quaternion not unit");
+            return Err(SnapshotError::Invalid("quaternion not unit"));
         }
         if !(self.gain >= s.gain.min(s.initial_gain) && self.gain <= s.gain.max(s.initial_gain)) {
-            return Err("gain outside the settings' range");
+            return Err(SnapshotError::Invalid("gain outside the settings' range"));
         }
         for rec in [&self.accel_rec, &self.mag_rec] {
             // The trigger counts within 0..=period (0 when the period is +∞).
             if !(rec.trigger_s >= 0.0 && rec.trigger_s <= s.recovery_trigger_period_s) {
-                return Err("recovery trigger");
+                return Err(SnapshotError::Invalid("recovery trigger"));
             }
         }
-        let max_m = input::limits::MAX_MAG_UT * 3f64.sqrt();
+        let max_m = crate::input::limits::MAX_MAG_UT * 3f64.sqrt();
         let [rx, rz, rn] = self.mag_ref_ut;
         if !(rx.abs() <= 1.5 && rz.abs() <= 1.5 && (0.0..=max_m).contains(&rn)) {
-            return Err("learned magnetic field");
+            return Err(SnapshotError::Invalid("learned magnetic field"));
         }
         if self
             .bias
             .bias_rads
             .iter()
-            .any(|b| b.abs() > input::limits::MAX_GYRO_RADS)
+            .any(|b| b.abs() > crate::input::limits::MAX_GYRO_RADS)
+            || !(0.0..=super::bias::STILL_TIMEOUT_S).contains(&self.bias.still_s)
         {
-            return Err("gyroscope bias");
-        }
-        if !(0.0..=super::bias::STILL_TIMEOUT_S).contains(&self.bias.still_s) {
-            return Err("stillness timer");
-        }
-        if input::accel(&self.last_accel_mps2).is_err() {
-            return Err("last acceleration");
+            return Err(SnapshotError::Invalid("gyroscope bias"));
         }
         Ok(())
+    }
+
+    /// The flags carried from sample to sample (restored from a snapshot).
+    pub(crate) fn set_flags(&mut self, flags: AhrsFlags) {
+        self.flags = flags;
     }
 }
 

@@ -1,21 +1,30 @@
 //! Orientation (attitude and heading reference system, AHRS) from a phone's or
-//! watch's gyroscope, accelerometer and optional magnetometer (method 4, seed 003:
-//! Madgwick's filter, used to rotate accelerations into the earth frame and remove
-//! gravity).
+//! watch's gyroscope, accelerometer and optional magnetometer.
 //!
-//! [`Ahrs`] is Madgwick's gradient-descent filter ([`madgwick`]) with the robustness
-//! of x-io Technologies' Fusion library: a settings struct with named defaults
-//! ([`settings`]), a fast initialisation phase, acceleration and magnetic rejection
-//! with recovery, angular-rate recovery, gyroscope bias learning at rest ([`bias`]),
-//! and readable flags ([`flags`]) telling why the filter did what it did. The earth
-//! frame (ENU or NED) and a sensor-axis remap are chosen in [`frame`].
+//! [`Ahrs`] ([`engine`]) is the one orientation engine of stridekit: it checks every
+//! sample at the door ([`door`]: finite numbers, increasing time, accelerations in
+//! m/s² rather than g; a rejected sample returns an [`AhrsError`] and leaves the state
+//! exactly as it was), runs the filter chosen by [`AhrsSettings::algorithm`], and
+//! derives gravity, linear acceleration, Euler angles and heading ([`output`]):
+//! - [`AhrsAlgorithm::Decoupled`], the default ([`decoupled`]): inclination from the
+//!   accelerometer averaged in an almost-inertial frame, heading from the
+//!   magnetometer on its own with disturbance rejection and recovery, gyroscope bias
+//!   learned at rest and in motion. Measured against optical motion capture in
+//!   `docs/orientation.md`.
+//! - [`AhrsAlgorithm::Madgwick`] ([`madgwick`]): Madgwick's gradient-descent filter
+//!   with the robustness of x-io's Fusion (initialisation, acceleration and magnetic
+//!   rejection with recovery, gyroscope bias at rest, [`bias`]);
+//!   [`AhrsSettings::plain`] is the filter of the paper.
 //!
-//! Inputs are checked at the door (finite numbers, increasing time, accelerations in
-//! m/s² rather than g); a rejected sample returns an [`AhrsError`] and leaves the
-//! state exactly as it was. An update allocates nothing; the state snapshots to
+//! Settings are a plain struct with named defaults ([`settings`]); flags tell why the
+//! filter did what it did ([`flags`]). The earth frame (ENU or NED) and a sensor-axis
+//! remap are chosen in [`frame`]. An update allocates nothing; the state snapshots to
 //! bytes and restores bit-exactly.
 
 pub mod bias;
+pub mod decoupled;
+pub mod door;
+pub mod engine;
 pub mod error;
 pub mod flags;
 pub mod frame;
@@ -24,9 +33,10 @@ pub mod output;
 pub(crate) mod quat;
 pub mod settings;
 
+pub use decoupled::DecoupledSettings;
+pub use engine::Ahrs;
 pub use error::AhrsError;
 pub use flags::AhrsFlags;
 pub use frame::{AxisRemap, EarthFrame};
-pub use madgwick::Ahrs;
 pub use output::{AhrsOutput, AhrsRejection, ImuSample};
-pub use settings::{AhrsSettings, MAX_GAP_LIMIT_S};
+pub use settings::{AhrsAlgorithm, AhrsSettings, MAX_GAP_LIMIT_S};

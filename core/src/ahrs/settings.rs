@@ -1,9 +1,41 @@
 //! Settings of the AHRS, with named defaults (the structure of x-io's Fusion
-//! `FusionAhrsSettings`, adapted to a gradient-descent filter, SI units and seconds
-//! instead of sample counts).
+//! `FusionAhrsSettings`, in SI units and seconds instead of sample counts): which
+//! filter runs ([`AhrsAlgorithm`]), the settings both share, Madgwick's, and the
+//! decoupled filter's ([`DecoupledSettings`]).
 
+use super::decoupled::DecoupledSettings;
 use super::error::AhrsError;
 use super::frame::{AxisRemap, EarthFrame};
+
+/// Which orientation filter an [`Ahrs`](super::Ahrs) runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum AhrsAlgorithm {
+    /// The default: inclination from the accelerometer averaged in an
+    /// almost-inertial frame, heading from the magnetometer on its own, gyroscope
+    /// bias learned at rest and in motion, magnetic disturbance rejection
+    /// ([`super::decoupled`]; settings in [`AhrsSettings::decoupled`]).
+    #[default]
+    Decoupled,
+    /// Madgwick's gradient-descent filter with Fusion-style initialisation, rejection
+    /// and recovery ([`super::madgwick`]); the default until issue 12.
+    Madgwick,
+}
+
+impl AhrsAlgorithm {
+    pub(crate) fn to_u8(self) -> u8 {
+        match self {
+            AhrsAlgorithm::Decoupled => 0,
+            AhrsAlgorithm::Madgwick => 1,
+        }
+    }
+    pub(crate) fn from_u8(v: u8) -> Option<Self> {
+        match v {
+            0 => Some(AhrsAlgorithm::Decoupled),
+            1 => Some(AhrsAlgorithm::Madgwick),
+            _ => None,
+        }
+    }
+}
 
 /// Standard gravity, m/s².
 pub const STANDARD_GRAVITY_MPS2: f64 = 9.80665;
@@ -43,14 +75,21 @@ pub const DEFAULT_MAX_GAP_S: f64 = 1.0;
 pub const MAX_GAP_LIMIT_S: f64 = 10.0;
 
 /// Settings of [`Ahrs`](super::Ahrs). Every threshold may be `f64::INFINITY` to
-/// switch its feature off.
+/// switch its feature off. `frame`, `axis_remap`, `gyro_range_rads`,
+/// `bias_estimation`, `gravity_mps2` and `max_gap_s` apply to both filters; the
+/// fields from `gain` to `recovery_trigger_period_s` to Madgwick's only; `decoupled`
+/// to the decoupled filter only.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AhrsSettings {
     /// Earth frame of the outputs.
     pub frame: EarthFrame,
     /// Sensor → body axis remap applied to every input vector.
     pub axis_remap: AxisRemap,
-    /// Filter gain β after initialisation, rad/s. 0 = gyroscope only.
+    /// The filter (default: [`AhrsAlgorithm::Decoupled`]).
+    pub algorithm: AhrsAlgorithm,
+    /// Settings of the decoupled filter.
+    pub decoupled: DecoupledSettings,
+    /// Madgwick: filter gain β after initialisation, rad/s. 0 = gyroscope only.
     pub gain: f64,
     /// Gain at the start of the initialisation phase; it ramps linearly down to `gain`
     /// over `initialisation_period_s`. Ignored when not above `gain`.
@@ -74,7 +113,8 @@ pub struct AhrsSettings {
     /// A sensor rejected for this long (net of accepted samples, which count 9× back)
     /// is trusted again: the estimate, not the sensor, is taken to be wrong. Seconds.
     pub recovery_trigger_period_s: f64,
-    /// Learn the gyroscope bias while the device is still.
+    /// Learn the gyroscope bias (Madgwick: while still; decoupled: at rest and in
+    /// motion).
     pub bias_estimation: bool,
     /// Local gravity, m/s².
     pub gravity_mps2: f64,
@@ -88,6 +128,8 @@ impl Default for AhrsSettings {
         Self {
             frame: EarthFrame::Enu,
             axis_remap: AxisRemap::IDENTITY,
+            algorithm: AhrsAlgorithm::Decoupled,
+            decoupled: DecoupledSettings::default(),
             gain: DEFAULT_GAIN,
             initial_gain: DEFAULT_INITIAL_GAIN,
             initialisation_period_s: DEFAULT_INITIALISATION_PERIOD_S,
@@ -105,10 +147,20 @@ impl Default for AhrsSettings {
 }
 
 impl AhrsSettings {
+    /// Madgwick's filter with its defaults (Fusion-style initialisation, rejection,
+    /// recovery and bias at rest): the default AHRS before issue 12.
+    pub fn madgwick() -> Self {
+        Self {
+            algorithm: AhrsAlgorithm::Madgwick,
+            ..Self::default()
+        }
+    }
+
     /// Plain Madgwick: gain `gain`, no initialisation phase, no rejection, no bias
     /// estimation, no gyroscope range (the filter of the paper, as in the `ahrs` crate).
     pub fn plain(gain: f64) -> Self {
         Self {
+            algorithm: AhrsAlgorithm::Madgwick,
             gain,
             initial_gain: gain,
             initialisation_period_s: 0.0,
@@ -165,7 +217,7 @@ impl AhrsSettings {
         {
             return Err(bad("max_gap_s", "must be in (0, 10] s"));
         }
-        Ok(())
+        self.decoupled.validate()
     }
 }
 
@@ -195,5 +247,22 @@ mod tests {
             ..AhrsSettings::default()
         };
         assert!(s.validate().is_err());
+        let mut s = AhrsSettings::default();
+        s.decoupled.accel_time_constant_s = 0.0;
+        assert!(matches!(
+            s.validate(),
+            Err(AhrsError::InvalidSettings {
+                field: "accel_time_constant_s",
+                ..
+            })
+        ));
+        let mut s = AhrsSettings::default();
+        s.decoupled.mag_norm_threshold = f64::NAN;
+        assert!(s.validate().is_err());
+        for a in [AhrsAlgorithm::Decoupled, AhrsAlgorithm::Madgwick] {
+            assert_eq!(AhrsAlgorithm::from_u8(a.to_u8()), Some(a));
+        }
+        assert_eq!(AhrsAlgorithm::from_u8(9), None);
+        assert_eq!(AhrsSettings::madgwick().algorithm, AhrsAlgorithm::Madgwick);
     }
 }

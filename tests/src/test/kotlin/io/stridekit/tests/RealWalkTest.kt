@@ -108,7 +108,7 @@ class RealWalkTest {
             assertEquals(reference.latest, nav.estimate())
             val last = steps.last()
             println(
-                "RealWalkTest: ${packed.size / 80} samples, ${steps.size} steps, ${"%.1f".format(nav.estimate().distanceM)} m, " +
+                "RealWalkTest: ${packed.size / 80} samples, ${steps.size} steps, ${"%.1f".format(assertNotNull(nav.estimate()).distanceM)} m, " +
                     "end ${"%.1f".format(hypot(last.eastM, last.northM))} m from the start",
             )
             assertTrue(steps.size > 20, "a 31 s walk has steps: ${steps.size}")

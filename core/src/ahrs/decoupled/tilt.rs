@@ -1,0 +1,236 @@
+//! Inclination: gyroscope strapdown into an almost-inertial frame, and the
+//! accelerometer averaged in that frame.
+//!
+//! The gyroscope (bias-corrected) is integrated into `q_gyr`, body → I. Over seconds
+//! `I` barely moves against the earth (only the residual bias turns it, hundredths of
+//! a degree per second), so the accelerometer rotated into `I` is gravity plus the
+//! device's linear acceleration — and that averages out: velocity is bounded, so the
+//! mean acceleration over T seconds is Δv/T. A second-order low-pass with
+//! Butterworth damping (ζ = 1/√2, cut-off ω_c = √2/T so that T is its delay at low
+//! frequencies) averages `a_I` (the rotation is undone *before* averaging, so turning
+//! the device does not smear gravity, unlike a low-pass in the body frame). Against two
+//! first-order stages of the same delay it halves what passes at high frequencies. The inclination correction
+//! `q_inc` (I → E', E' = the earth frame up to a rotation about the vertical) is the
+//! smallest rotation that makes the averaged vector vertical, applied in full every
+//! sample: the inclination follows the average without lag of its own.
+//!
+//! The correction is also what the residual gyroscope bias does to `I` (about
+//! horizontal earth axes), which [`super::bias`] integrates.
+
+use crate::ahrs::quat::{self, Quat};
+
+/// Above this half-angle² per sample the gyroscope increment uses sin/cos (0.1 rad).
+const SERIES_HALF_ANGLE2: f64 = 0.05 * 0.05;
+
+/// Strapdown orientation, the averaged accelerometer and the inclination correction.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Tilt {
+    /// Body → I (gyroscope only), [w, x, y, z].
+    pub(crate) q_gyr: Quat,
+    /// I → E' (inclination corrections).
+    pub(crate) q_inc: Quat,
+    /// Low-pass of the specific force in I, m/s², and its rate of change, m/s³.
+    pub(crate) avg: [f64; 3],
+    pub(crate) avg_rate: [f64; 3],
+}
+
+impl Tilt {
+    /// Start from one accelerometer sample: I = the body frame now, the averages at
+    /// this sample, the inclination from it alone.
+    pub(crate) fn start(&mut self, a: &[f64; 3]) {
+        self.q_gyr = [1.0, 0.0, 0.0, 0.0];
+        self.avg = *a;
+        self.avg_rate = [0.0; 3];
+        self.q_inc = [1.0, 0.0, 0.0, 0.0];
+        if let Some(c) = vertical_correction(a) {
+            self.q_inc = quat::normalised(c);
+        }
+    }
+
+    /// Integrate the gyroscope over `dt`.
+    #[inline(always)]
+    pub(crate) fn integrate(&mut self, w: &[f64; 3], dt: f64) {
+        let h = [0.5 * w[0] * dt, 0.5 * w[1] * dt, 0.5 * w[2] * dt];
+        let h2 = h[0] * h[0] + h[1] * h[1] + h[2] * h[2];
+        let (c, s) = if h2 < SERIES_HALF_ANGLE2 {
+            // cos |h| and sin |h| / |h| to fourth order (error < 3e-11 at the limit).
+            (
+                1.0 - h2 * (0.5 - h2 * (1.0 / 24.0)),
+                1.0 - h2 * ((1.0 / 6.0) - h2 * (1.0 / 120.0)),
+            )
+        } else {
+            exact_half_angle(h2)
+        };
+        let dq = [c, s * h[0], s * h[1], s * h[2]];
+        self.q_gyr = renormalise(quat::mul(&self.q_gyr, &dq));
+    }
+
+    /// Average the specific force `a` (body frame) in I over `dt` with cut-off `w`
+    /// (rad/s; √2 / averaging time), then make the average vertical. Returns the
+    /// correction as a rotation vector in E' (rad, horizontal), or `None` when the
+    /// average is zero.
+    #[inline(always)]
+    pub(crate) fn correct(&mut self, a: &[f64; 3], dt: f64, w: f64) -> Option<[f64; 3]> {
+        let a_i = quat::rotate(&self.q_gyr, a);
+        // x'' = ω²(u − x) − 2ζω x', ζ = 1/√2, ω = √2/T, by semi-implicit Euler; the step
+        // is bounded to ω·dt ≤ 1/√2 (stable for any interval).
+        let h = if w * dt < std::f64::consts::FRAC_1_SQRT_2 {
+            dt
+        } else {
+            std::f64::consts::FRAC_1_SQRT_2 / w
+        };
+        let (w2h, damp) = (w * w * h, std::f64::consts::SQRT_2 * w * h);
+        for ((x, r), u) in self.avg.iter_mut().zip(&mut self.avg_rate).zip(a_i) {
+            let rate = *r + (w2h * (u - *x) - damp * *r);
+            *r = rate;
+            *x += h * rate;
+        }
+        let v = quat::rotate(&self.q_inc, &self.avg);
+        let c = vertical_correction(&v)?;
+        self.q_inc = renormalise(quat::mul(&c, &self.q_inc));
+        // Rotation vector of c: (v_y, −v_x, 0)/n · θ/sin θ ≈ 2·(c_x, c_y, 0) for the
+        // small angles of one sample.
+        Some([2.0 * c[1], 2.0 * c[2], 0.0])
+    }
+
+    /// Body → E'.
+    #[inline(always)]
+    pub(crate) fn q_body_to_e(&self) -> Quat {
+        quat::mul(&self.q_inc, &self.q_gyr)
+    }
+
+    /// Restart the averages from the current sample (after a clipped gyroscope, whose
+    /// integration is no longer trusted).
+    pub(crate) fn reset_average(&mut self, a: &[f64; 3]) {
+        self.avg = quat::rotate(&self.q_gyr, a);
+        self.avg_rate = [0.0; 3];
+    }
+}
+
+/// Smallest rotation taking `v` to the vertical (+z), or `None` for a zero vector.
+/// With n = |v|, cos θ = v_z/n and axis v × ẑ = (v_y, −v_x, 0): the half-angle
+/// quaternion is ∝ (1 + cos θ, sin θ · axis) = (n + v_z, v_y, −v_x, 0)/n. Scaled by
+/// 1/(2n) its norm is cos(θ/2): unit to second order in θ, which the renormalisation
+/// after the product absorbs. One square root, one division.
+///
+/// Fast path: after every sample's correction the average is vertical, so the next
+/// one is off by at most milliradians. For r² = v_x² + v_y² < 10⁻⁴ v_z² (0.57°), with
+/// ε = r²/v_z²: 1/n = (1 − ε/2 + 3ε²/8)/v_z + O(ε³), so the same quaternion is
+/// (1 − ε/4 + 3ε²/16, v_y·f, −v_x·f, 0) with f = (1 − ε/2 + 3ε²/8)/(2v_z), to
+/// O(ε³) ≤ 10⁻¹² — one division and no square root on the chain from sample to
+/// sample.
+#[inline(always)]
+pub(crate) fn vertical_correction(v: &[f64; 3]) -> Option<Quat> {
+    let r2 = v[0] * v[0] + v[1] * v[1];
+    let vz2 = v[2] * v[2];
+    if (v[2] > 0.0) & (r2 < 1e-4 * vz2) {
+        let inv = 1.0 / v[2];
+        let eps = r2 * (inv * inv);
+        let f = 0.5 * inv * (1.0 - eps * (0.5 - 0.375 * eps));
+        return Some([1.0 - eps * (0.25 - 0.1875 * eps), v[1] * f, -v[0] * f, 0.0]);
+    }
+    vertical_correction_exact(v, r2 + vz2)
+}
+
+/// [`vertical_correction`] for any tilt (cold: start, recovery, fast turns).
+#[cold]
+#[inline(never)]
+fn vertical_correction_exact(v: &[f64; 3], n2: f64) -> Option<Quat> {
+    if n2 <= 0.0 || !n2.is_finite() {
+        return None;
+    }
+    let n = n2.sqrt();
+    let w = n + v[2];
+    Some(if w > 1e-6 * n {
+        let f = 0.5 / n;
+        [w * f, v[1] * f, -v[0] * f, 0.0]
+    } else {
+        // Upside down: any horizontal axis will do.
+        [0.0, 1.0, 0.0, 0.0]
+    })
+}
+
+/// q / |q| for |q| ≈ 1 (products of unit quaternions): 1/√(1+ε) ≈ 1 − ε/2 + 3ε²/8.
+#[inline(always)]
+pub(crate) fn renormalise(q: Quat) -> Quat {
+    let eps = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] - 1.0;
+    let inv = if eps.abs() < 1e-3 {
+        1.0 - 0.5 * eps + 0.375 * eps * eps
+    } else {
+        exact_inverse_norm(eps)
+    };
+    [q[0] * inv, q[1] * inv, q[2] * inv, q[3] * inv]
+}
+
+#[cold]
+#[inline(never)]
+fn exact_half_angle(h2: f64) -> (f64, f64) {
+    let a = h2.sqrt();
+    let (s, c) = a.sin_cos();
+    (c, s / a)
+}
+
+#[cold]
+#[inline(never)]
+fn exact_inverse_norm(eps: f64) -> f64 {
+    let n2 = 1.0 + eps;
+    if n2 > 0.0 && n2.is_finite() {
+        1.0 / n2.sqrt()
+    } else {
+        1.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vertical_correction_makes_vectors_vertical() {
+        for v in [
+            [0.3, -0.2, 9.0],
+            [5.0, 5.0, -1.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 0.0],
+        ] {
+            let q = quat::normalised(vertical_correction(&v).unwrap());
+            let r = quat::rotate(&q, &v);
+            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            assert!(r[0].abs() < 1e-12 && r[1].abs() < 1e-12, "{r:?}");
+            assert!((r[2] - n).abs() < 1e-12);
+            assert_eq!(q[3], 0.0, "no rotation about the vertical");
+        }
+        assert!(vertical_correction(&[0.0; 3]).is_none());
+        let q = quat::normalised(vertical_correction(&[0.0, 0.0, -1.0]).unwrap());
+        assert!((quat::rotate(&q, &[0.0, 0.0, -1.0])[2] - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn strapdown_matches_the_exact_rotation() {
+        let mut t = Tilt::default();
+        t.start(&[0.0, 0.0, 9.81]);
+        // 1 rad/s about (1, 2, 2)/3 for 2 s in 0.01 s steps, and a fast 30 rad/s turn.
+        for (rate, n, dt) in [(1.0, 200, 0.01), (30.0, 10, 0.01)] {
+            let mut t = t;
+            let axis = [1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0];
+            let w = axis.map(|c| c * rate);
+            for _ in 0..n {
+                t.integrate(&w, dt);
+            }
+            let half = 0.5 * rate * dt * n as f64;
+            let want = [
+                half.cos(),
+                axis[0] * half.sin(),
+                axis[1] * half.sin(),
+                axis[2] * half.sin(),
+            ];
+            for i in 0..4 {
+                assert!(
+                    (t.q_gyr[i] - want[i]).abs() < 1e-9,
+                    "{:?} vs {want:?}",
+                    t.q_gyr
+                );
+            }
+        }
+    }
+}
