@@ -972,9 +972,7 @@ pub fn simulate_foot_walk(seed: u64, laps: u32) -> Result<SimulatedFootWalk, Foo
         });
     }
     guard(|| {
-        let sim = stridekit_core::sim::simulate_foot(&stridekit_core::sim::FootScenario::walk(
-            seed, laps,
-        ));
+        let sim = stridekit_sim::simulate_foot(&stridekit_sim::FootScenario::walk(seed, laps));
         let mut nav = core::FootNavigator::new(core::FootConfig::default())?;
         let outcome = nav.push_batch(&sim.samples, |_| {});
         let mut packed = Vec::with_capacity(sim.samples.len() * FOOT_SAMPLE_RECORD_BYTES);

@@ -333,7 +333,7 @@ pub fn simulate_phone_walk(
     speed_mps: f64,
     duration_s: f64,
 ) -> Result<SimulatedPhoneWalk, OdometryError> {
-    use stridekit_core::sim::{simulate_phone, PhonePlacement as Sim, PhoneScenario};
+    use stridekit_sim::{simulate_phone, PhonePlacement as Sim, PhoneScenario};
     if !(speed_mps.is_finite() && (0.3..=3.0).contains(&speed_mps)) {
         return Err(OdometryError::InvalidConfig {
             reason: format!("speed_mps = {speed_mps}: must be 0.3..=3 m/s"),
@@ -402,7 +402,7 @@ mod tests {
     use super::*;
 
     fn walk() -> Vec<core::OdometrySample> {
-        use stridekit_core::sim::{simulate_phone, PhonePlacement as SimPlacement, PhoneScenario};
+        use stridekit_sim::{simulate_phone, PhonePlacement as SimPlacement, PhoneScenario};
         let sim = simulate_phone(&PhoneScenario::walk(5, SimPlacement::InHand, 1.3, 30.0));
         sim.samples.iter().map(core::OdometrySample::from).collect()
     }

@@ -2,7 +2,7 @@
 //! prove that pushing through the FFI gives bit-identical results.
 
 use stridekit_core::pace as core;
-use stridekit_core::sim::{self, RunScenario};
+use stridekit_sim::{self as sim, RunScenario};
 
 use crate::error::{guard, PaceError};
 use crate::types::{GnssFix, PaceEstimate, PaceSample, StepSample};

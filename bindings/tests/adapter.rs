@@ -579,7 +579,7 @@ fn simulated_run_reference_matches_ffi_path() {
     assert_eq!(simulate_run(7, 300.0).unwrap(), run);
 }
 
-/// Fails while `stridekit_core::sim::simulate_run` is still a stub returning no data.
+/// Fails while `stridekit_sim::simulate_run` is still a stub returning no data.
 #[test]
 fn simulated_run_is_not_empty() {
     let run = simulate_run(7, 300.0).unwrap();

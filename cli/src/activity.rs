@@ -1,10 +1,10 @@
 //! Real activity records → pace samples (clean, or with injected GNSS degradation).
 
-use stridekit_core::eval::{degrade_track, TrackPoint};
 use stridekit_core::geo::LocalFrame;
-use stridekit_core::sim::Zone;
 use stridekit_core::{GnssFix, PaceSample, StepSample};
 use stridekit_formats::{Activity, Record};
+use stridekit_lab::pace::{degrade_track, TrackPoint};
+use stridekit_sim::Zone;
 
 /// An activity prepared for replay: time relative to its first record.
 pub struct Prepared {

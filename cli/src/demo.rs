@@ -5,10 +5,10 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use stridekit_core::eval::{replay, score, sim_reference, METHODS};
 use stridekit_core::geo::LocalFrame;
-use stridekit_core::sim::{simulate_run, RunScenario, ZoneKind};
 use stridekit_core::PaceConfig;
+use stridekit_lab::pace::{replay, score, sim_reference, METHODS};
+use stridekit_sim::{simulate_run, RunScenario, ZoneKind};
 
 use crate::report::{line_chart, track_chart, Band, Chart, Series, Style};
 

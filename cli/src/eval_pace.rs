@@ -4,11 +4,11 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use stridekit_core::eval::{
+use stridekit_core::PaceConfig;
+use stridekit_lab::pace::{
     distance_against, replay, score, sim_reference, smoothed_track_speed, Scores, METHODS,
 };
-use stridekit_core::sim::{simulate_run, RunScenario};
-use stridekit_core::PaceConfig;
+use stridekit_sim::{simulate_run, RunScenario};
 
 use crate::activity::{degraded, prepare};
 

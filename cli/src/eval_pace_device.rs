@@ -12,10 +12,10 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use stridekit_core::eval::{replay, rmse};
-use stridekit_core::sim::{Zone, ZoneKind};
 use stridekit_core::{PaceCalibration, PaceConfig, PaceSample, PaceTracker};
 use stridekit_formats::Activity;
+use stridekit_lab::pace::{replay, rmse};
+use stridekit_sim::{Zone, ZoneKind};
 
 use crate::activity::{degraded, prepare};
 
@@ -71,7 +71,7 @@ pub fn outage_table(files: &[PathBuf], default: PaceConfig) -> String {
         let (samples, zones) = degraded(&p, 1000 + i as u64);
         let r = replay(&samples, PaceConfig::as_published(), default);
         let dev = device_speed(&activity, &r.t_s);
-        let reference = stridekit_core::eval::smoothed_track_speed(
+        let reference = stridekit_lab::pace::smoothed_track_speed(
             &p.track,
             &r.t_s,
             crate::eval_pace::REFERENCE_HALF_WINDOW_S,
@@ -186,7 +186,7 @@ pub fn pedometer_only_table(dir: &Path, prefix: &str) -> Result<String, String> 
         let score = |config: PaceConfig| {
             let (grid, speed) = steps_only(&p.samples, config);
             let dev = device_speed(act, &grid);
-            let reference = stridekit_core::eval::smoothed_track_speed(
+            let reference = stridekit_lab::pace::smoothed_track_speed(
                 &p.track,
                 &grid,
                 crate::eval_pace::REFERENCE_HALF_WINDOW_S,

@@ -22,8 +22,8 @@ use stridekit_core::ahrs::ImuSample;
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::pace::GnssFix;
 use stridekit_core::pdr::{NavEstimate, NavigatorConfig, PhoneNavigator};
-use stridekit_core::sim::phone::PhoneScenario;
-use stridekit_core::sim::phone::{simulate_phone, PhonePlacement, SimulatedPhone};
+use stridekit_sim::phone::PhoneScenario;
+use stridekit_sim::phone::{simulate_phone, PhonePlacement, SimulatedPhone};
 
 /// GNSS is lost at this time, s, and the walk ends at `WALK_S`.
 const OUTAGE_START_S: f64 = 300.0;

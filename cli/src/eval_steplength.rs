@@ -6,10 +6,10 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use stridekit_core::geo::LocalFrame;
-use stridekit_core::sim::phone::PhonePlacement;
 use stridekit_core::stepdetect::StepEvent;
-use stridekit_core::steplength::eval::{mixes, run_cases, Case, OUTAGE_S};
 use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
+use stridekit_lab::steplength::{mixes, run_cases, Case, OUTAGE_S};
+use stridekit_sim::phone::PhonePlacement;
 
 /// Seeds per simulator mix.
 const SEEDS: u64 = 7;

@@ -458,7 +458,7 @@ mod tests {
     /// them and the loop closes.
     #[test]
     fn replays_an_xio_export_with_repeated_rows() {
-        use stridekit_core::sim::{simulate_foot, FootScenario};
+        use stridekit_sim::{simulate_foot, FootScenario};
         let sim = simulate_foot(&FootScenario {
             sample_rate_hz: 400.0,
             mount_rpy_rad: [0.3, -0.5, 0.4],

@@ -6,20 +6,20 @@ use std::fmt::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use stridekit_core::odometry::evaluate::{run_methods, Scores, METHODS};
-use stridekit_core::odometry::train::{
-    fit_model, labelled_windows, sim_scenario, simulated_windows, LabelledWindow, Truth,
-    FIRST_EVAL_SEED,
-};
 use stridekit_core::odometry::{
     OdometryConfig, OdometryModel, OdometrySample, PhoneOdometry, PipelineParams, PlacementSource,
     AUTO_MIN_CONFIDENCE,
 };
 use stridekit_core::placement::{Placement, CLASSES};
-use stridekit_core::sim::{simulate_phone, PhonePlacement};
 use stridekit_formats::{
     read_inertial, read_inertial_dir, InertialRecording as Recording, InertialSample,
 };
+use stridekit_lab::odometry::evaluate::{run_methods, Scores, METHODS};
+use stridekit_lab::odometry::train::{
+    fit_model, labelled_windows, sim_scenario, simulated_windows, LabelledWindow, Truth,
+    FIRST_EVAL_SEED,
+};
+use stridekit_sim::{simulate_phone, PhonePlacement};
 
 use crate::report::{track_chart, Series};
 
@@ -67,7 +67,7 @@ fn source_of(rec: &Recording) -> PlacementSource {
 }
 
 /// The simulator's output as a recording.
-fn from_sim(sim: &stridekit_core::sim::SimulatedPhone, p: PhonePlacement) -> Recording {
+fn from_sim(sim: &stridekit_sim::SimulatedPhone, p: PhonePlacement) -> Recording {
     Recording {
         name: format!("sim seed {}", sim.scenario.seed),
         placement: Some(sim_name(p).into()),
@@ -194,7 +194,7 @@ fn fmt_scores(out: &mut String, name: &str, s: &Scores) {
 
 /// The simulator's attitude at `t`: normalised linear interpolation of the 10 Hz
 /// truth quaternions (sign-aligned).
-fn true_attitude(sim: &stridekit_core::sim::SimulatedPhone, t: f64) -> [f64; 4] {
+fn true_attitude(sim: &stridekit_sim::SimulatedPhone, t: f64) -> [f64; 4] {
     let tr = &sim.truth;
     let x = (t / 0.1).max(0.0);
     let i = (x.floor() as usize).min(tr.len() - 1);
@@ -211,12 +211,12 @@ fn true_attitude(sim: &stridekit_core::sim::SimulatedPhone, t: f64) -> [f64; 4] 
 
 /// ATE / RTE of the learned pipeline fed the true attitude.
 fn true_attitude_scores(
-    sim: &stridekit_core::sim::SimulatedPhone,
+    sim: &stridekit_sim::SimulatedPhone,
     samples: &[OdometrySample],
     model: &OdometryModel,
     placement: PlacementSource,
 ) -> (f64, f64) {
-    use stridekit_core::odometry::metrics::{align_start, ate, rte};
+    use stridekit_lab::odometry::metrics::{align_start, ate, rte};
     let mut eng = PhoneOdometry::new(
         OdometryConfig {
             placement,
@@ -252,7 +252,7 @@ fn learned_run(
     source: PlacementSource,
     class: Placement,
 ) -> ((f64, f64), [usize; 4 + CLASSES]) {
-    use stridekit_core::odometry::metrics::{align_start, ate, rte};
+    use stridekit_lab::odometry::metrics::{align_start, ate, rte};
     let cfg = OdometryConfig {
         placement: source,
         ..Default::default()

@@ -15,13 +15,13 @@ use std::time::Instant;
 
 use stridekit_core::placement::features::{window_features, FeatureTables};
 use stridekit_core::placement::resample::BinAverager;
-use stridekit_core::placement::train::predict;
 use stridekit_core::placement::{
-    trace_features, train, Features, Placement, PlacementClassifier, PlacementModel, TrainParams,
-    CLASSES, FEATURES, FEATURE_NAMES, WINDOW,
+    trace_features, Features, Placement, PlacementClassifier, PlacementModel, CLASSES, FEATURES,
+    FEATURE_NAMES, WINDOW,
 };
-use stridekit_core::sim::{simulate_phone, PhonePlacement, PhoneScenario};
 use stridekit_formats::{list_oxford_traces, read_oxford_trace};
+use stridekit_lab::placement::{predict, train, TrainParams};
+use stridekit_sim::{simulate_phone, PhonePlacement, PhoneScenario};
 
 /// Smoothing of the streaming classifier, windows.
 const SMOOTHING: usize = stridekit_core::placement::classifier::DEFAULT_SMOOTHING;
@@ -136,7 +136,7 @@ pub fn train_cmd(dir: &Path, out: &Path, line: &str) -> Result<String, String> {
         train(&data, &params, provenance(line, &traces, &params)).map_err(|e| e.to_string())?;
     let text = model.to_text();
     std::fs::write(out, &text).map_err(|e| format!("{}: {e}", out.display()))?;
-    let acc = stridekit_core::placement::train::accuracy(&model, &data);
+    let acc = stridekit_lab::placement::accuracy(&model, &data);
     Ok(format!(
         "wrote {} ({} bytes): {} traces, {} windows, training accuracy {:.1} % (not a test score; see `stridekit eval placement`)",
         out.display(),

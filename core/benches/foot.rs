@@ -21,7 +21,7 @@ use stridekit_core::foot::{
     AdaptiveThresholds, FixedThresholds, FootConfig, FootNavigator, FootSample, ShoeDetector,
     SvmAdaptive, ZeroVelocityDetector,
 };
-use stridekit_core::sim::{simulate_foot, FootScenario};
+use stridekit_sim::{simulate_foot, FootScenario};
 
 const BLOCK: usize = 2_000;
 const WARM: usize = 1_000;

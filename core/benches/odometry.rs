@@ -17,12 +17,11 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use stridekit_core::odometry::bias::BiasCorrector;
 use stridekit_core::odometry::features::FeatureWindow;
-use stridekit_core::odometry::train::{sim_scenario, FIRST_EVAL_SEED};
 use stridekit_core::odometry::{
-    NaiveMode, NaiveOdometry, OdometryConfig, OdometryModel, OdometrySample, PhoneOdometry,
-    PlacementSource,
+    OdometryConfig, OdometryModel, OdometrySample, PhoneOdometry, PlacementSource,
 };
-use stridekit_core::sim::{simulate_phone, PhonePlacement};
+use stridekit_lab::odometry::train::{sim_scenario, FIRST_EVAL_SEED};
+use stridekit_sim::{simulate_phone, PhonePlacement};
 
 const BLOCK: usize = 2_000;
 const WARM: usize = 1_000;
@@ -68,8 +67,8 @@ fn pipeline(c: &mut Criterion) {
             )
         });
     }
-    let mut naive = NaiveOdometry::new(
-        NaiveMode::AhrsOrientation,
+    let mut naive = stridekit_lab::odometry::NaiveOdometry::new(
+        stridekit_lab::odometry::NaiveMode::AhrsOrientation,
         OdometryConfig::default().ahrs,
         true,
     )

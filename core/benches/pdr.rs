@@ -18,7 +18,7 @@ use stridekit_core::ahrs::ImuSample;
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::pace::GnssFix;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
-use stridekit_core::sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
+use stridekit_sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
 
 const BLOCK: usize = 2_000;
 const WARM_UP_S: f64 = 120.0;

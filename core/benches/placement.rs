@@ -16,7 +16,7 @@ use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughpu
 use stridekit_core::placement::features::{window_features, FeatureTables};
 use stridekit_core::placement::resample::BinAverager;
 use stridekit_core::placement::{PlacementClassifier, PlacementModel, WINDOW};
-use stridekit_core::sim::{simulate_phone, PhonePlacement, PhoneScenario};
+use stridekit_sim::{simulate_phone, PhonePlacement, PhoneScenario};
 
 const BLOCK: usize = 2_000;
 const WARM_UP_S: f64 = 20.0;

@@ -9,7 +9,6 @@
 //! on bad input. Every engine can be snapshotted to bytes and restored.
 
 pub mod ahrs;
-pub mod eval;
 pub mod foot;
 pub mod geo;
 pub mod input;
@@ -18,7 +17,6 @@ pub mod pace;
 pub mod pdr;
 pub mod placement;
 pub mod signal;
-pub mod sim;
 pub mod snapshot;
 pub mod stepdetect;
 pub mod steplength;

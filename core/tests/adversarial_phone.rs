@@ -5,9 +5,9 @@
 use stridekit_core::ahrs::{Ahrs, AhrsSettings, ImuSample};
 use stridekit_core::pace::GnssFix;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
-use stridekit_core::sim::Rng;
 use stridekit_core::stepdetect::{StepDetector, StepDetectorConfig, StepEvent};
 use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
+use stridekit_sim::Rng;
 
 fn pick(rng: &mut Rng, normal: f64) -> f64 {
     match rng.next_u64() % 12 {

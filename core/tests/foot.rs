@@ -8,8 +8,8 @@ use stridekit_core::foot::{
     FootNavigator, ShoeDetector, SvmAdaptive, SvmModel, WindowStats, ZeroVelocityDetector,
 };
 
-use stridekit_core::sim::{simulate_foot, FootScenario, SimulatedFoot};
 use stridekit_core::snapshot::SnapshotError;
+use stridekit_sim::{simulate_foot, FootScenario, SimulatedFoot};
 
 fn replay(sim: &SimulatedFoot, config: FootConfig) -> (FootNavigator, Vec<FootEstimate>) {
     let mut nav = FootNavigator::new(config).expect("valid config");

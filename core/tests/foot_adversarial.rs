@@ -8,7 +8,7 @@ use stridekit_core::foot::{
     FootSample, ShoeDetector, SvmAdaptive, ZeroVelocityDetector,
 };
 use stridekit_core::input::InputError;
-use stridekit_core::sim::{simulate_foot, FootScenario, Rng};
+use stridekit_sim::{simulate_foot, FootScenario, Rng};
 
 fn detectors() -> [ZeroVelocityDetector; 6] {
     [

@@ -9,7 +9,7 @@ use stridekit_core::foot::{
     AdaptiveThresholds, FixedThresholds, FootConfig, FootNavigator, FootSample, ShoeDetector,
     SvmAdaptive, ZeroVelocityDetector,
 };
-use stridekit_core::sim::{simulate_foot, FootScenario};
+use stridekit_sim::{simulate_foot, FootScenario};
 
 #[test]
 fn pushing_samples_does_not_allocate() {

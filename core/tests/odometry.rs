@@ -5,23 +5,20 @@ mod common;
 use common::allocations_in;
 use stridekit_core::input::InputError;
 
-use stridekit_core::odometry::evaluate::run_methods;
-use stridekit_core::odometry::train::{sim_scenario, FIRST_EVAL_SEED};
 use stridekit_core::odometry::{
     OdometryConfig, OdometryError, OdometryModel, OdometrySample, PhoneOdometry, PlacementSource,
     AUTO_MIN_CONFIDENCE,
 };
 use stridekit_core::placement::Placement;
-use stridekit_core::sim::{simulate_phone, PhonePlacement, Rng};
+use stridekit_lab::odometry::evaluate::run_methods;
+use stridekit_lab::odometry::train::{sim_scenario, FIRST_EVAL_SEED};
+use stridekit_sim::{simulate_phone, PhonePlacement, Rng};
 
 fn fixed(p: PhonePlacement) -> PlacementSource {
     PlacementSource::Fixed(p.into())
 }
 
-fn walk(
-    seed: u64,
-    p: PhonePlacement,
-) -> (stridekit_core::sim::SimulatedPhone, Vec<OdometrySample>) {
+fn walk(seed: u64, p: PhonePlacement) -> (stridekit_sim::SimulatedPhone, Vec<OdometrySample>) {
     let sim = simulate_phone(&sim_scenario(seed, p));
     let samples = sim.samples.iter().map(Into::into).collect();
     (sim, samples)
@@ -352,7 +349,7 @@ fn pushing_samples_does_not_allocate() {
 
 #[test]
 fn heading_alignment_undoes_a_frame_rotation() {
-    use stridekit_core::odometry::evaluate::Tracks;
+    use stridekit_lab::odometry::evaluate::Tracks;
     let truth: Vec<(f64, f64, f64)> = (0..300)
         .map(|i| (i as f64 * 0.1, i as f64 * 0.1, 0.0))
         .collect();

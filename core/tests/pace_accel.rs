@@ -3,7 +3,7 @@
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::input::InputError;
 use stridekit_core::pace::{GnssFix, PaceConfig, PaceError, PaceTracker};
-use stridekit_core::sim::phone::{simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario};
+use stridekit_sim::phone::{simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario};
 
 /// Accelerometer samples and fixes of a simulated walk, in time order.
 enum In {

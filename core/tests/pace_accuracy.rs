@@ -2,9 +2,9 @@
 //! as-published filter and halve the GNSS EMA error (issue targets), with margins
 //! that hold over several seeds. Numbers in the docs come from `stridekit eval pace`.
 
-use stridekit_core::eval::{replay, score, sim_reference, Scores};
-use stridekit_core::sim::{simulate_run, RunScenario};
 use stridekit_core::PaceConfig;
+use stridekit_lab::pace::{replay, score, sim_reference, Scores};
+use stridekit_sim::{simulate_run, RunScenario};
 
 fn scores(seed: u64) -> (Scores, f64) {
     let run = simulate_run(&RunScenario::demo(seed));

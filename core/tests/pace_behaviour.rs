@@ -3,11 +3,11 @@
 
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::input::InputError;
-use stridekit_core::sim::{simulate_run, Rng, RunScenario, SimulatedRun, StepReport, ZoneKind};
 use stridekit_core::{
     GnssFix, PaceConfig, PaceError, PaceEstimate, PaceMode, PaceSample, PaceSource, PaceTracker,
     StepSample,
 };
+use stridekit_sim::{simulate_run, Rng, RunScenario, SimulatedRun, StepReport, ZoneKind};
 
 /// Recognises the expected error of a rejected sample.
 type ErrorCheck = fn(&PaceError) -> bool;

@@ -2,10 +2,10 @@
 //! track, a watch without GNSS), a calibration carried between sessions, and the
 //! hand-over to GNSS when it appears.
 
-use stridekit_core::sim::{simulate_run, RunScenario};
 use stridekit_core::{
     PaceCalibration, PaceConfig, PaceError, PaceSample, PaceSource, PaceTracker, StepSample,
 };
+use stridekit_sim::{simulate_run, RunScenario};
 
 /// 170 steps/min for `seconds`, in one of the three step-data shapes.
 fn steps(shape: usize, seconds: f64) -> Vec<StepSample> {

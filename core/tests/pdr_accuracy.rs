@@ -7,7 +7,7 @@ use stridekit_core::ahrs::ImuSample;
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::pace::GnssFix;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
-use stridekit_core::sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
+use stridekit_sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
 
 /// End-point error as % of the distance walked after `outage_s`.
 fn outage_error_pct(placement: PhonePlacement, seed: u64, walk_s: f64, outage_s: f64) -> f64 {

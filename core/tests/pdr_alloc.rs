@@ -8,7 +8,7 @@ use stridekit_core::ahrs::ImuSample;
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::pace::GnssFix;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
-use stridekit_core::sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
+use stridekit_sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
 
 enum Input {
     Imu(ImuSample),

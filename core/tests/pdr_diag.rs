@@ -14,7 +14,7 @@ use stridekit_core::geo::LocalFrame;
 use stridekit_core::pace::GnssFix;
 use stridekit_core::pdr::heading::wrap;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
-use stridekit_core::sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
+use stridekit_sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
 
 fn quat(q: [f64; 4]) -> UnitQuaternion<f64> {
     UnitQuaternion::new_normalize(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]))

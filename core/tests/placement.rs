@@ -11,12 +11,12 @@ use stridekit_core::input::InputError;
 
 use std::path::PathBuf;
 
-use stridekit_core::placement::train::accuracy;
 use stridekit_core::placement::{
-    trace_features, train, Features, Placement, PlacementClassifier, PlacementError,
-    PlacementEstimate, PlacementModel, TrainParams, FEATURES,
+    trace_features, Features, Placement, PlacementClassifier, PlacementError, PlacementEstimate,
+    PlacementModel, FEATURES,
 };
-use stridekit_core::sim::{simulate_phone, PhonePlacement, PhoneScenario};
+use stridekit_lab::placement::{accuracy, train, TrainParams};
+use stridekit_sim::{simulate_phone, PhonePlacement, PhoneScenario};
 
 fn walk(seed: u64, p: PhonePlacement, rate_hz: f64, secs: f64) -> Vec<(f64, [f64; 3])> {
     let mut sc = PhoneScenario::walk(seed, p, 1.3, secs);

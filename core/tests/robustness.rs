@@ -21,11 +21,11 @@ use stridekit_core::odometry::{OdometryConfig, OdometrySample, PhoneOdometry};
 use stridekit_core::pace::{GnssFix, PaceConfig, PaceError, PaceSample, PaceTracker, StepSample};
 use stridekit_core::pdr::{NavError, NavigatorConfig, PhoneNavigator};
 use stridekit_core::placement::PlacementClassifier;
-use stridekit_core::sim::phone::{simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario};
-use stridekit_core::sim::{simulate_foot, simulate_run, FootScenario, RunScenario};
 use stridekit_core::snapshot::{crc32, SnapshotError};
 use stridekit_core::stepdetect::{StepDetectError, StepDetector};
 use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
+use stridekit_sim::phone::{simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario};
+use stridekit_sim::{simulate_foot, simulate_run, FootScenario, RunScenario};
 
 fn is_time_unit(e: &InputError, unit: LikelyTimeUnit) -> bool {
     matches!(e, InputError::TimeUnit { likely, .. } if *likely == unit)

@@ -1,6 +1,6 @@
-//! Behaviour of the phone IMU simulator (`stridekit_core::sim::phone`).
+//! Behaviour of the phone IMU simulator (`stridekit_sim::phone`).
 
-use stridekit_core::sim::phone::{
+use stridekit_sim::phone::{
     simulate_phone, PhoneActivity, PhonePlacement, PhoneScenario, PhoneSegment, TrueStep,
     GRAVITY_MPS2,
 };

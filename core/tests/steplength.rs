@@ -1,13 +1,13 @@
 //! Behaviour of the step-length estimator (`stridekit_core::steplength`).
 
 use stridekit_core::input::InputError;
-use stridekit_core::sim::phone::{simulate_phone, PhonePlacement, PhoneScenario, SimulatedPhone};
 use stridekit_core::snapshot::SnapshotError;
 use stridekit_core::stepdetect::StepEvent;
 use stridekit_core::steplength::{
     StepLengthConfig, StepLengthError, StepLengthEstimator, StepLengthModel,
 };
 use stridekit_core::{PaceConfig, PaceTracker};
+use stridekit_sim::phone::{simulate_phone, PhonePlacement, PhoneScenario, SimulatedPhone};
 
 fn event(t_s: f64, duration_s: f64, sv: f64) -> StepEvent {
     StepEvent {

@@ -2,8 +2,8 @@
 //! 5-minute GNSS outage after calibration ≤ 3 %. Runs the same protocol as
 //! `stridekit eval steplength` on fewer seeds.
 
-use stridekit_core::steplength::eval::run_cases;
 use stridekit_core::steplength::{StepLengthConfig, StepLengthModel};
+use stridekit_lab::steplength::run_cases;
 
 #[test]
 fn five_minute_outage_distance_within_target() {

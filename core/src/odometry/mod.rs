@@ -20,21 +20,16 @@
 // Small fixed-size numeric loops read better with indices.
 #![allow(clippy::needless_range_loop)]
 
-pub mod baseline;
 pub mod bias;
 pub mod engine;
 pub mod error;
-pub mod evaluate;
 pub mod features;
-pub mod metrics;
 pub mod model;
 pub mod resample;
 pub mod sample;
 pub mod smooth;
 pub mod stabilise;
-pub mod train;
 
-pub use baseline::{NaiveMode, NaiveOdometry};
 pub use engine::{
     OdometryBatch, OdometryConfig, OdometryEstimate, PhoneOdometry, PlacementSource,
     AUTO_MIN_CONFIDENCE,

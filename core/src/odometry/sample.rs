@@ -18,17 +18,6 @@ pub struct OdometrySample {
     pub mag_ut: Option<[f64; 3]>,
 }
 
-impl From<&crate::sim::phone::ImuSample> for OdometrySample {
-    fn from(s: &crate::sim::phone::ImuSample) -> Self {
-        Self {
-            t_s: s.t_s,
-            accel_mps2: s.accel_mps2,
-            gyro_rads: s.gyro_radps,
-            mag_ut: Some(s.mag_ut),
-        }
-    }
-}
-
 /// The door of the module's engines: finite values within the limits of
 /// [`crate::input`] and a time the stream's guard accepts (the g-units check is the
 /// AHRS's, applied when the sample reaches it).

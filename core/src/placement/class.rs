@@ -1,7 +1,7 @@
 //! The placement classes and how the Oxford positions and the simulator's placements
-//! map onto them.
+//! (`stridekit_sim::PhonePlacement`, which maps itself onto these) fall into them.
 //!
-//! | `Placement`   | Oxford Step Counter position | `sim::phone::PhonePlacement` |
+//! | `Placement`   | Oxford Step Counter position | simulator placement          |
 //! |---------------|------------------------------|------------------------------|
 //! | `InHand`      | InHand (held in front, screen up) | InHand                  |
 //! | `Pocket`      | FrontPocket, BackPocket      | FrontPocket, BackPocket      |
@@ -14,8 +14,6 @@
 //! the thigh or buttock and move with the same leg; the SDK's consumers (step length,
 //! heading) treat them alike, and two users' worth of data is too little to separate
 //! them reliably (see docs/odometry.md).
-
-use crate::sim::PhonePlacement;
 
 /// Number of placement classes.
 pub const CLASSES: usize = 6;
@@ -86,19 +84,6 @@ impl Placement {
     }
 }
 
-impl From<PhonePlacement> for Placement {
-    fn from(p: PhonePlacement) -> Self {
-        match p {
-            PhonePlacement::InHand => Placement::InHand,
-            PhonePlacement::FrontPocket | PhonePlacement::BackPocket => Placement::Pocket,
-            PhonePlacement::Bag => Placement::Bag,
-            PhonePlacement::NeckPouch => Placement::NeckPouch,
-            PhonePlacement::Armband => Placement::Armband,
-            PhonePlacement::SwingingArm => Placement::SwingingArm,
-        }
-    }
-}
-
 impl std::fmt::Display for Placement {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
@@ -129,6 +114,5 @@ mod tests {
             assert!(Placement::from_oxford_position(t).is_some(), "{t}");
         }
         assert_eq!(Placement::from_oxford_position("Pocket"), None);
-        assert_eq!(Placement::from(PhonePlacement::Bag), Placement::Bag);
     }
 }

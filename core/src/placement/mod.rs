@@ -21,7 +21,6 @@ pub mod features;
 pub mod model;
 pub mod resample;
 pub mod stream;
-pub mod train;
 
 pub use class::{Placement, CLASSES};
 pub use classifier::{PlacementBatch, PlacementClassifier, PlacementEstimate, PlacementRejection};
@@ -29,4 +28,3 @@ pub use error::PlacementError;
 pub use features::{Features, FEATURES, FEATURE_NAMES, WINDOW};
 pub use model::PlacementModel;
 pub use stream::{trace_features, FeatureStream, HOP};
-pub use train::{train, TrainParams};

@@ -56,7 +56,6 @@
 mod calib;
 mod config;
 mod error;
-pub mod eval;
 
 pub use config::{StepLengthConfig, StepLengthModel};
 pub use error::StepLengthError;

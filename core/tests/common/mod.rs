@@ -33,6 +33,7 @@ impl CountingAlloc {
 }
 
 // SAFETY: every call is forwarded unchanged to the system allocator.
+#[allow(unsafe_code)] // a GlobalAlloc can only be implemented unsafely
 unsafe impl GlobalAlloc for CountingAlloc {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         self.note();

@@ -43,7 +43,8 @@
 use nalgebra::{Rotation3, Vector3};
 
 use super::rng::Rng;
-use crate::stepdetect::StepEvent;
+use stridekit_core::placement::Placement;
+use stridekit_core::stepdetect::StepEvent;
 
 /// Standard gravity, m/s².
 pub const GRAVITY_MPS2: f64 = 9.80665;
@@ -296,21 +297,21 @@ pub struct SimulatedPhone {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PhoneEvent<'a> {
     Imu(&'a ImuSample),
-    Fix(crate::pace::GnssFix),
+    Fix(stridekit_core::pace::GnssFix),
 }
 
 impl SimulatedPhone {
     /// The IMU samples and the GNSS fixes (as WGS84 fixes through `frame`, with their
     /// accuracy) merged in time order, as an app would push them: a fix goes before
     /// the IMU sample with the same time; fixes after the last sample are left out.
-    pub fn timeline(&self, frame: &crate::geo::LocalFrame) -> Vec<PhoneEvent<'_>> {
+    pub fn timeline(&self, frame: &stridekit_core::geo::LocalFrame) -> Vec<PhoneEvent<'_>> {
         let mut out = Vec::with_capacity(self.samples.len() + self.fixes.len());
         let mut fixes = self.fixes.iter().peekable();
         for s in &self.samples {
             while let Some(f) = fixes.next_if(|f| f.t_s <= s.t_s) {
                 let (lat, lon) = frame.to_geodetic(f.east_m, f.north_m);
                 out.push(PhoneEvent::Fix(
-                    crate::pace::GnssFix::new(f.t_s, lat, lon).with_accuracy(f.accuracy_m),
+                    stridekit_core::pace::GnssFix::new(f.t_s, lat, lon).with_accuracy(f.accuracy_m),
                 ));
             }
             out.push(PhoneEvent::Imu(s));
@@ -1031,5 +1032,31 @@ fn finish_sample(
         accel_mps2: [acc.x, acc.y, acc.z],
         gyro_radps: [gyro.x, gyro.y, gyro.z],
         mag_ut: [mag.x, mag.y, mag.z],
+    }
+}
+
+/// The simulator's placements in the SDK's placement classes (front and back pocket
+/// are one class).
+impl From<PhonePlacement> for Placement {
+    fn from(p: PhonePlacement) -> Self {
+        match p {
+            PhonePlacement::InHand => Placement::InHand,
+            PhonePlacement::FrontPocket | PhonePlacement::BackPocket => Placement::Pocket,
+            PhonePlacement::Bag => Placement::Bag,
+            PhonePlacement::NeckPouch => Placement::NeckPouch,
+            PhonePlacement::Armband => Placement::Armband,
+            PhonePlacement::SwingingArm => Placement::SwingingArm,
+        }
+    }
+}
+
+impl From<&ImuSample> for stridekit_core::odometry::OdometrySample {
+    fn from(s: &ImuSample) -> Self {
+        Self {
+            t_s: s.t_s,
+            accel_mps2: s.accel_mps2,
+            gyro_rads: s.gyro_radps,
+            mag_ut: Some(s.mag_ut),
+        }
     }
 }

@@ -4,10 +4,10 @@
 //! penalty on the weights (not the biases), minimised by full-batch gradient descent
 //! with Nesterov momentum. Deterministic: same data → same model.
 
-use super::class::{Placement, CLASSES};
-use super::error::PlacementError;
-use super::features::{Features, FEATURES};
-use super::model::PlacementModel;
+use stridekit_core::placement::PlacementError;
+use stridekit_core::placement::PlacementModel;
+use stridekit_core::placement::{Features, FEATURES};
+use stridekit_core::placement::{Placement, CLASSES};
 
 /// Training hyper-parameters. The step actually taken is `step / (1 + 2·l2)`.
 #[derive(Clone, Copy, Debug, PartialEq)]

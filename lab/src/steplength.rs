@@ -9,8 +9,8 @@
 //! sum of the true lengths of the same steps (detector errors are left out: the
 //! detector is evaluated on its own).
 
-use super::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
-use crate::sim::phone::{
+use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
+use stridekit_sim::phone::{
     simulate_phone, PhoneActivity, PhonePlacement, PhoneScenario, PhoneSegment, SimulatedPhone,
 };
 

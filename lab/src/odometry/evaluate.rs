@@ -2,11 +2,11 @@
 //! and scoring them (ATE, RTE): shared by the tests and `stridekit eval odometry`.
 
 use super::baseline::{NaiveMode, NaiveOdometry};
-use super::engine::{OdometryConfig, PhoneOdometry, PlacementSource};
 use super::metrics::{align_start, ate, rte, Point};
-use super::model::OdometryModel;
-use super::sample::OdometrySample;
 use super::train::Truth;
+use stridekit_core::odometry::engine::{OdometryConfig, PhoneOdometry, PlacementSource};
+use stridekit_core::odometry::model::OdometryModel;
+use stridekit_core::odometry::sample::OdometrySample;
 
 /// The methods compared, in [`Tracks::methods`] order.
 pub const METHODS: [&str; 4] = [

@@ -1,17 +1,17 @@
-//! Fitting the regressors on simulated walks ([`crate::sim::phone`]), and the
+//! Fitting the regressors on simulated walks ([`stridekit_sim::phone`]), and the
 //! scenarios used for training and evaluation. Training runs off the phone (it
 //! allocates freely); the engine computes the features, so training and inference
 //! see exactly the same numbers.
 
 use nalgebra::{DMatrix, DVector};
 
-use super::engine::{OdometryConfig, PhoneOdometry, PlacementSource};
-use super::features::{WindowFeatures, N_SCALAR, N_VECTOR};
-use super::model::{slot, OdometryModel, PipelineParams, Regressor};
-use super::sample::OdometrySample;
-use crate::placement::Placement;
-use crate::sim::phone::PhoneSegment;
-use crate::sim::{simulate_phone, PhoneActivity, PhonePlacement, PhoneScenario, Rng};
+use stridekit_core::odometry::engine::{OdometryConfig, PhoneOdometry, PlacementSource};
+use stridekit_core::odometry::features::{WindowFeatures, N_SCALAR, N_VECTOR};
+use stridekit_core::odometry::model::{slot, OdometryModel, PipelineParams, Regressor};
+use stridekit_core::odometry::sample::OdometrySample;
+use stridekit_core::placement::Placement;
+use stridekit_sim::phone::PhoneSegment;
+use stridekit_sim::{simulate_phone, PhoneActivity, PhonePlacement, PhoneScenario, Rng};
 
 /// Seeds at or above this are never used for training (evaluation only).
 pub const FIRST_EVAL_SEED: u64 = 10_000;
@@ -62,7 +62,7 @@ pub trait Truth {
     fn position_at(&self, t_s: f64) -> (f64, f64);
 }
 
-impl Truth for crate::sim::SimulatedPhone {
+impl Truth for stridekit_sim::SimulatedPhone {
     fn position_at(&self, t_s: f64) -> (f64, f64) {
         let p = self.truth_at(t_s);
         (p.east_m, p.north_m)
@@ -128,8 +128,8 @@ pub fn fit_regressor(windows: &[&LabelledWindow]) -> Option<Regressor> {
     let mut mean = [0.0; N_SCALAR];
     let mut sd = [0.0; N_SCALAR];
     for w in windows {
-        for j in 0..N_SCALAR {
-            mean[j] += w.features.scalars[j] / n as f64;
+        for (m, x) in mean.iter_mut().zip(&w.features.scalars) {
+            *m += x / n as f64;
         }
     }
     for w in windows {

@@ -17,8 +17,8 @@
 //!   without fixes; optimistic accuracy reports inside disturbance zones.
 
 use super::rng::Rng;
-use crate::geo::LocalFrame;
-use crate::pace::{GnssFix, PaceSample, StepSample};
+use stridekit_core::geo::LocalFrame;
+use stridekit_core::pace::{GnssFix, PaceSample, StepSample};
 
 /// How the simulated pedometer reports steps.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

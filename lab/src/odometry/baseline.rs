@@ -6,10 +6,11 @@
 //! starting at rest at the origin. Gaps longer than the AHRS's `max_gap_s` are not
 //! integrated (the velocity is kept).
 
-use super::error::OdometryError;
-use super::sample::{check, OdometrySample};
-use super::stabilise::rotate;
-use crate::ahrs::{Ahrs, AhrsSettings};
+use stridekit_core::ahrs::{Ahrs, AhrsSettings};
+use stridekit_core::input;
+use stridekit_core::odometry::sample::OdometrySample;
+use stridekit_core::odometry::stabilise::rotate;
+use stridekit_core::odometry::OdometryError;
 
 /// Which orientation rotates the acceleration.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -28,7 +29,7 @@ pub struct NaiveOdometry {
     ahrs: Ahrs,
     q_fixed: Option<[f64; 4]>,
     last: Option<(f64, [f64; 2])>,
-    time: crate::input::TimeGuard,
+    time: stridekit_core::input::TimeGuard,
     velocity_mps: [f64; 2],
     position_m: [f64; 2],
 }
@@ -45,7 +46,7 @@ impl NaiveOdometry {
             ahrs: Ahrs::new(ahrs)?,
             q_fixed: None,
             last: None,
-            time: crate::input::TimeGuard::new(crate::input::Stream::Imu),
+            time: stridekit_core::input::TimeGuard::new(stridekit_core::input::Stream::Imu),
             velocity_mps: [0.0; 2],
             position_m: [0.0; 2],
         })
@@ -53,7 +54,12 @@ impl NaiveOdometry {
 
     /// One sample; on error nothing changes.
     pub fn push(&mut self, s: &OdometrySample) -> Result<(), OdometryError> {
-        check(s, &self.time)?;
+        self.time.check(s.t_s)?;
+        input::accel(&s.accel_mps2)?;
+        input::gyro(&s.gyro_rads)?;
+        if let Some(m) = &s.mag_ut {
+            input::mag(m)?;
+        }
         let mag = if self.use_magnetometer {
             s.mag_ut
         } else {

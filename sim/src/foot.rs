@@ -37,7 +37,7 @@
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 
 use super::rng::Rng;
-use crate::foot::FootSample;
+use stridekit_core::foot::FootSample;
 
 /// Standard gravity, m/s² (the simulator's local gravity).
 pub const GRAVITY_MPS2: f64 = 9.80665;

@@ -8,9 +8,9 @@
 //! replayed over the same time-ordered samples; each method's speed is read on a
 //! 1 s grid as its latest output (what a watch would display at that second).
 
-use crate::pace::baseline::{Baseline, BaselineKind};
-use crate::pace::{PaceConfig, PaceSample, PaceTracker};
-use crate::sim::{Rng, SimulatedRun, Zone, ZoneKind};
+use stridekit_core::pace::baseline::{Baseline, BaselineKind};
+use stridekit_core::pace::{PaceConfig, PaceSample, PaceTracker};
+use stridekit_sim::{Rng, SimulatedRun, Zone, ZoneKind};
 
 /// The four methods, in table order.
 pub const METHODS: [&str; 4] = ["raw GNSS diff", "GNSS EMA", "AsPublished", "default"];

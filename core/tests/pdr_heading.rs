@@ -1,0 +1,111 @@
+//! Behaviour of the walking-direction estimator of PDR (`pdr::heading`): the direction
+//! of travel from the gait, turns, magnetometer drift cancelling and the GNSS sign flip.
+
+use std::f64::consts::PI;
+
+use nalgebra::{UnitQuaternion, Vector3};
+use stridekit_core::pdr::heading::{wrap, WalkingDirection};
+use stridekit_sim::Rng;
+
+const GRAVITY_MPS2: f64 = 9.80665;
+
+/// A walker heading `az(t)` with the phone upright in a pocket (body y up, body x
+/// pointing 1 rad anticlockwise of forward), inverted-pendulum acceleration plus
+/// sway and noise, an ideal AHRS whose yaw drifts by `drift` rad/s, and a
+/// magnetometer if `mag`.
+#[allow(clippy::too_many_arguments)]
+fn walk(
+    wd: &mut WalkingDirection,
+    rng: &mut Rng,
+    t0: f64,
+    seconds: f64,
+    az_of_t: impl Fn(f64) -> f64,
+    step_hz: f64,
+    drift: f64,
+    mag: bool,
+) -> f64 {
+    let fs = 100.0;
+    let mut next_step = t0 + 1.0 / step_hz;
+    let n = (seconds * fs) as usize;
+    let mut t = t0;
+    let field = Vector3::new(0.0, 20.0, -44.0);
+    for i in 0..n {
+        t = t0 + i as f64 / fs;
+        let ph = 2.0 * PI * step_hz * (t - t0);
+        let vz = 0.15 * ph.cos();
+        let a_up = -0.15 * 2.0 * PI * step_hz * ph.sin();
+        let a_fwd = -2.0 * vz / 0.15 * 0.6 + 0.2 * rng.normal();
+        let a_side = 0.4 * (0.5 * ph).sin() + 0.2 * rng.normal();
+        let az = az_of_t(t);
+        // True attitude: walking frame (x fwd, y left, z up) → ENU, phone body
+        // x = forward rotated 1 rad anticlockwise, z = left-ish, y = up.
+        let walk_to_enu = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.5 * PI - az);
+        let body_to_walk = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 1.0)
+            * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * PI);
+        let q_true = walk_to_enu * body_to_walk;
+        let q_ahrs = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), -drift * t) * q_true;
+        let a_true = walk_to_enu * Vector3::new(a_fwd, a_side, a_up + GRAVITY_MPS2);
+        let a_ahrs = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), -drift * t) * a_true;
+        let m = mag.then(|| (q_true.inverse() * field).into());
+        wd.push_sample(t, &q_ahrs, a_ahrs.into(), m);
+        if t >= next_step {
+            wd.push_step(step_hz);
+            next_step += 1.0 / step_hz;
+        }
+    }
+    t
+}
+
+#[test]
+fn finds_the_walking_direction_from_the_gait() {
+    for az in [0.3, 2.0, -2.5] {
+        let mut wd = WalkingDirection::new();
+        let mut rng = Rng::new(1);
+        walk(&mut wd, &mut rng, 0.0, 30.0, |_| az, 1.8, 0.0, true);
+        let est = wd.azimuth_rad().unwrap();
+        assert!(wrap(est - az).abs() < 0.1, "{az}: {est}");
+    }
+}
+
+#[test]
+fn follows_turns_and_the_magnetometer_cancels_yaw_drift() {
+    let mut wd = WalkingDirection::new();
+    let mut rng = Rng::new(2);
+    // Straight north, then a 90° right turn over 3 s, then east; the AHRS yaw
+    // drifts 0.01 rad/s.
+    let az = |t: f64| {
+        if t < 20.0 {
+            0.0
+        } else if t < 23.0 {
+            0.5 * PI * (t - 20.0) / 3.0
+        } else {
+            0.5 * PI
+        }
+    };
+    walk(&mut wd, &mut rng, 0.0, 200.0, az, 1.8, 0.01, true);
+    assert!(wrap(wd.azimuth_rad().unwrap() - 0.5 * PI).abs() < 0.1);
+}
+
+#[test]
+fn gnss_flips_a_wrong_sign_once_and_calibrates() {
+    let mut wd = WalkingDirection::new();
+    let mut rng = Rng::new(3);
+    walk(&mut wd, &mut rng, 0.0, 10.0, |_| 1.0, 1.8, 0.0, false);
+    let before = wd.azimuth_rad().unwrap();
+    wd.observe_rotation(PI - 0.1, 10.0, 0.5);
+    assert!(wd.sign_resolved());
+    walk(&mut wd, &mut rng, 10.0, 2.0, |_| 1.0, 1.8, 0.0, false);
+    let after = wd.azimuth_rad().unwrap();
+    assert!(
+        (wrap(after - before).abs() - (PI - 0.05)).abs() < 0.05,
+        "{before} {after}"
+    );
+}
+
+#[test]
+fn wrap_is_in_range() {
+    for a in [-10.0, -PI, 0.0, PI, 7.0] {
+        let w = wrap(a);
+        assert!(w > -PI && w <= PI, "{a} -> {w}");
+    }
+}
