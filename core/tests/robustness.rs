@@ -245,6 +245,32 @@ fn finite_but_absurd_values_are_refused_or_harmless_and_the_state_resumes() {
     assert_eq!(again.snapshot(), p.snapshot());
 }
 
+/// Found by the Kotlin stress test: counts a few seconds apart after a pause put all
+/// their steps into one second (638 steps/min from 12 steps in 5 s; 120 641 steps/min
+/// from 2500 steps in 1000 s), and the tracker's own snapshot was then refused.
+#[test]
+fn sparse_step_counts_give_a_human_cadence_and_a_restorable_session() {
+    for (gap_s, steps) in [(5.0, 12), (1000.0, 2500), (3.0, 30)] {
+        let mut p = PaceTracker::new(PaceConfig::default()).unwrap();
+        for (t, n) in [(1000.0, 0), (1000.0 + gap_s, steps)] {
+            p.push_steps(&StepSample::Count { t_s: t, steps: n })
+                .unwrap();
+        }
+        let est = p.estimate();
+        let spm = est.cadence_spm.unwrap_or(0.0);
+        assert!(spm <= 300.0, "{gap_s} s, {steps} steps: {spm} steps/min");
+        if gap_s == 5.0 {
+            assert!(
+                (120.0..=200.0).contains(&spm),
+                "12 steps in 5 s: {spm} steps/min"
+            );
+        }
+        let back = PaceTracker::restore(&p.snapshot())
+            .unwrap_or_else(|e| panic!("{gap_s} s, {steps} steps: own snapshot refused: {e}"));
+        assert_eq!(back.snapshot(), p.snapshot());
+    }
+}
+
 #[test]
 fn a_step_count_jump_no_runner_makes_is_a_counter_reset() {
     let mut p = PaceTracker::new(PaceConfig::default()).unwrap();

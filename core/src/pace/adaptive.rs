@@ -383,6 +383,7 @@ impl AdaptiveFilter {
             p[(r, BN)] *= phi;
         }
         *p += q;
+        cap_variances(p);
     }
 
     /// Joseph-form update with gain `k`; rows of the step-length line zeroed unless
@@ -747,7 +748,8 @@ impl AdaptiveFilter {
         } else {
             CADENCE_REF_FAST_TAU_S
         };
-        let delta = (dt / tau).min(1.0) * (c - self.cadence_ref);
+        // dt < 0 when the step stream runs behind the fix stream: no move then.
+        let delta = (dt / tau).clamp(0.0, 1.0) * (c - self.cadence_ref);
         self.cadence_ref += delta;
         // a' = a + b·Δ  →  T = I with T[LA][LB] = Δ.
         self.x[LA] += self.x[LB] * delta;
@@ -1191,16 +1193,20 @@ impl AdaptiveFilter {
             return Err("filter positions");
         }
         let dir = self.last_dir.0.hypot(self.last_dir.1);
-        if !(dir.is_nan() || (dir - 1.0).abs() < 1e-6)
-            || !(self.cadence_ref.is_nan() || (0.0..=10.0).contains(&self.cadence_ref))
-            || self.nis_avg > 1e6
-            || self.info_gnss > 1e12
-            || self.info_ped > 1e12
-            || !(0.0..=1e12).contains(&self.window.start_steps)
+        if !(dir.is_nan() || (dir - 1.0).abs() < 1e-6) {
+            return Err("filter direction not a unit vector");
+        }
+        if !(self.cadence_ref.is_nan() || (0.0..=10.0).contains(&self.cadence_ref)) {
+            return Err("filter reference cadence out of range");
+        }
+        if self.nis_avg > 1e6 || self.info_gnss > 1e12 || self.info_ped > 1e12 {
+            return Err("filter statistics out of range");
+        }
+        if !(0.0..=1e12).contains(&self.window.start_steps)
             || self.window.path_m > 1e13
             || self.distance_m > 1e13
         {
-            return Err("filter statistics out of range");
+            return Err("filter distances out of range");
         }
         if self.nis_avg < 0.0
             || self.distance_m < 0.0
@@ -1211,5 +1217,32 @@ impl AdaptiveFilter {
             return Err("filter statistics");
         }
         Ok(())
+    }
+}
+
+/// Largest variance the filter keeps, in its own units (m², (m/s)², ...): (100 km)².
+/// A prediction across a gap of months (the input layer allows jumps up to a year)
+/// would otherwise grow P as dt³ past what a snapshot stores (1e30); nothing is
+/// known better than this after such a gap anyway.
+const MAX_VARIANCE: f64 = 1e10;
+
+/// Scale P as D·P·D with D = diag(min(1, √(MAX_VARIANCE / Pᵢᵢ))): variances capped,
+/// correlations kept, P stays symmetric positive semi-definite. A no-op in normal
+/// operation.
+fn cap_variances(p: &mut M8) {
+    let mut d = [1.0; 8];
+    let mut any = false;
+    for (i, di) in d.iter_mut().enumerate() {
+        if p[(i, i)] > MAX_VARIANCE {
+            *di = (MAX_VARIANCE / p[(i, i)]).sqrt();
+            any = true;
+        }
+    }
+    if any {
+        for r in 0..8 {
+            for c in 0..8 {
+                p[(r, c)] *= d[r] * d[c];
+            }
+        }
     }
 }

@@ -19,6 +19,13 @@ const COUNT_SIGMA: f64 = 0.35;
 const EVENT_SIGMA: f64 = 0.15;
 /// Noise of a reported cadence, steps/s (watches report whole steps per minute).
 const REPORT_SIGMA: f64 = 1.5 / 60.0;
+/// Highest cadence the filter holds, steps/s: the input layer's cadence limit
+/// (300 steps/min). Sparse counts after a pause could otherwise drive the estimate to
+/// tens of steps/s, an estimate no runner has and a state `restore` refuses.
+/// Largest variances the filter keeps: (10⁵ steps)², (100 steps/s)².
+const MAX_STEPS_VARIANCE: f64 = 1e10;
+const MAX_CADENCE_VARIANCE: f64 = 1e4;
+const MAX_CADENCE_HZ: f64 = crate::input::limits::MAX_CADENCE_SPM / 60.0;
 
 /// Kalman filter on [n (steps), c (steps/s)].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -73,7 +80,14 @@ impl CadenceFilter {
         let p00 = p[0][0] + dt * (p[0][1] + p[1][0]) + dt * dt * p[1][1] + q * dt * dt * dt / 3.0;
         let p01 = p[0][1] + dt * p[1][1] + q * dt * dt / 2.0;
         let p11 = p[1][1] + q * dt;
-        self.p = [[p00, p01], [p01, p11]];
+        // Across a gap of months P would grow as dt³ past what a snapshot holds: cap
+        // the variances (D·P·D scaling keeps the correlation), a no-op normally.
+        let d0 = (MAX_STEPS_VARIANCE / p00).sqrt().min(1.0);
+        let d1 = (MAX_CADENCE_VARIANCE / p11).sqrt().min(1.0);
+        self.p = [
+            [p00 * d0 * d0, p01 * d0 * d1],
+            [p01 * d0 * d1, p11 * d1 * d1],
+        ];
     }
 
     /// Measure the step total at `t`: exact for events, ±0.5 for counts.
@@ -84,7 +98,7 @@ impl CadenceFilter {
         let (k0, k1) = (self.p[0][0] / s, self.p[1][0] / s);
         let y = total - self.n;
         self.n += k0 * y;
-        self.c = (self.c + k1 * y).max(0.0);
+        self.c = (self.c + k1 * y).clamp(0.0, MAX_CADENCE_HZ);
         let p = self.p;
         let p00 = (1.0 - k0) * p[0][0];
         let p01 = (1.0 - k0) * p[0][1];
@@ -100,7 +114,7 @@ impl CadenceFilter {
         let (k0, k1) = (self.p[0][1] / s, self.p[1][1] / s);
         let y = c - self.c;
         self.n += k0 * y;
-        self.c = (self.c + k1 * y).max(0.0);
+        self.c = (self.c + k1 * y).clamp(0.0, MAX_CADENCE_HZ);
         let p = self.p;
         let p00 = p[0][0] - k0 * p[1][0];
         let p01 = (1.0 - k1) * p[0][1];

@@ -16,6 +16,8 @@ pub const MAX_CADENCE_SPM: f64 = limits::MAX_CADENCE_SPM;
 const EXTRAPOLATE_MAX_S: f64 = 3.0;
 /// A pause in steps longer than this starts a new bout, seconds.
 const BOUT_GAP_S: f64 = 2.0;
+/// Cadence assumed for the steps of the first sample of a bout, steps/s (170/min).
+const TYPICAL_CADENCE_HZ: f64 = 170.0 / 60.0;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Entry {
@@ -141,8 +143,11 @@ impl StepStream {
         if added > 0.0 {
             let resumed = self.last_step_t_s.is_none_or(|ls| t - ls > BOUT_GAP_S);
             if resumed {
-                // The steps happened after the previous sample (or just before t).
-                let t0 = self.last_t_s.unwrap_or(t).max(t - 1.0);
+                // The steps happened after the previous sample, at a typical cadence
+                // just before t (at least the last second): a counter that reports
+                // every few seconds does not put all its steps into one second.
+                let span_s = (added / TYPICAL_CADENCE_HZ).max(1.0);
+                let t0 = self.last_t_s.unwrap_or(t).max(t - span_s);
                 self.moving_since_t_s = t0;
                 let guess = if t > t0 { added / (t - t0) } else { 2.5 };
                 self.cadence = CadenceFilter::start(t0, before, guess.min(MAX_CADENCE_SPM / 60.0));
