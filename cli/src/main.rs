@@ -28,6 +28,7 @@ mod placement_mlp;
 mod rejected;
 mod replay;
 mod report;
+mod soak;
 mod steps;
 mod train_zupt;
 
@@ -159,6 +160,13 @@ USAGE:
       the odd trials scored on the even ones, and the reverse). --imu-only: without
       the magnetometer (inclination). --set changes a setting of the default filter
       (DecoupledSettings field names) for sensitivity checks; --quick scores only it.
+  stridekit soak [--hours H] [--seed N]
+      Soak test (a command, not CI): H simulated hours (default 24) of 200 Hz phone
+      IMU with 1 Hz GNSS and of 200 Hz foot-mounted IMU through every engine, each
+      twice: unsplit, and restored from its own snapshot every simulated minute.
+      Outputs must match bit for bit and be finite; prints RSS every simulated hour,
+      then run time, peak memory (VmHWM), RSS growth after hour 1 and per-engine
+      counts. Exits non-zero on any mismatch, non-finite output or memory growth.
   stridekit help
 ";
 
@@ -535,6 +543,7 @@ fn main() -> ExitCode {
                 }
             })
         }
+        Some("soak") => soak::cmd(&args[1..]),
         Some("help" | "--help" | "-h") => {
             print!("{USAGE}");
             Ok(())
