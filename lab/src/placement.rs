@@ -5,6 +5,17 @@
 //! with Nesterov momentum. Deterministic: same data → same model.
 
 use stridekit_core::placement::PlacementError;
+
+/// Why training produced no model.
+#[derive(Debug, thiserror::Error)]
+pub enum TrainError {
+    /// The training data cannot produce a model.
+    #[error("cannot train: {reason}")]
+    Data { reason: String },
+    /// The trained weights do not make a valid model.
+    #[error(transparent)]
+    Model(#[from] PlacementError),
+}
 use stridekit_core::placement::PlacementModel;
 use stridekit_core::placement::{Features, FEATURES};
 use stridekit_core::placement::{Placement, CLASSES};
@@ -39,9 +50,9 @@ pub fn train(
     data: &[(Features, Placement)],
     params: &TrainParams,
     comments: Vec<String>,
-) -> Result<PlacementModel, PlacementError> {
+) -> Result<PlacementModel, TrainError> {
     if data.len() < 2 {
-        return Err(PlacementError::Training {
+        return Err(TrainError::Data {
             reason: format!("{} windows, need at least 2", data.len()),
         });
     }
@@ -134,7 +145,7 @@ pub fn train(
         }
     }
     if !w.iter().flatten().all(|v| v.is_finite()) {
-        return Err(PlacementError::Training {
+        return Err(TrainError::Data {
             reason: "gradient descent diverged (lower the step)".into(),
         });
     }
@@ -144,7 +155,7 @@ pub fn train(
             w[k][0] = -30.0;
         }
     }
-    PlacementModel::new(mean, sd, w, comments)
+    Ok(PlacementModel::new(mean, sd, w, comments)?)
 }
 
 /// Fraction of windows whose most probable class is the label.

@@ -21,7 +21,4 @@ pub enum PlacementError {
     /// A snapshot could not be restored.
     #[error("cannot restore snapshot: {0}")]
     Snapshot(#[from] crate::snapshot::SnapshotError),
-    /// Training data cannot produce a model.
-    #[error("cannot train: {reason}")]
-    Training { reason: String },
 }
