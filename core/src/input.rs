@@ -50,6 +50,10 @@ pub mod limits {
     pub const MAX_MAG_UT: f64 = 5_000.0;
     /// Largest |t_s|, s (about 3 000 years): Unix time in seconds passes.
     pub const MAX_ABS_T_S: f64 = 1.0e11;
+    /// Shortest interval between two samples of one stream, s (1 µs: no sensor samples
+    /// at a MHz). A closer sample is a duplicate; rates from a sub-µs interval would
+    /// be numerically meaningless (1e-91 s gave angular rates of 1e91 rad/s).
+    pub const MIN_INTERVAL_S: f64 = 1e-6;
     /// Largest forward jump between two samples of one stream, s (about a year).
     pub const MAX_TIME_JUMP_S: f64 = 3.2e7;
     /// An IMU/accelerometer interval longer than this is "slow", s; the third slow
@@ -170,10 +174,11 @@ pub enum InputError {
         unit: &'static str,
     },
     /// The sample is not later than the previous accepted one of its stream: equal
-    /// (a duplicated timestamp) or earlier (time going backwards).
+    /// or less than [`limits::MIN_INTERVAL_S`] after it (a duplicated timestamp), or
+    /// earlier (time going backwards).
     #[error(
         "{stream} sample at t = {t_s} s is not after the previous one at {last_t_s} s{}",
-        if t_s == last_t_s { " (duplicate timestamp)" } else { "" }
+        if (t_s - last_t_s).abs() < limits::MIN_INTERVAL_S { " (duplicate timestamp)" } else { "" }
     )]
     TimeNotIncreasing {
         stream: Stream,
@@ -218,7 +223,8 @@ pub enum InputError {
 impl InputError {
     /// A timestamp equal to the previous one (as opposed to one going backwards).
     pub fn is_duplicate_time(&self) -> bool {
-        matches!(self, InputError::TimeNotIncreasing { t_s, last_t_s, .. } if t_s == last_t_s)
+        matches!(self, InputError::TimeNotIncreasing { t_s, last_t_s, .. }
+            if (t_s - last_t_s).abs() < limits::MIN_INTERVAL_S)
     }
 
     /// A short stable name of the reason, for counting rejections (`"non_finite"`,
@@ -371,7 +377,7 @@ pub fn time_increasing(
         return Ok(None);
     };
     let dt = t_s - last;
-    if dt <= 0.0 {
+    if dt < limits::MIN_INTERVAL_S {
         return Err(InputError::TimeNotIncreasing {
             stream,
             t_s,

@@ -287,7 +287,12 @@ pub struct Steps {
 
 fn check_event(ev: &StepEvent) {
     finite(ev.t_s, "step time");
-    finite(ev.duration_s, "step duration");
+    // NaN by design for the first step of a bout (no previous step to time it from).
+    assert!(
+        !ev.duration_s.is_infinite(),
+        "step duration {}",
+        ev.duration_s
+    );
     finite(ev.accel_variance_m2ps4, "step variance");
 }
 

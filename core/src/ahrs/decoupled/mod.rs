@@ -472,8 +472,8 @@ impl Decoupled {
         let m_max = MAX_MAG_UT * 3f64.sqrt();
         let within = |v: &[f64], max: f64| v.iter().all(|x| x.abs() <= max);
         let m = &self.mag;
-        let ok = within(&t.avg, A)
-            && within(&t.avg_rate, 1e6 * A)
+        let ok = within(&t.avg, tilt::MAX_AVG_MPS2)
+            && within(&t.avg_rate, tilt::MAX_AVG_RATE_MPS3)
             && within(&self.rest.gyro_mean, w_max)
             && within(&self.rest.accel_mean, A)
             && within(&self.bias_corr, 1e6)

@@ -22,6 +22,11 @@ use crate::ahrs::quat::{self, Quat};
 /// Above this half-angle² per sample the gyroscope increment uses sin/cos (0.1 rad).
 const SERIES_HALF_ANGLE2: f64 = 0.05 * 0.05;
 
+/// Largest |component| of the low-passed acceleration, m/s²: the input limit.
+pub(crate) const MAX_AVG_MPS2: f64 = crate::input::limits::MAX_ACCEL_NORM_MPS2;
+/// Largest |component| of its rate of change, m/s³.
+pub(crate) const MAX_AVG_RATE_MPS3: f64 = 1e6 * MAX_AVG_MPS2;
+
 /// Strapdown orientation, the averaged accelerometer and the inclination correction.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Tilt {
@@ -82,8 +87,11 @@ impl Tilt {
         let (w2h, damp) = (w * w * h, std::f64::consts::SQRT_2 * w * h);
         for ((x, r), u) in self.avg.iter_mut().zip(&mut self.avg_rate).zip(a_i) {
             let rate = *r + (w2h * (u - *x) - damp * *r);
-            *r = rate;
-            *x += h * rate;
+            // Held within the ranges restore accepts (a no-op for any real input: an
+            // average of accelerations cannot leave the accelerometer's range), so a
+            // state restored at those limits cannot run past them.
+            *r = rate.clamp(-MAX_AVG_RATE_MPS3, MAX_AVG_RATE_MPS3);
+            *x = (*x + h * *r).clamp(-MAX_AVG_MPS2, MAX_AVG_MPS2);
         }
         let v = quat::rotate(&self.q_inc, &self.avg);
         let c = vertical_correction(&v)?;
