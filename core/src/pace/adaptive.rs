@@ -867,7 +867,8 @@ impl AdaptiveFilter {
                 .cadence_at(t_out, SLOW_CADENCE_WINDOW_S, ctx.config.stationary_after_s);
         let step_length = match slow {
             Some(c) if c > 0.0 && learned => Some(self.step_length_at(c)),
-            _ if learned => Some(self.x[LA]),
+            // The same physical range as every other reading of the line.
+            _ if learned => Some(self.x[LA].clamp(0.2, 3.0)),
             _ => ctx.config.initial_step_length_m,
         };
         self.out = PaceEstimate {

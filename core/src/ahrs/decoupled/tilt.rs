@@ -24,6 +24,8 @@ const SERIES_HALF_ANGLE2: f64 = 0.05 * 0.05;
 
 /// Largest |component| of the low-passed acceleration, m/s²: the input limit.
 pub(crate) const MAX_AVG_MPS2: f64 = crate::input::limits::MAX_ACCEL_NORM_MPS2;
+/// Smallest |average|² with a direction, (m/s²)².
+const MIN_DIRECTION_NORM2: f64 = 1e-12;
 /// Largest |component| of its rate of change, m/s³.
 pub(crate) const MAX_AVG_RATE_MPS3: f64 = 1e6 * MAX_AVG_MPS2;
 
@@ -131,6 +133,11 @@ impl Tilt {
 pub(crate) fn vertical_correction(v: &[f64; 3]) -> Option<Quat> {
     let r2 = v[0] * v[0] + v[1] * v[1];
     let vz2 = v[2] * v[2];
+    // Below 1 µm/s² (free fall) the average has no direction; near 1e-160 its squares
+    // underflow and the correction would be NaN.
+    if !(r2 + vz2 >= MIN_DIRECTION_NORM2) {
+        return None;
+    }
     if (v[2] > 0.0) & (r2 < 1e-4 * vz2) {
         let inv = 1.0 / v[2];
         let eps = r2 * (inv * inv);
