@@ -135,7 +135,8 @@ pub(crate) fn vertical_correction(v: &[f64; 3]) -> Option<Quat> {
     let vz2 = v[2] * v[2];
     // Below 1 µm/s² (free fall) the average has no direction; near 1e-160 its squares
     // underflow and the correction would be NaN.
-    if !(r2 + vz2 >= MIN_DIRECTION_NORM2) {
+    let n2 = r2 + vz2;
+    if n2.is_nan() || n2 < MIN_DIRECTION_NORM2 {
         return None;
     }
     if (v[2] > 0.0) & (r2 < 1e-4 * vz2) {
