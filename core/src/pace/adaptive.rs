@@ -1154,6 +1154,11 @@ impl AdaptiveFilter {
                 if (p[(i, j)] - p[(j, i)]).abs() > 1e-9 * (1.0 + p[(i, j)].abs()) {
                     return Err("covariance not symmetric");
                 }
+                // |correlation| ≤ 1: otherwise a variance along a direction (the speed
+                // std) is negative and its square root NaN.
+                if p[(i, j)] * p[(i, j)] > p[(i, i)] * p[(j, j)] * (1.0 + 1e-9) + 1e-300 {
+                    return Err("covariance correlation above 1");
+                }
             }
         }
         if self.initialized && self.t_s.is_nan() {
