@@ -449,7 +449,7 @@ impl FootNavigator {
             for i in 0..3 {
                 ins.cov[(IV + i, IV + i)] += 1.0;
             }
-            self.resets += 1;
+            self.resets = self.resets.saturating_add(1);
         }
         self.ins_t = c.t_s;
 
@@ -467,7 +467,7 @@ impl FootNavigator {
                         speed_mps: if dur > 0.0 { len / dur } else { 0.0 },
                         climb_m: p[2] - p0[2],
                     });
-                    self.strides += 1;
+                    self.strides = self.strides.saturating_add(1);
                     self.distance_m += len;
                 }
                 self.last_onset = Some((c.t_s, p));

@@ -311,7 +311,7 @@ impl PhoneOdometry {
             return;
         };
         self.window.push(ts, &ys);
-        self.hop_count += 1;
+        self.hop_count = self.hop_count.saturating_add(1);
         let hop = self.model.params.hop;
         if !self.window.is_full() || self.hop_count < hop {
             return;

@@ -77,7 +77,7 @@ impl Resampler {
                 y[i] = xp[i] + f * (x[i] - xp[i]);
             }
             emit(tg, &y);
-            self.k += 1;
+            self.k = self.k.saturating_add(1);
         }
         if self.t0_s + self.k as f64 * self.dt_s <= t {
             // Cap reached: skip the rest of the span and continue after `t`.

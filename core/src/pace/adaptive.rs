@@ -546,7 +546,7 @@ impl AdaptiveFilter {
         };
         let nis = (y.transpose() * s_inv * y)[(0, 0)];
         if nis > GATE_2DOF {
-            self.gated_run += 1;
+            self.gated_run = self.gated_run.saturating_add(1);
             if self.gated_since_t_s.is_nan() {
                 self.gated_since_t_s = fix.t_s;
             }
@@ -915,7 +915,7 @@ impl AdaptiveFilter {
             self.learn_from_path(fix, ctx, trusted);
             // Step data that says "standing" while GNSS keeps moving far: distrust it.
             if self.stationary && nis > 4.0 * GATE_2DOF {
-                self.contradictions += 1;
+                self.contradictions = self.contradictions.saturating_add(1);
                 if self.contradictions >= CONTRADICTIONS_TO_DISTRUST {
                     log::warn!("step data says stationary but GNSS moves: ignoring steps");
                     self.steps_distrusted = true;

@@ -117,7 +117,7 @@ impl StepStream {
                     Some(prev) => {
                         // Counter reset (reboot) or a jump no runner makes: continue
                         // from the new value, adding nothing.
-                        self.resets += 1;
+                        self.resets = self.resets.saturating_add(1);
                         log::warn!(
                             "step counter went from {prev} to {steps} at t = {t} s: taken as a reset"
                         );

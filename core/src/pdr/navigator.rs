@@ -388,7 +388,7 @@ impl PhoneNavigator {
         let length = self.lengths.push_step(step)?;
         self.direction
             .push_step(if hz.is_finite() { hz } else { 1.8 });
-        self.steps += 1;
+        self.steps = self.steps.saturating_add(1);
         self.last_step_length_m = length;
         self.distance_m += length;
         let span = if step.duration_s.is_finite() && step.duration_s <= MAX_STEP_S {
@@ -427,7 +427,7 @@ impl PhoneNavigator {
         self.dr_north_m += dn;
         self.pos_var_m2 +=
             (STEP_LENGTH_REL_SIGMA * length).powi(2) + (DIRECTION_SIGMA_RAD * length).powi(2);
-        self.placed += 1;
+        self.placed = self.placed.saturating_add(1);
         self.recent.push(NavStep {
             t_s: p.t1_s,
             east_m: self.east_m,

@@ -241,7 +241,7 @@ impl PlacementClassifier {
                 best = c;
             }
         }
-        self.windows += 1;
+        self.windows = self.windows.saturating_add(1);
         let e = PlacementEstimate {
             t_s,
             placement: Placement::ALL[best],

@@ -111,7 +111,7 @@ pub(crate) struct Sink<'a> {
 
 impl Sink<'_> {
     pub(crate) fn push(&mut self, e: StepEvent) {
-        *self.released += 1;
+        *self.released = self.released.saturating_add(1);
         self.queue.push(e);
     }
 }
@@ -313,7 +313,7 @@ impl StepDetector {
     }
 
     fn release(&mut self, e: StepEvent) {
-        self.step_count += 1;
+        self.step_count = self.step_count.saturating_add(1);
         self.queue.push(e);
     }
 

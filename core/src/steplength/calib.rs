@@ -191,14 +191,14 @@ impl PublishedFit {
         for i in 0..3 {
             self.sum[i] += t[i];
         }
-        self.fits += 1;
+        self.fits = self.fits.saturating_add(1);
         let after = self.theta().unwrap_or([0.0; 3]);
         let dot = |t: [f64; 3]| t[0] * x_mean[0] + t[1] * x_mean[1] + t[2] * x_mean[2];
         match before {
             Some(bf) => {
                 let l = dot(after);
                 if l.abs() > 0.0 && (l - dot(bf)).abs() < PUBLISHED_STABLE_REL * l.abs() {
-                    self.stable += 1;
+                    self.stable = self.stable.saturating_add(1);
                 } else {
                     self.stable = 0;
                 }

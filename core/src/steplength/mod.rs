@@ -481,7 +481,7 @@ impl StepLengthEstimator {
         let regular = self.model == StepLengthModel::LinearAsPublished
             || f_hi <= MAX_BLOCK_FREQUENCY_RATIO * f_lo;
         if !(plausible && straight && regular) {
-            self.rejected_blocks += 1;
+            self.rejected_blocks = self.rejected_blocks.saturating_add(1);
             return;
         }
         let mut x_mean = self.feature_sum;
@@ -494,7 +494,7 @@ impl StepLengthEstimator {
         let x_mean = x_mean.map(|s| s / n_after);
         if self.model == StepLengthModel::LinearAsPublished {
             if !self.published.add_block(&xs, &ys, x_mean) {
-                self.rejected_blocks += 1;
+                self.rejected_blocks = self.rejected_blocks.saturating_add(1);
                 return;
             }
         } else {
@@ -505,7 +505,7 @@ impl StepLengthEstimator {
         }
         self.feature_sum = x_mean.map(|m| m * n_after);
         self.samples += SAMPLES_PER_FIT as u64;
-        self.fits += 1;
+        self.fits = self.fits.saturating_add(1);
         self.converged = self.fits >= c.min_fits
             && match self.model {
                 StepLengthModel::LinearAsPublished => self.published.converged(c.min_fits),
