@@ -588,6 +588,30 @@ fn stretches(pieces: &[(Stretch, f64)], seed: u64) -> (Vec<AccelSample>, usize) 
     (out, strikes.len())
 }
 
+/// A recording that starts in mid-walk (an app started while walking, a log cut at a
+/// waypoint): the signal's autocorrelation needs seconds of data before it can give the
+/// step period, and the first steps must not be lost waiting for it.
+#[test]
+fn a_recording_that_starts_mid_walk_counts_its_first_steps() {
+    use Stretch::*;
+    for seed in 1..=5 {
+        let (s, truth) = stretches(&[(Walk, 20.0), (Still, 3.0)], seed);
+        let mut d = StepDetector::new(StepDetectorConfig::default()).unwrap();
+        let out = d.push_batch(&s);
+        assert!(out.rejected.is_empty());
+        assert!(
+            out.steps.len().abs_diff(truth) <= 1,
+            "seed {seed}: {} steps, {truth} true",
+            out.steps.len()
+        );
+        assert!(
+            out.steps[0].t_s < 1.0,
+            "seed {seed}: first step at {:.2} s",
+            out.steps[0].t_s
+        );
+    }
+}
+
 #[test]
 fn handling_the_phone_before_a_walk_is_not_counted() {
     use Stretch::*;

@@ -32,10 +32,12 @@ pub(crate) const ACF_TAU_S: f64 = 3.0;
 /// at half a true stride the correlation is above −0.1 in 95 % of candidates of every
 /// placement (it measures how alike left and right steps look); at half a true step
 /// it is below −0.25 in 95 % of them.
-const HALF_LAG_ANTI: f64 = -0.25;
+pub(crate) const HALF_LAG_ANTI: f64 = -0.25;
 /// Decimated samples needed before the estimate is used: one window time constant
 /// (shorter windows hold too few strides; their correlations are noisy).
 const MIN_SEEN: usize = (ACF_TAU_S * ACF_HZ) as usize;
+/// Samples after which the period overrides a bout's own (two time constants).
+const SETTLED_SEEN: usize = 2 * MIN_SEEN;
 /// Half a lag that correlates at least this fraction as well is the period (the lag
 /// was two strides, or a stride of two look-alike steps). Left and right steps of a
 /// phone on one side correlate at less than half the stride's correlation.
@@ -58,7 +60,7 @@ pub(crate) struct GaitPeriod {
     len: usize,
     /// Windowed mean products, index = lag (0 = power; 1..MIN_LAG unused).
     r: [f64; MAX_LAG + 1],
-    /// Decimated samples seen (saturating at [`MIN_SEEN`]).
+    /// Decimated samples seen (saturating at [`SETTLED_SEEN`]).
     seen: usize,
 }
 
@@ -97,7 +99,19 @@ impl GaitPeriod {
         }
         self.pos = (self.pos + 1) % n;
         self.len = (self.len + 1).min(n);
-        self.seen = (self.seen + 1).min(MIN_SEEN);
+        self.seen = (self.seen + 1).min(SETTLED_SEEN);
+    }
+
+    /// Whether enough signal was seen for [`Self::step_period`] to answer.
+    pub(crate) fn ready(&self) -> bool {
+        self.seen >= MIN_SEEN
+    }
+
+    /// Whether two time constants were seen: from then on the period is trusted over
+    /// a bout's own (before, a window of about three strides can still lock on half a
+    /// step).
+    pub(crate) fn settled(&self) -> bool {
+        self.seen >= SETTLED_SEEN
     }
 
     /// Normalised autocorrelation at a (fractional) lag in seconds, linearly
@@ -186,7 +200,7 @@ impl GaitPeriod {
         g.len = r.len(MAX_LAG + 1)?;
         r.f64s(&mut g.z)?;
         r.f64s(&mut g.r)?;
-        g.seen = r.len(MIN_SEEN)?;
+        g.seen = r.len(SETTLED_SEEN)?;
         // De-meaned magnitudes within the door's limit, their sum over a decimation
         // block, and mean products within its square.
         const A: f64 = crate::input::limits::MAX_ACCEL_NORM_MPS2;

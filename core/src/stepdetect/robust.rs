@@ -618,6 +618,7 @@ impl RobustDetector {
             // the correlation's window.
             let clean = t_s - self.data_gap_end_t_s >= super::gait::ACF_TAU_S
                 || self.data_gap_end_t_s.is_nan();
+            let clean = clean && self.gait.settled();
             let acf = self.gait.step_period(p.min_periodicity).filter(|_| clean);
             if let Some((acf_period, _, _)) = acf {
                 let ratio = acf_period / self.period_s;
@@ -705,6 +706,34 @@ impl RobustDetector {
         self.try_confirm(out);
     }
 
+    /// The step period from the newest `k` candidates themselves (half their median
+    /// stride), when the signal's own autocorrelation is periodic at it: used only
+    /// while the autocorrelation has not yet seen [`super::gait::ACF_TAU_S`] of signal
+    /// (a recording that starts in mid-walk), so the first steps are not lost waiting
+    /// for it.
+    fn candidate_period(&self, k: usize) -> Option<f64> {
+        let mut strides = [0.0f64; PENDING];
+        let mut ns = 0;
+        for j in 0..k.saturating_sub(2) {
+            let (Some(a), Some(c)) = (self.pending.back(j + 2), self.pending.back(j)) else {
+                break;
+            };
+            strides[ns] = c.event.t_s - a.event.t_s;
+            ns += 1;
+        }
+        if ns == 0 {
+            return None;
+        }
+        let st = &mut strides[..ns];
+        st.sort_by(f64::total_cmp);
+        let period = 0.5 * st[ns / 2];
+        // Anti-correlated at the claimed step: the candidates were half steps (a
+        // secondary bump between heel strikes), not steps.
+        let half_steps = self.acf(period) < super::gait::HALF_LAG_ANTI;
+        (period > 0.0 && !half_steps && self.periodic(period, self.p.min_periodicity))
+            .then_some(period)
+    }
+
     /// Confirm a bout from the newest `confirm_steps` pending candidates.
     ///
     /// The step period comes from the autocorrelation of the signal (see
@@ -718,8 +747,13 @@ impl RobustDetector {
         if self.pending.len() < k {
             return;
         }
-        let Some((period, _, _)) = self.gait.step_period(p.min_periodicity) else {
-            return;
+        let period = match self.gait.step_period(p.min_periodicity) {
+            Some((period, _, _)) => period,
+            None if !self.gait.ready() => match self.candidate_period(k) {
+                Some(period) => period,
+                None => return,
+            },
+            None => return,
         };
         if !(p.min_bout_interval_s..=p.max_step_interval_s).contains(&period) {
             return;
