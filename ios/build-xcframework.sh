@@ -6,7 +6,7 @@ set -euo pipefail
 
 usage() {
     cat <<'USAGE'
-Usage: ios/build-xcframework.sh [--zip] [--no-build]
+Usage: ios/build-xcframework.sh [--zip] [--no-build] [--testing]
        ios/build-xcframework.sh --headers-only GENERATED_DIR OUT_DIR
 
 Builds, from the repository root's workspace:
@@ -26,6 +26,9 @@ Options:
                   checksum (`swift package compute-checksum`) to
                   ios/build/StridekitFFI.xcframework.zip.checksum
   --no-build      reuse the three release libraries already in the target directory
+  --testing       build with the bindings' `testing` feature (simulateRun,
+                  simulateFootWalk, simulatePhoneWalk, pdrReferenceReplay), which the
+                  package's XCTests need; never for an app or a release
   --headers-only GENERATED_DIR OUT_DIR
                   only step 3: lay out OUT_DIR/StridekitFFI/{StridekitFFI.h,
                   module.modulemap} from the output of `uniffi-bindgen generate
@@ -65,11 +68,14 @@ layout_headers() {
 
 ZIP=0
 BUILD=1
+FEATURES=()
+BINDGEN_FEATURES=cli
 while [[ $# -gt 0 ]]; do
     case $1 in
         -h|--help) usage; exit 0 ;;
         --zip) ZIP=1; shift ;;
         --no-build) BUILD=0; shift ;;
+        --testing) FEATURES=(--features testing); BINDGEN_FEATURES=cli,testing; shift ;;
         --headers-only)
             [[ $# -eq 3 ]] || { usage >&2; exit 2; }
             layout_headers "$2" "$3"
@@ -120,7 +126,7 @@ if [[ $BUILD == 1 ]]; then
         step "cargo build -p stridekit --lib --release --target $t"
         # The release profile strips debug info only (Cargo.toml: strip = "debuginfo"),
         # so the uniffi metadata symbols stay in the archive.
-        cargo build -p stridekit --lib --release --target "$t"
+        cargo build -p stridekit --lib --release --target "$t" ${FEATURES[@]+"${FEATURES[@]}"}
     done
 fi
 for t in "${TARGETS[@]}"; do
@@ -138,7 +144,7 @@ lipo -info "$SIM_LIB"
 
 # ---- 2. bindings -----------------------------------------------------------------------
 step "uniffi-bindgen (host, dev profile, own cargo invocation)"
-cargo build -p stridekit --features cli --bin uniffi-bindgen
+cargo build -p stridekit --features "$BINDGEN_FEATURES" --bin uniffi-bindgen
 step "generate Swift bindings from $DEVICE_LIB"
 rm -rf "$GEN_DIR"
 "$BINDGEN" generate "$DEVICE_LIB" --language swift --out-dir "$GEN_DIR" --no-format

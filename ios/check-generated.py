@@ -313,7 +313,7 @@ def rust_fn_body(text, signature):
 
 def rust_consts():
     consts = {}
-    for f in ("packed.rs", "navigator.rs", "foot.rs"):
+    for f in ("packed.rs", "phone/navigator.rs", "foot/mod.rs"):
         for name, v in re.findall(r"pub const (\w+_BYTES): usize = (\d+);", read(BINDINGS_SRC / f)):
             consts[name] = int(v)
     return consts
@@ -359,9 +359,9 @@ def camel(snake):
 def check_layouts():
     consts = rust_consts()
     packed = read(BINDINGS_SRC / "packed.rs")
-    nav = read(BINDINGS_SRC / "navigator.rs")
-    foot = read(BINDINGS_SRC / "foot.rs")
-    types = read(BINDINGS_SRC / "types.rs")
+    nav = read(BINDINGS_SRC / "phone" / "navigator.rs")
+    foot = read(BINDINGS_SRC / "foot" / "records.rs")
+    types = read(BINDINGS_SRC / "pace" / "types.rs")
 
     fix_body = rust_fn_body(packed, "pub fn fixes(")
     fix_fields = [n for _, n in sorted((int(o), n) for n, o in
@@ -380,10 +380,10 @@ def check_layouts():
     foot_fields = expand_slots(rust_fn_body(foot, "pub fn unpack_foot_samples("), r"\bf\(")
     foot_pack = re.findall(r"\bs\.(\w+),", rust_fn_body(foot, "pub fn pack_foot_samples("))
     if foot_pack and foot_pack != foot_fields:
-        fail(f"foot.rs: pack_foot_samples order {foot_pack} != unpack order {foot_fields}")
+        fail(f"foot/records.rs: pack_foot_samples order {foot_pack} != unpack order {foot_fields}")
 
     # Other engines taking 32-byte accelerometer records must decode them with packed::accel.
-    for f in sorted(BINDINGS_SRC.glob("*.rs")):
+    for f in sorted(BINDINGS_SRC.rglob("*.rs")):
         text = read(f)
         for sig in re.findall(r"pub fn (push_accel_packed)\(", text):
             if "packed::accel(" not in rust_fn_body(text, f"pub fn {sig}("):

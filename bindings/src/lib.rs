@@ -18,10 +18,10 @@
 //! ```
 //!
 //! The other engines follow the same pattern with their own error type:
-//! [`navigator::PhoneNavigator`] (`NavError`), [`foot::FootNavigator`] (`FootError`,
+//! [`phone::navigator::PhoneNavigator`] (`NavError`), [`foot::FootNavigator`] (`FootError`,
 //! Kotlin `FootException`; packed 56-byte IMU records, see the [`foot`] module docs),
-//! [`placement::PlacementClassifier`] (`PlacementError`), [`odometry::PhoneOdometry`]
-//! (`OdometryError`) and [`orientation::OrientationFilter`] (`OrientationError`). On Android, `init_android_logging(level)` sends the SDK's `log`
+//! [`phone::placement::PlacementClassifier`] (`PlacementError`), [`phone::odometry::PhoneOdometry`]
+//! (`OdometryError`) and [`phone::orientation::OrientationFilter`] (`OrientationError`). On Android, `init_android_logging(level)` sends the SDK's `log`
 //! records to logcat (a no-op elsewhere).
 
 uniffi::setup_scaffolding!();
@@ -29,24 +29,16 @@ uniffi::setup_scaffolding!();
 mod error;
 pub mod foot;
 mod logging;
-pub mod navigator;
-pub mod odometry;
-pub mod orientation;
+pub mod pace;
 pub mod packed;
-pub mod placement;
-mod sim;
-mod tracker;
-mod types;
+pub mod phone;
+#[cfg(feature = "testing")]
+pub mod testing;
 
 pub use error::{PaceError, SensorStream};
-pub use foot::{
-    simulate_foot_walk, FootConfig, FootError, FootEstimate, FootImuSample, FootNavigator,
-    SimulatedFootWalk,
-};
+pub use foot::{FootConfig, FootError, FootEstimate, FootImuSample, FootNavigator};
 pub use logging::{init_android_logging, LogLevel};
-pub use sim::{simulate_run, SimulatedRun};
-pub use tracker::{BatchResult, PaceTracker, RejectedSample};
-pub use types::{
-    default_pace_config, AccelSample, GnssFix, PaceCalibration, PaceConfig, PaceEstimate, PaceMode,
-    PaceSample, PaceSource, StepSample,
+pub use pace::{
+    default_pace_config, AccelSample, BatchResult, GnssFix, PaceCalibration, PaceConfig,
+    PaceEstimate, PaceMode, PaceSample, PaceSource, PaceTracker, RejectedSample, StepSample,
 };

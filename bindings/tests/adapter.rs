@@ -5,9 +5,11 @@
 use std::sync::Arc;
 
 use stridekit::packed::{FIX_RECORD_BYTES, STEP_COUNT_RECORD_BYTES};
+#[cfg(feature = "testing")]
+use stridekit::testing::simulate_run;
 use stridekit::{
-    default_pace_config, simulate_run, GnssFix, PaceConfig, PaceError, PaceEstimate, PaceMode,
-    PaceSample, PaceSource, PaceTracker, SensorStream, StepSample,
+    default_pace_config, GnssFix, PaceConfig, PaceError, PaceEstimate, PaceMode, PaceSample,
+    PaceSource, PaceTracker, SensorStream, StepSample,
 };
 use stridekit_core::pace as core;
 
@@ -550,6 +552,7 @@ fn concurrent_pushes_do_not_crash() {
 
 // ---------------------------------------------------------------- simulated run
 
+#[cfg(feature = "testing")]
 #[test]
 fn simulate_run_validates_duration() {
     assert!(matches!(
@@ -566,6 +569,7 @@ fn simulate_run_validates_duration() {
     ));
 }
 
+#[cfg(feature = "testing")]
 #[test]
 fn simulated_run_reference_matches_ffi_path() {
     let run = simulate_run(7, 300.0).unwrap();
@@ -580,6 +584,7 @@ fn simulated_run_reference_matches_ffi_path() {
 }
 
 /// Fails while `stridekit_sim::simulate_run` is still a stub returning no data.
+#[cfg(feature = "testing")]
 #[test]
 fn simulated_run_is_not_empty() {
     let run = simulate_run(7, 300.0).unwrap();

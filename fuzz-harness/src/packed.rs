@@ -8,10 +8,10 @@
 //! extremes, time faults), so the fuzzer reaches the engines behind the door.
 
 use stridekit::foot::{FootNavigator, FootOutput};
-use stridekit::navigator::PhoneNavigator;
-use stridekit::odometry::PhoneOdometry;
-use stridekit::orientation::{OrientationFilter, OrientationOutput};
-use stridekit::placement::PlacementClassifier;
+use stridekit::phone::navigator::PhoneNavigator;
+use stridekit::phone::odometry::PhoneOdometry;
+use stridekit::phone::orientation::{OrientationFilter, OrientationOutput};
+use stridekit::phone::placement::PlacementClassifier;
 use stridekit::PaceTracker;
 
 use crate::bytes::Bytes;

@@ -19,7 +19,7 @@ import kotlin.test.assertTrue
  * Four threads pushing packed accelerometer batches (written by the Android adapters'
  * AccelBatcher) into one PlacementClassifier: no crash, every sample accepted or
  * rejected, consistent state. Compiled only when the bindings have the classifier
- * (tests/pom.xml, profile "placement", active when bindings/src/placement.rs exists).
+ * (it used to be behind a Maven profile; the classifier is always there now).
  */
 class PlacementConcurrencyTest {
     @Test

@@ -11,7 +11,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use stridekit_core::ahrs::ImuSample;
 use stridekit_core::pdr as core;
 
-use crate::types::GnssFix;
+use crate::pace::types::GnssFix;
 
 /// Bytes per packed IMU record.
 pub const IMU_RECORD_BYTES: usize = 80;
@@ -41,7 +41,7 @@ pub enum NavError {
     Internal { reason: String },
 }
 
-fn guard<T>(f: impl FnOnce() -> Result<T, NavError>) -> Result<T, NavError> {
+pub(crate) fn guard<T>(f: impl FnOnce() -> Result<T, NavError>) -> Result<T, NavError> {
     crate::error::guard_with(f, |reason| NavError::Internal { reason })
 }
 
@@ -229,59 +229,12 @@ pub fn pdr_calibration_to_text(calibration: PdrCalibration) -> Result<String, Na
     guard(|| Ok(core::PdrCalibration::try_from(&calibration)?.to_text(&[])))
 }
 
-/// What a Rust replay of packed IMU records produced (see [`pdr_reference_replay`]).
-#[derive(Clone, Debug, PartialEq, uniffi::Record)]
-pub struct PdrReplay {
-    pub steps: Vec<NavStep>,
-    pub rejected: u32,
-    pub latest: Option<NavEstimate>,
-}
-
-/// The reference for host tests of the bindings: the core navigator (default
-/// configuration, `calibration` loaded) fed the packed 80-byte IMU records one by
-/// one in Rust, no batching, no FFI object; every placed step and the final
-/// estimate. Pushing the same records through a `PhoneNavigator` in batches must
-/// give exactly this.
-#[uniffi::export]
-pub fn pdr_reference_replay(
-    imu_packed: Vec<u8>,
-    calibration: Option<PdrCalibration>,
-) -> Result<PdrReplay, NavError> {
-    guard(|| {
-        let records =
-            imu_records(&imu_packed).map_err(|reason| NavError::InvalidBuffer { reason })?;
-        let mut nav = core::PhoneNavigator::new(core::NavigatorConfig::default())
-            .expect("the core default configuration is valid");
-        if let Some(c) = &calibration {
-            nav.set_calibration(&c.try_into()?)
-                .map_err(|e| NavError::InvalidCalibration {
-                    reason: e.to_string(),
-                })?;
-        }
-        let (mut steps, mut rejected, mut placed) = (Vec::new(), 0u32, 0u64);
-        for c in records {
-            let r = imu_record(c);
-            let s = ImuSample {
-                t_s: r.t_s,
-                gyro_rads: r.gyro_rads,
-                accel_mps2: r.accel_mps2,
-                mag_ut: r.mag_ut,
-            };
-            if nav.push_imu(&s).is_err() {
-                rejected += 1;
-            }
-            collect_new_steps(&nav, &mut placed, &mut steps);
-        }
-        Ok(PdrReplay {
-            steps,
-            rejected,
-            latest: nav.estimate().map(Into::into),
-        })
-    })
-}
-
 /// Append the steps placed since `placed` (and update it).
-fn collect_new_steps(nav: &core::PhoneNavigator, placed: &mut u64, out: &mut Vec<NavStep>) {
+pub(crate) fn collect_new_steps(
+    nav: &core::PhoneNavigator,
+    placed: &mut u64,
+    out: &mut Vec<NavStep>,
+) {
     let (recent, n) = nav.recent_steps();
     if n > *placed {
         let new = usize::try_from(n - *placed).unwrap_or(usize::MAX);

@@ -12,8 +12,8 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use stridekit_core::placement as core;
 
-use crate::navigator::RejectedImuSample;
-use crate::types::AccelSample;
+use crate::pace::types::AccelSample;
+use crate::phone::navigator::RejectedImuSample;
 
 /// Where a phone is carried.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, uniffi::Enum)]

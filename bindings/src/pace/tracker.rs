@@ -6,10 +6,10 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use stridekit_core::pace as core;
 
 use crate::error::{guard, PaceError};
-use crate::packed;
-use crate::types::{
+use crate::pace::types::{
     AccelSample, GnssFix, PaceCalibration, PaceConfig, PaceEstimate, PaceSample, StepSample,
 };
+use crate::packed;
 
 /// A sample a batch push rejected; the rest of the batch was still processed.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]

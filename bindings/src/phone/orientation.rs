@@ -13,7 +13,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use stridekit_core::ahrs as core;
 
-use crate::navigator::{imu_record, imu_records, RejectedImuSample};
+use crate::phone::navigator::{imu_record, imu_records, RejectedImuSample};
 
 /// Which orientation filter runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, uniffi::Enum)]

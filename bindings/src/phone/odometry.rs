@@ -3,7 +3,7 @@
 //! `docs/odometry-pipeline.md` — the shipped regressors are trained on the simulator).
 //!
 //! IMU samples cross the FFI packed, in the same 80-byte little-endian layout as
-//! `PhoneNavigator` ([`crate::navigator`]): ten f64 `t_s, gyro_x, gyro_y, gyro_z
+//! `PhoneNavigator` ([`crate::phone::navigator`]): ten f64 `t_s, gyro_x, gyro_y, gyro_z
 //! (rad/s), accel_x, accel_y, accel_z (m/s², gravity included), mag_x, mag_y, mag_z
 //! (µT; NaN when there is no magnetometer)`, device axes as the platform reports them.
 //! Positions and velocities are horizontal, in the local East-North frame of the
@@ -14,8 +14,8 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use stridekit_core::odometry as core;
 
-use crate::navigator::{imu_record, imu_records, RejectedImuSample, IMU_RECORD_BYTES};
-use crate::placement::{PhonePlacement, PlacementEstimate};
+use crate::phone::navigator::{imu_record, imu_records, RejectedImuSample};
+use crate::phone::placement::{PhonePlacement, PlacementEstimate};
 
 /// Where the placement that picks the velocity regressor comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, uniffi::Enum)]
@@ -165,7 +165,7 @@ impl From<core::OdometryError> for OdometryError {
     }
 }
 
-fn guard<T>(f: impl FnOnce() -> Result<T, OdometryError>) -> Result<T, OdometryError> {
+pub(crate) fn guard<T>(f: impl FnOnce() -> Result<T, OdometryError>) -> Result<T, OdometryError> {
     crate::error::guard_with(f, |reason| OdometryError::Internal { reason })
 }
 
@@ -305,78 +305,10 @@ pub fn odometry_shipped_model() -> String {
     core::OdometryModel::shipped().to_text()
 }
 
-/// A simulated phone walk (the core's phone simulator) packed for
-/// [`PhoneOdometry::push_imu_packed`], its truth, and what a default engine computes
-/// from it in Rust, so host tests can prove that the FFI gives identical results.
-#[derive(Clone, Debug, PartialEq, uniffi::Record)]
-pub struct SimulatedPhoneWalk {
-    /// IMU samples in the 80-byte layout (magnetometer included).
-    pub imu_packed: Vec<u8>,
-    pub samples: u32,
-    /// Truth every 0.1 s: time, s; position east / north of the start, m.
-    pub truth_t_s: Vec<f64>,
-    pub truth_east_m: Vec<f64>,
-    pub truth_north_m: Vec<f64>,
-    /// Distance walked, m.
-    pub truth_distance_m: f64,
-    /// The final estimate of `PhoneOdometry.withDefaults()` fed the samples in Rust.
-    pub reference_final: Option<OdometryEstimate>,
-}
-
-/// Simulate `duration_s` (1..=3600 s) of walking at `speed_mps` (0.3..=3 m/s) with
-/// the phone at `placement` (a pocket is simulated as a front pocket).
-/// Deterministic: the same arguments give the same walk on every platform.
-#[uniffi::export]
-pub fn simulate_phone_walk(
-    seed: u64,
-    placement: PhonePlacement,
-    speed_mps: f64,
-    duration_s: f64,
-) -> Result<SimulatedPhoneWalk, OdometryError> {
-    use stridekit_sim::{simulate_phone, PhonePlacement as Sim, PhoneScenario};
-    if !(speed_mps.is_finite() && (0.3..=3.0).contains(&speed_mps)) {
-        return Err(OdometryError::InvalidConfig {
-            reason: format!("speed_mps = {speed_mps}: must be 0.3..=3 m/s"),
-        });
-    }
-    if !(duration_s.is_finite() && (1.0..=3600.0).contains(&duration_s)) {
-        return Err(OdometryError::InvalidConfig {
-            reason: format!("duration_s = {duration_s}: must be 1..=3600 s"),
-        });
-    }
-    guard(|| {
-        let p = match placement {
-            PhonePlacement::InHand => Sim::InHand,
-            PhonePlacement::Pocket => Sim::FrontPocket,
-            PhonePlacement::Bag => Sim::Bag,
-            PhonePlacement::NeckPouch => Sim::NeckPouch,
-            PhonePlacement::Armband => Sim::Armband,
-            PhonePlacement::SwingingArm => Sim::SwingingArm,
-        };
-        let sim = simulate_phone(&PhoneScenario::walk(seed, p, speed_mps, duration_s));
-        let samples: Vec<core::OdometrySample> =
-            sim.samples.iter().map(core::OdometrySample::from).collect();
-        let mut engine = core::PhoneOdometry::shipped(core::OdometryConfig::default())?;
-        for s in &samples {
-            // A well-formed simulation has no rejected sample; skip like a batch would.
-            let _ = engine.push(s);
-        }
-        let last = sim.truth.last().copied().unwrap_or_default();
-        Ok(SimulatedPhoneWalk {
-            imu_packed: pack(&samples),
-            samples: u32::try_from(samples.len()).unwrap_or(u32::MAX),
-            truth_t_s: sim.truth.iter().map(|t| t.t_s).collect(),
-            truth_east_m: sim.truth.iter().map(|t| t.east_m).collect(),
-            truth_north_m: sim.truth.iter().map(|t| t.north_m).collect(),
-            truth_distance_m: last.distance_m,
-            reference_final: engine.estimate().map(Into::into),
-        })
-    })
-}
-
 /// Samples in the 80-byte layout (NaN magnetometer when absent).
-fn pack(samples: &[core::OdometrySample]) -> Vec<u8> {
-    let mut out = Vec::with_capacity(samples.len() * IMU_RECORD_BYTES);
+#[cfg(any(test, feature = "testing"))]
+pub(crate) fn pack(samples: &[core::OdometrySample]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(samples.len() * crate::phone::navigator::IMU_RECORD_BYTES);
     for s in samples {
         let m = s.mag_ut.unwrap_or([f64::NAN; 3]);
         for v in [
@@ -424,8 +356,10 @@ mod tests {
         assert_eq!(restored.estimate(), o.estimate());
     }
 
+    #[cfg(feature = "testing")]
     #[test]
     fn simulated_walk_reference_matches_a_packed_push() {
+        use crate::testing::simulate_phone_walk;
         let w = simulate_phone_walk(3, PhonePlacement::Armband, 1.2, 20.0).unwrap();
         let o = PhoneOdometry::with_defaults();
         let r = o.push_imu_packed(w.imu_packed.clone()).unwrap();

@@ -5,7 +5,7 @@ use stridekit_core::pace as core;
 use stridekit_sim::{self as sim, RunScenario};
 
 use crate::error::{guard, PaceError};
-use crate::types::{GnssFix, PaceEstimate, PaceSample, StepSample};
+use crate::pace::types::{GnssFix, PaceEstimate, PaceSample, StepSample};
 
 /// Longest run `simulate_run` accepts, seconds (6 h).
 pub const MAX_SIM_DURATION_S: f64 = 6.0 * 3600.0;

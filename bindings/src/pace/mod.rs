@@ -1,0 +1,11 @@
+//! Pace at the FFI: `PaceTracker` (GNSS fixes, step counts or cadence, raw
+//! accelerometer) with its records and configuration.
+
+pub mod tracker;
+pub mod types;
+
+pub use tracker::{BatchResult, PaceTracker, RejectedSample};
+pub use types::{
+    default_pace_config, AccelSample, GnssFix, PaceCalibration, PaceConfig, PaceEstimate, PaceMode,
+    PaceSample, PaceSource, StepSample,
+};

@@ -1,0 +1,66 @@
+//! Foot test helper: a simulated foot-mounted walk with Rust's reference estimates.
+
+use stridekit_core::foot as core;
+
+use crate::foot::*;
+
+/// Most laps `simulate_foot_walk` accepts.
+pub const MAX_SIM_FOOT_LAPS: u32 = 20;
+
+/// A simulated foot-mounted IMU walk (core `sim::foot`: laps of a 20 m × 10 m
+/// rectangle at 200 Hz, 2 s rest at both ends, body axes = sensor axes, z up) and
+/// what Rust computes from it, so host tests can check the FFI path.
+#[derive(Clone, Debug, PartialEq, uniffi::Record)]
+pub struct SimulatedFootWalk {
+    pub seed: u64,
+    pub laps: u32,
+    /// The samples as 56-byte records (layout in the module docs).
+    pub samples_packed: Vec<u8>,
+    pub sample_count: u32,
+    /// True path length (sum of stride lengths), m, and true number of strides.
+    pub true_distance_m: f64,
+    pub true_strides: u32,
+    /// True position at the last sample (the walk ends where it started), ENU, m.
+    pub true_end_m: EnuVector,
+    /// `estimate()` of a default-configuration navigator fed every sample in Rust.
+    pub reference_final: Option<FootEstimate>,
+    /// Estimates that navigator produced and samples it rejected (0).
+    pub reference_produced: u32,
+    pub reference_rejected: u32,
+}
+
+/// Simulate `laps` (1..=20) laps of walking from `seed`. Deterministic: the same
+/// seed gives the same samples on every platform.
+#[uniffi::export]
+pub fn simulate_foot_walk(seed: u64, laps: u32) -> Result<SimulatedFootWalk, FootError> {
+    if !(1..=MAX_SIM_FOOT_LAPS).contains(&laps) {
+        return Err(FootError::InvalidConfig {
+            field: "laps".into(),
+            reason: format!("must be 1..={MAX_SIM_FOOT_LAPS}"),
+        });
+    }
+    guard(|| {
+        let sim = stridekit_sim::simulate_foot(&stridekit_sim::FootScenario::walk(seed, laps));
+        let mut nav = core::FootNavigator::new(core::FootConfig::default())?;
+        let outcome = nav.push_batch(&sim.samples, |_| {});
+        let mut packed = Vec::with_capacity(sim.samples.len() * FOOT_SAMPLE_RECORD_BYTES);
+        for s in &sim.samples {
+            for v in [s.t_s].iter().chain(&s.accel_mps2).chain(&s.gyro_rads) {
+                packed.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        let count = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+        Ok(SimulatedFootWalk {
+            seed,
+            laps,
+            samples_packed: packed,
+            sample_count: count(sim.samples.len()),
+            true_distance_m: sim.distance_m,
+            true_strides: count(sim.strides.len()),
+            true_end_m: sim.truth.last().map_or([0.0; 3], |t| t.position_m).into(),
+            reference_final: nav.estimate().map(Into::into),
+            reference_produced: count(outcome.estimates),
+            reference_rejected: count(outcome.rejected.len()),
+        })
+    })
+}
