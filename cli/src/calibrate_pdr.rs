@@ -75,39 +75,6 @@ pub fn model_from_arg(s: &str) -> Result<StepLengthModel, String> {
     })
 }
 
-impl CalibrateArgs {
-    /// Parse `--data DIR --out FILE [--model NAME]` (after `calibrate pdr`).
-    pub fn parse(args: &[String]) -> Result<Self, String> {
-        let (mut data, mut out, mut model) =
-            (None, None, NavigatorConfig::default().step_length_model);
-        let mut it = args.iter();
-        while let Some(x) = it.next() {
-            let mut value = || it.next().ok_or(format!("{x} needs a value"));
-            match x.as_str() {
-                "--data" => data = Some(PathBuf::from(value()?)),
-                "--out" => out = Some(PathBuf::from(value()?)),
-                "--model" => model = model_from_arg(value()?)?,
-                other => {
-                    return Err(format!(
-                        "unknown option {other} for calibrate pdr (--data DIR --out FILE [--model constant|linear|linear-f|weinberg])"
-                    ))
-                }
-            }
-        }
-        let data = match data {
-            Some(d) => d,
-            None => stridekit_formats::data_dir()
-                .map(|d| d.join("phone-indoor"))
-                .ok_or("calibrate pdr needs --data DIR (../shared/data not found)")?,
-        };
-        Ok(Self {
-            data,
-            out: out.ok_or("calibrate pdr needs --out FILE")?,
-            model,
-        })
-    }
-}
-
 /// Run the command: learn from every walk under `--data` and write the file.
 pub fn run(a: &CalibrateArgs, command_line: &str) -> Result<String, String> {
     let walks = load_walks(&a.data, crate::eval_pdr_real::reading_progress)?;

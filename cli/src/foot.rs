@@ -45,13 +45,6 @@ pub enum ImuProfile {
 }
 
 impl ImuProfile {
-    pub fn parse(s: &str) -> Result<Self, String> {
-        match s {
-            "consumer" => Ok(Self::Consumer),
-            "calibrated" => Ok(Self::Calibrated),
-            _ => Err(format!("unknown --imu {s} (consumer|calibrated)")),
-        }
-    }
     fn name(self) -> &'static str {
         match self {
             Self::Consumer => "consumer",

@@ -33,33 +33,6 @@ pub struct PdrArgs {
     pub no_mag: bool,
 }
 
-impl PdrArgs {
-    /// Parse `FILE [--out F] [--calibration F] [--no-mag]`; unknown flags are refused.
-    pub fn parse(args: &[String]) -> Result<Self, String> {
-        let mut a = PdrArgs::default();
-        let mut file = None;
-        let mut it = args.iter();
-        while let Some(x) = it.next() {
-            match x.as_str() {
-                "--out" => a.out = Some(it.next().ok_or("--out needs a FILE")?.into()),
-                "--calibration" => {
-                    a.calibration = Some(it.next().ok_or("--calibration needs a FILE")?.into())
-                }
-                "--no-mag" => a.no_mag = true,
-                f if f.starts_with("--") => {
-                    return Err(format!(
-                        "unknown option {f} for pdr (FILE [--out traj.csv] [--calibration FILE] [--no-mag])"
-                    ))
-                }
-                f if file.is_none() => file = Some(PathBuf::from(f)),
-                f => return Err(format!("pdr takes one FILE, got a second: {f}")),
-            }
-        }
-        a.file = file.ok_or("pdr needs a FILE")?;
-        Ok(a)
-    }
-}
-
 pub fn run(a: &PdrArgs) -> Result<String, String> {
     let walk = load_walk(&a.file)?;
     let calibration = match &a.calibration {

@@ -21,7 +21,7 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
     let w = |out: &mut dyn std::io::Write, s: String| {
         out.write_all(s.as_bytes()).map_err(|e| e.to_string())
     };
-    w(&mut out, "t_s,t_unix_s,speed_mps,pace_s_per_km,speed_std_mps,cadence_spm,step_length_m,gnss_weight,distance_m,source\n".into())?;
+    w(&mut out, "t_s,t_unix_s,speed_mps,pace_s_per_km,pace_min_per_km,speed_std_mps,cadence_spm,step_length_m,gnss_weight,distance_m,source\n".into())?;
     let opt = |v: Option<f64>| v.map(|v| format!("{v:.3}")).unwrap_or_default();
     let mut rejected = Rejected::default();
     let mut last_t = f64::NEG_INFINITY;
@@ -38,11 +38,12 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
             w(
                 &mut out,
                 format!(
-                    "{:.3},{:.3},{:.3},{},{},{},{},{:.3},{:.2},{:?}\n",
+                    "{:.3},{:.3},{:.3},{},{},{},{},{},{:.3},{:.2},{:?}\n",
                     e.t_s,
                     e.t_s + p.t0_unix_s,
                     e.speed_mps,
                     opt(e.pace_s_per_km),
+                    e.pace_s_per_km.map(min_s).unwrap_or_default(),
                     opt(e.speed_std_mps),
                     opt(e.cadence_spm),
                     opt(e.step_length_m),
@@ -55,8 +56,18 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
     }
     out.flush().map_err(|e| e.to_string())?;
     let e = tracker.estimate();
+    let moving_s = p.samples.last().map(|s| s.t_s()).unwrap_or(0.0)
+        - p.samples.first().map(|s| s.t_s()).unwrap_or(0.0);
+    let average = if e.distance_m > 0.0 {
+        format!(
+            ", average pace {} /km over the elapsed time",
+            min_s(1000.0 * moving_s / e.distance_m)
+        )
+    } else {
+        String::new()
+    };
     eprintln!(
-        "{}: {} samples, {} rejected, distance {:.0} m, {} GNSS fixes, step data: {}",
+        "{}: {} samples, {} rejected, distance {:.0} m{average}, {} GNSS fixes, step data: {}",
         p.name,
         p.samples.len(),
         rejected.total(),
@@ -66,4 +77,23 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
     );
     eprint!("{}", rejected.report());
     Ok(())
+}
+
+/// Pace as a runner reads it: seconds per km as `m:ss` (330.7 → "5:31").
+pub fn min_s(s_per_km: f64) -> String {
+    if !s_per_km.is_finite() || s_per_km < 0.0 {
+        return String::new();
+    }
+    let t = s_per_km.round() as u64;
+    format!("{}:{:02}", t / 60, t % 60)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn pace_reads_as_minutes_and_seconds() {
+        assert_eq!(super::min_s(330.676), "5:31");
+        assert_eq!(super::min_s(59.6), "1:00");
+        assert_eq!(super::min_s(f64::NAN), "");
+    }
 }

@@ -41,40 +41,6 @@ pub struct SoakArgs {
     pub seed: u64,
 }
 
-impl SoakArgs {
-    /// `[--hours H] [--seed N]`.
-    pub fn parse(args: &[String]) -> Result<Self, String> {
-        let mut out = Self {
-            hours: 24.0,
-            seed: 1,
-        };
-        let mut it = args.iter();
-        while let Some(a) = it.next() {
-            match a.as_str() {
-                "--hours" => {
-                    out.hours = it
-                        .next()
-                        .and_then(|s| s.parse().ok())
-                        .filter(|h: &f64| h.is_finite() && *h > 0.0 && *h <= 1000.0)
-                        .ok_or("--hours needs a number of hours in (0, 1000]")?;
-                }
-                "--seed" => {
-                    out.seed = it
-                        .next()
-                        .and_then(|s| s.parse().ok())
-                        .ok_or("--seed needs a non-negative integer")?;
-                }
-                other => {
-                    return Err(format!(
-                        "unknown argument {other} for `soak` (accepted: --hours H, --seed N)"
-                    ))
-                }
-            }
-        }
-        Ok(out)
-    }
-}
-
 /// Counts of one engine.
 #[derive(Clone, Debug, Default)]
 pub struct EngineStats {
@@ -870,8 +836,8 @@ pub fn run(args: &SoakArgs, mut progress: impl FnMut(&str)) -> SoakReport {
 }
 
 /// `stridekit soak [--hours H] [--seed N]`: runs, prints, fails on any mismatch.
-pub fn cmd(args: &[String]) -> Result<(), String> {
-    let a = SoakArgs::parse(args)?;
+pub fn cmd(a: &SoakArgs) -> Result<(), String> {
+    let a = *a;
     println!(
         "soak: {} simulated h of 200 Hz phone IMU + 1 Hz GNSS and 200 Hz foot IMU through 8 engines, B restored every {RESTORE_EVERY_S} s (seed {})",
         a.hours, a.seed
@@ -942,17 +908,5 @@ mod tests {
             "{stats:?}"
         );
         assert!(stats.first_mismatch_t_s.is_some_and(|t| t >= 30.0));
-    }
-
-    #[test]
-    fn arguments() {
-        let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
-        let a = SoakArgs::parse(&[]).unwrap();
-        assert_eq!((a.hours, a.seed), (24.0, 1));
-        let a = SoakArgs::parse(&s(&["--hours", "0.5", "--seed", "7"])).unwrap();
-        assert_eq!((a.hours, a.seed), (0.5, 7));
-        assert!(SoakArgs::parse(&s(&["--hours", "-1"])).is_err());
-        assert!(SoakArgs::parse(&s(&["--hours"])).is_err());
-        assert!(SoakArgs::parse(&s(&["--bogus"])).is_err());
     }
 }

@@ -72,11 +72,21 @@ fn pace_replays_a_user_csv() {
     let lines: Vec<&str> = stdout.lines().collect();
     assert!(lines[0].starts_with("t_s,t_unix_s,speed_mps"));
     assert!(lines.len() > 500, "{} lines", lines.len());
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
     let last: Vec<&str> = lines.last().unwrap().split(',').collect();
-    let speed: f64 = last[2].parse().unwrap();
-    let distance: f64 = last[8].parse().unwrap();
+    let speed: f64 = last[col("speed_mps")].parse().unwrap();
+    let distance: f64 = last[col("distance_m")].parse().unwrap();
     assert!((speed - 3.0).abs() < 0.2, "speed {speed}");
     assert!((distance - 1797.0).abs() < 40.0, "distance {distance}");
+    // 3 m/s is 5:33 per km; the runner's column says so.
+    assert_eq!(
+        last[col("pace_min_per_km")],
+        "5:33",
+        "{}",
+        lines.last().unwrap()
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("average pace"));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -92,5 +102,54 @@ fn errors_exit_non_zero_with_a_message() {
     assert!(!out.status.success());
     let out = stridekit().arg("help").output().unwrap();
     assert!(out.status.success());
-    assert!(String::from_utf8_lossy(&out.stdout).contains("stridekit demo"));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("Usage: stridekit <COMMAND>"));
+}
+
+#[test]
+fn the_command_line_behaves() {
+    // Alone: help, nothing written, exit 2 (a usage error).
+    let dir = temp_dir("cli-behaves");
+    let out = stridekit().current_dir(&dir).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("Usage: stridekit <COMMAND>"));
+    assert!(
+        std::fs::read_dir(&dir).unwrap().next().is_none(),
+        "wrote something"
+    );
+    // Unknown flags, bad values and extra arguments: exit 2 with clap's message.
+    for bad in [
+        &["demo", "--oot", "x"][..],
+        &["demo", "--seed", "abc"],
+        &["demo", "extra"],
+        &["pace", "run.fit", "--mode"],
+        &["foot", "f.csv", "--lables", "vicon_opt"],
+    ] {
+        let out = stridekit().current_dir(&dir).args(bad).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{}", bad.join(" "));
+        assert!(String::from_utf8_lossy(&out.stderr).contains("error:"));
+    }
+    let out = stridekit().args(["pace", "--help"]).output().unwrap();
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("--mode"));
+    let out = stridekit().arg("--version").output().unwrap();
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("stridekit "));
+    // A closed pipe (`stridekit demo | head -1`) ends the command quietly.
+    let mut child = stridekit()
+        .args(["demo", "--out"])
+        .arg(dir.join("report"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    std::io::BufRead::read_line(
+        &mut std::io::BufReader::new(child.stdout.take().unwrap()),
+        &mut first,
+    )
+    .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(first.starts_with("# stridekit demo"), "{first}");
+    assert!(out.status.success(), "{:?}", out.status);
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+    let _ = std::fs::remove_dir_all(&dir);
 }

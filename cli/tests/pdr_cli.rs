@@ -132,8 +132,8 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
         .args(["pdr", "x.txt", "--fast"])
         .output()
         .unwrap();
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown option --fast"));
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unexpected argument '--fast'"));
     std::fs::write(dir.join("bad.pdrcal"), "stridekit-pdr-calibration 7\n").unwrap();
     let out = stridekit()
         .arg("pdr")

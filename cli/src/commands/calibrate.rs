@@ -1,0 +1,72 @@
+//! `stridekit calibrate …`.
+
+use std::path::PathBuf;
+
+use clap::{Subcommand, ValueEnum};
+use stridekit_core::steplength::StepLengthModel;
+
+use crate::output::OutFile;
+
+#[derive(Debug, Subcommand)]
+pub enum Calibrate {
+    /// Learn a personal PDR calibration from walks with waypoints.
+    ///
+    /// Learn the personal PDR calibration (step-length model, how the phone is
+    /// carried) from walks with waypoints and write it (versioned text, format in
+    /// core/src/pdr/calibration.rs); load it with `stridekit pdr --calibration FILE`.
+    Pdr {
+        /// Folder of Android sensor logs with waypoints (default: the shared
+        /// phone-indoor walks).
+        #[arg(long, value_name = "DIR")]
+        data: Option<PathBuf>,
+        /// The calibration file to write.
+        #[arg(long, value_name = "FILE")]
+        out: PathBuf,
+        /// Step-length model to learn.
+        #[arg(long, value_enum, default_value_t = Model::Weinberg)]
+        model: Model,
+    },
+}
+
+/// Step-length models on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Model {
+    Weinberg,
+    Linear,
+    LinearF,
+    Constant,
+}
+
+impl From<Model> for StepLengthModel {
+    fn from(m: Model) -> Self {
+        let name = match m {
+            Model::Weinberg => "weinberg",
+            Model::Linear => "linear",
+            Model::LinearF => "linear-f",
+            Model::Constant => "constant",
+        };
+        crate::calibrate_pdr::model_from_arg(name).expect("every ValueEnum name is a model")
+    }
+}
+
+pub fn run(c: Calibrate) -> Result<(), String> {
+    match c {
+        Calibrate::Pdr { data, out, model } => {
+            let data = super::data_dir(data, "phone-indoor", "walks with waypoints")?;
+            let out = OutFile::prepare(&out, "")?;
+            let text = crate::calibrate_pdr::run(
+                &crate::calibrate_pdr::CalibrateArgs {
+                    data,
+                    out: out.path.clone(),
+                    model: model.into(),
+                },
+                &super::command_line(),
+            )?;
+            print!("{text}");
+            if out.existed {
+                eprintln!("(replaced the previous {})", out.path.display());
+            }
+            Ok(())
+        }
+    }
+}

@@ -1,0 +1,234 @@
+//! `stridekit eval …`: accuracy of the engines on the shared data sets and the
+//! simulators, printed as markdown tables.
+
+use std::path::PathBuf;
+
+use clap::{ArgGroup, Subcommand};
+use stridekit_core::PaceConfig;
+
+use super::{data_dir, name_value};
+
+#[derive(Debug, Subcommand)]
+pub enum Eval {
+    /// Pace: speed RMSE on simulated and real runs.
+    ///
+    /// Speed RMSE of raw GNSS, GNSS EMA, AsPublished and the default on simulated runs
+    /// and on the real runs with injected GNSS degradation.
+    Pace {
+        /// Real runs (default: the shared pace/original folder; skipped when absent).
+        #[arg(long, value_name = "DIR")]
+        data: Option<PathBuf>,
+        /// Simulated runs.
+        #[arg(long, value_name = "N", default_value_t = 10)]
+        seeds: u64,
+        /// Change a parameter of the default filter (AdaptiveParams names), for
+        /// sensitivity checks; repeatable.
+        #[arg(long = "set", value_name = "NAME=VALUE", value_parser = name_value)]
+        set: Vec<(String, f64)>,
+    },
+    /// Step counting on the Oxford Step Counter traces.
+    ///
+    /// Step counting of the AsPublished and default detectors on the Oxford Step
+    /// Counter traces: count error and step-event F1 per trace and placement, also at
+    /// 100 and 50 Hz, with jitter, drops and dropped bursts.
+    Steps {
+        /// Oxford traces (default: the shared steps/oxford folder).
+        #[arg(long, value_name = "DIR")]
+        data: Option<PathBuf>,
+        /// Add parameter sensitivity and a leave-one-user-out check (slow).
+        #[arg(long)]
+        sensitivity: bool,
+    },
+    /// Dead reckoning on real indoor walks (or --sim).
+    ///
+    /// Pedestrian dead reckoning on real indoor walks with surveyed waypoints (ATE,
+    /// start-pinned, end and distance error per floor and overall), or with --sim on
+    /// the phone simulator.
+    #[command(group(ArgGroup::new("real").args(["data", "diagnose"]).multiple(true).conflicts_with("simulated")))]
+    #[command(group(ArgGroup::new("simulated").args(["sim", "seeds"]).multiple(true)))]
+    Pdr {
+        /// Android sensor logs with waypoints (default: the shared phone-indoor walks).
+        #[arg(long, value_name = "DIR")]
+        data: Option<PathBuf>,
+        /// Print where the error comes from instead.
+        #[arg(long)]
+        diagnose: bool,
+        /// Evaluate on the phone simulator instead (every placement: GNSS outage and
+        /// closed loop).
+        #[arg(long)]
+        sim: bool,
+        /// Simulator seeds per placement (implies --sim).
+        #[arg(long, value_name = "N")]
+        seeds: Option<u64>,
+    },
+    /// Step-length models over a GNSS outage.
+    ///
+    /// Step-length models: distance error over a 5-minute GNSS outage after
+    /// calibration, on the phone simulator and on the real runs.
+    Steplength {
+        /// Real runs (default: the shared pace/original folder).
+        #[arg(long, value_name = "DIR")]
+        data: Option<PathBuf>,
+    },
+    /// Foot-mounted navigation on the VICON trials.
+    ///
+    /// Foot-mounted navigation on the pyshoe VICON trials: position RMSE, loop closure
+    /// and zero-velocity agreement per trial, gait and session for every detector.
+    #[command(group(ArgGroup::new("mode").args(["tune", "tune_adaptive_shoe", "diagnose"])))]
+    Foot {
+        /// The trials (default: the shared foot/pyshoe-vicon folder).
+        #[arg(long, value_name = "DIR")]
+        data: Option<PathBuf>,
+        /// Print the grid searches on the training split that chose the defaults.
+        #[arg(long)]
+        tune: bool,
+        /// Only the gyro-timing and adaptive-SHOE part of --tune.
+        #[arg(long)]
+        tune_adaptive_shoe: bool,
+        /// Stride-length and height-per-stride errors against the truth.
+        #[arg(long)]
+        diagnose: bool,
+    },
+    /// Phone-placement classifier, leave one user out.
+    ///
+    /// Phone-placement classifier, leave-one-user-out on the Oxford traces.
+    Placement {
+        /// Oxford traces (default: the shared steps/oxford folder).
+        #[arg(long, value_name = "DIR")]
+        data: Option<PathBuf>,
+        /// Neutralise features (ablation; comma-separated names from
+        /// core/src/placement/features.rs).
+        #[arg(long, value_name = "NAME,NAME")]
+        drop: Option<String>,
+        /// Training penalty.
+        #[arg(long, value_name = "X")]
+        l2: Option<f64>,
+        /// Add the same protocol for a small MLP (comparison only, not shipped).
+        #[arg(long)]
+        mlp: bool,
+    },
+    /// Learned odometry and baselines on simulated walks.
+    ///
+    /// ATE / RTE per placement of the learned odometry and the naive baselines on
+    /// held-out simulated walks.
+    Odometry {
+        /// A model file (default: the shipped model).
+        #[arg(long, value_name = "FILE")]
+        model: Option<PathBuf>,
+        /// Walks per placement.
+        #[arg(long, value_name = "N", default_value_t = 5)]
+        seeds: u64,
+        /// Let the pipeline detect the placement instead of telling it.
+        #[arg(long)]
+        unknown_placement: bool,
+    },
+    /// Orientation filters against optical motion capture (BROAD).
+    ///
+    /// Orientation filters against optical motion capture on the BROAD trials.
+    Orientation {
+        /// BROAD trials (default: the shared orientation/broad folder).
+        #[arg(long, value_name = "DIR")]
+        data: Option<PathBuf>,
+        /// Without the magnetometer (inclination only).
+        #[arg(long)]
+        imu_only: bool,
+        /// Change a setting of the default filter (DecoupledSettings names);
+        /// repeatable.
+        #[arg(long = "set", value_name = "NAME=VALUE", value_parser = name_value)]
+        set: Vec<(String, f64)>,
+        /// Score only the default filter.
+        #[arg(long)]
+        quick: bool,
+    },
+}
+
+pub fn run(e: Eval) -> Result<(), String> {
+    let text = match e {
+        Eval::Pace { data, seeds, set } => {
+            let mut default = PaceConfig::default();
+            for (k, v) in &set {
+                default
+                    .adaptive
+                    .set(k, *v)
+                    .and_then(|_| default.validate())
+                    .map_err(|e| e.to_string())?;
+            }
+            let (table, _) = crate::eval_pace::simulator_table(seeds, default);
+            println!("{table}");
+            match data_dir(data, "pace/original", "real runs") {
+                Ok(d) => crate::eval_pace::real_table(&d, default)?,
+                Err(why) => format!("Real runs: skipped ({why})"),
+            }
+        }
+        Eval::Steps { data, sensitivity } => {
+            let d = data_dir(data, "steps/oxford", "Oxford traces")?;
+            let mut t = crate::eval_steps::run(&d)?;
+            if sensitivity {
+                t.push('\n');
+                t += &crate::eval_steps::robustness(&d)?;
+            }
+            t
+        }
+        Eval::Pdr {
+            data,
+            diagnose,
+            sim,
+            seeds,
+        } => {
+            if sim || seeds.is_some() {
+                crate::eval_pdr::report(seeds.unwrap_or(3))?
+            } else {
+                let d = data_dir(data, "phone-indoor", "real indoor walks (or use --sim)")?;
+                crate::eval_pdr_real::run(&d, diagnose)?
+            }
+        }
+        Eval::Steplength { data } => crate::eval_steplength::report(data.as_deref())?,
+        Eval::Foot {
+            data,
+            tune,
+            tune_adaptive_shoe,
+            diagnose,
+        } => {
+            let d = data_dir(data, "foot/pyshoe-vicon", "foot trials")?;
+            if diagnose {
+                crate::eval_foot_diagnose::run(&d)?
+            } else if tune_adaptive_shoe {
+                crate::eval_foot_tune_shoe::run(&d)?
+            } else if tune {
+                crate::eval_foot::tune(&d, &[0.025, 0.05, 0.1])?
+            } else {
+                crate::eval_foot::run(&d)?
+            }
+        }
+        Eval::Placement {
+            data,
+            drop,
+            l2,
+            mlp,
+        } => {
+            let d = data_dir(data, "steps/oxford", "Oxford traces")?;
+            crate::placement::eval_cmd(&d, drop.as_deref(), l2, mlp)?
+        }
+        Eval::Odometry {
+            model,
+            seeds,
+            unknown_placement,
+        } => crate::odometry::eval(model.as_deref(), seeds, !unknown_placement)?,
+        Eval::Orientation {
+            data,
+            imu_only,
+            set,
+            quick,
+        } => {
+            let d = data_dir(data, "orientation/broad", "BROAD trials")?;
+            crate::eval_orientation::run(&crate::eval_orientation::EvalOrientationArgs {
+                data: d,
+                imu_only,
+                set,
+                quick,
+            })?
+        }
+    };
+    println!("{text}");
+    Ok(())
+}

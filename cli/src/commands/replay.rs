@@ -1,0 +1,207 @@
+//! Replays of real recordings: `pace`, `steps`, `foot`, `pdr`, `orientation`,
+//! `odometry`. Samples an engine rejects are skipped and counted by reason, never
+//! fatal.
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+use stridekit_core::PaceConfig;
+
+use crate::output::OutFile;
+
+/// Replay an activity file (.fit/.tcx/.gpx/.csv) through the pace tracker.
+///
+/// Replay a real activity file (.fit, .tcx, .gpx or .csv) through the pace tracker;
+/// print one CSV row per GNSS epoch on stdout (pace as seconds per km and as min:s per
+/// km); rejected samples and a summary go to stderr.
+#[derive(Debug, Args)]
+pub struct PaceArgs {
+    /// The activity file.
+    pub file: PathBuf,
+    /// The filter: the robust default or the method as published.
+    #[arg(long, value_enum, default_value_t = PaceMode::Default)]
+    pub mode: PaceMode,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum PaceMode {
+    Default,
+    Published,
+}
+
+pub fn pace(a: PaceArgs) -> Result<(), String> {
+    let config = match a.mode {
+        PaceMode::Default => PaceConfig::default(),
+        PaceMode::Published => PaceConfig::as_published(),
+    };
+    crate::replay::run(&a.file, config)
+}
+
+/// Replay a phone accelerometer recording through the step detector.
+///
+/// Replay a phone accelerometer recording (an Oxford Step Counter trace folder or its
+/// accelerometer.csv) through the step detector; write one row per step (t_s on the
+/// recording's clock, step number, cadence in steps/min, interval).
+#[derive(Debug, Args)]
+pub struct StepsArgs {
+    /// The trace folder or accelerometer.csv.
+    pub file: PathBuf,
+    /// The steps CSV to write.
+    #[arg(long, value_name = "FILE", default_value = "steps.csv")]
+    pub out: PathBuf,
+}
+
+pub fn steps(a: StepsArgs) -> Result<(), String> {
+    let out = OutFile::prepare(&a.out, "csv")?;
+    crate::steps::run(&crate::steps::StepsArgs {
+        file: a.file,
+        out: Some(out.path.clone()),
+    })?;
+    eprintln!("{}", out.wrote());
+    Ok(())
+}
+
+/// Replay a foot-mounted IMU recording through the foot navigator.
+///
+/// Replay a foot-mounted IMU recording (pyshoe / UofT CSV, or an x-io NGIMU CSV
+/// export) through the foot navigator; write the trajectory CSV and, next to it,
+/// traj.svg (top view) and traj_height.svg (height over time). Prints strides,
+/// distance and the loop closure; with truth columns (gt_*), the aligned truth and the
+/// position RMSE.
+#[derive(Debug, Args)]
+pub struct FootArgs {
+    /// The recording.
+    pub file: PathBuf,
+    /// The trajectory CSV to write (the SVGs go beside it).
+    #[arg(long, value_name = "FILE", default_value = "foot_trajectory.csv")]
+    pub out: PathBuf,
+    /// Drive the zero-velocity updates with a stance label column of the file (e.g.
+    /// vicon_opt or zv_vicon_opt) instead of the detector.
+    #[arg(long, value_name = "NAME")]
+    pub labels: Option<String>,
+    /// Where the sensor axes point, in the order x, y, z, from f/b l/r u/d (frd = x
+    /// forward, y right, z down, as in pyshoe; flu), or which signed sensor axis gives
+    /// body forward, left, up (x,-y,-z = frd). Default: frd for pyshoe files, flu for
+    /// x-io.
+    #[arg(long, value_name = "SPEC")]
+    pub axes: Option<String>,
+    /// The IMU: calibrated (factory-calibrated; default for pyshoe/UofT files) or
+    /// consumer (gyro bias measured at the start rest; default otherwise).
+    #[arg(long, value_enum)]
+    pub imu: Option<Imu>,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Imu {
+    Consumer,
+    Calibrated,
+}
+
+pub fn foot(a: FootArgs) -> Result<(), String> {
+    let out = OutFile::prepare(&a.out, "csv")?;
+    crate::foot::run(&crate::foot::FootArgs {
+        file: a.file,
+        out: out.path.clone(),
+        labels: a
+            .labels
+            .map(|l| l.strip_prefix("zv_").map(str::to_string).unwrap_or(l)),
+        axes: a.axes,
+        imu: a.imu.map(|i| match i {
+            Imu::Consumer => crate::foot::ImuProfile::Consumer,
+            Imu::Calibrated => crate::foot::ImuProfile::Calibrated,
+        }),
+    })?;
+    eprintln!("{} (and the SVGs beside it)", out.wrote());
+    Ok(())
+}
+
+/// Replay an Android sensor log through the phone navigator (dead reckoning).
+///
+/// Replay a phone recording (Android sensor log .txt or .txt.gz) through the phone
+/// navigator without GNSS; write the trajectory (one row per step: t_s, east_m,
+/// north_m, step_length_m, azimuth_deg, steps) and beside it an SVG of the track over
+/// the aligned waypoints; with waypoints, print the four accuracy measures.
+#[derive(Debug, Args)]
+pub struct PdrArgs {
+    /// The sensor log.
+    pub file: PathBuf,
+    /// The trajectory CSV to write (the SVG goes beside it).
+    #[arg(long, value_name = "FILE", default_value = "pdr_trajectory.csv")]
+    pub out: PathBuf,
+    /// A personal calibration written by `stridekit calibrate pdr`.
+    #[arg(long, value_name = "FILE")]
+    pub calibration: Option<PathBuf>,
+    /// Ignore the magnetometer.
+    #[arg(long)]
+    pub no_mag: bool,
+}
+
+pub fn pdr(a: PdrArgs) -> Result<(), String> {
+    let out = OutFile::prepare(&a.out, "csv")?;
+    let text = crate::pdr::run(&crate::pdr::PdrArgs {
+        file: a.file,
+        out: Some(out.path.clone()),
+        calibration: a.calibration,
+        no_mag: a.no_mag,
+    })?;
+    print!("{text}");
+    if out.existed {
+        eprintln!("(replaced the previous {})", out.path.display());
+    }
+    Ok(())
+}
+
+/// Replay an IMU/magnetometer recording through the orientation filter.
+///
+/// Replay a recording with IMU and magnetometer samples (the BROAD CSV, .csv or
+/// .csv.gz, or an Android sensor log) through the default orientation filter; write
+/// one row per accepted sample, t_s,qw,qx,qy,qz (body → East-North-Up) and the
+/// filter's flags. With optical truth in the file, prints the BROAD errors.
+#[derive(Debug, Args)]
+pub struct OrientationArgs {
+    /// The recording.
+    pub file: PathBuf,
+    /// The orientation CSV to write.
+    #[arg(long, value_name = "FILE", default_value = "orientation.csv")]
+    pub out: PathBuf,
+    /// Ignore the magnetometer.
+    #[arg(long)]
+    pub imu_only: bool,
+}
+
+pub fn orientation(a: OrientationArgs) -> Result<(), String> {
+    let out = OutFile::prepare(&a.out, "csv")?;
+    crate::orientation::run(&crate::orientation::OrientationArgs {
+        file: a.file,
+        out: out.path.clone(),
+        imu_only: a.imu_only,
+    })?;
+    if out.existed {
+        eprintln!("(replaced the previous {})", out.path.display());
+    }
+    Ok(())
+}
+
+/// Replay a recording through the learned phone odometry.
+///
+/// Replay a recording (RIDI sequence, RIDI data.csv, RoNIN CSV export, or a simulator
+/// walk `sim:SEED:PLACEMENT`) through the learned odometry and the baselines; print
+/// ATE / RTE and write an SVG of the trajectories against the truth.
+#[derive(Debug, Args)]
+pub struct OdometryArgs {
+    /// FILE, DIR or sim:SEED:PLACEMENT.
+    pub input: String,
+    /// A model file (default: the shipped model).
+    #[arg(long, value_name = "FILE")]
+    pub model: Option<PathBuf>,
+    /// The SVG to write.
+    #[arg(long, value_name = "FILE", default_value = "odometry.svg")]
+    pub out: PathBuf,
+}
+
+pub fn odometry(a: OdometryArgs) -> Result<(), String> {
+    let out = OutFile::prepare(&a.out, "svg")?;
+    let text = crate::odometry::replay(&a.input, a.model.as_deref(), &out.path)?;
+    println!("{text}");
+    Ok(())
+}

@@ -1,0 +1,122 @@
+//! `stridekit train …`: the trainers of the shipped models.
+
+use std::path::PathBuf;
+
+use clap::{ArgGroup, Subcommand};
+
+use super::{command_line, data_dir};
+use crate::output::OutFile;
+
+#[derive(Debug, Subcommand)]
+pub enum Train {
+    /// Train the SVM zero-velocity detector of the foot navigator.
+    ///
+    /// Train the SVM zero-velocity detector (six Gaussian-kernel SVMs) on the foot
+    /// trials and write a model file (format v1, see core/src/foot/svm.rs).
+    #[command(group(ArgGroup::new("subset").args(["trials", "split"])))]
+    Zupt {
+        /// The trials (default: the shared foot/pyshoe-vicon folder).
+        #[arg(long, value_name = "DIR")]
+        data: Option<PathBuf>,
+        /// Train on these trials only (comma-separated names).
+        #[arg(long, value_name = "A,B,...")]
+        trials: Option<String>,
+        /// Leave out fold K of N (by position modulo N).
+        #[arg(long, value_name = "K/N")]
+        split: Option<String>,
+        /// The model file to write.
+        #[arg(long, value_name = "FILE", default_value = "zupt_svm_v1.txt")]
+        out: PathBuf,
+    },
+    /// Train the phone-placement classifier.
+    ///
+    /// Train the phone-placement classifier (logistic regression) on every Oxford Step
+    /// Counter trace and write a model file (format in core/src/placement/model.rs).
+    Placement {
+        /// Oxford traces (default: the shared steps/oxford folder).
+        #[arg(long, value_name = "DIR")]
+        data: Option<PathBuf>,
+        /// The model file to write.
+        #[arg(long, value_name = "FILE", default_value = "placement_lr_v1.txt")]
+        out: PathBuf,
+    },
+    /// Train the learned phone odometry.
+    ///
+    /// Fit the learned phone odometry (a velocity regressor per placement and a general
+    /// one) on simulated walks, RIDI sequences or RoNIN CSV exports; write a model file
+    /// (format v1, see core/src/odometry/model.rs).
+    #[command(group(ArgGroup::new("source").args(["sim_seeds", "ridi", "ronin"])))]
+    Odometry {
+        /// Simulated walks per placement (the default source, 8 walks).
+        #[arg(long, value_name = "N")]
+        sim_seeds: Option<u64>,
+        /// RIDI sequences in DIR.
+        #[arg(long, value_name = "DIR")]
+        ridi: Option<PathBuf>,
+        /// RoNIN CSV exports in DIR.
+        #[arg(long, value_name = "DIR")]
+        ronin: Option<PathBuf>,
+        /// The model file to write.
+        #[arg(long, value_name = "FILE", default_value = "odometry_v1.txt")]
+        out: PathBuf,
+        /// Feature window, samples.
+        #[arg(long, value_name = "SAMPLES")]
+        window: Option<usize>,
+        /// Ridge penalty.
+        #[arg(long, value_name = "L")]
+        lambda: Option<f64>,
+    },
+}
+
+pub fn run(t: Train) -> Result<(), String> {
+    let text = match t {
+        Train::Zupt {
+            data,
+            trials,
+            split,
+            out,
+        } => {
+            let d = data_dir(data, "foot/pyshoe-vicon", "foot trials")?;
+            let out = OutFile::prepare(&out, "txt")?;
+            crate::train_zupt::run(
+                &d,
+                trials.as_deref(),
+                split.as_deref(),
+                &out.path,
+                &command_line(),
+            )?
+        }
+        Train::Placement { data, out } => {
+            let d = data_dir(data, "steps/oxford", "Oxford traces")?;
+            let out = OutFile::prepare(&out, "txt")?;
+            crate::placement::train_cmd(&d, &out.path, &command_line())?
+        }
+        Train::Odometry {
+            sim_seeds,
+            ridi,
+            ronin,
+            out,
+            window,
+            lambda,
+        } => {
+            let src = match (&ridi, &ronin) {
+                (Some(d), _) => crate::odometry::TrainSource::Ridi(d),
+                (_, Some(d)) => crate::odometry::TrainSource::Ronin(d),
+                _ => crate::odometry::TrainSource::Sim {
+                    seeds: sim_seeds.unwrap_or(8),
+                },
+            };
+            let mut params = stridekit_core::odometry::PipelineParams::default();
+            if let Some(w) = window {
+                params.window = w;
+            }
+            if let Some(l) = lambda {
+                params.lambda = l;
+            }
+            let out = OutFile::prepare(&out, "txt")?;
+            crate::odometry::train(src, params, &out.path, &command_line())?
+        }
+    };
+    println!("{text}");
+    Ok(())
+}
