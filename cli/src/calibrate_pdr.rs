@@ -25,7 +25,7 @@ use stridekit_core::stepdetect::StepDetector;
 use stridekit_core::steplength::{prior_of, StepLengthEstimator, StepLengthModel};
 
 use crate::pdr_metrics::polyline_m;
-use crate::pdr_walks::{load_walks, Walk};
+use crate::pdr_walks::Walk;
 
 /// Largest calibration file read, bytes (the parser checks the text too).
 const MAX_FILE_BYTES: u64 = 64 * 1024;
@@ -77,7 +77,7 @@ pub fn model_from_arg(s: &str) -> Result<StepLengthModel, String> {
 
 /// Run the command: learn from every walk under `--data` and write the file.
 pub fn run(a: &CalibrateArgs, command_line: &str) -> Result<String, String> {
-    let walks = load_walks(&a.data, crate::eval_pdr_real::reading_progress)?;
+    let walks = crate::eval_pdr_real::load_walks_with_progress(&a.data)?;
     let refs: Vec<&Walk> = walks.iter().collect();
     let config = NavigatorConfig::default();
     let c = learn(&refs, &config, a.model)?;

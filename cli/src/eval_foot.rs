@@ -744,7 +744,9 @@ fn evaluate(
         names.push(format!("{} (leave one session out)", m.name));
     }
     let mut results = Vec::new();
+    let pb = crate::progress::bar(trials.len(), "eval foot: trials");
     for (i, (trial, info)) in trials.iter().zip(infos).enumerate() {
+        pb.inc(1);
         let mut row = Vec::new();
         for m in &ms {
             let est = replay(trial, m)?;
@@ -765,11 +767,16 @@ fn evaluate(
 
 /// The whole evaluation as markdown.
 pub fn run(dir: &Path) -> Result<String, String> {
+    let sp = crate::progress::spinner("eval foot: reading the trials");
     let loaded = load_with_info(dir)?;
     let (trials, infos): (Vec<Trial>, Vec<TrialInfo>) = loaded.into_iter().unzip();
+    sp.set_message("eval foot: detector statistics of every trial");
     let stats = all_stats(&trials, &base_config())?;
+    sp.set_message(format!("eval foot: training {SVM_FOLDS} SVM folds"));
     let svm = svm_folds(&trials, &stats, SVM_FOLDS)?;
+    sp.set_message("eval foot: training the leave-one-session-out SVMs");
     let loso = crate::eval_foot_sessions::Loso::train(&trials, &stats)?;
+    sp.finish_and_clear();
     let table = evaluate(&trials, &infos, &svm, &loso)?;
     let Table { names, results } = table;
     let oracle = names.iter().position(|n| n == "oracle labels").unwrap_or(0);

@@ -237,7 +237,9 @@ pub fn run(args: &EvalOrientationArgs) -> Result<String, String> {
         return Ok(out);
     }
     let mut results = Vec::new();
+    let pb = crate::progress::bar(variants.len(), "eval orientation: filters");
     for v in &variants {
+        pb.inc(1);
         eprintln!("eval orientation: {}", v.name);
         results.push(score_all(v.settings, &trials, imu)?);
     }

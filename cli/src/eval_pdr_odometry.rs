@@ -134,16 +134,15 @@ fn score(
     model_of: impl Fn(&Walk) -> OdometryModel,
 ) -> Result<MethodResult, String> {
     let mut by_walk = Vec::new();
-    for (i, w) in walks.iter().enumerate() {
+    let pb = crate::progress::bar(walks.len(), name);
+    for w in walks {
+        pb.inc(1);
         let t = track(w, &model_of(w))?;
         if let Some(m) = evaluate(&t, &w.rec.truth) {
             by_walk.push((w.floor.clone(), m));
         }
-        if (i + 1) % 50 == 0 || i + 1 == walks.len() {
-            eprint!("\r{name}: {}/{}   ", i + 1, walks.len());
-        }
     }
-    eprintln!();
+    pb.finish_and_clear();
     Ok(MethodResult {
         name: name.into(),
         by_walk,
@@ -155,12 +154,14 @@ fn score(
 pub fn methods(walks: &[Walk]) -> Result<Vec<MethodResult>, String> {
     let params = PipelineParams::default();
     let mut lofo = std::collections::BTreeMap::new();
-    for f in floors(walks) {
+    let fl = floors(walks);
+    let pb = crate::progress::bar(fl.len(), "training odometry (leave one floor out)");
+    for f in fl {
         let train_walks: Vec<&Walk> = walks.iter().filter(|w| w.floor != f).collect();
-        eprint!("\rtraining odometry without {f}   ");
         lofo.insert(f.clone(), train(&train_walks, params, Vec::new())?);
+        pb.inc(1);
     }
-    eprintln!();
+    pb.finish_and_clear();
     let shipped = OdometryModel::shipped();
     Ok(vec![
         score(

@@ -23,14 +23,15 @@ use crate::calibrate_pdr::learn;
 use crate::pdr_metrics::{evaluate, median, Metrics};
 use crate::pdr_walks::{load_walks, replay, ReplayOptions, Walk};
 
-/// Progress of reading the walks, on stderr.
-pub fn reading_progress(i: usize, n: usize) {
-    if i % 20 == 0 || i == n {
-        eprint!("\rreading walks {i}/{n}");
-        if i == n {
-            eprintln!();
-        }
-    }
+/// Load the walks under `dir` with a progress bar.
+pub fn load_walks_with_progress(dir: &Path) -> Result<Vec<Walk>, String> {
+    let pb = crate::progress::bar(0, "reading walks");
+    let walks = load_walks(dir, |i, n| {
+        pb.set_length(n as u64);
+        pb.set_position(i as u64);
+    });
+    pb.finish_and_clear();
+    walks
 }
 
 /// Measures of one method on every walk, by floor.
@@ -86,17 +87,16 @@ fn score_track(
     live: bool,
 ) -> Result<MethodResult, String> {
     let mut by_walk = Vec::with_capacity(walks.len());
-    for (i, w) in walks.iter().enumerate() {
+    let pb = crate::progress::bar(walks.len(), name);
+    for w in walks {
+        pb.inc(1);
         let r = replay(&w.rec, &options(w))?;
         let track = if live { &r.live } else { &r.track };
         if let Some(m) = evaluate(track, &w.rec.truth) {
             by_walk.push((w.floor.clone(), m));
         }
-        if (i + 1) % 50 == 0 || i + 1 == walks.len() {
-            eprint!("\r{name}: {}/{}   ", i + 1, walks.len());
-        }
     }
-    eprintln!();
+    pb.finish_and_clear();
     Ok(MethodResult {
         name: name.to_string(),
         by_walk,
@@ -109,12 +109,14 @@ pub fn lofo_calibrations(
     config: &NavigatorConfig,
 ) -> Result<BTreeMap<String, PdrCalibration>, String> {
     let mut out = BTreeMap::new();
-    for f in floors(walks) {
+    let fl = floors(walks);
+    let pb = crate::progress::bar(fl.len(), "calibrating (leave one floor out)");
+    for f in fl {
         let train: Vec<&Walk> = walks.iter().filter(|w| w.floor != f).collect();
-        eprint!("\rcalibrating without {f} ({} walks)   ", train.len());
         out.insert(f.clone(), learn(&train, config, config.step_length_model)?);
+        pb.inc(1);
     }
-    eprintln!();
+    pb.finish_and_clear();
     Ok(out)
 }
 
@@ -127,7 +129,7 @@ pub fn floors(walks: &[Walk]) -> Vec<String> {
 
 /// The whole evaluation as markdown.
 pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
-    let walks = load_walks(dir, reading_progress)?;
+    let walks = load_walks_with_progress(dir)?;
     if diagnose {
         let mut s = crate::pdr_diagnose::run(&walks, true)?;
         s += &crate::pdr_diagnose::run(&walks, false)?;

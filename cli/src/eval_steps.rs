@@ -386,7 +386,9 @@ pub fn robustness(dir: &Path) -> Result<String, String> {
         "| (defaults) | | {:.2} % / {:.2} % / {:.3} | |",
         b.0, b.1, b.2
     );
+    let pb = crate::progress::bar(KNOBS.len(), "eval steps: sensitivity");
     for (name, get) in KNOBS {
+        pb.inc(1);
         let mut cells = Vec::new();
         for f in [0.75, 1.25] {
             let mut c = base;
@@ -480,7 +482,9 @@ pub fn run(dir: &Path) -> Result<String, String> {
         StepDetectorConfig::default(),
     ];
     let mut rows = Vec::new();
+    let pb = crate::progress::bar(paths.len(), "eval steps: traces");
     for p in &paths {
+        pb.inc(1);
         let trace = read_oxford_trace(p).map_err(|e| format!("{}: {e}", p.display()))?;
         let mut scores = [[None; 2]; NV];
         let mut checked = [[None; 2]; NV];

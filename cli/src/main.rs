@@ -27,6 +27,7 @@ mod pdr_metrics;
 mod pdr_walks;
 mod placement;
 mod placement_mlp;
+mod progress;
 mod rejected;
 mod replay;
 mod report;

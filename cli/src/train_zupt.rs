@@ -440,10 +440,13 @@ pub fn run(
     out: &Path,
     command_line: &str,
 ) -> Result<String, String> {
+    let sp = crate::progress::spinner("train zupt: reading the trials");
     let trials = crate::eval_foot::load(dir)?;
     let sel = select(&trials, list, split)?;
     let config = crate::eval_foot::base_config();
+    sp.set_message("train zupt: labelled window statistics");
     let data = labelled(&sel, &config)?;
+    sp.set_message("train zupt: training six SVMs");
     let p = TrainParams::default();
     let comments = vec![
         format!("trained by: {command_line}"),
@@ -469,6 +472,7 @@ pub fn run(
         ),
     ];
     let model = train(&data, &p, comments)?;
+    sp.finish_and_clear();
     let text = model.to_text();
     SvmModel::parse(&text).map_err(|e| format!("written model does not parse: {e}"))?;
     std::fs::write(out, &text).map_err(|e| format!("{}: {e}", out.display()))?;
