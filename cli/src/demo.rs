@@ -10,7 +10,7 @@ use stridekit_core::PaceConfig;
 use stridekit_lab::pace::{replay, score, sim_reference, METHODS};
 use stridekit_sim::{simulate_run, RunScenario, ZoneKind};
 
-use crate::report::{line_chart, track_chart, Band, Chart, Series, Style};
+use crate::report::{line_chart, track_chart, Band, Chart, Series, Style, YFormat};
 
 fn series(name: &str, t: &[f64], v: &[f64], color: (u8, u8, u8), style: Style) -> Series {
     Series {
@@ -52,6 +52,7 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             "—".into()
         }
     };
+    let mut rows_html = String::new();
     for (m, name) in METHODS.iter().enumerate() {
         let d = if m >= 2 {
             let d = s.distance_m[m - 2];
@@ -62,6 +63,23 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
         let _ = writeln!(
             summary,
             "| {name} | {} | {} | {} | {d} |",
+            f(s.all[m]),
+            f(s.disturbed[m]),
+            f(s.outage[m])
+        );
+        let shown = if *name == "default" {
+            "stridekit (default)"
+        } else {
+            name
+        };
+        let _ = write!(
+            rows_html,
+            "<tr{}><td>{shown}</td><td>{}</td><td>{}</td><td>{}</td><td>{d}</td></tr>",
+            if *name == "default" {
+                " class=ours"
+            } else {
+                ""
+            },
             f(s.all[m]),
             f(s.disturbed[m]),
             f(s.outage[m])
@@ -79,74 +97,157 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
         );
     }
     print!("{summary}");
+    let mean_pace = if truth_dist > 0.0 {
+        crate::replay::min_s(1000.0 * scenario.duration_s / truth_dist)
+    } else {
+        String::new()
+    };
+    let summary_html = format!(
+        "<h1>stridekit demo: a simulated run (seed {seed})</h1>\
+         <p>{:.0} minutes, {:.2} km (average pace {mean_pace} /km including stops), {} GNSS fixes, \
+         step counts once per second. The run crosses {} stretches of disturbed GNSS, {} without \
+         GNSS and {} stops.</p>\
+         <table><tr><th>method</th><th>speed RMSE where GNSS is good (m/s)</th>\
+         <th>in disturbed GNSS</th><th>without GNSS</th><th>distance (m, error)</th></tr>{rows_html}</table>\
+         <p>True distance {truth_dist:.0} m.{}</p>{METHODS_HTML}",
+        scenario.duration_s / 60.0,
+        truth_dist / 1000.0,
+        run.fixes.len(),
+        run.zones.iter().filter(|z| z.kind == ZoneKind::Disturbance).count(),
+        run.zones.iter().filter(|z| z.kind == ZoneKind::Outage).count(),
+        run.zones.iter().filter(|z| z.kind == ZoneKind::Stop).count(),
+        last_len
+            .map(|l| format!(
+                " Step length learned by the end: {l:.2} m (true {:.2} m).",
+                run.truth.last().map(|t| t.step_length_m).unwrap_or(f64::NAN)
+            ))
+            .unwrap_or_default()
+    );
 
     std::fs::create_dir_all(out_dir)
         .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
+    // Time in minutes, as a runner reads a run.
+    let min = |v: f64| v / 60.0;
     let bands: Vec<Band> = run
         .zones
         .iter()
         .map(|z| Band {
-            start: z.start_s,
-            end: z.end_s,
+            start: min(z.start_s),
+            end: min(z.end_s),
             label: match z.kind {
-                ZoneKind::Disturbance => "GNSS disturbance",
-                ZoneKind::Outage => "GNSS outage",
-                ZoneKind::Stop => "stop",
+                ZoneKind::Disturbance => "GNSS disturbed (urban canyon, trees)",
+                ZoneKind::Outage => "no GNSS (tunnel)",
+                ZoneKind::Stop => "runner stopped",
             }
             .to_string(),
             color: match z.kind {
-                ZoneKind::Disturbance => (255, 200, 120),
-                ZoneKind::Outage => (200, 200, 200),
-                ZoneKind::Stop => (170, 210, 255),
+                ZoneKind::Disturbance => (255, 190, 60),
+                ZoneKind::Outage => (120, 120, 120),
+                ZoneKind::Stop => (60, 150, 255),
             },
         })
         .collect();
-    let t = &r.t_s;
-    let speed = [
-        series("truth", t, &truth, (0, 0, 0), Style::Line),
+    let t: Vec<f64> = r.t_s.iter().map(|&v| min(v)).collect();
+    let t = &t;
+    // Pace in min/km; below a walk (1.5 m/s) pace is not a useful number: a gap.
+    let pace = |v: &[f64]| -> Vec<f64> {
+        v.iter()
+            .map(|&s| {
+                if s >= 1.5 {
+                    1000.0 / s / 60.0
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect()
+    };
+    let truth_pace = pace(&truth);
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for &p in truth_pace.iter().filter(|p| p.is_finite()) {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let pace_range = if lo < hi {
+        ((lo - 0.75).max(0.0), hi + 1.5)
+    } else {
+        (3.0, 9.0)
+    };
+    let pace_series = [
         series(
-            "raw GNSS diff",
+            "raw GNSS (fix to fix)",
             t,
-            &r.speed[0],
-            (200, 200, 200),
+            &pace(&r.speed[0]),
+            (190, 190, 190),
             Style::Points,
         ),
-        series("GNSS EMA", t, &r.speed[1], (230, 140, 40), Style::Line),
-        series("AsPublished", t, &r.speed[2], (60, 120, 220), Style::Line),
-        series("default", t, &r.speed[3], (220, 30, 60), Style::Line),
+        series("truth", t, &truth_pace, (0, 0, 0), Style::Line),
+        series(
+            "stridekit",
+            t,
+            &pace(&r.speed[3]),
+            (220, 30, 60),
+            Style::Line,
+        ),
     ];
     let write = |name: &str, res: Result<(), crate::report::ReportError>| {
         res.map_err(|e| format!("cannot write {name}: {e}"))
     };
     write(
+        "pace.svg",
+        line_chart(
+            &out_dir.join("pace.svg"),
+            &Chart {
+                title: "Pace: what the runner sees",
+                x_label: "time (min)",
+                y_label: "pace (min/km, lower is faster)",
+                series: &pace_series,
+                bands: &bands,
+                y_range: Some(pace_range),
+                y_format: YFormat::MinSec,
+            },
+        ),
+    )?;
+    let mut top = 0.0f64;
+    for v in truth.iter().filter(|v| v.is_finite()) {
+        top = top.max(*v);
+    }
+    let speed = [
+        series("truth", t, &truth, (0, 0, 0), Style::Line),
+        series("GNSS EMA", t, &r.speed[1], (230, 140, 40), Style::Line),
+        series("AsPublished", t, &r.speed[2], (60, 120, 220), Style::Line),
+        series("stridekit", t, &r.speed[3], (220, 30, 60), Style::Line),
+    ];
+    write(
         "speed.svg",
         line_chart(
             &out_dir.join("speed.svg"),
             &Chart {
-                title: "Speed: truth vs GNSS vs fused",
-                x_label: "time (s)",
+                title: "Speed by method (spikes above the axis are clipped)",
+                x_label: "time (min)",
                 y_label: "speed (m/s)",
                 series: &speed,
                 bands: &bands,
-                y_range: Some((0.0, 8.0)),
+                y_range: Some((0.0, (1.6 * top).max(1.0))),
+                y_format: YFormat::Number,
             },
         ),
     )?;
     let weight = [
         series("AsPublished", t, &r.weight[0], (60, 120, 220), Style::Line),
-        series("default", t, &r.weight[1], (220, 30, 60), Style::Line),
+        series("stridekit", t, &r.weight[1], (220, 30, 60), Style::Line),
     ];
     write(
         "gnss_weight.svg",
         line_chart(
             &out_dir.join("gnss_weight.svg"),
             &Chart {
-                title: "GNSS weight in the fused speed",
-                x_label: "time (s)",
-                y_label: "weight",
+                title: "How much the speed follows GNSS (1 = GNSS only, 0 = steps only)",
+                x_label: "time (min)",
+                y_label: "GNSS weight",
                 series: &weight,
                 bands: &bands,
-                y_range: Some((0.0, 1.05)),
+                y_range: Some((0.0, 1.45)),
+                y_format: YFormat::Number,
             },
         ),
     )?;
@@ -155,10 +256,25 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
         .iter()
         .map(|&t| run.truth_at(t).step_length_m)
         .collect();
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for &v in truth_len
+        .iter()
+        .chain(&r.step_length)
+        .filter(|v| v.is_finite())
+    {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    let len_range = if lo < hi {
+        let pad = 0.1 * (hi - lo);
+        ((lo - pad).max(0.0), hi + 4.0 * pad)
+    } else {
+        (0.4, 1.8)
+    };
     let steps = [
         series("truth", t, &truth_len, (0, 0, 0), Style::Line),
         series(
-            "default (learned)",
+            "stridekit (learned from GNSS)",
             t,
             &r.step_length,
             (220, 30, 60),
@@ -171,11 +287,12 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             &out_dir.join("step_length.svg"),
             &Chart {
                 title: "Step length",
-                x_label: "time (s)",
+                x_label: "time (min)",
                 y_label: "step length (m)",
                 series: &steps,
                 bands: &bands,
-                y_range: Some((0.4, 1.8)),
+                y_range: Some(len_range),
+                y_format: YFormat::Number,
             },
         ),
     )?;
@@ -188,11 +305,18 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             (p[0], p[1])
         })
         .collect();
+    // The tracker's positions are relative to its first fix.
+    let origin = fixes.first().copied().unwrap_or((0.0, 0.0));
+    let fused: Vec<(f64, f64)> = r
+        .position_enu_m
+        .iter()
+        .map(|&(e, n)| (origin.0 + e, origin.1 + n))
+        .collect();
     let track = [
         Series {
             name: "GNSS fixes".into(),
             points: fixes,
-            color: Some((230, 140, 40)),
+            color: Some((230, 160, 60)),
             style: Style::Points,
         },
         Series {
@@ -201,23 +325,79 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             color: Some((0, 0, 0)),
             style: Style::Line,
         },
+        Series {
+            name: "stridekit".into(),
+            points: fused,
+            color: Some((220, 30, 60)),
+            style: Style::Line,
+        },
     ];
     write(
         "track.svg",
-        track_chart(&out_dir.join("track.svg"), "Track (local ENU)", &track),
+        track_chart(
+            &out_dir.join("track.svg"),
+            "Track (metres east / north of the start)",
+            &track,
+        ),
     )?;
     let mut md = summary.clone();
-    md.push_str("\n![speed](speed.svg)\n\n![GNSS weight](gnss_weight.svg)\n\n![step length](step_length.svg)\n\n![track](track.svg)\n");
+    md.push_str(&format!("\n{METHODS_EXPLAINED}\n"));
+    for (f, caption) in FIGURES {
+        md.push_str(&format!("\n![{f}]({f})\n\n{caption}\n"));
+    }
     std::fs::write(out_dir.join("summary.md"), md).map_err(|e| e.to_string())?;
-    let html = format!(
-        "<!doctype html><meta charset=utf-8><title>stridekit demo</title><body style=\"font-family:sans-serif;max-width:1000px\"><pre>{}</pre>{}</body>",
-        summary.replace('&', "&amp;").replace('<', "&lt;"),
-        ["speed.svg", "gnss_weight.svg", "step_length.svg", "track.svg"]
+    std::fs::write(out_dir.join("index.html"), html(&summary_html)).map_err(|e| e.to_string())?;
+    println!(
+        "\nReport written to {}/ (index.html, summary.md, {})",
+        out_dir.display(),
+        FIGURES
             .iter()
-            .map(|f| format!("<p><img src=\"{f}\" style=\"max-width:100%\"></p>"))
-            .collect::<String>()
+            .map(|(f, _)| *f)
+            .collect::<Vec<_>>()
+            .join(", ")
     );
-    std::fs::write(out_dir.join("index.html"), html).map_err(|e| e.to_string())?;
-    println!("\nReport written to {}/ (index.html, summary.md, speed.svg, gnss_weight.svg, step_length.svg, track.svg)", out_dir.display());
     Ok(())
+}
+
+/// What the methods in the tables and plots are.
+const METHODS_EXPLAINED: &str = "Methods: **raw GNSS diff** = distance between consecutive fixes \
+over their time (what a naive app shows); **GNSS EMA** = the same, smoothed (exponential moving \
+average); **AsPublished** = the pace-fusion method as its paper publishes it (GNSS and pedometer \
+blended by a fixed rule); **default** = stridekit's filter (GNSS, cadence and a step length \
+learned from GNSS in one Kalman filter, with GNSS outliers rejected).";
+
+const METHODS_HTML: &str = "<dl>\
+<dt>raw GNSS</dt><dd>distance between consecutive fixes over their time: what a naive app shows.</dd>\
+<dt>GNSS EMA</dt><dd>the same, smoothed by an exponential moving average.</dd>\
+<dt>AsPublished</dt><dd>the pace-fusion method exactly as its paper publishes it: GNSS and the pedometer blended by a fixed rule.</dd>\
+<dt>stridekit (default)</dt><dd>the SDK's filter: GNSS, cadence and a step length learned from GNSS in one Kalman filter, GNSS outliers rejected; in outages the speed comes from the steps.</dd>\
+</dl>";
+
+/// The figures of the report, with the sentence under each.
+const FIGURES: [(&str, &str); 5] = [
+    ("pace.svg", "Pace as a watch shows it: the truth, the raw GNSS pace (grey dots: the spikes a naive app shows) and stridekit's. Shaded: disturbed GNSS (yellow), no GNSS (grey), the runner stopped (blue). Below 1.5 m/s (walking, stopped) pace is not drawn."),
+    ("speed.svg", "The same run in m/s with every method, for engineers: GNSS EMA lags and follows GNSS errors; AsPublished follows GNSS closely; stridekit stays on the truth through disturbances and outages."),
+    ("gnss_weight.svg", "How much each method's speed follows GNSS (1) or the steps (0). AsPublished leans on GNSS whenever it has it; stridekit uses GNSS mostly to learn the step length, so while the runner runs its speed is the steps' (weight near 0) and GNSS errors do not reach it; at stops there are no steps and it follows GNSS (weight 1)."),
+    ("step_length.svg", "The step length stridekit learns from GNSS while it is good, against the truth; it carries the speed through the outages."),
+    ("track.svg", "Where the runner was: the GNSS fixes, the truth and stridekit's fused position. With GNSS it stays on the truth; without GNSS this input has no compass, so the position goes on in the last direction at the fused speed (the straight lines) and snaps back when GNSS returns."),
+];
+
+/// The report page: the summary as HTML and every figure with its caption.
+fn html(summary: &str) -> String {
+    let figures: String = FIGURES
+        .iter()
+        .map(|(f, caption)| {
+            format!(
+                "<figure><img src=\"{f}\" alt=\"{f}\"><figcaption>{caption}</figcaption></figure>"
+            )
+        })
+        .collect();
+    format!(
+        "<!doctype html><html lang=en><meta charset=utf-8><title>stridekit demo</title>\
+<style>body{{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}}\
+table{{border-collapse:collapse;margin:1em 0}}td,th{{border:1px solid #ccc;padding:.35em .7em;text-align:right}}\
+td:first-child,th:first-child{{text-align:left}}th{{background:#f3f3f3}}tr.ours td{{font-weight:600;background:#fff3f3}}\
+dt{{font-weight:600}}dd{{margin:0 0 .4em 1.5em}}figure{{margin:2em 0}}img{{max-width:100%}}\
+figcaption{{color:#555;max-width:900px}}</style><body>{summary}{figures}</body></html>"
+    )
 }

@@ -396,6 +396,7 @@ fn plot(
             series: &heights,
             bands: &[],
             y_range: None,
+            y_format: crate::report::YFormat::Number,
         },
     )
     .map_err(|e| format!("{}: {e}", height.display()))

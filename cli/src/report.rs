@@ -24,7 +24,7 @@ const Y_LABEL_AREA_PX: u32 = 70;
 /// Fraction of the data span added on each side of an axis.
 const RANGE_MARGIN: f64 = 0.05;
 /// Opacity of shaded bands.
-const BAND_ALPHA: f64 = 0.18;
+const BAND_ALPHA: f64 = 0.3;
 
 const FONT: &str = "sans-serif";
 const TITLE_FONT_PX: u32 = 24;
@@ -86,6 +86,38 @@ pub struct Chart<'a> {
     pub bands: &'a [Band],
     /// Fixed y range (min, max); `None` fits the data.
     pub y_range: Option<(f64, f64)>,
+    /// How the y tick labels read.
+    pub y_format: YFormat,
+}
+
+/// Tick labels of the y axis.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum YFormat {
+    /// Plain numbers.
+    #[default]
+    Number,
+    /// Minutes as m:ss (pace in min/km).
+    MinSec,
+}
+
+/// A tick label: at most three decimals, trailing zeros dropped.
+fn tick(v: f64) -> String {
+    let t = format!("{v:.3}");
+    let t = t.trim_end_matches('0').trim_end_matches('.');
+    if t == "-0" {
+        "0".into()
+    } else {
+        t.into()
+    }
+}
+
+/// `m:ss` of a value in minutes (5.5 → "5:30").
+pub fn min_sec(minutes: f64) -> String {
+    if !minutes.is_finite() {
+        return String::new();
+    }
+    let s = (minutes * 60.0).round() as i64;
+    format!("{}:{:02}", s / 60, (s % 60).abs())
 }
 
 /// Why a chart could not be written.
@@ -149,47 +181,58 @@ pub fn line_chart(path: &Path, chart: &Chart) -> Result<(), ReportError> {
         None => y.padded(),
     };
 
+    let mut entries: Vec<Entry> = Vec::new();
+    for b in chart.bands {
+        if !b.label.is_empty() && !entries.iter().any(|e| e.text == b.label) {
+            entries.push(Entry {
+                text: b.label.clone(),
+                swatch: Swatch::Band(b.color),
+            });
+        }
+    }
+    entries.extend(series_entries(chart.series));
     let root = SVGBackend::new(path, LINE_CHART_SIZE).into_drawing_area();
     root.fill(&WHITE).map_err(draw_err)?;
-    let mut ctx = ChartBuilder::on(&root)
-        .caption(chart.title, (FONT, TITLE_FONT_PX))
+    let area = root
+        .margin(MARGIN_PX / 2, 0, 0, 0)
+        .titled(chart.title, (FONT, TITLE_FONT_PX))
+        .map_err(draw_err)?;
+    let area = legend_strip(&area, &entries)?;
+    let mut ctx = ChartBuilder::on(&area)
         .margin(MARGIN_PX)
         .x_label_area_size(X_LABEL_AREA_PX)
         .y_label_area_size(Y_LABEL_AREA_PX)
         .build_cartesian_2d(x_range.0..x_range.1, y_range.0..y_range.1)
         .map_err(draw_err)?;
+    let y_fmt = chart.y_format;
     ctx.configure_mesh()
         .x_desc(chart.x_label)
         .y_desc(chart.y_label)
+        .y_label_formatter(&move |v: &f64| match y_fmt {
+            YFormat::Number => tick(*v),
+            YFormat::MinSec => min_sec(*v),
+        })
         .label_style((FONT, LABEL_FONT_PX))
         .light_line_style(RGBColor(236, 236, 236))
         .draw()
         .map_err(draw_err)?;
 
-    // Bands first, so the data is drawn over them; one legend entry per label.
-    let mut labelled: Vec<&str> = Vec::new();
+    // Bands first, so the data is drawn over them.
     for b in chart.bands {
         let Some((s, e)) = band_span(b) else {
             continue;
         };
         let color = rgb(b.color);
         let style = color.mix(BAND_ALPHA).filled();
-        let anno = ctx
-            .draw_series(std::iter::once(Rectangle::new(
-                [(s, y_range.0), (e, y_range.1)],
-                style,
-            )))
-            .map_err(draw_err)?;
-        if !b.label.is_empty() && !labelled.contains(&b.label.as_str()) {
-            labelled.push(&b.label);
-            anno.label(b.label.as_str())
-                .legend(move |(lx, ly)| Rectangle::new([(lx, ly - 6), (lx + 18, ly + 6)], style));
-        }
+        ctx.draw_series(std::iter::once(Rectangle::new(
+            [(s, y_range.0), (e, y_range.1)],
+            style,
+        )))
+        .map_err(draw_err)?;
     }
 
     draw_series(&mut ctx, chart.series)?;
-    let has_legend = !labelled.is_empty() || chart.series.iter().any(|s| !s.name.is_empty());
-    finish(&root, &mut ctx, has_legend)
+    root.present().map_err(draw_err)
 }
 
 /// Write ground tracks as SVG: x = east (m), y = north (m), one metre the same length
@@ -211,6 +254,7 @@ pub fn track_chart(path: &Path, title: &str, series: &[Series]) -> Result<(), Re
         .margin(MARGIN_PX / 2, 0, 0, 0)
         .titled(title, (FONT, TITLE_FONT_PX))
         .map_err(draw_err)?;
+    let area = legend_strip(&area, &series_entries(series))?;
     // Plot size in pixels once margins and label areas are taken off; widen the
     // narrower range so that metres per pixel match on both axes.
     let (w, h) = area.dim_in_pixel();
@@ -234,8 +278,7 @@ pub fn track_chart(path: &Path, title: &str, series: &[Series]) -> Result<(), Re
         .draw()
         .map_err(draw_err)?;
     draw_series(&mut ctx, series)?;
-    let has_legend = series.iter().any(|s| !s.name.is_empty());
-    finish(&root, &mut ctx, has_legend)
+    root.present().map_err(draw_err)
 }
 
 type Ctx<'a> = ChartContext<'a, SVGBackend<'a>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
@@ -243,28 +286,6 @@ type Ctx<'a> = ChartContext<'a, SVGBackend<'a>, Cartesian2d<RangedCoordf64, Rang
 fn draw_series(ctx: &mut Ctx, series: &[Series]) -> Result<(), ReportError> {
     for (i, s) in series.iter().enumerate() {
         let color = rgb(s.color.unwrap_or(PALETTE[i % PALETTE.len()]));
-        if !s.name.is_empty() {
-            // The legend entry hangs on an empty element series, so that it exists
-            // once whatever the data (empty, or split into several segments).
-            let style = s.style;
-            ctx.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-                .map_err(draw_err)?
-                .label(s.name.as_str())
-                .legend(
-                    move |(lx, ly)| -> DynElement<'static, SVGBackend, (i32, i32)> {
-                        match style {
-                            Style::Line => PathElement::new(
-                                vec![(lx, ly), (lx + 18, ly)],
-                                color.stroke_width(2),
-                            )
-                            .into_dyn(),
-                            Style::Points => {
-                                Circle::new((lx + 9, ly), 3, color.filled()).into_dyn()
-                            }
-                        }
-                    },
-                );
-        }
         match s.style {
             Style::Line => {
                 for seg in segments(&s.points) {
@@ -283,21 +304,99 @@ fn draw_series(ctx: &mut Ctx, series: &[Series]) -> Result<(), ReportError> {
     Ok(())
 }
 
-fn finish(
-    root: &DrawingArea<SVGBackend, Shift>,
-    ctx: &mut Ctx,
-    has_legend: bool,
-) -> Result<(), ReportError> {
-    if has_legend {
-        ctx.configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .label_font((FONT, LABEL_FONT_PX))
-            .background_style(WHITE.mix(0.85))
-            .border_style(RGBColor(160, 160, 160))
-            .draw()
-            .map_err(draw_err)?;
+/// What a legend entry shows beside its text.
+#[derive(Clone, Copy, Debug)]
+enum Swatch {
+    Line((u8, u8, u8)),
+    Dot((u8, u8, u8)),
+    Band((u8, u8, u8)),
+}
+
+/// One legend entry.
+#[derive(Clone, Debug)]
+struct Entry {
+    text: String,
+    swatch: Swatch,
+}
+
+/// Height of one row of the legend strip, pixels.
+const LEGEND_ROW_PX: u32 = 24;
+/// Width of a swatch and the gaps around an entry, pixels.
+const SWATCH_PX: i32 = 22;
+const ENTRY_GAP_PX: i32 = 22;
+
+fn series_entries(series: &[Series]) -> Vec<Entry> {
+    series
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.name.is_empty())
+        .map(|(i, s)| {
+            let c = s.color.unwrap_or(PALETTE[i % PALETTE.len()]);
+            Entry {
+                text: s.name.clone(),
+                swatch: match s.style {
+                    Style::Line => Swatch::Line(c),
+                    Style::Points => Swatch::Dot(c),
+                },
+            }
+        })
+        .collect()
+}
+
+/// Draw the legend as rows of entries in a strip above the plot (so it never covers
+/// the data) and return the area left for the plot. Text widths are estimated (the
+/// SVG has no font metrics): 0.5 em per character.
+fn legend_strip<'a>(
+    area: &DrawingArea<SVGBackend<'a>, Shift>,
+    entries: &[Entry],
+) -> Result<DrawingArea<SVGBackend<'a>, Shift>, ReportError> {
+    if entries.is_empty() {
+        return Ok(area.clone());
     }
-    root.present().map_err(draw_err)
+    let (w, _) = area.dim_in_pixel();
+    let left = (MARGIN_PX + Y_LABEL_AREA_PX) as i32;
+    let right = w as i32 - MARGIN_PX as i32;
+    let mut rows: Vec<Vec<(i32, &Entry)>> = vec![Vec::new()];
+    let mut x = left;
+    for e in entries {
+        let width =
+            SWATCH_PX + 6 + (0.5 * LABEL_FONT_PX as f64 * e.text.chars().count() as f64) as i32;
+        if x + width > right && x > left {
+            rows.push(Vec::new());
+            x = left;
+        }
+        rows.last_mut().expect("a row").push((x, e));
+        x += width + ENTRY_GAP_PX;
+    }
+    let strip = LEGEND_ROW_PX * rows.len() as u32 + 6;
+    let (top, rest) = area.split_vertically(strip);
+    let font = (FONT, LABEL_FONT_PX).into_font();
+    for (r, row) in rows.iter().enumerate() {
+        let y = (LEGEND_ROW_PX * r as u32 + LEGEND_ROW_PX / 2) as i32;
+        for &(x, e) in row {
+            match e.swatch {
+                Swatch::Line(c) => top.draw(&PathElement::new(
+                    vec![(x, y), (x + SWATCH_PX - 4, y)],
+                    rgb(c).stroke_width(3),
+                )),
+                Swatch::Dot(c) => {
+                    top.draw(&Circle::new((x + SWATCH_PX / 2 - 2, y), 4, rgb(c).filled()))
+                }
+                Swatch::Band(c) => top.draw(&Rectangle::new(
+                    [(x, y - 7), (x + SWATCH_PX - 4, y + 7)],
+                    rgb(c).mix(BAND_ALPHA * 2.0).filled(),
+                )),
+            }
+            .map_err(draw_err)?;
+            top.draw(&Text::new(
+                e.text.as_str(),
+                (x + SWATCH_PX + 4, y - LABEL_FONT_PX as i32 / 2),
+                font.clone(),
+            ))
+            .map_err(draw_err)?;
+        }
+    }
+    Ok(rest)
 }
 
 fn rgb((r, g, b): (u8, u8, u8)) -> RGBColor {
@@ -527,6 +626,7 @@ mod tests {
                 series: &series,
                 bands: &bands,
                 y_range: None,
+                y_format: YFormat::Number,
             },
         )
         .expect("line chart written");
@@ -583,6 +683,7 @@ mod tests {
             series: &[],
             bands: &[],
             y_range: None,
+            y_format: YFormat::Number,
         };
         line_chart(&path, &chart).expect("empty chart written");
         assert_well_formed_svg(&std::fs::read_to_string(&path).unwrap());

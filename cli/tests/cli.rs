@@ -35,6 +35,7 @@ fn demo_prints_a_summary_and_writes_the_report() {
     for file in [
         "index.html",
         "summary.md",
+        "pace.svg",
         "speed.svg",
         "gnss_weight.svg",
         "step_length.svg",
@@ -47,6 +48,20 @@ fn demo_prints_a_summary_and_writes_the_report() {
             assert!(text.contains("<svg"), "{} is not SVG", p.display());
         }
     }
+    let html = std::fs::read_to_string(out_dir.join("index.html")).unwrap();
+    // A rendered page: an HTML table, the methods explained, every figure captioned.
+    for needle in [
+        "<table>",
+        "<dt>AsPublished</dt>",
+        "<figcaption>",
+        "pace.svg",
+        "/km",
+    ] {
+        assert!(html.contains(needle), "index.html lacks {needle:?}");
+    }
+    assert!(!html.contains("<pre>"));
+    let track = std::fs::read_to_string(out_dir.join("track.svg")).unwrap();
+    assert!(track.contains("stridekit"), "the fused track is missing");
     let _ = std::fs::remove_dir_all(&out_dir);
 }
 

@@ -500,3 +500,34 @@ fn invalid_configurations_are_rejected() {
     };
     assert!(PaceTracker::new(c).is_err());
 }
+
+/// The fused position: none before the first fix, then metres east/north of it
+/// (the tracker's frame), near where the GNSS says the runner is while GNSS is good;
+/// none at all for the published method, which estimates speed only.
+#[test]
+fn the_fused_position_is_in_the_frame_of_the_first_fix() {
+    let run = simulate_run(&RunScenario::demo(3));
+    let mut tr = PaceTracker::new(PaceConfig::default()).unwrap();
+    let mut published = PaceTracker::new(PaceConfig::as_published()).unwrap();
+    assert_eq!(tr.position_enu_m(), None);
+    let (mut n, mut near) = (0usize, 0usize);
+    for s in run.samples() {
+        tr.push(&s).unwrap();
+        published.push(&s).unwrap();
+        if let PaceSample::Fix(f) = s {
+            let frame = *tr.frame().expect("a frame after the first fix");
+            let p = tr.position_enu_m().expect("a position after the first fix");
+            let g = frame.to_enu(f.lat_deg, f.lon_deg, 0.0);
+            n += 1;
+            if (p[0] - g[0]).hypot(p[1] - g[1]) < 25.0 {
+                near += 1;
+            }
+        }
+    }
+    assert!(
+        near as f64 > 0.9 * n as f64,
+        "{near} of {n} fixes within 25 m"
+    );
+    assert_eq!(published.position_enu_m(), None);
+    let _: Option<LocalFrame> = tr.frame().copied();
+}

@@ -29,6 +29,9 @@ pub struct Replay {
     pub step_length: Vec<f64>,
     /// Whether a fix was received within the last 2 s at each grid time.
     pub has_gnss: Vec<bool>,
+    /// Fused position of default at grid times, metres east / north of the first fix
+    /// (NaN before it).
+    pub position_enu_m: Vec<(f64, f64)>,
     /// Cumulative distance of the raw GNSS track (sum of fix-to-fix distances), metres.
     pub gnss_track_distance_m: f64,
 }
@@ -83,6 +86,11 @@ pub fn replay(samples: &[PaceSample], published: PaceConfig, default: PaceConfig
         }
         out.step_length
             .push(trackers[1].estimate().step_length_m.unwrap_or(f64::NAN));
+        out.position_enu_m.push(
+            trackers[1]
+                .position_enu_m()
+                .map_or((f64::NAN, f64::NAN), |p| (p[0], p[1])),
+        );
         out.has_gnss.push(grid_t - last_fix_t <= 2.0);
         grid_t += 1.0;
     }

@@ -1029,6 +1029,13 @@ impl AdaptiveFilter {
     /// cadence): the value at the end of a run follows its last minutes (a finish,
     /// a cool-down), the mean is what the next session should start from. Without
     /// such windows (a calibration imported, no GNSS), the filter's line is exported.
+    /// The runner's position in the local ENU frame (east, north of the first fix),
+    /// metres: the filter's own position state, GNSS-corrected and dead-reckoned in
+    /// outages. `None` before the first fix.
+    pub fn position_enu_m(&self) -> Option<[f64; 2]> {
+        self.initialized.then(|| [self.x[PE], self.x[PN]])
+    }
+
     pub fn calibration(&self) -> Option<super::PaceCalibration> {
         if !(self.step_length_learned() && self.cadence_ref.is_finite()) {
             return None;

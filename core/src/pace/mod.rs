@@ -141,6 +141,17 @@ impl PaceTracker {
         }
     }
 
+    /// The fused position, metres east and north of the first fix (the origin of
+    /// [`Self::frame`]): GNSS-corrected, carried on by speed and the track's direction in
+    /// outages. `None` before the first fix and in [`PaceMode::AsPublished`] (the
+    /// published method estimates speed only).
+    pub fn position_enu_m(&self) -> Option<[f64; 2]> {
+        match &self.filter {
+            Filter::Published(_) => None,
+            Filter::Adaptive(f) => f.position_enu_m(),
+        }
+    }
+
     /// Counter resets seen in the step stream.
     pub fn step_counter_resets(&self) -> u64 {
         self.steps.resets()
