@@ -431,6 +431,16 @@ impl StepDetector {
             }
         };
         r.end()?;
+        // The detector has seen no sample after the door's last accepted one.
+        if let Engine::Robust(d) = &engine {
+            if let Some(inner) = d.last_t_s() {
+                if time.last_t_s().is_none_or(|outer| inner > outer) {
+                    return Err(
+                        SnapshotError::Invalid("step detector time after the input's").into(),
+                    );
+                }
+            }
+        }
         Ok(Self {
             config,
             engine,

@@ -453,9 +453,12 @@ impl RobustDetector {
 
     /// Process one validated sample; released steps are appended to `out`.
     pub(crate) fn push(&mut self, t_s: f64, mag: f64, out: &mut Sink<'_>) {
-        if self.started && t_s - self.prev_t_s > MAX_INPUT_GAP_S {
+        let dt = t_s - self.prev_t_s;
+        if self.started && !(dt > 0.0 && dt <= MAX_INPUT_GAP_S) {
             // Paused: nothing is known about the gap; start over (steps already
-            // released stay counted, unconfirmed candidates are dropped).
+            // released stay counted, unconfirmed candidates are dropped). The door
+            // only lets later times through; a time not after the previous one can
+            // only come from an inconsistent restored state, and starts over too.
             *self = Self::new(self.p);
         }
         self.moments.add(mag);
@@ -472,7 +475,6 @@ impl RobustDetector {
             self.next_grid_t_s = t_s + GRID_DT_S;
             return;
         }
-        let dt = t_s - self.prev_t_s;
         if dt > DATA_GAP_S {
             self.data_gap_end_t_s = t_s;
         }
@@ -858,6 +860,11 @@ impl RobustDetector {
         }
     }
 
+    /// Time of the newest sample pushed, s (`None` before the first).
+    pub(crate) fn last_t_s(&self) -> Option<f64> {
+        self.started.then_some(self.prev_t_s)
+    }
+
     pub(crate) fn write(&self, w: &mut Writer) {
         w.bool(self.started);
         w.f64s(&[
@@ -914,10 +921,12 @@ impl RobustDetector {
         d.mean = r.f64_in(0.0, A, "step detector mean")?;
         d.ms = r.f64_in(0.0, A * A, "step detector variance")?;
         // The grid follows the input: the next grid point lies within one grid step
-        // after the newest sample.
+        // after the newest sample (to the rounding of the grid's additions, which
+        // grows with |t|: 0.02 s steps at t = 1e9 s round to ~1e-7 s).
+        let tol = 1e-9 + 64.0 * f64::EPSILON * d.prev_t_s.abs().max(d.next_grid_t_s.abs());
         if d.started
-            && !(d.next_grid_t_s > d.prev_t_s - 1e-9
-                && d.next_grid_t_s <= d.prev_t_s + GRID_DT_S + 1e-9)
+            && !(d.next_grid_t_s > d.prev_t_s - tol
+                && d.next_grid_t_s <= d.prev_t_s + GRID_DT_S + tol)
         {
             return Err(SnapshotError::Invalid("step detector grid time"));
         }
