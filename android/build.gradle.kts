@@ -121,6 +121,15 @@ val generateBindings by tasks.registering(Exec::class) {
         "--out-dir", out.path,
         "--no-format",
     )
+    // Exception messages read the SDK's Display text instead of uniffi's field dump
+    // (the rewrite bindings/kotlin-messages.py makes for the JVM bindings).
+    doLast {
+        val kt = out.resolve("io/stridekit/stridekit.kt")
+        val getter = Regex("override val message\\n(\\s+)get\\(\\) = \"[^\"\\n]*\"")
+        val text = kt.readText()
+        check(getter.containsMatchIn(text)) { "no exception message getter in $kt (generated code changed?)" }
+        kt.writeText(getter.replace(text, "override val message: String\n$1get() = toString()"))
+    }
     outputs.dir(out)
 }
 
