@@ -3,6 +3,9 @@
 // uniffi-android.toml), the adapters in src/main/kotlin, and JNA (AAR) for the bindings.
 //
 //   ./gradlew assembleRelease      -> build/outputs/aar/stridekit-android-release.aar
+//   ./gradlew publishReleasePublicationToLocalRepository
+//                                  -> ../target/maven/io/stridekit/stridekit-android/0.1.0/
+//                                     (AAR + POM with JNA, coroutines, androidx.annotation)
 //
 // Prerequisites and what was verified: README.md.
 
@@ -11,7 +14,11 @@ import org.jetbrains.kotlin.gradle.dsl.JvmTarget
 plugins {
     id("com.android.library") version "8.7.3"
     id("org.jetbrains.kotlin.android") version "2.3.20"
+    `maven-publish`
 }
+
+group = "io.stridekit"
+version = "0.1.0"
 
 val workspaceDir: File = rootDir.parentFile
 // "release" (default) or "dev" (-Pstridekit.cargoProfile=dev: quick, large libraries).
@@ -52,6 +59,12 @@ android {
     sourceSets["main"].apply {
         jniLibs.srcDir(jniLibsDir)
         java.srcDir(generatedKotlinDir)
+    }
+
+    // The release variant as a Maven publication (AAR + POM carrying the dependencies
+    // below), so an app depends on coordinates instead of a bare files(…aar).
+    publishing {
+        singleVariant("release") { withSourcesJar() }
     }
 
     packaging {
@@ -151,3 +164,26 @@ val checkBindings by tasks.registering(Exec::class) {
 tasks.named("preBuild") { dependsOn(checkBindings) }
 
 tasks.named<Delete>("clean") { delete(jniLibsDir) }
+
+// 5. Maven publication: io.stridekit:stridekit-android:<version> into
+//    <repository>/target/maven (a local repository an app adds with maven { url = … }).
+afterEvaluate {
+    publishing {
+        publications {
+            register<MavenPublication>("release") {
+                from(components["release"])
+                artifactId = "stridekit-android"
+                pom {
+                    name.set("stridekit for Android")
+                    description.set("Running pace, orientation and pedestrian navigation from phone sensors")
+                }
+            }
+        }
+        repositories {
+            maven {
+                name = "local"
+                url = uri(workspaceDir.resolve("target/maven"))
+            }
+        }
+    }
+}
