@@ -72,109 +72,100 @@ pub(crate) fn range_text(min: f64, max: f64, unit: &str) -> String {
     format!("{min} to {max} {unit}").trim_end().to_string()
 }
 
-/// Why a sample, a configuration, a snapshot or a buffer was rejected. A rejected
-/// sample leaves the tracker exactly as it was.
-#[derive(Clone, Debug, PartialEq, thiserror::Error, uniffi::Error)]
-#[uniffi::export(Display)]
-pub enum PaceError {
-    /// A field is NaN or infinite.
-    #[error("{field} is not a finite number")]
-    NonFinite { field: String },
-    /// A field is outside its physical range (latitude beyond ±90°, negative accuracy, ...).
-    #[error("{field} = {value} is out of range ({expected})")]
-    OutOfRange {
-        field: String,
-        value: f64,
-        expected: String,
-    },
-    /// A sample is not later than the previous sample of the same stream.
-    #[error("{stream} sample at t = {t_s} s is not after the previous one at {last_t_s} s")]
-    TimeNotIncreasing {
-        stream: SensorStream,
-        t_s: f64,
-        last_t_s: f64,
-    },
-    /// Accelerometer samples look like g, not m/s² (multiply by 9.80665).
-    #[error("acceleration magnitude averages {mean_magnitude:.2}: the samples look like g, expected m/s²")]
-    AccelerationNotInMps2 { mean_magnitude: f64 },
-    /// Timestamps are not seconds: they look like `likely_unit` (divide accordingly).
-    #[error("{stream} timestamps look like {likely_unit}, not seconds (t = {t_s})")]
-    TimeNotInSeconds {
-        stream: SensorStream,
-        t_s: f64,
-        likely_unit: TimeUnit,
-    },
-    /// The clock jumped forward by more than a year within one stream (mixed clocks):
-    /// start a new tracker.
-    #[error("{stream} sample at t = {t_s} s jumps from {last_t_s} s: the clock changed")]
-    TimeJump {
-        stream: SensorStream,
-        t_s: f64,
-        last_t_s: f64,
-    },
-    /// The configuration is not usable.
-    #[error("invalid configuration: {reason}")]
-    InvalidConfig { reason: String },
-    /// Snapshot bytes could not be restored (corrupted, truncated, other engine or version).
-    #[error("cannot restore snapshot: {reason}")]
-    InvalidSnapshot { reason: String },
-    /// A packed sample buffer has a length that is not a whole number of records.
-    #[error("invalid packed buffer: {reason}")]
-    InvalidBuffer { reason: String },
-    /// A bug inside stridekit (a caught panic). The tracker stays usable.
-    #[error("internal error in stridekit: {reason}")]
-    Internal { reason: String },
-}
+/// Declares an engine's FFI error (one per engine: Kotlin `…Exception`, Swift
+/// `…Error`) with, first, the six typed variants of the shared input checks
+/// (`stridekit_core::input`: the same names, fields and sentences in every engine, so
+/// code that handles a refused sample handles it the same way for all of them), then
+/// the engine's own variants, which must include `Internal { reason: String }`. Also
+/// writes `From<InputError>`.
+macro_rules! engine_error {
+    ($(#[$meta:meta])* pub enum $name:ident { $($own:tt)* }) => {
+        $(#[$meta])*
+        #[derive(Clone, Debug, PartialEq, thiserror::Error, uniffi::Error)]
+        #[uniffi::export(Display)]
+        pub enum $name {
+            /// A field is NaN or infinite.
+            #[error("{field} is not a finite number")]
+            NonFinite { field: String },
+            /// A field is outside its physical range (latitude beyond ±90°, negative
+            /// accuracy, an acceleration beyond any phone's sensor, ...).
+            #[error("{field} = {value} is out of range ({expected})")]
+            OutOfRange {
+                field: String,
+                value: f64,
+                expected: String,
+            },
+            /// A sample is not later than the previous sample of the same stream
+            /// (equal times included: see docs/api.md).
+            #[error("{stream} sample at t = {t_s} s is not after the previous one at {last_t_s} s")]
+            TimeNotIncreasing {
+                stream: $crate::error::SensorStream,
+                t_s: f64,
+                last_t_s: f64,
+            },
+            /// Accelerometer samples look like g, not m/s² (multiply by 9.80665; on
+            /// iOS by −9.80665, see ios/README.md).
+            #[error("acceleration magnitude averages {mean_magnitude:.2}: the samples look like g, expected m/s²")]
+            AccelerationNotInMps2 { mean_magnitude: f64 },
+            /// Timestamps are not seconds: they look like `likely_unit` (divide
+            /// accordingly).
+            #[error("{stream} timestamps look like {likely_unit}, not seconds (t = {t_s})")]
+            TimeNotInSeconds {
+                stream: $crate::error::SensorStream,
+                t_s: f64,
+                likely_unit: $crate::error::TimeUnit,
+            },
+            /// The clock jumped forward by more than a year within one stream (mixed
+            /// clocks): start a new engine.
+            #[error("{stream} sample at t = {t_s} s jumps from {last_t_s} s: the clock changed")]
+            TimeJump {
+                stream: $crate::error::SensorStream,
+                t_s: f64,
+                last_t_s: f64,
+            },
+            $($own)*
+        }
 
-impl From<InputError> for PaceError {
-    fn from(e: InputError) -> Self {
-        match e {
-            InputError::NonFinite { field } => Self::NonFinite {
-                field: field.to_string(),
-            },
-            InputError::OutOfRange {
-                field,
-                value,
-                min,
-                max,
-                unit,
-            } => Self::OutOfRange {
-                field: field.to_string(),
-                value,
-                expected: range_text(min, max, unit),
-            },
-            InputError::TimeNotIncreasing {
-                stream,
-                t_s,
-                last_t_s,
-            } => Self::TimeNotIncreasing {
-                stream: stream.into(),
-                t_s,
-                last_t_s,
-            },
-            InputError::TimeUnit {
-                stream,
-                t_s,
-                likely,
-                ..
-            } => Self::TimeNotInSeconds {
-                stream: stream.into(),
-                t_s,
-                likely_unit: likely.into(),
-            },
-            InputError::TimeJump {
-                stream,
-                t_s,
-                last_t_s,
-            } => Self::TimeJump {
-                stream: stream.into(),
-                t_s,
-                last_t_s,
-            },
-            InputError::AccelerationInG { mean_magnitude } => {
-                Self::AccelerationNotInMps2 { mean_magnitude }
+        impl From<stridekit_core::input::InputError> for $name {
+            fn from(e: stridekit_core::input::InputError) -> Self {
+                use $crate::error::SampleError as S;
+                match S::from(e) {
+                    S::NonFinite { field } => Self::NonFinite { field },
+                    S::OutOfRange { field, value, expected } => Self::OutOfRange { field, value, expected },
+                    S::TimeNotIncreasing { stream, t_s, last_t_s } => {
+                        Self::TimeNotIncreasing { stream, t_s, last_t_s }
+                    }
+                    S::AccelerationNotInMps2 { mean_magnitude } => {
+                        Self::AccelerationNotInMps2 { mean_magnitude }
+                    }
+                    S::TimeNotInSeconds { stream, t_s, likely_unit } => {
+                        Self::TimeNotInSeconds { stream, t_s, likely_unit }
+                    }
+                    S::TimeJump { stream, t_s, last_t_s } => Self::TimeJump { stream, t_s, last_t_s },
+                    S::Other { reason } => Self::Internal { reason },
+                }
             }
         }
+    };
+}
+pub(crate) use engine_error;
+
+engine_error! {
+    /// Why a sample, a configuration, a snapshot or a buffer was rejected. A rejected
+    /// sample leaves the tracker exactly as it was.
+    pub enum PaceError {
+        /// The configuration is not usable.
+        #[error("invalid configuration: {reason}")]
+        InvalidConfig { reason: String },
+        /// Snapshot bytes could not be restored (corrupted, truncated, other engine or version).
+        #[error("cannot restore snapshot: {reason}")]
+        InvalidSnapshot { reason: String },
+        /// A packed sample buffer has a length that is not a whole number of records.
+        #[error("invalid packed buffer: {reason}")]
+        InvalidBuffer { reason: String },
+        /// A bug inside stridekit (a caught panic). The tracker stays usable.
+        #[error("internal error in stridekit: {reason}")]
+        Internal { reason: String },
     }
 }
 
@@ -235,4 +226,147 @@ pub(crate) fn lock<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
         m.clear_poison();
         std::sync::PoisonError::into_inner(p)
     })
+}
+
+/// Why a sample was refused at the door, as every engine's batch reports it
+/// ([`crate::phone::navigator::RejectedImuSample::error`]): the typed causes of the
+/// shared input checks (`stridekit_core::input`, the same limits in every engine), or
+/// the engine's own cause in words.
+#[derive(Clone, Debug, PartialEq, uniffi::Enum)]
+pub enum SampleError {
+    /// A field is NaN or infinite.
+    NonFinite { field: String },
+    /// A field is outside its physical range.
+    OutOfRange {
+        field: String,
+        value: f64,
+        expected: String,
+    },
+    /// The sample is not later than the previous one of its stream (equal times
+    /// included).
+    TimeNotIncreasing {
+        stream: SensorStream,
+        t_s: f64,
+        last_t_s: f64,
+    },
+    /// Accelerations look like g, not m/s² (multiply by 9.80665).
+    AccelerationNotInMps2 { mean_magnitude: f64 },
+    /// Timestamps are not seconds: they look like `likely_unit`.
+    TimeNotInSeconds {
+        stream: SensorStream,
+        t_s: f64,
+        likely_unit: TimeUnit,
+    },
+    /// The clock jumped forward by more than a year: start a new engine.
+    TimeJump {
+        stream: SensorStream,
+        t_s: f64,
+        last_t_s: f64,
+    },
+    /// Another cause, the engine's own (a malformed record, an attitude that is not a
+    /// unit quaternion, ...).
+    Other { reason: String },
+}
+
+impl From<InputError> for SampleError {
+    fn from(e: InputError) -> Self {
+        match e {
+            InputError::NonFinite { field } => Self::NonFinite {
+                field: field.to_string(),
+            },
+            InputError::OutOfRange {
+                field,
+                value,
+                min,
+                max,
+                unit,
+            } => Self::OutOfRange {
+                field: field.to_string(),
+                value,
+                expected: range_text(min, max, unit),
+            },
+            InputError::TimeNotIncreasing {
+                stream,
+                t_s,
+                last_t_s,
+            } => Self::TimeNotIncreasing {
+                stream: stream.into(),
+                t_s,
+                last_t_s,
+            },
+            InputError::TimeUnit {
+                stream,
+                t_s,
+                likely,
+                ..
+            } => Self::TimeNotInSeconds {
+                stream: stream.into(),
+                t_s,
+                likely_unit: likely.into(),
+            },
+            InputError::TimeJump {
+                stream,
+                t_s,
+                last_t_s,
+            } => Self::TimeJump {
+                stream: stream.into(),
+                t_s,
+                last_t_s,
+            },
+            InputError::AccelerationInG { mean_magnitude } => {
+                Self::AccelerationNotInMps2 { mean_magnitude }
+            }
+        }
+    }
+}
+
+/// A core engine error that may be a refusal of the shared input checks.
+pub(crate) trait InputCause: std::fmt::Display {
+    fn input(&self) -> Option<&InputError>;
+
+    /// The typed cause of a rejected sample.
+    fn sample_error(&self) -> SampleError {
+        match self.input() {
+            Some(e) => SampleError::from(*e),
+            None => SampleError::Other {
+                reason: self.to_string(),
+            },
+        }
+    }
+}
+
+impl InputCause for stridekit_core::pdr::NavError {
+    fn input(&self) -> Option<&InputError> {
+        match self {
+            Self::Input(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl InputCause for stridekit_core::odometry::OdometryError {
+    fn input(&self) -> Option<&InputError> {
+        match self {
+            Self::Input(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl InputCause for stridekit_core::placement::PlacementError {
+    fn input(&self) -> Option<&InputError> {
+        match self {
+            Self::Input(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl InputCause for stridekit_core::ahrs::AhrsError {
+    fn input(&self) -> Option<&InputError> {
+        match self {
+            Self::Input(e) => Some(e),
+            _ => None,
+        }
+    }
 }

@@ -16,29 +16,53 @@ use crate::pace::types::GnssFix;
 /// Bytes per packed IMU record.
 pub const IMU_RECORD_BYTES: usize = 80;
 
-/// Why the navigator rejected an input, a buffer or a snapshot (Kotlin
-/// `NavException`, Swift `NavError`). A rejected input changes nothing.
-#[derive(Clone, Debug, PartialEq, thiserror::Error, uniffi::Error)]
-#[uniffi::export(Display)]
-pub enum NavError {
-    /// An IMU sample was rejected (NaN, time not increasing, accelerations in g, ...).
-    #[error("IMU sample rejected: {reason}")]
-    InvalidImuSample { reason: String },
-    /// A GNSS fix was rejected.
-    #[error("GNSS fix rejected: {reason}")]
-    InvalidFix { reason: String },
-    /// Snapshot bytes could not be restored.
-    #[error("cannot restore snapshot: {reason}")]
-    InvalidSnapshot { reason: String },
-    /// A packed buffer is not a whole number of 80-byte records.
-    #[error("invalid packed buffer: {reason}")]
-    InvalidBuffer { reason: String },
-    /// A personal calibration was refused (wrong version, bad value, too large...).
-    #[error("invalid PDR calibration: {reason}")]
-    InvalidCalibration { reason: String },
-    /// A bug inside stridekit (a caught panic). The navigator stays usable.
-    #[error("internal error in stridekit: {reason}")]
-    Internal { reason: String },
+crate::error::engine_error! {
+    /// Why the navigator rejected an input, a buffer or a snapshot (Kotlin
+    /// `NavException`, Swift `NavError`): the typed input causes every engine shares,
+    /// then the navigator's own. A rejected input changes nothing.
+    pub enum NavError {
+        /// An IMU sample was refused for a reason of the navigator's own (an external
+        /// attitude that is not a unit quaternion, ...).
+        #[error("IMU sample rejected: {reason}")]
+        InvalidImuSample { reason: String },
+        /// A GNSS fix was refused for a reason other than the input checks.
+        #[error("GNSS fix rejected: {reason}")]
+        InvalidFix { reason: String },
+        /// Snapshot bytes could not be restored (corrupted, truncated, other engine or
+        /// version).
+        #[error("cannot restore snapshot: {reason}")]
+        InvalidSnapshot { reason: String },
+        /// A packed buffer is not a whole number of 80-byte records.
+        #[error("invalid packed buffer: {reason}")]
+        InvalidBuffer { reason: String },
+        /// A personal calibration was refused (wrong version, bad value, too large...).
+        #[error("invalid PDR calibration: {reason}")]
+        InvalidCalibration { reason: String },
+        /// A bug inside stridekit (a caught panic). The navigator stays usable.
+        #[error("internal error in stridekit: {reason}")]
+        Internal { reason: String },
+    }
+}
+
+impl From<core::NavError> for NavError {
+    fn from(e: core::NavError) -> Self {
+        match e {
+            core::NavError::Input(e) => e.into(),
+            // The snapshot error's own words: no second "cannot restore" prefix.
+            core::NavError::Snapshot(s) => Self::InvalidSnapshot {
+                reason: s.to_string(),
+            },
+            core::NavError::Calibration(c) => Self::InvalidCalibration {
+                reason: c.to_string(),
+            },
+            core::NavError::Attitude { .. } => Self::InvalidImuSample {
+                reason: e.to_string(),
+            },
+            e => Self::InvalidFix {
+                reason: e.to_string(),
+            },
+        }
+    }
 }
 
 pub(crate) fn guard<T>(f: impl FnOnce() -> Result<T, NavError>) -> Result<T, NavError> {
@@ -83,11 +107,24 @@ impl From<core::NavEstimate> for NavEstimate {
     }
 }
 
-/// An IMU sample a batch rejected.
+/// A sample a batch rejected (every engine that takes packed IMU or accelerometer
+/// records reports them this way): its index in the batch, the typed cause and the
+/// engine's sentence for it.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct RejectedImuSample {
     pub index: u32,
+    pub error: crate::error::SampleError,
     pub reason: String,
+}
+
+impl RejectedImuSample {
+    pub(crate) fn new(index: usize, e: &impl crate::error::InputCause) -> Self {
+        Self {
+            index: u32::try_from(index).unwrap_or(u32::MAX),
+            error: e.sample_error(),
+            reason: e.to_string(),
+        }
+    }
 }
 
 /// A step placed on the track (see the core `NavStep`).
@@ -347,10 +384,13 @@ impl PhoneNavigator {
     #[uniffi::constructor]
     pub fn restore(snapshot: Vec<u8>) -> Result<Arc<Self>, NavError> {
         guard(|| {
-            let n = core::PhoneNavigator::restore(&snapshot).map_err(|e| {
-                NavError::InvalidSnapshot {
+            let n = core::PhoneNavigator::restore(&snapshot).map_err(|e| match e {
+                core::NavError::Snapshot(s) => NavError::InvalidSnapshot {
+                    reason: s.to_string(),
+                },
+                e => NavError::InvalidSnapshot {
                     reason: e.to_string(),
-                }
+                },
             })?;
             Ok(Arc::new(Self {
                 inner: Mutex::new(n),
@@ -376,10 +416,7 @@ impl PhoneNavigator {
                     mag_ut: r.mag_ut,
                 };
                 if let Err(e) = nav.push_imu(&s) {
-                    rejected.push(RejectedImuSample {
-                        index: u32::try_from(index).unwrap_or(u32::MAX),
-                        reason: e.to_string(),
-                    });
+                    rejected.push(RejectedImuSample::new(index, &e));
                 }
                 collect_new_steps(&nav, &mut placed, &mut steps);
             }
@@ -398,9 +435,7 @@ impl PhoneNavigator {
             self.lock()
                 .push_fix(&fix.into())
                 .map(Into::into)
-                .map_err(|e| NavError::InvalidFix {
-                    reason: e.to_string(),
-                })
+                .map_err(NavError::from)
         })
     }
 

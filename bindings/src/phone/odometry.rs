@@ -125,42 +125,41 @@ impl From<core::OdometryEstimate> for OdometryEstimate {
     }
 }
 
-/// Why the odometry rejected an input, a model, a setting, a buffer or a snapshot
-/// (Kotlin `OdometryException`, Swift `OdometryError`). A rejected sample changes
-/// nothing.
-#[derive(Clone, Debug, PartialEq, thiserror::Error, uniffi::Error)]
-#[uniffi::export(Display)]
-pub enum OdometryError {
-    /// An IMU sample was rejected (NaN, out of range, time not increasing, in g).
-    #[error("IMU sample rejected: {reason}")]
-    InvalidImuSample { reason: String },
-    /// A model text could not be loaded (wrong version, corrupt, wrong dimensions).
-    #[error("invalid odometry model: {reason}")]
-    InvalidModel { reason: String },
-    /// A setting is not usable.
-    #[error("invalid odometry setting: {reason}")]
-    InvalidConfig { reason: String },
-    /// Snapshot bytes could not be restored.
-    #[error("cannot restore snapshot: {reason}")]
-    InvalidSnapshot { reason: String },
-    /// A packed buffer is not a whole number of 80-byte records.
-    #[error("invalid packed buffer: {reason}")]
-    InvalidBuffer { reason: String },
-    /// A bug inside stridekit (a caught panic). The engine stays usable.
-    #[error("internal error in stridekit: {reason}")]
-    Internal { reason: String },
+crate::error::engine_error! {
+    /// Why the odometry rejected an input, a model, a setting, a buffer or a snapshot
+    /// (Kotlin `OdometryException`, Swift `OdometryError`): the typed input causes every
+    /// engine shares, then its own. A rejected sample changes nothing.
+    pub enum OdometryError {
+        /// A model text could not be loaded (wrong version, corrupt, wrong dimensions).
+        #[error("invalid odometry model: {reason}")]
+        InvalidModel { reason: String },
+        /// A setting is not usable.
+        #[error("invalid odometry setting: {reason}")]
+        InvalidConfig { reason: String },
+        /// Snapshot bytes could not be restored.
+        #[error("cannot restore snapshot: {reason}")]
+        InvalidSnapshot { reason: String },
+        /// A packed buffer is not a whole number of 80-byte records.
+        #[error("invalid packed buffer: {reason}")]
+        InvalidBuffer { reason: String },
+        /// A bug inside stridekit (a caught panic). The engine stays usable.
+        #[error("internal error in stridekit: {reason}")]
+        Internal { reason: String },
+    }
 }
 
 impl From<core::OdometryError> for OdometryError {
     fn from(e: core::OdometryError) -> Self {
         let reason = e.to_string();
         match e {
+            core::OdometryError::Input(e) => e.into(),
             core::OdometryError::InvalidModel { .. } | core::OdometryError::ModelVersion { .. } => {
                 Self::InvalidModel { reason }
             }
             core::OdometryError::InvalidConfig { .. } => Self::InvalidConfig { reason },
-            core::OdometryError::Snapshot(_) => Self::InvalidSnapshot { reason },
-            _ => Self::InvalidImuSample { reason },
+            core::OdometryError::Snapshot(s) => Self::InvalidSnapshot {
+                reason: s.to_string(),
+            },
         }
     }
 }
@@ -253,10 +252,7 @@ impl PhoneOdometry {
                 match engine.push(&s) {
                     Ok(Some(_)) => estimates = estimates.saturating_add(1),
                     Ok(None) => {}
-                    Err(e) => rejected.push(RejectedImuSample {
-                        index: u32::try_from(index).unwrap_or(u32::MAX),
-                        reason: e.to_string(),
-                    }),
+                    Err(e) => rejected.push(RejectedImuSample::new(index, &e)),
                 }
             }
             Ok(OdometryBatchResult {

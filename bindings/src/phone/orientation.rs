@@ -294,26 +294,28 @@ impl From<core::AhrsOutput> for OrientationEstimate {
     }
 }
 
-/// Why the filter rejected an input, settings, a buffer or a snapshot (Kotlin
-/// `OrientationException`, Swift `OrientationError`). A rejected sample changes nothing.
-#[derive(Clone, Debug, PartialEq, thiserror::Error, uniffi::Error)]
-#[uniffi::export(Display)]
-pub enum OrientationError {
-    /// A sample was rejected (NaN, time not increasing, accelerations in g).
-    #[error("IMU sample rejected: {reason}")]
-    InvalidSample { reason: String },
-    /// A setting is out of range.
-    #[error("invalid orientation settings: {reason}")]
-    InvalidSettings { reason: String },
-    /// Snapshot bytes could not be restored.
-    #[error("cannot restore snapshot: {reason}")]
-    InvalidSnapshot { reason: String },
-    /// A packed buffer is not a whole number of 80-byte records.
-    #[error("invalid packed buffer: {reason}")]
-    InvalidBuffer { reason: String },
-    /// A bug inside stridekit (a caught panic). The filter stays usable.
-    #[error("internal error in stridekit: {reason}")]
-    Internal { reason: String },
+crate::error::engine_error! {
+    /// Why the filter rejected an input, settings, a buffer or a snapshot (Kotlin
+    /// `OrientationException`, Swift `OrientationError`): the typed input causes every
+    /// engine shares, then its own. A rejected sample changes nothing.
+    pub enum OrientationError {
+        /// A sample was refused for a reason other than the input checks (a vector
+        /// without three components, ...).
+        #[error("IMU sample rejected: {reason}")]
+        InvalidSample { reason: String },
+        /// A setting is out of range.
+        #[error("invalid orientation settings: {reason}")]
+        InvalidSettings { reason: String },
+        /// Snapshot bytes could not be restored.
+        #[error("cannot restore snapshot: {reason}")]
+        InvalidSnapshot { reason: String },
+        /// A packed buffer is not a whole number of 80-byte records.
+        #[error("invalid packed buffer: {reason}")]
+        InvalidBuffer { reason: String },
+        /// A bug inside stridekit (a caught panic). The filter stays usable.
+        #[error("internal error in stridekit: {reason}")]
+        Internal { reason: String },
+    }
 }
 
 fn guard<T>(f: impl FnOnce() -> Result<T, OrientationError>) -> Result<T, OrientationError> {
@@ -388,7 +390,10 @@ impl OrientationFilter {
         guard(|| {
             let a =
                 core::Ahrs::restore(&snapshot).map_err(|e| OrientationError::InvalidSnapshot {
-                    reason: e.to_string(),
+                    reason: match e {
+                        core::AhrsError::Snapshot(s) => s.to_string(),
+                        e => e.to_string(),
+                    },
                 })?;
             Ok(Arc::new(Self {
                 inner: Mutex::new(a),
@@ -428,10 +433,7 @@ impl OrientationFilter {
                             }
                         }
                     }
-                    Err(e) => rejected.push(RejectedImuSample {
-                        index: u32::try_from(index).unwrap_or(u32::MAX),
-                        reason: e.to_string(),
-                    }),
+                    Err(e) => rejected.push(RejectedImuSample::new(index, &e)),
                 }
             }
             Ok(OrientationBatchResult {
@@ -462,10 +464,12 @@ impl OrientationFilter {
             let acc = v3(&accel_mps2, "accel_mps2")?;
             let m = mag_ut.as_deref().map(|m| v3(m, "mag_ut")).transpose()?;
             let mut a = self.lock();
-            a.update(t_s, g, acc, m)
-                .map_err(|e| OrientationError::InvalidSample {
+            a.update(t_s, g, acc, m).map_err(|e| match e {
+                core::AhrsError::Input(e) => OrientationError::from(e),
+                e => OrientationError::InvalidSample {
                     reason: e.to_string(),
-                })?;
+                },
+            })?;
             a.output()
                 .map(Into::into)
                 .ok_or_else(|| OrientationError::Internal {
@@ -651,9 +655,10 @@ mod tests {
             g.push(0.0, vec![0.0; 2], vec![0.0, 0.0, 9.8], None),
             Err(OrientationError::InvalidSample { .. })
         ));
+        // A time not after the previous sample's: the shared typed cause.
         assert!(matches!(
             g.push(0.0, vec![0.0; 3], vec![0.0, 0.0, 9.8], None),
-            Err(OrientationError::InvalidSample { .. })
+            Err(OrientationError::TimeNotIncreasing { .. })
         ));
         let e = g
             .push(10.0, vec![0.0; 3], vec![0.0, 0.0, 9.8], None)

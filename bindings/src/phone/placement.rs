@@ -91,26 +91,27 @@ impl From<core::PlacementEstimate> for PlacementEstimate {
     }
 }
 
-/// Why the classifier rejected an input, a model, a buffer or a snapshot (Kotlin
-/// `PlacementException`, Swift `PlacementError`). A rejected sample changes nothing.
-#[derive(Clone, Debug, PartialEq, thiserror::Error, uniffi::Error)]
-#[uniffi::export(Display)]
-pub enum PlacementError {
-    /// A sample was rejected (NaN, time not increasing, out of range, in g).
-    #[error("accelerometer sample rejected: {reason}")]
-    InvalidSample { reason: String },
-    /// A model text could not be loaded (wrong version, wrong feature count, corrupt).
-    #[error("invalid placement model: {reason}")]
-    InvalidModel { reason: String },
-    /// Snapshot bytes could not be restored.
-    #[error("cannot restore snapshot: {reason}")]
-    InvalidSnapshot { reason: String },
-    /// A packed buffer is not a whole number of 32-byte records.
-    #[error("invalid packed buffer: {reason}")]
-    InvalidBuffer { reason: String },
-    /// A bug inside stridekit (a caught panic). The classifier stays usable.
-    #[error("internal error in stridekit: {reason}")]
-    Internal { reason: String },
+crate::error::engine_error! {
+    /// Why the classifier rejected an input, a model, a buffer or a snapshot (Kotlin
+    /// `PlacementException`, Swift `PlacementError`): the typed input causes every
+    /// engine shares, then its own. A rejected sample changes nothing.
+    pub enum PlacementError {
+        /// A sample was refused for a reason other than the input checks.
+        #[error("accelerometer sample rejected: {reason}")]
+        InvalidSample { reason: String },
+        /// A model text could not be loaded (wrong version, wrong feature count, corrupt).
+        #[error("invalid placement model: {reason}")]
+        InvalidModel { reason: String },
+        /// Snapshot bytes could not be restored.
+        #[error("cannot restore snapshot: {reason}")]
+        InvalidSnapshot { reason: String },
+        /// A packed buffer is not a whole number of 32-byte records.
+        #[error("invalid packed buffer: {reason}")]
+        InvalidBuffer { reason: String },
+        /// A bug inside stridekit (a caught panic). The classifier stays usable.
+        #[error("internal error in stridekit: {reason}")]
+        Internal { reason: String },
+    }
 }
 
 fn guard<T>(f: impl FnOnce() -> Result<T, PlacementError>) -> Result<T, PlacementError> {
@@ -149,10 +150,7 @@ impl PlacementClassifier {
             match c.push(t, a) {
                 Ok(Some(_)) => windows = windows.saturating_add(1),
                 Ok(None) => {}
-                Err(e) => rejected.push(RejectedImuSample {
-                    index: u32::try_from(index).unwrap_or(u32::MAX),
-                    reason: e.to_string(),
-                }),
+                Err(e) => rejected.push(RejectedImuSample::new(index, &e)),
             }
         }
         Ok(PlacementBatchResult {
@@ -201,7 +199,10 @@ impl PlacementClassifier {
         guard(|| {
             let c = core::PlacementClassifier::restore(&snapshot).map_err(|e| {
                 PlacementError::InvalidSnapshot {
-                    reason: e.to_string(),
+                    reason: match e {
+                        core::PlacementError::Snapshot(s) => s.to_string(),
+                        e => e.to_string(),
+                    },
                 }
             })?;
             Ok(Arc::new(Self {

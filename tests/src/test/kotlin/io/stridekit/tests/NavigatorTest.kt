@@ -3,6 +3,7 @@ package io.stridekit.tests
 import io.stridekit.GnssFix
 import io.stridekit.NavException
 import io.stridekit.PhoneNavigator
+import io.stridekit.SampleError
 import java.nio.ByteBuffer
 import java.nio.ByteOrder
 import kotlin.math.PI
@@ -49,15 +50,23 @@ class NavigatorTest {
             val r = nav.pushImuPacked(imu(1.0, g = 1.0))
             assertEquals(100, r.rejected.size, "g units must be rejected")
             assertTrue(r.rejected[0].reason.contains("g"), r.rejected[0].reason)
+            // The typed cause, the same type in every engine's batch result.
+            assertTrue(r.rejected[0].error is SampleError.AccelerationNotInMps2, "${r.rejected[0].error}")
             assertContentEquals(fresh, nav.snapshot())
         }
         PhoneNavigator.withDefaults().use { nav ->
             nav.pushImuPacked(imu(2.0))
             val before = nav.snapshot()
             assertFailsWith<NavException.InvalidBuffer> { nav.pushImuPacked(ByteArray(79)) }
-            assertFailsWith<NavException.InvalidFix> { nav.pushFix(GnssFix(tS = 3.0, latDeg = 95.0, lonDeg = 0.0)) }
+            val e = assertFailsWith<NavException.OutOfRange> { nav.pushFix(GnssFix(tS = 3.0, latDeg = 95.0, lonDeg = 0.0)) }
+            assertEquals("lat_deg", e.field)
+            assertEquals(95.0, e.value)
+            // The SDK's sentence, without a doubled prefix.
+            assertEquals(e.toString(), e.message)
+            assertTrue(e.message.startsWith("lat_deg = 95 is out of range"), e.message)
             assertContentEquals(before, nav.snapshot())
-            assertFailsWith<NavException.InvalidSnapshot> { PhoneNavigator.restore(byteArrayOf(1, 2, 3)) }
+            val bad = assertFailsWith<NavException.InvalidSnapshot> { PhoneNavigator.restore(byteArrayOf(1, 2, 3)) }
+            assertEquals(1, Regex("cannot restore").findAll(bad.message).count(), bad.message)
         }
     }
 }

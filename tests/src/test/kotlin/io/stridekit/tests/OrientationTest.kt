@@ -156,7 +156,7 @@ class OrientationTest {
             assertTrue(abs(e.gravityBodyMps2[2] - 9.80665) < 0.01, "level: ${e.gravityBodyMps2}")
             // A sample at the same time as the previous one: typed, state unchanged.
             val before = f.snapshot()
-            assertFailsWith<OrientationException.InvalidSample> { f.push((n - 1) / 100.0, listOf(0.0, 0.0, 0.0), listOf(0.0, 0.0, 9.81), null) }
+            assertFailsWith<OrientationException.TimeNotIncreasing> { f.push((n - 1) / 100.0, listOf(0.0, 0.0, 0.0), listOf(0.0, 0.0, 9.81), null) }
             assertFailsWith<OrientationException.InvalidSample> { f.push(10.0, listOf(0.0, 0.0), listOf(0.0, 0.0, 9.81), null) }
             assertContentEquals(before, f.snapshot())
             val one = f.push(10.0, listOf(0.0, 0.0, 0.0), listOf(0.0, 0.0, 9.81), listOf(20.0, 0.0, -40.0))
