@@ -70,8 +70,21 @@ pub fn read_recording(path: &Path) -> Result<AccelRecording, String> {
             reference_steps: reference,
         });
     }
+    if stridekit_formats::is_android_log(path) {
+        // The Android sensor log (docs/phone.md): its accelerometer stream, ms → s on the
+        // file's own clock.
+        let rec = stridekit_formats::read_android_log(path).map_err(err)?;
+        if rec.samples.is_empty() {
+            return Err(format!("{}: no accelerometer samples", path.display()));
+        }
+        return Ok(AccelRecording {
+            format: "Android sensor log",
+            samples: rec.samples.iter().map(|s| (s.t_s, s.accel_mps2)).collect(),
+            reference_steps: None,
+        });
+    }
     Err(format!(
-        "{}: not a supported accelerometer recording (an Oxford Step Counter trace folder, or its accelerometer.csv: ns, accuracy, ax, ay, az in m/s²)",
+        "{}: not a supported accelerometer recording (an Oxford Step Counter trace folder, its accelerometer.csv: ns, accuracy, ax, ay, az in m/s², or an Android sensor log .txt / .txt.gz)",
         path.display()
     ))
 }

@@ -127,6 +127,30 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
         String::from_utf8_lossy(&out.stderr)
     );
 
+    // The same log through the step detector: one row per step on the file's clock.
+    let steps_csv = dir.join("out/steps");
+    let out = stridekit()
+        .arg("steps")
+        .arg(&log)
+        .arg("--out")
+        .arg(&steps_csv)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(dir.join("out/steps.csv")).unwrap();
+    let rows: Vec<&str> = text.lines().skip(1).collect();
+    // 40 s at 1.8 steps/s.
+    assert!((60..=80).contains(&rows.len()), "{} steps", rows.len());
+    let t0: f64 = rows[0].split(',').next().unwrap().parse().unwrap();
+    assert!(
+        (1000.0..1040.0).contains(&t0),
+        "t_s {t0} is not on the file's clock"
+    );
+
     // Typed refusals: unknown flag, bad calibration file.
     let out = stridekit()
         .args(["pdr", "x.txt", "--fast"])

@@ -40,11 +40,11 @@ pub fn pace(a: PaceArgs) -> Result<(), String> {
 /// Replay a phone accelerometer recording through the step detector.
 ///
 /// Replay a phone accelerometer recording (an Oxford Step Counter trace folder or its
-/// accelerometer.csv) through the step detector; write one row per step (t_s on the
+/// accelerometer.csv, or an Android sensor log .txt / .txt.gz) through the step detector; write one row per step (t_s on the
 /// recording's clock, step number, cadence in steps/min, interval).
 #[derive(Debug, Args)]
 pub struct StepsArgs {
-    /// The trace folder or accelerometer.csv.
+    /// The trace folder, accelerometer.csv or Android sensor log.
     pub file: PathBuf,
     /// The steps CSV to write.
     #[arg(long, value_name = "FILE", default_value = "steps.csv")]
