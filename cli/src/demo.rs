@@ -10,7 +10,7 @@ use stridekit_core::PaceConfig;
 use stridekit_lab::pace::{replay, score, sim_reference, METHODS};
 use stridekit_sim::{simulate_run, RunScenario, ZoneKind};
 
-use crate::report::{line_chart, track_chart, Band, Chart, Series, Style, YFormat};
+use stridekit_lab::report::{line_chart, track_chart, Band, Chart, Series, Style, YFormat};
 
 fn series(name: &str, t: &[f64], v: &[f64], color: (u8, u8, u8), style: Style) -> Series {
     Series {
@@ -189,7 +189,7 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             Style::Line,
         ),
     ];
-    let write = |name: &str, res: Result<(), crate::report::ReportError>| {
+    let write = |name: &str, res: Result<(), stridekit_lab::report::ReportError>| {
         res.map_err(|e| format!("cannot write {name}: {e}"))
     };
     write(

@@ -26,11 +26,11 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use stridekit_core::foot::{FootConfig, FootError, FootEstimate};
+use stridekit_core::foot::{FootConfig, FootEstimate};
 use stridekit_formats::{read_foot_csv, FootFormat};
 
-use crate::eval_foot::{align, replay_counted, Method, Trial};
-use crate::report::{line_chart, track_chart, Chart, Series, Style};
+use stridekit_lab::foot::eval::{align, replay_counted, Method, Trial};
+use stridekit_lab::report::{line_chart, track_chart, Chart, Series, Style};
 
 /// Plots keep at most about this many points per series (the CSV keeps all).
 const PLOT_POINTS: usize = 4000;
@@ -72,67 +72,6 @@ pub struct FootArgs {
     pub imu: Option<ImuProfile>,
 }
 
-/// Samples a replay skipped, by the navigator's reason.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct Skipped {
-    /// Time equal to the previous accepted sample's.
-    pub repeated_time: usize,
-    /// Time before the previous accepted sample's.
-    pub time_backwards: usize,
-    pub non_finite: usize,
-    pub out_of_range: usize,
-    /// Rejected before alignment as accelerations in g.
-    pub in_g: usize,
-    pub other: usize,
-    /// Index of the first skipped sample and its error.
-    pub first: Option<(usize, String)>,
-}
-
-impl Skipped {
-    pub fn add(&mut self, index: usize, e: &FootError) {
-        use stridekit_core::input::InputError as I;
-        match e {
-            FootError::Input(i) if i.is_duplicate_time() => self.repeated_time += 1,
-            FootError::Input(I::TimeNotIncreasing { .. }) => self.time_backwards += 1,
-            FootError::Input(I::NonFinite { .. }) => self.non_finite += 1,
-            FootError::Input(I::OutOfRange { .. }) => self.out_of_range += 1,
-            FootError::Input(I::AccelerationInG { .. }) => self.in_g += 1,
-            _ => self.other += 1,
-        }
-        self.first.get_or_insert_with(|| (index, e.to_string()));
-    }
-
-    pub fn total(&self) -> usize {
-        self.repeated_time
-            + self.time_backwards
-            + self.non_finite
-            + self.out_of_range
-            + self.in_g
-            + self.other
-    }
-
-    /// "none", or the counts by reason.
-    pub fn describe(&self) -> String {
-        let parts: Vec<String> = [
-            (self.repeated_time, "time equal to the previous sample's"),
-            (self.time_backwards, "time before the previous sample's"),
-            (self.non_finite, "NaN or infinite value"),
-            (self.out_of_range, "value out of range"),
-            (self.in_g, "accelerations in g, not m/s²"),
-            (self.other, "other"),
-        ]
-        .iter()
-        .filter(|(n, _)| *n > 0)
-        .map(|(n, why)| format!("{n} {why}"))
-        .collect();
-        if parts.is_empty() {
-            "none".into()
-        } else {
-            parts.join(", ")
-        }
-    }
-}
-
 /// The navigator configuration for a recording of `format` under `args`, and a
 /// description of the choices for the output.
 pub fn config_for(args: &FootArgs, format: FootFormat) -> Result<(FootConfig, String), String> {
@@ -172,7 +111,7 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
     let mut rec = read_foot_csv(file).map_err(|e| format!("{}: {e}", file.display()))?;
     let (config, described) = config_for(args, rec.format)?;
     if let Some(t) = rec.truth_m.as_mut() {
-        crate::eval_foot::mirror_truth(t);
+        stridekit_lab::foot::eval::mirror_truth(t);
     }
     let unreadable = (rec.unreadable_rows, rec.first_unreadable_line);
     let trial = Trial {
@@ -396,7 +335,7 @@ fn plot(
             series: &heights,
             bands: &[],
             y_range: None,
-            y_format: crate::report::YFormat::Number,
+            y_format: stridekit_lab::report::YFormat::Number,
         },
     )
     .map_err(|e| format!("{}: {e}", height.display()))

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use stridekit_core::ahrs::{Ahrs, AhrsError, AhrsFlags, AhrsSettings};
 use stridekit_formats::read_broad;
 
-use crate::orientation_metric::ErrorSums;
+use stridekit_lab::orientation::metric::ErrorSums;
 
 /// Options of `stridekit orientation`.
 #[derive(Clone, Debug)]

@@ -19,9 +19,9 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::pdr_metrics::{apply_rigid, best_rigid, evaluate, track_at};
-use crate::pdr_walks::{load_walk, replay, ReplayOptions};
-use crate::report::{track_chart, Series, Style};
+use stridekit_lab::pdr::metrics::{apply_rigid, best_rigid, evaluate, track_at};
+use stridekit_lab::pdr::walks::{load_walk, replay, ReplayOptions};
+use stridekit_lab::report::{track_chart, Series, Style};
 
 /// Options of `stridekit pdr`.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -36,7 +36,7 @@ pub struct PdrArgs {
 pub fn run(a: &PdrArgs) -> Result<String, String> {
     let walk = load_walk(&a.file)?;
     let calibration = match &a.calibration {
-        Some(p) => Some(crate::calibrate_pdr::read(p)?),
+        Some(p) => Some(stridekit_lab::pdr::calibrate::read(p)?),
         None => None,
     };
     let o = ReplayOptions {
@@ -119,7 +119,7 @@ pub fn run(a: &PdrArgs) -> Result<String, String> {
     Ok(summary)
 }
 
-fn write_csv(path: &Path, steps: &[crate::pdr_walks::StepRow]) -> Result<(), String> {
+fn write_csv(path: &Path, steps: &[stridekit_lab::pdr::walks::StepRow]) -> Result<(), String> {
     let err = |e: std::io::Error| format!("{}: {e}", path.display());
     let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(err)?);
     writeln!(f, "t_s,east_m,north_m,step_length_m,azimuth_deg,steps").map_err(err)?;

@@ -3,7 +3,20 @@
 //! the shipped models, and the naive baselines the engines are compared with. Used by
 //! the `stridekit` CLI, the tests and the benches.
 
+pub mod activity;
+pub mod foot;
 pub mod odometry;
+pub mod orientation;
 pub mod pace;
+pub mod pace_device;
+pub mod pace_eval;
+pub mod pdr;
 pub mod placement;
+pub mod placement_eval;
+pub mod placement_mlp;
+pub mod progress;
+pub mod report;
+pub mod soak;
 pub mod steplength;
+pub mod steplength_eval;
+pub mod steps_eval;

@@ -45,7 +45,8 @@ impl From<Model> for StepLengthModel {
             Model::LinearF => "linear-f",
             Model::Constant => "constant",
         };
-        crate::calibrate_pdr::model_from_arg(name).expect("every ValueEnum name is a model")
+        stridekit_lab::pdr::calibrate::model_from_arg(name)
+            .expect("every ValueEnum name is a model")
     }
 }
 
@@ -54,8 +55,8 @@ pub fn run(c: Calibrate) -> Result<(), String> {
         Calibrate::Pdr { data, out, model } => {
             let data = super::data_dir(data, "phone-indoor", "walks with waypoints")?;
             let out = OutFile::prepare(&out, "")?;
-            let text = crate::calibrate_pdr::run(
-                &crate::calibrate_pdr::CalibrateArgs {
+            let text = stridekit_lab::pdr::calibrate::run(
+                &stridekit_lab::pdr::calibrate::CalibrateArgs {
                     data,
                     out: out.path.clone(),
                     model: model.into(),

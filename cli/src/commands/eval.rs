@@ -153,19 +153,19 @@ pub fn run(e: Eval) -> Result<(), String> {
                     .and_then(|_| default.validate())
                     .map_err(|e| e.to_string())?;
             }
-            let (table, _) = crate::eval_pace::simulator_table(seeds, default);
+            let (table, _) = stridekit_lab::pace_eval::simulator_table(seeds, default);
             println!("{table}");
             match data_dir(data, "pace/original", "real runs") {
-                Ok(d) => crate::eval_pace::real_table(&d, default)?,
+                Ok(d) => stridekit_lab::pace_eval::real_table(&d, default)?,
                 Err(why) => format!("Real runs: skipped ({why})"),
             }
         }
         Eval::Steps { data, sensitivity } => {
             let d = data_dir(data, "steps/oxford", "Oxford traces")?;
-            let mut t = crate::eval_steps::run(&d)?;
+            let mut t = stridekit_lab::steps_eval::run(&d)?;
             if sensitivity {
                 t.push('\n');
-                t += &crate::eval_steps::robustness(&d)?;
+                t += &stridekit_lab::steps_eval::robustness(&d)?;
             }
             t
         }
@@ -176,13 +176,13 @@ pub fn run(e: Eval) -> Result<(), String> {
             seeds,
         } => {
             if sim || seeds.is_some() {
-                crate::eval_pdr::report(seeds.unwrap_or(3))?
+                stridekit_lab::pdr::sim::report(seeds.unwrap_or(3))?
             } else {
                 let d = data_dir(data, "phone-indoor", "real indoor walks (or use --sim)")?;
-                crate::eval_pdr_real::run(&d, diagnose)?
+                stridekit_lab::pdr::real::run(&d, diagnose)?
             }
         }
-        Eval::Steplength { data } => crate::eval_steplength::report(data.as_deref())?,
+        Eval::Steplength { data } => stridekit_lab::steplength_eval::report(data.as_deref())?,
         Eval::Foot {
             data,
             tune,
@@ -191,13 +191,13 @@ pub fn run(e: Eval) -> Result<(), String> {
         } => {
             let d = data_dir(data, "foot/pyshoe-vicon", "foot trials")?;
             if diagnose {
-                crate::eval_foot_diagnose::run(&d)?
+                stridekit_lab::foot::diagnose::run(&d)?
             } else if tune_adaptive_shoe {
-                crate::eval_foot_tune_shoe::run(&d)?
+                stridekit_lab::foot::tune_shoe::run(&d)?
             } else if tune {
-                crate::eval_foot::tune(&d, &[0.025, 0.05, 0.1])?
+                stridekit_lab::foot::eval::tune(&d, &[0.025, 0.05, 0.1])?
             } else {
-                crate::eval_foot::run(&d)?
+                stridekit_lab::foot::eval::run(&d)?
             }
         }
         Eval::Placement {
@@ -207,13 +207,13 @@ pub fn run(e: Eval) -> Result<(), String> {
             mlp,
         } => {
             let d = data_dir(data, "steps/oxford", "Oxford traces")?;
-            crate::placement::eval_cmd(&d, drop.as_deref(), l2, mlp)?
+            stridekit_lab::placement_eval::eval_cmd(&d, drop.as_deref(), l2, mlp)?
         }
         Eval::Odometry {
             model,
             seeds,
             unknown_placement,
-        } => crate::odometry::eval(model.as_deref(), seeds, !unknown_placement)?,
+        } => stridekit_lab::odometry::commands::eval(model.as_deref(), seeds, !unknown_placement)?,
         Eval::Orientation {
             data,
             imu_only,
@@ -221,12 +221,14 @@ pub fn run(e: Eval) -> Result<(), String> {
             quick,
         } => {
             let d = data_dir(data, "orientation/broad", "BROAD trials")?;
-            crate::eval_orientation::run(&crate::eval_orientation::EvalOrientationArgs {
-                data: d,
-                imu_only,
-                set,
-                quick,
-            })?
+            stridekit_lab::orientation::eval::run(
+                &stridekit_lab::orientation::eval::EvalOrientationArgs {
+                    data: d,
+                    imu_only,
+                    set,
+                    quick,
+                },
+            )?
         }
     };
     println!("{text}");

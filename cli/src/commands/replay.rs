@@ -201,7 +201,7 @@ pub struct OdometryArgs {
 
 pub fn odometry(a: OdometryArgs) -> Result<(), String> {
     let out = OutFile::prepare(&a.out, "svg")?;
-    let text = crate::odometry::replay(&a.input, a.model.as_deref(), &out.path)?;
+    let text = stridekit_lab::odometry::commands::replay(&a.input, a.model.as_deref(), &out.path)?;
     println!("{text}");
     Ok(())
 }

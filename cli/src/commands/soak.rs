@@ -30,7 +30,7 @@ fn hours(s: &str) -> Result<f64, String> {
 }
 
 pub fn run(a: SoakArgs) -> Result<(), String> {
-    crate::soak::cmd(&crate::soak::SoakArgs {
+    stridekit_lab::soak::cmd(&stridekit_lab::soak::SoakArgs {
         hours: a.hours,
         seed: a.seed,
     })

@@ -78,7 +78,7 @@ pub fn run(t: Train) -> Result<(), String> {
         } => {
             let d = data_dir(data, "foot/pyshoe-vicon", "foot trials")?;
             let out = OutFile::prepare(&out, "txt")?;
-            crate::train_zupt::run(
+            stridekit_lab::foot::train_zupt::run(
                 &d,
                 trials.as_deref(),
                 split.as_deref(),
@@ -89,7 +89,7 @@ pub fn run(t: Train) -> Result<(), String> {
         Train::Placement { data, out } => {
             let d = data_dir(data, "steps/oxford", "Oxford traces")?;
             let out = OutFile::prepare(&out, "txt")?;
-            crate::placement::train_cmd(&d, &out.path, &command_line())?
+            stridekit_lab::placement_eval::train_cmd(&d, &out.path, &command_line())?
         }
         Train::Odometry {
             sim_seeds,
@@ -100,9 +100,9 @@ pub fn run(t: Train) -> Result<(), String> {
             lambda,
         } => {
             let src = match (&ridi, &ronin) {
-                (Some(d), _) => crate::odometry::TrainSource::Ridi(d),
-                (_, Some(d)) => crate::odometry::TrainSource::Ronin(d),
-                _ => crate::odometry::TrainSource::Sim {
+                (Some(d), _) => stridekit_lab::odometry::commands::TrainSource::Ridi(d),
+                (_, Some(d)) => stridekit_lab::odometry::commands::TrainSource::Ronin(d),
+                _ => stridekit_lab::odometry::commands::TrainSource::Sim {
                     seeds: sim_seeds.unwrap_or(8),
                 },
             };
@@ -114,7 +114,7 @@ pub fn run(t: Train) -> Result<(), String> {
                 params.lambda = l;
             }
             let out = OutFile::prepare(&out, "txt")?;
-            crate::odometry::train(src, params, &out.path, &command_line())?
+            stridekit_lab::odometry::commands::train(src, params, &out.path, &command_line())?
         }
     };
     println!("{text}");

@@ -3,6 +3,7 @@
 //! simulated walks.
 
 pub mod baseline;
+pub mod commands;
 pub mod evaluate;
 pub mod metrics;
 pub mod train;

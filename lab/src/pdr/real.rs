@@ -19,9 +19,9 @@ use std::path::Path;
 
 use stridekit_core::pdr::{NavigatorConfig, PdrCalibration};
 
-use crate::calibrate_pdr::learn;
-use crate::pdr_metrics::{evaluate, median, Metrics};
-use crate::pdr_walks::{load_walks, replay, ReplayOptions, Walk};
+use crate::pdr::calibrate::learn;
+use crate::pdr::metrics::{evaluate, median, Metrics};
+use crate::pdr::walks::{load_walks, replay, ReplayOptions, Walk};
 
 /// Load the walks under `dir` with a progress bar.
 pub fn load_walks_with_progress(dir: &Path) -> Result<Vec<Walk>, String> {
@@ -131,8 +131,8 @@ pub fn floors(walks: &[Walk]) -> Vec<String> {
 pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
     let walks = load_walks_with_progress(dir)?;
     if diagnose {
-        let mut s = crate::pdr_diagnose::run(&walks, true)?;
-        s += &crate::pdr_diagnose::run(&walks, false)?;
+        let mut s = crate::pdr::diagnose::run(&walks, true)?;
+        s += &crate::pdr::diagnose::run(&walks, false)?;
         return Ok(s);
     }
     let config = NavigatorConfig::default();
@@ -187,7 +187,7 @@ pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
             },
         )?,
     ];
-    methods.extend(crate::eval_pdr_odometry::methods(&walks)?);
+    methods.extend(crate::pdr::odometry::methods(&walks)?);
     let mut out = String::new();
     let _ = writeln!(
         out,

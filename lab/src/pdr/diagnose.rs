@@ -21,8 +21,8 @@ use stridekit_core::ahrs::ImuSample;
 use stridekit_core::pdr::heading::wrap;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
 
-use crate::pdr_metrics::median;
-use crate::pdr_walks::Walk;
+use crate::pdr::metrics::median;
+use crate::pdr::walks::Walk;
 
 /// Legs shorter than this (m) or quicker (s) carry no direction.
 const MIN_LEG_M: f64 = 2.0;

@@ -13,6 +13,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+use crate::placement::{predict, train, TrainParams};
 use stridekit_core::placement::features::{window_features, FeatureTables};
 use stridekit_core::placement::resample::BinAverager;
 use stridekit_core::placement::{
@@ -20,7 +21,6 @@ use stridekit_core::placement::{
     FEATURE_NAMES, WINDOW,
 };
 use stridekit_formats::{list_oxford_traces, read_oxford_trace};
-use stridekit_lab::placement::{predict, train, TrainParams};
 use stridekit_sim::{simulate_phone, PhonePlacement, PhoneScenario};
 
 /// Smoothing of the streaming classifier, windows.
@@ -136,7 +136,7 @@ pub fn train_cmd(dir: &Path, out: &Path, line: &str) -> Result<String, String> {
         train(&data, &params, provenance(line, &traces, &params)).map_err(|e| e.to_string())?;
     let text = model.to_text();
     std::fs::write(out, &text).map_err(|e| format!("{}: {e}", out.display()))?;
-    let acc = stridekit_lab::placement::accuracy(&model, &data);
+    let acc = crate::placement::accuracy(&model, &data);
     Ok(format!(
         "wrote {} ({} bytes): {} traces, {} windows, training accuracy {:.1} % (not a test score; see `stridekit eval placement`)",
         out.display(),

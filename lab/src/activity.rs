@@ -1,9 +1,9 @@
 //! Real activity records → pace samples (clean, or with injected GNSS degradation).
 
+use crate::pace::{degrade_track, TrackPoint};
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::{GnssFix, PaceSample, StepSample};
 use stridekit_formats::{Activity, Record};
-use stridekit_lab::pace::{degrade_track, TrackPoint};
 use stridekit_sim::Zone;
 
 /// An activity prepared for replay: time relative to its first record.

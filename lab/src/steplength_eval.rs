@@ -5,10 +5,10 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use crate::steplength::{mixes, run_cases, Case, OUTAGE_S};
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::stepdetect::StepEvent;
 use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
-use stridekit_lab::steplength::{mixes, run_cases, Case, OUTAGE_S};
 use stridekit_sim::phone::PhonePlacement;
 
 /// Seeds per simulator mix.

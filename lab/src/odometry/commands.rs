@@ -6,6 +6,11 @@ use std::fmt::Write;
 use std::path::Path;
 use std::time::Instant;
 
+use crate::odometry::evaluate::{run_methods, Scores, METHODS};
+use crate::odometry::train::{
+    fit_model, labelled_windows, sim_scenario, simulated_windows, LabelledWindow, Truth,
+    FIRST_EVAL_SEED,
+};
 use stridekit_core::odometry::{
     OdometryConfig, OdometryModel, OdometrySample, PhoneOdometry, PipelineParams, PlacementSource,
     AUTO_MIN_CONFIDENCE,
@@ -13,11 +18,6 @@ use stridekit_core::odometry::{
 use stridekit_core::placement::{Placement, CLASSES};
 use stridekit_formats::{
     read_inertial, read_inertial_dir, InertialRecording as Recording, InertialSample,
-};
-use stridekit_lab::odometry::evaluate::{run_methods, Scores, METHODS};
-use stridekit_lab::odometry::train::{
-    fit_model, labelled_windows, sim_scenario, simulated_windows, LabelledWindow, Truth,
-    FIRST_EVAL_SEED,
 };
 use stridekit_sim::{simulate_phone, PhonePlacement};
 
@@ -216,7 +216,7 @@ fn true_attitude_scores(
     model: &OdometryModel,
     placement: PlacementSource,
 ) -> (f64, f64) {
-    use stridekit_lab::odometry::metrics::{align_start, ate, rte};
+    use crate::odometry::metrics::{align_start, ate, rte};
     let mut eng = PhoneOdometry::new(
         OdometryConfig {
             placement,
@@ -252,7 +252,7 @@ fn learned_run(
     source: PlacementSource,
     class: Placement,
 ) -> ((f64, f64), [usize; 4 + CLASSES]) {
-    use stridekit_lab::odometry::metrics::{align_start, ate, rte};
+    use crate::odometry::metrics::{align_start, ate, rte};
     let cfg = OdometryConfig {
         placement: source,
         ..Default::default()

@@ -58,12 +58,11 @@ impl Mlp {
 
 pub fn train(data: &[(Features, Placement)], l2: f64) -> Result<Mlp, String> {
     // Standardisation from a logistic regression trained for 0 iterations.
-    let params = stridekit_lab::placement::TrainParams {
+    let params = crate::placement::TrainParams {
         iterations: 0,
         ..Default::default()
     };
-    let scale =
-        stridekit_lab::placement::train(data, &params, Vec::new()).map_err(|e| e.to_string())?;
+    let scale = crate::placement::train(data, &params, Vec::new()).map_err(|e| e.to_string())?;
     let z: Vec<(Features, usize)> = data
         .iter()
         .map(|(f, p)| (scale.standardise(f), p.index()))

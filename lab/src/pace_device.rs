@@ -12,9 +12,9 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use crate::pace::{replay, rmse};
 use stridekit_core::{PaceCalibration, PaceConfig, PaceSample, PaceTracker};
 use stridekit_formats::Activity;
-use stridekit_lab::pace::{replay, rmse};
 use stridekit_sim::{Zone, ZoneKind};
 
 use crate::activity::{degraded, prepare};
@@ -71,10 +71,10 @@ pub fn outage_table(files: &[PathBuf], default: PaceConfig) -> String {
         let (samples, zones) = degraded(&p, 1000 + i as u64);
         let r = replay(&samples, PaceConfig::as_published(), default);
         let dev = device_speed(&activity, &r.t_s);
-        let reference = stridekit_lab::pace::smoothed_track_speed(
+        let reference = crate::pace::smoothed_track_speed(
             &p.track,
             &r.t_s,
-            crate::eval_pace::REFERENCE_HALF_WINDOW_S,
+            crate::pace_eval::REFERENCE_HALF_WINDOW_S,
         );
         let keep = |k: usize| in_outage(&zones, r.t_s[k]);
         let scored = (0..r.t_s.len())
@@ -186,10 +186,10 @@ pub fn pedometer_only_table(dir: &Path, prefix: &str) -> Result<String, String> 
         let score = |config: PaceConfig| {
             let (grid, speed) = steps_only(&p.samples, config);
             let dev = device_speed(act, &grid);
-            let reference = stridekit_lab::pace::smoothed_track_speed(
+            let reference = crate::pace::smoothed_track_speed(
                 &p.track,
                 &grid,
-                crate::eval_pace::REFERENCE_HALF_WINDOW_S,
+                crate::pace_eval::REFERENCE_HALF_WINDOW_S,
             );
             let (mut de, mut dr) = (0.0, 0.0);
             for k in 1..grid.len() {

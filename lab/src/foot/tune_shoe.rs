@@ -10,7 +10,7 @@ use stridekit_core::foot::{
     AdaptiveShoe, FootConfig, GyroTiming, ShoeDetector, ZeroVelocityDetector,
 };
 
-use crate::eval_foot::{base_config, load_with_info, median, replay, score, Method, Trial};
+use crate::foot::eval::{base_config, load_with_info, median, replay, score, Method, Trial};
 
 /// `f` over `items` on two threads (the machine is shared), results in order.
 fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {

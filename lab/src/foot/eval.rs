@@ -25,7 +25,7 @@ use stridekit_core::foot::{
 };
 use stridekit_formats::{list_foot_trials, read_foot_csv, FootRecording};
 
-use crate::train_zupt;
+use crate::foot::train_zupt;
 
 /// Foot speed averaged over one stride above which a sample is running, m/s.
 pub const RUN_SPEED_MPS: f64 = 1.8;
@@ -732,7 +732,7 @@ fn evaluate(
     trials: &[Trial],
     infos: &[TrialInfo],
     svm: &[stridekit_core::foot::SvmModel],
-    loso: &crate::eval_foot_sessions::Loso,
+    loso: &crate::foot::sessions::Loso,
 ) -> Result<Table, String> {
     let ms = methods();
     let mut names: Vec<String> = ms.iter().map(|m| m.name.clone()).collect();
@@ -775,7 +775,7 @@ pub fn run(dir: &Path) -> Result<String, String> {
     sp.set_message(format!("eval foot: training {SVM_FOLDS} SVM folds"));
     let svm = svm_folds(&trials, &stats, SVM_FOLDS)?;
     sp.set_message("eval foot: training the leave-one-session-out SVMs");
-    let loso = crate::eval_foot_sessions::Loso::train(&trials, &stats)?;
+    let loso = crate::foot::sessions::Loso::train(&trials, &stats)?;
     sp.finish_and_clear();
     let table = evaluate(&trials, &infos, &svm, &loso)?;
     let Table { names, results } = table;
@@ -879,7 +879,7 @@ pub fn run(dir: &Path) -> Result<String, String> {
         &names,
         &tr,
     );
-    out.push_str(&crate::eval_foot_sessions::session_table(
+    out.push_str(&crate::foot::sessions::session_table(
         &trials, &names, &results, &loso,
     ));
     let med_oracle = median(results.iter().map(|r| r[oracle].rmse_m).collect());
@@ -1088,6 +1088,6 @@ pub fn tune(dir: &Path, windows: &[f64]) -> Result<String, String> {
         out.push_str(&format!("→ adaptive {:?}: {:.3}\n", best_ad.1, best_ad.0));
     }
     out.push_str("\n## adaptive shoe (detector window 0.025 s)\n\n");
-    out.push_str(&crate::eval_foot_tune_shoe::run(dir)?);
+    out.push_str(&crate::foot::tune_shoe::run(dir)?);
     Ok(out)
 }

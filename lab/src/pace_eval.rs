@@ -4,10 +4,10 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use stridekit_core::PaceConfig;
-use stridekit_lab::pace::{
+use crate::pace::{
     distance_against, replay, score, sim_reference, smoothed_track_speed, Scores, METHODS,
 };
+use stridekit_core::PaceConfig;
 use stridekit_sim::{simulate_run, RunScenario};
 
 use crate::activity::{degraded, prepare};
@@ -230,12 +230,12 @@ pub fn real_table(dir: &Path, default: PaceConfig) -> Result<String, String> {
     let _ = writeln!(
         out,
         "\n{}",
-        crate::eval_pace_device::outage_table(&files, default)
+        crate::pace_device::outage_table(&files, default)
     );
     let _ = writeln!(
         out,
         "{}",
-        crate::eval_pace_device::pedometer_only_table(dir, "2020-12-")?
+        crate::pace_device::pedometer_only_table(dir, "2020-12-")?
     );
     Ok(out)
 }

@@ -12,15 +12,15 @@
 //! truth. Speeds do not depend on it. Training is leave one floor out: each floor is
 //! scored by a model fitted on the other floors' walks only.
 
+use crate::odometry::train::{fit_model, labelled_windows, LabelledWindow, Truth};
 use stridekit_core::odometry::{
     OdometryConfig, OdometryModel, OdometrySample, PhoneOdometry, PipelineParams, PlacementSource,
 };
 use stridekit_core::placement::Placement;
-use stridekit_lab::odometry::train::{fit_model, labelled_windows, LabelledWindow, Truth};
 
-use crate::eval_pdr_real::{floors, MethodResult};
-use crate::pdr_metrics::{apply_rigid, best_rigid, evaluate, track_at, TrackPoint};
-use crate::pdr_walks::Walk;
+use crate::pdr::metrics::{apply_rigid, best_rigid, evaluate, track_at, TrackPoint};
+use crate::pdr::real::{floors, MethodResult};
+use crate::pdr::walks::Walk;
 
 /// The walks' waypoints turned into the engine's frame, linearly interpolated.
 struct AlignedTruth(Vec<(f64, f64, f64)>);

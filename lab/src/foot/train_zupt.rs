@@ -14,7 +14,7 @@ use std::path::Path;
 use stridekit_core::foot::svm::{PairSvm, SIGMA_EPS};
 use stridekit_core::foot::{FootConfig, FootNavigator, FootSample, SvmModel, WindowStats};
 
-use crate::eval_foot::Trial;
+use crate::foot::eval::Trial;
 
 /// Training hyper-parameters: γ = 0.5, C = 1 chosen among (1, 1), (2, 10), (0.5, 1)
 /// by 3-fold cross-validation inside the training split (`stridekit eval foot
@@ -441,9 +441,9 @@ pub fn run(
     command_line: &str,
 ) -> Result<String, String> {
     let sp = crate::progress::spinner("train zupt: reading the trials");
-    let trials = crate::eval_foot::load(dir)?;
+    let trials = crate::foot::eval::load(dir)?;
     let sel = select(&trials, list, split)?;
-    let config = crate::eval_foot::base_config();
+    let config = crate::foot::eval::base_config();
     sp.set_message("train zupt: labelled window statistics");
     let data = labelled(&sel, &config)?;
     sp.set_message("train zupt: training six SVMs");

@@ -17,8 +17,8 @@ use std::path::Path;
 
 use stridekit_core::foot::{FootConfig, GyroTiming};
 
-use crate::eval_foot::{base_config, load_with_info, median, replay, score, Method, Trial};
-use crate::eval_foot_sessions::session_of;
+use crate::foot::eval::{base_config, load_with_info, median, replay, score, Method, Trial};
+use crate::foot::sessions::session_of;
 
 struct PerTrial {
     session: String,

@@ -1,6 +1,6 @@
 //! `stridekit eval orientation`: the orientation filters against optical motion
 //! capture on the BROAD trials, with the benchmark's own metric
-//! ([`crate::orientation_metric`]): per trial and as means over trials, for the
+//! ([`crate::orientation::metric`]): per trial and as means over trials, for the
 //! default filter, Madgwick (defaults and plain with BROAD's best common gain) and
 //! the variants of the decoupled filter kept for comparison; plus leave-half-out
 //! figures (settings chosen on the odd-numbered trials, scored on the even ones,
@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use stridekit_core::ahrs::{Ahrs, AhrsSettings, DecoupledSettings};
 use stridekit_formats::{list_broad_trials, read_broad, OrientationRecording};
 
-use crate::orientation_metric::{ErrorSums, Rmse};
+use crate::orientation::metric::{ErrorSums, Rmse};
 
 /// Options of `stridekit eval orientation`.
 #[derive(Clone, Debug)]

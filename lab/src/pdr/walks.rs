@@ -9,7 +9,7 @@ use stridekit_core::ahrs::ImuSample;
 use stridekit_core::pdr::{NavigatorConfig, PdrCalibration, PhoneNavigator};
 use stridekit_formats::{list_android_logs, read_inertial, InertialRecording};
 
-use crate::pdr_metrics::TrackPoint;
+use crate::pdr::metrics::TrackPoint;
 
 /// One walk: its recording and the group it belongs to for cross-validation (the
 /// floor: the header's `FloorName`, else the parent folder's name).

@@ -24,8 +24,8 @@ use stridekit_core::pdr::{NavigatorConfig, PdrCalibration, PhoneNavigator};
 use stridekit_core::stepdetect::StepDetector;
 use stridekit_core::steplength::{prior_of, StepLengthEstimator, StepLengthModel};
 
-use crate::pdr_metrics::polyline_m;
-use crate::pdr_walks::Walk;
+use crate::pdr::metrics::polyline_m;
+use crate::pdr::walks::Walk;
 
 /// Largest calibration file read, bytes (the parser checks the text too).
 const MAX_FILE_BYTES: u64 = 64 * 1024;
@@ -77,7 +77,7 @@ pub fn model_from_arg(s: &str) -> Result<StepLengthModel, String> {
 
 /// Run the command: learn from every walk under `--data` and write the file.
 pub fn run(a: &CalibrateArgs, command_line: &str) -> Result<String, String> {
-    let walks = crate::eval_pdr_real::load_walks_with_progress(&a.data)?;
+    let walks = crate::pdr::real::load_walks_with_progress(&a.data)?;
     let refs: Vec<&Walk> = walks.iter().collect();
     let config = NavigatorConfig::default();
     let c = learn(&refs, &config, a.model)?;

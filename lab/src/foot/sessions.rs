@@ -11,8 +11,8 @@
 
 use stridekit_core::foot::{SvmModel, WindowStats};
 
-use crate::eval_foot::{median, Outcome, Trial};
-use crate::train_zupt;
+use crate::foot::eval::{median, Outcome, Trial};
+use crate::foot::train_zupt;
 
 /// The session of a trial: its recording date.
 pub fn session_of(name: &str) -> &str {

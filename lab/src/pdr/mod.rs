@@ -1,0 +1,11 @@
+//! Phone dead reckoning in the lab: the real indoor walks (reading, the four measures,
+//! leave-one-floor-out calibration, diagnosis, the odometry trained on them), the
+//! simulator evaluation and the calibration learner behind `stridekit calibrate pdr`.
+
+pub mod calibrate;
+pub mod diagnose;
+pub mod metrics;
+pub mod odometry;
+pub mod real;
+pub mod sim;
+pub mod walks;
