@@ -286,6 +286,46 @@ impl<'a> Reader<'a> {
     }
 }
 
+/// Whether a restored `p` is a covariance a Kalman filter can reach: symmetric and
+/// positive semi-definite up to rounding. Tested on the correlation matrix
+/// D^-1/2 P D^-1/2 (scale-free, so metres² beside radians² do not matter) by a
+/// Cholesky factorisation with a small ridge. Checking |correlation| ≤ 1 pair by pair
+/// is not enough: three states can be pairwise plausible and jointly impossible, and
+/// the next update then drives a variance negative (a NaN standard deviation).
+pub(crate) fn check_covariance<const N: usize>(
+    p: &nalgebra::SMatrix<f64, N, N>,
+) -> Result<(), &'static str> {
+    let mut c = nalgebra::SMatrix::<f64, N, N>::zeros();
+    for i in 0..N {
+        if p[(i, i)].is_nan() || p[(i, i)] < 0.0 {
+            return Err("negative variance");
+        }
+        for j in 0..N {
+            let (a, b) = (p[(i, j)], p[(j, i)]);
+            if (a - b).abs() > 1e-9 * (1.0 + a.abs()) {
+                return Err("covariance not symmetric");
+            }
+            let d = (p[(i, i)] * p[(j, j)]).sqrt();
+            c[(i, j)] = if i == j {
+                1.0
+            } else if d > 0.0 {
+                0.5 * (a + b) / d
+            } else if a == 0.0 && b == 0.0 {
+                0.0
+            } else {
+                return Err("covariance with a zero variance but a correlation");
+            };
+        }
+    }
+    for i in 0..N {
+        c[(i, i)] += 1e-9;
+    }
+    match c.cholesky() {
+        Some(_) => Ok(()),
+        None => Err("covariance not positive semi-definite"),
+    }
+}
+
 /// CRC-32 (IEEE 802.3, reflected, poly 0xEDB88320), bitwise: snapshots are small.
 pub fn crc32(data: &[u8]) -> u32 {
     let mut crc = 0xFFFF_FFFFu32;

@@ -1187,14 +1187,7 @@ impl FootNavigator {
             }
         }
         if let Some(ins) = &n.ins {
-            if ins
-                .cov
-                .iter()
-                .zip(ins.cov.transpose().iter())
-                .any(|(a, b)| (a - b).abs() > 1e-6 * (1.0 + a.abs()))
-            {
-                return Err(invalid("covariance not symmetric"));
-            }
+            crate::snapshot::check_covariance(&ins.cov).map_err(invalid)?;
         }
         Ok(n)
     }

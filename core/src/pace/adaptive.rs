@@ -1153,27 +1153,17 @@ impl AdaptiveFilter {
     /// non-negative statistics.
     fn check_state(&self) -> Result<(), &'static str> {
         let p = &self.p;
-        for i in 0..p.nrows() {
-            if p[(i, i)] < 0.0 {
-                return Err("negative variance");
-            }
-            for j in 0..i {
-                if (p[(i, j)] - p[(j, i)]).abs() > 1e-9 * (1.0 + p[(i, j)].abs()) {
-                    return Err("covariance not symmetric");
-                }
-                // |correlation| ≤ 1: otherwise a variance along a direction (the speed
-                // std) is negative and its square root NaN.
-                if p[(i, j)] * p[(i, j)] > p[(i, i)] * p[(j, j)] * (1.0 + 1e-9) + 1e-300 {
-                    return Err("covariance correlation above 1");
-                }
-            }
-        }
+        crate::snapshot::check_covariance(p)?;
         if self.initialized && self.t_s.is_nan() {
             return Err("filter time");
         }
         // Bounds a running filter stays within even on garbage (fixes teleporting
-        // across the globe, gaps of days), far below where products would overflow.
-        if self.x.iter().any(|v| v.abs() > 1e12) || (0..p.nrows()).any(|i| p[(i, i)] > 1e25) {
+        // across the globe, gaps of months): the variance cap of the prediction. A
+        // larger restored variance loses every digit of a later update to rounding and
+        // drives a variance negative.
+        if self.x.iter().any(|v| v.abs() > 1e12)
+            || (0..p.nrows()).any(|i| p[(i, i)] > MAX_VARIANCE * (1.0 + 1e-9))
+        {
             return Err("filter state out of range");
         }
         let t_ok = |t: f64| t.is_nan() || t == f64::NEG_INFINITY || t.abs() <= 1e11 + 1.0;
