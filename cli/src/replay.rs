@@ -30,7 +30,9 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
             rejected.pace(&e);
             continue;
         }
-        let e = tracker.estimate();
+        let Some(e) = tracker.estimate() else {
+            continue;
+        };
         let emit =
             matches!(s, PaceSample::Fix(_)) || (e.t_s > last_t + 0.5 && e.gnss_weight == 0.0);
         if emit && e.t_s > last_t {
@@ -55,13 +57,13 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
         }
     }
     out.flush().map_err(|e| e.to_string())?;
-    let e = tracker.estimate();
+    let distance_m = tracker.estimate().map_or(0.0, |e| e.distance_m);
     let moving_s = p.samples.last().map(|s| s.t_s()).unwrap_or(0.0)
         - p.samples.first().map(|s| s.t_s()).unwrap_or(0.0);
-    let average = if e.distance_m > 0.0 {
+    let average = if distance_m > 0.0 {
         format!(
             ", average pace {} /km over the elapsed time",
-            min_s(1000.0 * moving_s / e.distance_m)
+            min_s(1000.0 * moving_s / distance_m)
         )
     } else {
         String::new()
@@ -71,7 +73,7 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
         p.name,
         p.samples.len(),
         rejected.total(),
-        e.distance_m,
+        distance_m,
         p.track.len(),
         if p.has_steps { "yes" } else { "no" }
     );

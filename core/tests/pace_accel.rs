@@ -36,7 +36,7 @@ fn feed(tr: &mut PaceTracker, xs: &[In]) -> Vec<stridekit_core::PaceEstimate> {
                     tr.push_fix(f).unwrap();
                 }
             }
-            tr.estimate()
+            tr.estimate().unwrap()
         })
         .collect()
 }

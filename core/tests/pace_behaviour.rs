@@ -21,7 +21,7 @@ fn replay(tr: &mut PaceTracker, samples: &[PaceSample]) -> Vec<PaceEstimate> {
         .iter()
         .map(|s| {
             tr.push(s).expect("valid sample");
-            tr.estimate()
+            tr.estimate().unwrap()
         })
         .collect()
 }
@@ -60,9 +60,9 @@ fn standing_still_reads_zero_and_adds_no_distance() {
         }
     }
     assert!(
-        tr.estimate().distance_m < 1.0,
+        tr.estimate().unwrap().distance_m < 1.0,
         "{}",
-        tr.estimate().distance_m
+        tr.estimate().unwrap().distance_m
     );
 
     // GNSS only (no step data at all): jitter must not become distance either.
@@ -73,7 +73,7 @@ fn standing_still_reads_zero_and_adds_no_distance() {
             still += 1;
         }
     }
-    let d = tr.estimate().distance_m;
+    let d = tr.estimate().unwrap().distance_m;
     assert!(
         d < 30.0,
         "GNSS-only distance while standing 10 min: {d} m ({still} still)"
@@ -465,7 +465,7 @@ fn adversarial_input_never_panics_nor_produces_nan() {
                 }
             };
             let _ = tr.push(&sample);
-            let e = tr.estimate();
+            let e = tr.estimate().unwrap();
             for v in [e.speed_mps, e.distance_m, e.gnss_weight, e.t_s] {
                 assert!(v.is_finite(), "{config:?} sample {i}: {e:?}");
             }

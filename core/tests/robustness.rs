@@ -239,7 +239,7 @@ fn finite_but_absurd_values_are_refused_or_harmless_and_the_state_resumes() {
             steps: 100
         })
         .is_err());
-    let e = p.estimate();
+    let e = p.estimate().unwrap();
     assert!(e.speed_std_mps.is_none_or(f64::is_finite), "{e:?}");
     let again = PaceTracker::restore(&p.snapshot()).unwrap();
     assert_eq!(again.snapshot(), p.snapshot());
@@ -256,7 +256,7 @@ fn sparse_step_counts_give_a_human_cadence_and_a_restorable_session() {
             p.push_steps(&StepSample::Count { t_s: t, steps: n })
                 .unwrap();
         }
-        let est = p.estimate();
+        let est = p.estimate().unwrap();
         let spm = est.cadence_spm.unwrap_or(0.0);
         assert!(spm <= 300.0, "{gap_s} s, {steps} steps: {spm} steps/min");
         if gap_s == 5.0 {
@@ -309,7 +309,7 @@ fn a_step_count_jump_no_runner_makes_is_a_counter_reset() {
     })
     .unwrap();
     assert_eq!(p.step_counter_resets(), 1);
-    let e = p.estimate();
+    let e = p.estimate().unwrap();
     assert!(e.speed_mps.is_finite() && e.distance_m < 1e3, "{e:?}");
 }
 
@@ -405,7 +405,11 @@ fn restore_refuses_poisoned_numbers_of_the_pace_tracker() {
             tail.iter().all(|s| match p.push(s) {
                 Ok(Some(e)) => e.speed_mps.is_finite() && e.distance_m.is_finite(),
                 _ => true,
-            }) && p.estimate().speed_std_mps.is_none_or(f64::is_finite)
+            }) && p
+                .estimate()
+                .unwrap()
+                .speed_std_mps
+                .is_none_or(f64::is_finite)
         },
         |p| p.snapshot(),
     );

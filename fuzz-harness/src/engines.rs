@@ -218,7 +218,9 @@ impl Engine for Pace {
         }
     }
     fn check(&self) {
-        check_pace(&self.e.estimate());
+        if let Some(e) = self.e.estimate() {
+            check_pace(&e);
+        }
     }
     fn snapshot(&self) -> Vec<u8> {
         self.e.snapshot()

@@ -9,7 +9,7 @@
 //! 1 s grid as its latest output (what a watch would display at that second).
 
 use stridekit_core::pace::baseline::{Baseline, BaselineKind};
-use stridekit_core::pace::{PaceConfig, PaceSample, PaceTracker};
+use stridekit_core::pace::{PaceConfig, PaceEstimate, PaceSample, PaceTracker};
 use stridekit_sim::{Rng, SimulatedRun, Zone, ZoneKind};
 
 /// The four methods, in table order.
@@ -70,7 +70,9 @@ pub fn replay(samples: &[PaceSample], published: PaceConfig, default: PaceConfig
             }
             for (k, tr) in trackers.iter_mut().enumerate() {
                 if tr.push(s).is_ok() {
-                    latest[2 + k] = tr.estimate().speed_mps;
+                    if let Some(e) = tr.estimate() {
+                        latest[2 + k] = e.speed_mps;
+                    }
                 }
             }
             i += 1;
@@ -80,12 +82,16 @@ pub fn replay(samples: &[PaceSample], published: PaceConfig, default: PaceConfig
             series.push(v);
         }
         for (k, tr) in trackers.iter().enumerate() {
-            let e = tr.estimate();
+            let e = tr.estimate().unwrap_or(PaceEstimate::initial(None));
             out.weight[k].push(e.gnss_weight);
             out.distance[k].push(e.distance_m);
         }
-        out.step_length
-            .push(trackers[1].estimate().step_length_m.unwrap_or(f64::NAN));
+        out.step_length.push(
+            trackers[1]
+                .estimate()
+                .and_then(|e| e.step_length_m)
+                .unwrap_or(f64::NAN),
+        );
         out.position_enu_m.push(
             trackers[1]
                 .position_enu_m()

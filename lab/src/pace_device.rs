@@ -136,7 +136,7 @@ fn steps_only(samples: &[PaceSample], config: PaceConfig) -> (Vec<f64>, Vec<f64>
             i += 1;
         }
         grid.push(t);
-        speed.push(tr.estimate().speed_mps);
+        speed.push(tr.estimate().map_or(0.0, |e| e.speed_mps));
         t += 1.0;
     }
     (grid, speed)

@@ -647,7 +647,10 @@ pub fn run(args: &SoakArgs, mut progress: impl FnMut(&str)) -> SoakReport {
                 ii += 1;
                 pace.step(
                     s.t_s,
-                    |p| p.push_accel(s.t_s, s.accel_mps2).map(|()| p.estimate()),
+                    |p| {
+                        p.push_accel(s.t_s, s.accel_mps2)
+                            .map(|()| p.estimate().expect("a sample was accepted"))
+                    },
                     cmp_pace,
                 );
             }

@@ -852,7 +852,8 @@ impl AdaptiveFilter {
             0.0
         } else if total > 0.0 {
             self.info_gnss / total
-        } else if t_out - self.last_fix_t_s > 2.0 {
+        } else if t_out - self.last_fix_t_s > 2.0 && !no_steps {
+            // GNSS silent, steps arriving: the pedometer carries the speed.
             0.0
         } else {
             self.out.gnss_weight
@@ -869,7 +870,11 @@ impl AdaptiveFilter {
             Some(c) if c > 0.0 && learned => Some(self.step_length_at(c)),
             // The same physical range as every other reading of the line.
             _ if learned => Some(self.x[LA].clamp(0.2, 3.0)),
-            _ => ctx.config.initial_step_length_m,
+            // Not learned yet: the configured one, else the prior the pedometer speed
+            // is using whenever steps carry it (a `Pedometer` or `Fused` source).
+            _ => ctx.config.initial_step_length_m.or_else(|| {
+                (!no_steps && w < 0.8 && cadence.is_some()).then(|| self.x[LA].clamp(0.2, 3.0))
+            }),
         };
         self.out = PaceEstimate {
             t_s: t_out,

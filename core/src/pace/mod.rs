@@ -290,8 +290,19 @@ impl PaceTracker {
         out
     }
 
-    /// The current estimate, at the time of the newest sample of either stream.
-    pub fn estimate(&self) -> PaceEstimate {
+    /// The current estimate, at the time of the newest sample of either stream;
+    /// `None` until a sample (fix, step sample or accelerometer sample) was accepted.
+    pub fn estimate(&self) -> Option<PaceEstimate> {
+        let started = self.fix_time.last_t_s().is_some()
+            || self.steps.has_data()
+            || self
+                .detector
+                .as_ref()
+                .is_some_and(|d| d.last_t_s().is_some());
+        started.then(|| self.current())
+    }
+
+    fn current(&self) -> PaceEstimate {
         let ctx = Context {
             config: &self.config,
             steps: &self.steps,

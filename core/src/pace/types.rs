@@ -130,7 +130,9 @@ pub struct PaceEstimate {
     pub speed_std_mps: Option<f64>,
     /// Cadence, steps per minute (both feet); `None` without step data.
     pub cadence_spm: Option<f64>,
-    /// Current step length, metres, learned from trustworthy GNSS; `None` until learned.
+    /// Current step length, metres: learned from trustworthy GNSS; before that the
+    /// configured `initial_step_length_m`, else (while steps carry the speed, source
+    /// `Pedometer` or `Fused`) the prior the filter is using; `None` otherwise.
     pub step_length_m: Option<f64>,
     /// Weight of GNSS in the fused speed, 0..=1 (1 − pedometer weight).
     pub gnss_weight: f64,
