@@ -206,7 +206,7 @@ switch throw throws true try typealias var weak unowned where while convenience 
 # Names from Apple's SDKs and the Swift standard library the hand-written code uses.
 # Keep this list to such names: a stridekit name added here would defeat the check.
 PLATFORM = set("""
-Array Bool Data Date Double Error Int String UInt64 UInt8 TimeInterval Sendable Void Never
+Array Bool Data Date Double Error Int Int64 String UInt64 UInt8 TimeInterval Sendable Void Never
 Optional Equatable CustomStringConvertible NSObject NSLock OperationQueue ProcessInfo
 AsyncStream Continuation BufferingPolicy bufferingNewest unbounded yield finish
 append reserveCapacity removeAll map compactMap allSatisfy contains isEmpty count prefix
@@ -224,7 +224,7 @@ startMagnetometerUpdates startDeviceMotionUpdates stopAccelerometerUpdates stopG
 stopMagnetometerUpdates stopDeviceMotionUpdates availableAttitudeReferenceFrames
 xMagneticNorthZVertical xArbitraryZVertical acceleration rotationRate magneticField
 gravity userAcceleration field accuracy uncalibrated timestamp
-isStepCountingAvailable startUpdates stopUpdates numberOfSteps endDate uint64Value
+isStepCountingAvailable startUpdates stopUpdates numberOfSteps endDate int64Value
 name maxConcurrentOperationCount qualityOfService userInitiated
 CLLocation CLLocationManager CLLocationManagerDelegate coordinate latitude longitude
 altitude verticalAccuracy horizontalAccuracy speed speedAccuracy delegate

@@ -11,7 +11,7 @@
 //!
 //! ```kotlin
 //! val tracker = PaceTracker(PaceConfig(mode = PaceMode.ADAPTIVE))
-//! tracker.pushStepSamples(listOf(StepSample.Count(tS = 0.5, steps = 1200uL)))
+//! tracker.pushStepSamples(listOf(StepSample.Count(tS = 0.5, steps = 1200L)))
 //! val result = tracker.pushFixes(listOf(GnssFix(tS = 1.0, latDeg = 50.29, lonDeg = 18.67)))
 //! val pace = result.latest.paceSPerKm
 //! val saved: ByteArray = tracker.snapshot()        // later: PaceTracker.restore(saved)

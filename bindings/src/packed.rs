@@ -8,7 +8,7 @@
 //! | offset | type    | field                                  |
 //! |-------:|---------|----------------------------------------|
 //! | 0      | f64 LE  | `t_s`, seconds (monotonic clock)       |
-//! | 8      | u64 LE  | `steps`, cumulative count              |
+//! | 8      | i64 LE  | `steps`, cumulative count (≥ 0)        |
 //!
 //! **GNSS fixes** ([`FIX_RECORD_BYTES`] = 56 bytes per fix, seven f64 LE):
 //!
@@ -25,8 +25,19 @@
 //! **Accelerometer samples** ([`ACCEL_RECORD_BYTES`] = 32 bytes per sample, four
 //! f64 LE): `t_s`, `ax`, `ay`, `az` (m/s², gravity included, any axes).
 //!
-//! Kotlin: `ByteBuffer.allocate(n * 56).order(ByteOrder.LITTLE_ENDIAN)` and
-//! `putDouble` seven times per fix (`Double.NaN` for a missing optional); Swift:
+//! **Phone IMU samples** (80 bytes per sample, ten f64 LE; `PhoneNavigator`,
+//! `PhoneOdometry`, `OrientationFilter`): `t_s`, `gyro_x/y/z` (rad/s),
+//! `accel_x/y/z` (m/s², gravity included), `mag_x/y/z` (µT; NaN when there is no
+//! magnetometer), device axes as the platform reports them.
+//!
+//! **Foot IMU samples** (56 bytes, seven f64 LE; `FootNavigator`): `t_s`,
+//! `accel_x/y/z` (m/s²), `gyro_x/y/z` (rad/s), sensor axes.
+//!
+//! Every layout has a pack helper (`packFixes`, `packStepCounts`, `packAccelSamples`,
+//! `packImuSamples`, `packFootSamples`) for code that has records; code that fills a
+//! buffer itself (a sensor callback) writes the same: Kotlin
+//! `ByteBuffer.allocate(n * 56).order(ByteOrder.LITTLE_ENDIAN)` and `putDouble` per
+//! field (`Double.NaN` for a missing optional); Swift
 //! `withUnsafeBytes(of: value.bitPattern.littleEndian)`.
 //!
 //! A buffer whose length is not a whole number of records is rejected as a whole
@@ -76,15 +87,18 @@ fn opt_f64_at(chunk: &[u8], offset: usize) -> Option<f64> {
 }
 
 /// Decode packed step counts (see the module docs for the layout).
-pub fn step_counts(bytes: &[u8]) -> Result<impl Iterator<Item = core::StepSample> + '_, PaceError> {
+/// A record with a negative count decodes to its (typed) rejection.
+pub fn step_counts(
+    bytes: &[u8],
+) -> Result<impl Iterator<Item = Result<core::StepSample, core::PaceError>> + '_, PaceError> {
     check_len(bytes, STEP_COUNT_RECORD_BYTES, "step-count")?;
     Ok(bytes.chunks_exact(STEP_COUNT_RECORD_BYTES).map(|c| {
         let mut s = [0u8; 8];
         s.copy_from_slice(&c[8..16]);
-        core::StepSample::Count {
+        Ok(core::StepSample::Count {
             t_s: f64_at(c, 0),
-            steps: u64::from_le_bytes(s),
-        }
+            steps: crate::pace::types::step_count(i64::from_le_bytes(s))?,
+        })
     }))
 }
 
@@ -102,7 +116,8 @@ pub fn fixes(bytes: &[u8]) -> Result<impl Iterator<Item = core::GnssFix> + '_, P
     }))
 }
 
-/// Pack step counts `(t_s, steps)` into the 16-byte layout. Other step shapes
+/// Pack step counts into the 16-byte little-endian layout of
+/// `PaceTracker.pushStepCountsPacked`: `t_s` (f64), `steps` (i64). Other step shapes
 /// (events, cadence) have no packed form and are skipped.
 #[uniffi::export]
 pub fn pack_step_counts(samples: Vec<crate::StepSample>) -> Vec<u8> {
@@ -116,7 +131,9 @@ pub fn pack_step_counts(samples: Vec<crate::StepSample>) -> Vec<u8> {
     out
 }
 
-/// Pack GNSS fixes into the 56-byte layout (null optionals become NaN).
+/// Pack GNSS fixes into the 56-byte little-endian layout of
+/// `PaceTracker.pushFixesPacked`: seven f64 `t_s, lat_deg, lon_deg, alt_m,
+/// horizontal_accuracy_m, speed_mps, speed_accuracy_mps` (null optionals become NaN).
 #[uniffi::export]
 pub fn pack_fixes(fixes: Vec<crate::GnssFix>) -> Vec<u8> {
     let mut out = Vec::with_capacity(fixes.len() * FIX_RECORD_BYTES);
@@ -134,4 +151,118 @@ pub fn pack_fixes(fixes: Vec<crate::GnssFix>) -> Vec<u8> {
         }
     }
     out
+}
+
+/// Pack accelerometer samples into the 32-byte little-endian layout of
+/// `PaceTracker.pushAccelPacked` and `PlacementClassifier.pushAccelPacked`: four f64
+/// `t_s, x_mps2, y_mps2, z_mps2`.
+#[uniffi::export]
+pub fn pack_accel_samples(samples: Vec<crate::AccelSample>) -> Vec<u8> {
+    let mut out = Vec::with_capacity(samples.len() * ACCEL_RECORD_BYTES);
+    for s in samples {
+        for v in [s.t_s, s.x_mps2, s.y_mps2, s.z_mps2] {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    out
+}
+
+/// One phone IMU sample: what `packImuSamples` packs for `PhoneNavigator`,
+/// `PhoneOdometry` and `OrientationFilter`. Device axes as the platform reports them.
+#[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
+pub struct PhoneImuSample {
+    /// Time, seconds on the app's monotonic clock, strictly increasing.
+    pub t_s: f64,
+    /// Specific force, m/s² (gravity included; iOS reports g: multiply by −9.80665).
+    pub accel_x_mps2: f64,
+    pub accel_y_mps2: f64,
+    pub accel_z_mps2: f64,
+    /// Angular rate, rad/s.
+    pub gyro_x_rads: f64,
+    pub gyro_y_rads: f64,
+    pub gyro_z_rads: f64,
+    /// Magnetic field, µT (null: no magnetometer; all three or none).
+    #[uniffi(default = None)]
+    pub mag_x_ut: Option<f64>,
+    #[uniffi(default = None)]
+    pub mag_y_ut: Option<f64>,
+    #[uniffi(default = None)]
+    pub mag_z_ut: Option<f64>,
+}
+
+/// Pack phone IMU samples into the 80-byte little-endian layout of
+/// `pushImuPacked`: ten f64 `t_s, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y,
+/// accel_z (m/s²), mag_x, mag_y, mag_z (µT, NaN when absent)`. Note the order: gyro
+/// before accel (the foot layout has accel first).
+#[uniffi::export]
+pub fn pack_imu_samples(samples: Vec<PhoneImuSample>) -> Vec<u8> {
+    let mut out = Vec::with_capacity(samples.len() * crate::phone::navigator::IMU_RECORD_BYTES);
+    for s in samples {
+        let nan = f64::NAN;
+        for v in [
+            s.t_s,
+            s.gyro_x_rads,
+            s.gyro_y_rads,
+            s.gyro_z_rads,
+            s.accel_x_mps2,
+            s.accel_y_mps2,
+            s.accel_z_mps2,
+            s.mag_x_ut.unwrap_or(nan),
+            s.mag_y_ut.unwrap_or(nan),
+            s.mag_z_ut.unwrap_or(nan),
+        ] {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn imu_pack_decodes_to_the_same_fields() {
+        let s = PhoneImuSample {
+            t_s: 1.5,
+            accel_x_mps2: 0.1,
+            accel_y_mps2: 0.2,
+            accel_z_mps2: 9.8,
+            gyro_x_rads: 0.01,
+            gyro_y_rads: 0.02,
+            gyro_z_rads: 0.03,
+            mag_x_ut: Some(20.0),
+            mag_y_ut: Some(0.0),
+            mag_z_ut: Some(-40.0),
+        };
+        let no_mag = PhoneImuSample {
+            mag_x_ut: None,
+            mag_y_ut: None,
+            mag_z_ut: None,
+            t_s: 2.0,
+            ..s
+        };
+        let bytes = pack_imu_samples(vec![s, no_mag]);
+        let mut recs = crate::phone::navigator::imu_records(&bytes).unwrap();
+        let r = crate::phone::navigator::imu_record(recs.next().unwrap());
+        assert_eq!(r.t_s, 1.5);
+        assert_eq!(r.accel_mps2, [0.1, 0.2, 9.8]);
+        assert_eq!(r.gyro_rads, [0.01, 0.02, 0.03]);
+        assert_eq!(r.mag_ut, Some([20.0, 0.0, -40.0]));
+        let r = crate::phone::navigator::imu_record(recs.next().unwrap());
+        assert_eq!((r.t_s, r.mag_ut), (2.0, None));
+    }
+
+    #[test]
+    fn accel_pack_decodes_to_the_same_fields() {
+        let a = crate::AccelSample {
+            t_s: 3.0,
+            x_mps2: 1.0,
+            y_mps2: -2.0,
+            z_mps2: 9.0,
+        };
+        let bytes = pack_accel_samples(vec![a]);
+        let got: Vec<_> = accel(&bytes).unwrap().collect();
+        assert_eq!(got, vec![(3.0, [1.0, -2.0, 9.0])]);
+    }
 }

@@ -29,14 +29,14 @@ fn fix(t_s: f64) -> GnssFix {
     }
 }
 
-fn count(t_s: f64, steps: u64) -> StepSample {
+fn count(t_s: f64, steps: i64) -> StepSample {
     StepSample::Count { t_s, steps }
 }
 
 /// A short interleaved run: steps every second, fixes every second, 60 s.
 fn short_run() -> Vec<PaceSample> {
     let mut out = Vec::new();
-    for i in 0..60u64 {
+    for i in 0..60i64 {
         let t = i as f64;
         out.push(PaceSample::Steps {
             sample: count(t + 0.5, 1000 + 3 * i),
@@ -50,7 +50,7 @@ fn core_reference(samples: &[PaceSample]) -> (Vec<core::PaceEstimate>, core::Pac
     let mut t = core::PaceTracker::new(core::PaceConfig::default()).unwrap();
     let mut est = Vec::new();
     for s in samples {
-        if let Ok(Some(e)) = t.push(&(*s).into()) {
+        if let Ok(Some(e)) = t.push(&(*s).try_into().unwrap()) {
             est.push(e);
         }
     }
@@ -103,21 +103,24 @@ fn records_round_trip_through_core_types() {
     assert_eq!(GnssFix::from(c), f);
 
     for s in [
-        count(1.0, u64::MAX),
+        count(1.0, i64::MAX),
         StepSample::Event { t_s: 2.0 },
         StepSample::Cadence {
             t_s: 3.0,
             steps_per_min: 172.5,
         },
     ] {
-        let c: core::StepSample = s.into();
+        let c: core::StepSample = s.try_into().unwrap();
         assert_eq!(c.t_s(), s_t(&s));
         assert_eq!(StepSample::from(c), s);
         let p = PaceSample::Steps { sample: s };
-        assert_eq!(PaceSample::from(core::PaceSample::from(p)), p);
+        assert_eq!(PaceSample::from(core::PaceSample::try_from(p).unwrap()), p);
     }
     let p = PaceSample::Fix { fix: f };
-    assert_eq!(core::PaceSample::from(p), core::PaceSample::Fix(c));
+    assert_eq!(
+        core::PaceSample::try_from(p).unwrap(),
+        core::PaceSample::Fix(c)
+    );
 
     for src in [
         PaceSource::Initializing,
@@ -337,7 +340,7 @@ fn batch_rejections_are_reported_by_index_and_skipped() {
 
     let t = PaceTracker::with_defaults();
     let r = t.push_fixes(batch);
-    let idx: Vec<u32> = r.rejected.iter().map(|x| x.index).collect();
+    let idx: Vec<i32> = r.rejected.iter().map(|x| x.index).collect();
     assert_eq!(idx, vec![2, 5, 12]);
     assert!(matches!(r.rejected[0].error, PaceError::NonFinite { .. }));
     assert!(matches!(
@@ -371,18 +374,19 @@ fn mixed_batches_match_core_push_batch() {
     let r = t.push_samples(samples.clone());
 
     let mut c = core::PaceTracker::new(core::PaceConfig::default()).unwrap();
-    let core_samples: Vec<core::PaceSample> = samples.iter().map(|&s| s.into()).collect();
+    let core_samples: Vec<core::PaceSample> =
+        samples.iter().map(|&s| s.try_into().unwrap()).collect();
     let out = c.push_batch(&core_samples);
     assert_bit_identical(&to_core(&r.estimates), &out.estimates);
-    let ri: Vec<(u32, PaceError)> = r
+    let ri: Vec<(i32, PaceError)> = r
         .rejected
         .iter()
         .map(|x| (x.index, x.error.clone()))
         .collect();
-    let ci: Vec<(u32, PaceError)> = out
+    let ci: Vec<(i32, PaceError)> = out
         .rejected
         .iter()
-        .map(|x| (x.index as u32, x.error.clone().into()))
+        .map(|x| (x.index as i32, x.error.clone().into()))
         .collect();
     assert_eq!(ri, ci);
     assert_eq!(ri[0].0, 7);
@@ -535,7 +539,7 @@ fn concurrent_pushes_do_not_crash() {
                     let time = (i * 4 + k) as f64;
                     // Interleaving makes some of these go back in time: errors, not crashes.
                     let _ = t.push_fixes(vec![fix(time)]);
-                    let _ = t.push_steps(count(time, i as u64));
+                    let _ = t.push_steps(count(time, i as i64));
                     let _ = t.estimate();
                     if i % 50 == 0 {
                         let _ = t.snapshot();
@@ -576,7 +580,7 @@ fn simulated_run_reference_matches_ffi_path() {
     assert_eq!(run.samples.len(), run.fixes.len() + run.steps.len());
     let t = PaceTracker::with_defaults();
     let r = t.push_samples(run.samples.clone());
-    assert_eq!(r.rejected.len() as u32, run.reference_rejected);
+    assert_eq!(r.rejected.len() as i32, run.reference_rejected);
     assert_bit_identical(&to_core(&r.estimates), &to_core(&run.reference_estimates));
     assert_eq!(r.latest, run.reference_final);
     // Deterministic.

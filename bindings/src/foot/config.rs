@@ -397,7 +397,7 @@ pub struct FootConfig {
     pub axis_remap: FootAxisRemap,
     /// Median pre-filter window, samples, odd, 1..=15 (1 = off).
     #[uniffi(default = 1)]
-    pub median_window: u32,
+    pub median_window: i32,
     /// Detector window, s (an odd number of samples, 3..=31, at the measured rate).
     #[uniffi(default = 0.025)]
     pub detector_window_s: f64,
@@ -457,7 +457,7 @@ impl From<core::FootConfig> for FootConfig {
             detector: c.detector.into(),
             correction: c.correction.into(),
             axis_remap: c.axis_remap.into(),
-            median_window: u32::try_from(c.median_window).unwrap_or(u32::MAX),
+            median_window: i32::try_from(c.median_window).unwrap_or(i32::MAX),
             detector_window_s: c.detector_window_s,
             gait_window_s: c.gait_window_s,
             alignment_s: c.alignment_s,

@@ -40,7 +40,7 @@ impl FootNavigator {
             FootOutput::All => capacity,
             FootOutput::StrideEnds | FootOutput::LatestOnly => 0,
         });
-        let mut produced = 0u32;
+        let mut produced = 0i32;
         let mut rejected = Vec::new();
         for (index, s) in samples.enumerate() {
             let error = match catch_unwind(AssertUnwindSafe(|| nav.push(&s))) {
@@ -58,7 +58,7 @@ impl FootNavigator {
                 Err(panic) => FootError::from_panic(panic),
             };
             rejected.push(FootRejectedSample {
-                index: u32::try_from(index).unwrap_or(u32::MAX),
+                index: i32::try_from(index).unwrap_or(i32::MAX),
                 description: error.to_string(),
                 error,
             });
@@ -131,8 +131,9 @@ impl FootNavigator {
         self.batch(samples.into_iter().map(Into::into), n, output)
     }
 
-    /// Fast path: samples packed as 56-byte little-endian records (layout in the
-    /// module docs). Fails as a whole only if the length is not a multiple of 56;
+    /// Fast path: samples packed as 56-byte little-endian records of seven f64
+    /// `t_s, accel_x, accel_y, accel_z (m/s²), gyro_x, gyro_y, gyro_z (rad/s)`
+    /// (`packFootSamples` builds them). Fails as a whole only if the length is not a multiple of 56;
     /// otherwise behaves like `pushSamples`.
     pub fn push_packed(
         &self,
@@ -152,8 +153,8 @@ impl FootNavigator {
 
     /// How many samples the estimates lag the newest input (median filter and
     /// detector windows are centred; 0 before alignment).
-    pub fn delay_samples(&self) -> u32 {
-        u32::try_from(self.lock().delay_samples()).unwrap_or(u32::MAX)
+    pub fn delay_samples(&self) -> i32 {
+        i32::try_from(self.lock().delay_samples()).unwrap_or(i32::MAX)
     }
 
     /// The alignment rest is over and samples are being integrated.
@@ -167,8 +168,8 @@ impl FootNavigator {
     }
 
     /// Times the divergence guard zeroed an absurd velocity (0 in normal use).
-    pub fn divergence_resets(&self) -> u64 {
-        self.lock().divergence_resets()
+    pub fn divergence_resets(&self) -> i64 {
+        i64::try_from(self.lock().divergence_resets()).unwrap_or(i64::MAX)
     }
 
     /// The whole state as bytes (configuration included; versioned, checksummed), to

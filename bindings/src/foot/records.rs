@@ -134,7 +134,7 @@ pub struct FootEstimate {
     /// The foot is still: a zero-velocity update was applied.
     pub stance: bool,
     /// Strides counted so far and the sum of their horizontal lengths, m.
-    pub strides: u64,
+    pub strides: i64,
     pub distance_m: f64,
     /// The stride that ended on this sample (null on every other sample).
     pub stride: Option<FootStride>,
@@ -168,7 +168,7 @@ impl From<core::FootEstimate> for FootEstimate {
             accel_bias_mps2: e.accel_bias_mps2.into(),
             gyro_bias_rads: e.gyro_bias_rads.into(),
             stance: e.stance,
-            strides: e.strides,
+            strides: i64::try_from(e.strides).unwrap_or(i64::MAX),
             distance_m: e.distance_m,
             stride: e.stride.map(Into::into),
             saturated: e.saturated,
@@ -192,7 +192,7 @@ pub enum FootOutput {
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct FootRejectedSample {
     /// Position of the sample in the batch (record in a packed buffer), from 0.
-    pub index: u32,
+    pub index: i32,
     pub error: FootError,
     /// The same as a sentence, for logs.
     pub description: String,
@@ -204,7 +204,7 @@ pub struct FootBatchResult {
     /// The estimates selected by the `FootOutput` argument, in time order.
     pub estimates: Vec<FootEstimate>,
     /// How many estimates the batch produced (returned or not).
-    pub produced: u32,
+    pub produced: i32,
     /// Rejected samples, in batch order.
     pub rejected: Vec<FootRejectedSample>,
     /// The newest estimate after the batch (what `estimate()` returns; null before

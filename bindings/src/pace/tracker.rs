@@ -15,7 +15,7 @@ use crate::packed;
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct RejectedSample {
     /// Position of the sample in the batch (or record in a packed buffer), from 0.
-    pub index: u32,
+    pub index: i32,
     /// Why it was rejected.
     pub error: PaceError,
     /// The same as a sentence, for logs.
@@ -29,8 +29,9 @@ pub struct BatchResult {
     pub estimates: Vec<PaceEstimate>,
     /// Samples that were rejected, in batch order.
     pub rejected: Vec<RejectedSample>,
-    /// The tracker's estimate after the whole batch (what `estimate()` would return).
-    pub latest: PaceEstimate,
+    /// The tracker's estimate after the whole batch (what `estimate()` would return:
+    /// null while nothing was accepted yet).
+    pub latest: Option<PaceEstimate>,
 }
 
 /// Running-pace tracker. Feed it GNSS fixes and step data, each stream in time order
@@ -80,13 +81,13 @@ impl PaceTracker {
                 Err(panic) => PaceError::from_panic(panic),
             };
             rejected.push(RejectedSample {
-                index: u32::try_from(index).unwrap_or(u32::MAX),
+                index: i32::try_from(index).unwrap_or(i32::MAX),
                 description: error.to_string(),
                 error,
             });
         }
         // A panic here (a core bug) is caught by uniffi's scaffolding.
-        let latest = tracker.estimate().into();
+        let latest = tracker.estimate().map(Into::into);
         BatchResult {
             estimates,
             rejected,
@@ -139,7 +140,7 @@ impl PaceTracker {
 
     /// Push one step sample. A rejected sample leaves the tracker unchanged.
     pub fn push_steps(&self, sample: StepSample) -> Result<(), PaceError> {
-        guard(|| Ok(self.lock().push_steps(&sample.into())?))
+        guard(|| Ok(self.lock().push_steps(&sample.try_into()?)?))
     }
 
     /// Push GNSS fixes in time order; one estimate per accepted fix. Rejected fixes
@@ -153,7 +154,7 @@ impl PaceTracker {
     /// Push step samples in time order (rejections reported by index).
     pub fn push_step_samples(&self, samples: Vec<StepSample>) -> BatchResult {
         self.batch(samples.into_iter(), 0, |t, s| {
-            t.push_steps(&s.into()).map(|_| None)
+            t.push_steps(&s.try_into()?).map(|_| None)
         })
     }
 
@@ -161,11 +162,12 @@ impl PaceTracker {
     /// fix (rejections reported by index).
     pub fn push_samples(&self, samples: Vec<PaceSample>) -> BatchResult {
         let n = samples.len();
-        self.batch(samples.into_iter(), n, |t, s| t.push(&s.into()))
+        self.batch(samples.into_iter(), n, |t, s| t.push(&s.try_into()?))
     }
 
-    /// Fast path: push GNSS fixes packed as 56-byte little-endian records (layout in
-    /// the `packed` module docs). Fails as a whole only if the length is not a
+    /// Fast path: push GNSS fixes packed as 56-byte little-endian records of seven
+    /// f64 `t_s, lat_deg, lon_deg, alt_m, horizontal_accuracy_m, speed_mps,
+    /// speed_accuracy_mps` (NaN: absent; `packFixes` builds them). Fails as a whole only if the length is not a
     /// multiple of 56; otherwise behaves like `push_fixes`.
     pub fn push_fixes_packed(&self, data: Vec<u8>) -> Result<BatchResult, PaceError> {
         guard(|| {
@@ -176,12 +178,12 @@ impl PaceTracker {
     }
 
     /// Fast path: push cumulative step counts packed as 16-byte little-endian records
-    /// `(t_s: f64, steps: u64)`. Fails as a whole only if the length is not a multiple
+    /// `(t_s: f64, steps: i64)` (a negative count is rejected by index). Fails as a whole only if the length is not a multiple
     /// of 16; otherwise behaves like `push_step_samples`.
     pub fn push_step_counts_packed(&self, data: Vec<u8>) -> Result<BatchResult, PaceError> {
         guard(|| {
             let counts = packed::step_counts(&data)?;
-            Ok(self.batch(counts, 0, |t, s| t.push_steps(&s).map(|_| None)))
+            Ok(self.batch(counts, 0, |t, s| t.push_steps(&s?).map(|_| None)))
         })
     }
 
@@ -207,13 +209,15 @@ impl PaceTracker {
     }
 
     /// Steps detected so far from accelerometer input.
-    pub fn detected_steps(&self) -> u64 {
-        self.lock().detected_steps()
+    pub fn detected_steps(&self) -> i64 {
+        i64::try_from(self.lock().detected_steps()).unwrap_or(i64::MAX)
     }
 
-    /// The current estimate, at the time of the newest sample of either stream.
-    pub fn estimate(&self) -> PaceEstimate {
-        self.lock().estimate().into()
+    /// The current estimate, at the time of the newest sample of either stream: null
+    /// until a sample (fix, step sample or accelerometer sample) was accepted, as for
+    /// every engine.
+    pub fn estimate(&self) -> Option<PaceEstimate> {
+        self.lock().estimate().map(Into::into)
     }
 
     /// The whole state as bytes (versioned, checksummed), to survive the app being
@@ -242,7 +246,7 @@ mod tests {
         });
         assert!(poisoner.join().is_err());
         assert!(t.inner.is_poisoned());
-        assert_eq!(t.estimate().t_s, 1.0);
+        assert_eq!(t.estimate().unwrap().t_s, 1.0);
         assert!(!t.inner.is_poisoned());
         t.push_fix(fix(2.0).into()).unwrap();
     }
@@ -268,6 +272,6 @@ mod tests {
         assert_eq!(r.rejected[0].index, 1);
         assert!(matches!(r.rejected[0].error, PaceError::Internal { .. }));
         assert!(!t.inner.is_poisoned());
-        assert_eq!(t.estimate().t_s, 3.0);
+        assert_eq!(t.estimate().unwrap().t_s, 3.0);
     }
 }

@@ -62,28 +62,49 @@ impl From<core::GnssFix> for GnssFix {
 pub enum StepSample {
     /// Cumulative step count since any origin (Android `TYPE_STEP_COUNTER`, iOS
     /// `CMPedometerData.numberOfSteps`). A lower count than the previous one is a
-    /// counter reset (reboot) and adds no steps.
-    Count { t_s: f64, steps: u64 },
+    /// counter reset (reboot) and adds no steps. Negative counts are refused
+    /// (`OutOfRange`).
+    Count { t_s: f64, steps: i64 },
     /// One detected step (Android `TYPE_STEP_DETECTOR`).
     Event { t_s: f64 },
     /// Cadence of both feet, steps per minute (a watch or foot pod; FIT strides/min × 2).
     Cadence { t_s: f64, steps_per_min: f64 },
 }
 
-impl From<StepSample> for core::StepSample {
-    fn from(s: StepSample) -> Self {
-        match s {
-            StepSample::Count { t_s, steps } => Self::Count { t_s, steps },
+/// A step count as the core's unsigned count: negative counts are out of range.
+pub(crate) fn step_count(steps: i64) -> Result<u64, core::PaceError> {
+    u64::try_from(steps).map_err(|_| {
+        core::PaceError::Input(stridekit_core::input::InputError::OutOfRange {
+            field: "steps",
+            value: steps as f64,
+            min: 0.0,
+            max: i64::MAX as f64,
+            unit: "",
+        })
+    })
+}
+
+impl TryFrom<StepSample> for core::StepSample {
+    type Error = core::PaceError;
+    fn try_from(s: StepSample) -> Result<Self, core::PaceError> {
+        Ok(match s {
+            StepSample::Count { t_s, steps } => Self::Count {
+                t_s,
+                steps: step_count(steps)?,
+            },
             StepSample::Event { t_s } => Self::Event { t_s },
             StepSample::Cadence { t_s, steps_per_min } => Self::Cadence { t_s, steps_per_min },
-        }
+        })
     }
 }
 
 impl From<core::StepSample> for StepSample {
     fn from(s: core::StepSample) -> Self {
         match s {
-            core::StepSample::Count { t_s, steps } => Self::Count { t_s, steps },
+            core::StepSample::Count { t_s, steps } => Self::Count {
+                t_s,
+                steps: i64::try_from(steps).unwrap_or(i64::MAX),
+            },
             core::StepSample::Event { t_s } => Self::Event { t_s },
             core::StepSample::Cadence { t_s, steps_per_min } => {
                 Self::Cadence { t_s, steps_per_min }
@@ -111,12 +132,13 @@ pub enum PaceSample {
     Steps { sample: StepSample },
 }
 
-impl From<PaceSample> for core::PaceSample {
-    fn from(s: PaceSample) -> Self {
-        match s {
+impl TryFrom<PaceSample> for core::PaceSample {
+    type Error = core::PaceError;
+    fn try_from(s: PaceSample) -> Result<Self, core::PaceError> {
+        Ok(match s {
             PaceSample::Fix { fix } => Self::Fix(fix.into()),
-            PaceSample::Steps { sample } => Self::Steps(sample.into()),
-        }
+            PaceSample::Steps { sample } => Self::Steps(sample.try_into()?),
+        })
     }
 }
 
@@ -183,7 +205,9 @@ pub struct PaceEstimate {
     pub speed_std_mps: Option<f64>,
     /// Cadence, steps per minute (both feet); null without step data.
     pub cadence_spm: Option<f64>,
-    /// Learned step length, metres; null until learned.
+    /// Step length, metres: learned from good GNSS; before that the configured
+    /// `initial_step_length_m`, else (while steps carry the speed: `PEDOMETER`,
+    /// `FUSED`) the prior in use; null otherwise.
     pub step_length_m: Option<f64>,
     /// Weight of GNSS in the fused speed, 0..=1.
     pub gnss_weight: f64,

@@ -25,9 +25,6 @@ crate::error::engine_error! {
         /// attitude that is not a unit quaternion, ...).
         #[error("IMU sample rejected: {reason}")]
         InvalidImuSample { reason: String },
-        /// A GNSS fix was refused for a reason other than the input checks.
-        #[error("GNSS fix rejected: {reason}")]
-        InvalidFix { reason: String },
         /// Snapshot bytes could not be restored (corrupted, truncated, other engine or
         /// version).
         #[error("cannot restore snapshot: {reason}")]
@@ -35,6 +32,9 @@ crate::error::engine_error! {
         /// A packed buffer is not a whole number of 80-byte records.
         #[error("invalid packed buffer: {reason}")]
         InvalidBuffer { reason: String },
+        /// A configuration was refused (the sentence names the setting).
+        #[error("invalid navigator configuration: {reason}")]
+        InvalidConfig { reason: String },
         /// A personal calibration was refused (wrong version, bad value, too large...).
         #[error("invalid PDR calibration: {reason}")]
         InvalidCalibration { reason: String },
@@ -58,9 +58,11 @@ impl From<core::NavError> for NavError {
             core::NavError::Attitude { .. } => Self::InvalidImuSample {
                 reason: e.to_string(),
             },
-            e => Self::InvalidFix {
-                reason: e.to_string(),
-            },
+            core::NavError::Ahrs(_) | core::NavError::Steps(_) | core::NavError::StepLength(_) => {
+                Self::InvalidConfig {
+                    reason: e.to_string(),
+                }
+            }
         }
     }
 }
@@ -84,7 +86,7 @@ pub struct NavEstimate {
     pub walking_azimuth_rad: Option<f64>,
     /// Walking direction minus the phone's heading, radians.
     pub heading_offset_rad: Option<f64>,
-    pub steps: u64,
+    pub steps: i64,
     pub distance_m: f64,
     pub step_length_m: Option<f64>,
 }
@@ -100,7 +102,7 @@ impl From<core::NavEstimate> for NavEstimate {
             lon_deg: e.lon_deg,
             walking_azimuth_rad: e.walking_azimuth_rad,
             heading_offset_rad: e.heading_offset_rad,
-            steps: e.steps,
+            steps: i64::try_from(e.steps).unwrap_or(i64::MAX),
             distance_m: e.distance_m,
             step_length_m: e.step_length_m,
         }
@@ -112,7 +114,7 @@ impl From<core::NavEstimate> for NavEstimate {
 /// engine's sentence for it.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct RejectedImuSample {
-    pub index: u32,
+    pub index: i32,
     pub error: crate::error::SampleError,
     pub reason: String,
 }
@@ -120,7 +122,7 @@ pub struct RejectedImuSample {
 impl RejectedImuSample {
     pub(crate) fn new(index: usize, e: &impl crate::error::InputCause) -> Self {
         Self {
-            index: u32::try_from(index).unwrap_or(u32::MAX),
+            index: i32::try_from(index).unwrap_or(i32::MAX),
             error: e.sample_error(),
             reason: e.to_string(),
         }
@@ -266,6 +268,94 @@ pub fn pdr_calibration_to_text(calibration: PdrCalibration) -> Result<String, Na
     guard(|| Ok(core::PdrCalibration::try_from(&calibration)?.to_text(&[])))
 }
 
+/// Which step detector a [`PhoneNavigator`] runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, uniffi::Enum)]
+pub enum StepDetectorMode {
+    /// The robust detector (the default): autocorrelation-confirmed gait, any carry.
+    Robust,
+    /// The published peak detector with its documented parameters (a comparison).
+    AsPublished,
+}
+
+/// Configuration of a [`PhoneNavigator`]: what an app may change; every other
+/// parameter keeps the core's default (`stridekit_core::pdr::NavigatorConfig`).
+/// `navigatorConfigDefault()` returns the default record; the literal defaults below
+/// are the core's, and a test checks that both agree. Enum fields have no literal
+/// default (uniffi 0.32 cannot give enum fields one): start from
+/// `navigatorConfigDefault().copy(...)` in Kotlin or change a `var` in Swift.
+#[derive(Clone, Debug, PartialEq, uniffi::Record)]
+pub struct NavigatorConfig {
+    /// Attitude filter (default: `orientationSettingsDefault()`, ENU frame).
+    pub orientation: crate::phone::orientation::OrientationSettings,
+    /// Step detector (default: `ROBUST`).
+    pub step_detector: StepDetectorMode,
+    /// Step-length model (default: `WEINBERG`; a calibration replaces it).
+    pub step_length_model: StepLengthModel,
+    /// Prior step length of the `CONSTANT` model before GNSS teaches one, metres.
+    #[uniffi(default = 0.75)]
+    pub prior_step_length_m: f64,
+    /// Prior K of the `WEINBERG` model (L = K·(a_max − a_min)^¼, a in m/s²).
+    #[uniffi(default = 0.4)]
+    pub prior_weinberg_k: f64,
+    /// GNSS fixes reporting a worse horizontal accuracy (68 %) are not used to learn
+    /// step length, metres.
+    #[uniffi(default = 10.0)]
+    pub max_fix_accuracy_m: f64,
+}
+
+impl From<&core::NavigatorConfig> for NavigatorConfig {
+    fn from(c: &core::NavigatorConfig) -> Self {
+        Self {
+            orientation: c.ahrs.into(),
+            step_detector: match c.detector.mode {
+                stridekit_core::stepdetect::DetectorMode::Default => StepDetectorMode::Robust,
+                stridekit_core::stepdetect::DetectorMode::AsPublished => {
+                    StepDetectorMode::AsPublished
+                }
+            },
+            step_length_model: c.step_length_model.into(),
+            prior_step_length_m: c.step_length.prior_step_length_m,
+            prior_weinberg_k: c.step_length.prior_weinberg_k,
+            max_fix_accuracy_m: c.step_length.max_accuracy_m,
+        }
+    }
+}
+
+impl TryFrom<NavigatorConfig> for core::NavigatorConfig {
+    type Error = NavError;
+    fn try_from(c: NavigatorConfig) -> Result<Self, NavError> {
+        let base = core::NavigatorConfig::default();
+        let ahrs = c.orientation.try_into().map_err(
+            |e: crate::phone::orientation::OrientationError| NavError::InvalidConfig {
+                reason: e.to_string(),
+            },
+        )?;
+        let detector = match c.step_detector {
+            StepDetectorMode::Robust => stridekit_core::stepdetect::StepDetectorConfig::default(),
+            StepDetectorMode::AsPublished => {
+                stridekit_core::stepdetect::StepDetectorConfig::as_published()
+            }
+        };
+        Ok(Self {
+            ahrs,
+            detector,
+            step_length_model: c.step_length_model.into(),
+            step_length: stridekit_core::steplength::StepLengthConfig {
+                prior_step_length_m: c.prior_step_length_m,
+                prior_weinberg_k: c.prior_weinberg_k,
+                max_accuracy_m: c.max_fix_accuracy_m,
+                ..base.step_length
+            },
+        })
+    }
+}
+
+/// The core's default navigator configuration.
+#[uniffi::export]
+pub fn navigator_config_default() -> NavigatorConfig {
+    (&core::NavigatorConfig::default()).into()
+}
+
 /// Append the steps placed since `placed` (and update it).
 pub(crate) fn collect_new_steps(
     nav: &core::PhoneNavigator,
@@ -334,8 +424,25 @@ pub(crate) fn imu_records(data: &[u8]) -> Result<std::slice::ChunksExact<'_, u8>
 
 #[uniffi::export]
 impl PhoneNavigator {
-    /// A navigator with the default configuration (ENU, default step detector,
-    /// robust linear step length).
+    /// A navigator with the given configuration (typed `InvalidConfig` error when a
+    /// setting is refused).
+    #[uniffi::constructor]
+    pub fn new(config: NavigatorConfig) -> Result<Arc<Self>, NavError> {
+        guard(|| {
+            let n = core::PhoneNavigator::new(config.try_into()?)?;
+            Ok(Arc::new(Self {
+                inner: Mutex::new(n),
+            }))
+        })
+    }
+
+    /// The configuration the navigator runs with.
+    pub fn config(&self) -> NavigatorConfig {
+        (self.lock().config()).into()
+    }
+
+    /// A navigator with the default configuration (`navigatorConfigDefault()`: ENU,
+    /// robust step detector, Weinberg step length).
     #[uniffi::constructor]
     pub fn with_defaults() -> Arc<Self> {
         Arc::new(Self {
@@ -398,7 +505,7 @@ impl PhoneNavigator {
         })
     }
 
-    /// Push IMU samples packed as 80-byte records (layout in the module docs).
+    /// Push IMU samples packed as 80-byte little-endian records of ten f64 `t_s, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y, accel_z (m/s²), mag_x, mag_y, mag_z (µT, NaN: none)` (`packImuSamples` builds them).
     pub fn push_imu_packed(&self, data: Vec<u8>) -> Result<ImuBatchResult, NavError> {
         guard(|| {
             let records =
@@ -449,5 +556,31 @@ impl PhoneNavigator {
     /// The whole state as bytes (sub-engines included).
     pub fn snapshot(&self) -> Vec<u8> {
         self.lock().snapshot()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn config_defaults_agree_with_the_core_and_a_bad_setting_is_typed() {
+        let d = navigator_config_default();
+        let c = core::NavigatorConfig::try_from(d.clone()).unwrap();
+        assert_eq!(c, core::NavigatorConfig::default());
+        // The record's literal defaults (used by the Kotlin/Swift constructors).
+        let s = c.step_length;
+        assert_eq!(
+            (s.prior_step_length_m, s.prior_weinberg_k, s.max_accuracy_m),
+            (0.75, 0.4, 10.0)
+        );
+        let nav = PhoneNavigator::new(d.clone()).unwrap();
+        assert_eq!(nav.config(), d);
+        let mut bad = d;
+        bad.orientation.accel_time_constant_s = -1.0;
+        match PhoneNavigator::new(bad) {
+            Err(NavError::InvalidConfig { reason }) => assert!(!reason.is_empty()),
+            other => panic!("expected InvalidConfig, got {other:?}"),
+        }
     }
 }

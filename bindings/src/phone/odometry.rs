@@ -172,7 +172,7 @@ pub(crate) fn guard<T>(f: impl FnOnce() -> Result<T, OdometryError>) -> Result<T
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct OdometryBatchResult {
     /// Window estimates produced during the batch.
-    pub estimates: u32,
+    pub estimates: i32,
     pub rejected: Vec<RejectedImuSample>,
     /// The estimate after the batch (null until the first window, about 2 s in).
     pub latest: Option<OdometryEstimate>,
@@ -232,14 +232,14 @@ impl PhoneOdometry {
         guard(|| Ok(Self::wrap(core::PhoneOdometry::restore(&snapshot)?)))
     }
 
-    /// Push IMU samples packed as 80-byte records (layout in the module docs); bad
+    /// Push IMU samples packed as 80-byte little-endian records of ten f64 `t_s, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y, accel_z (m/s²), mag_x, mag_y, mag_z (µT, NaN: none)` (`packImuSamples` builds them); bad
     /// samples are skipped and reported by index.
     pub fn push_imu_packed(&self, data: Vec<u8>) -> Result<OdometryBatchResult, OdometryError> {
         guard(|| {
             let records =
                 imu_records(&data).map_err(|reason| OdometryError::InvalidBuffer { reason })?;
             let mut engine = self.lock();
-            let mut estimates = 0u32;
+            let mut estimates = 0i32;
             let mut rejected = Vec::new();
             for (index, c) in records.enumerate() {
                 let r = imu_record(c);

@@ -335,7 +335,7 @@ pub enum OrientationOutput {
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct OrientationBatchResult {
     /// Samples accepted.
-    pub accepted: u32,
+    pub accepted: i32,
     /// Samples rejected (by index in the buffer, with the reason); the rest went in.
     pub rejected: Vec<RejectedImuSample>,
     /// Per accepted sample (with `OrientationOutput.ALL`), else empty.
@@ -406,7 +406,7 @@ impl OrientationFilter {
         (*self.lock().settings()).into()
     }
 
-    /// Push IMU samples packed as 80-byte records (layout in the module docs). A buffer
+    /// Push IMU samples packed as 80-byte little-endian records of ten f64 `t_s, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y, accel_z (m/s²), mag_x, mag_y, mag_z (µT, NaN: none)` (`packImuSamples` builds them). A buffer
     /// that is not a whole number of records is refused as a whole; otherwise bad
     /// records are skipped and reported, and the result equals pushing only the good
     /// ones.
@@ -421,7 +421,7 @@ impl OrientationFilter {
             let mut a = self.lock();
             let mut rejected = Vec::new();
             let mut estimates = Vec::new();
-            let mut accepted = 0u32;
+            let mut accepted = 0i32;
             for (index, c) in records.enumerate() {
                 let r = imu_record(c);
                 match a.update(r.t_s, r.gyro_rads, r.accel_mps2, r.mag_ut) {

@@ -76,7 +76,7 @@ pub struct PlacementEstimate {
     /// Every placement's probability, in the order of `phonePlacements()`.
     pub probabilities: Vec<f64>,
     /// Windows classified so far.
-    pub windows: u64,
+    pub windows: i64,
 }
 
 impl From<core::PlacementEstimate> for PlacementEstimate {
@@ -86,7 +86,7 @@ impl From<core::PlacementEstimate> for PlacementEstimate {
             placement: e.placement.into(),
             confidence: e.confidence,
             probabilities: e.probabilities.to_vec(),
-            windows: e.windows,
+            windows: i64::try_from(e.windows).unwrap_or(i64::MAX),
         }
     }
 }
@@ -122,7 +122,7 @@ fn guard<T>(f: impl FnOnce() -> Result<T, PlacementError>) -> Result<T, Placemen
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct PlacementBatchResult {
     /// Windows classified during the batch.
-    pub windows: u32,
+    pub windows: i32,
     pub rejected: Vec<RejectedImuSample>,
     /// The estimate after the batch (null until the first window is full).
     pub latest: Option<PlacementEstimate>,
@@ -144,7 +144,7 @@ impl PlacementClassifier {
         samples: impl Iterator<Item = (f64, [f64; 3])>,
     ) -> Result<PlacementBatchResult, PlacementError> {
         let mut c = self.lock();
-        let mut windows = 0u32;
+        let mut windows = 0i32;
         let mut rejected = Vec::new();
         for (index, (t, a)) in samples.enumerate() {
             match c.push(t, a) {
@@ -176,7 +176,7 @@ impl PlacementClassifier {
     #[uniffi::constructor]
     pub fn with_model(
         model_text: String,
-        smoothing_windows: u32,
+        smoothing_windows: i32,
     ) -> Result<Arc<Self>, PlacementError> {
         guard(|| {
             let model = core::PlacementModel::parse(&model_text).map_err(|e| {
@@ -187,7 +187,7 @@ impl PlacementClassifier {
             Ok(Arc::new(Self {
                 inner: Mutex::new(core::PlacementClassifier::new(
                     model,
-                    smoothing_windows as usize,
+                    usize::try_from(smoothing_windows).unwrap_or(1),
                 )),
             }))
         })
@@ -225,7 +225,7 @@ impl PlacementClassifier {
         })
     }
 
-    /// Push accelerometer samples packed as 32-byte records (layout in the module docs).
+    /// Push accelerometer samples packed as 32-byte little-endian records of four f64 `t_s, x, y, z` (m/s², gravity included; `packAccelSamples` builds them).
     pub fn push_accel_packed(&self, data: Vec<u8>) -> Result<PlacementBatchResult, PlacementError> {
         guard(|| {
             let samples =

@@ -16,17 +16,17 @@ pub struct SimulatedFootWalk {
     pub laps: u32,
     /// The samples as 56-byte records (layout in the module docs).
     pub samples_packed: Vec<u8>,
-    pub sample_count: u32,
+    pub sample_count: i32,
     /// True path length (sum of stride lengths), m, and true number of strides.
     pub true_distance_m: f64,
-    pub true_strides: u32,
+    pub true_strides: i32,
     /// True position at the last sample (the walk ends where it started), ENU, m.
     pub true_end_m: EnuVector,
     /// `estimate()` of a default-configuration navigator fed every sample in Rust.
     pub reference_final: Option<FootEstimate>,
     /// Estimates that navigator produced and samples it rejected (0).
-    pub reference_produced: u32,
-    pub reference_rejected: u32,
+    pub reference_produced: i32,
+    pub reference_rejected: i32,
 }
 
 /// Simulate `laps` (1..=20) laps of walking from `seed`. Deterministic: the same
@@ -49,7 +49,7 @@ pub fn simulate_foot_walk(seed: u64, laps: u32) -> Result<SimulatedFootWalk, Foo
                 packed.extend_from_slice(&v.to_le_bytes());
             }
         }
-        let count = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+        let count = |n: usize| i32::try_from(n).unwrap_or(i32::MAX);
         Ok(SimulatedFootWalk {
             seed,
             laps,

@@ -26,9 +26,9 @@ pub struct SimulatedRun {
     /// one per accepted fix.
     pub reference_estimates: Vec<PaceEstimate>,
     /// That tracker's `estimate()` after the last sample.
-    pub reference_final: PaceEstimate,
+    pub reference_final: Option<PaceEstimate>,
     /// Samples that tracker rejected (0 for a well-formed simulation).
-    pub reference_rejected: u32,
+    pub reference_rejected: i32,
 }
 
 /// Simulate a run of `duration_s` seconds (0 < duration ≤ 6 h) from `seed`.
@@ -56,7 +56,7 @@ pub fn simulate_run(seed: u64, duration_s: f64) -> Result<SimulatedRun, PaceErro
         let samples = run.samples();
         let mut tracker = core::PaceTracker::new(core::PaceConfig::default())?;
         let mut reference_estimates = Vec::with_capacity(run.fixes.len());
-        let mut reference_rejected = 0u32;
+        let mut reference_rejected = 0i32;
         for s in &samples {
             match tracker.push(s) {
                 Ok(Some(e)) => reference_estimates.push(e.into()),
@@ -71,7 +71,7 @@ pub fn simulate_run(seed: u64, duration_s: f64) -> Result<SimulatedRun, PaceErro
             steps: run.steps.iter().map(|&s| s.into()).collect(),
             samples: samples.into_iter().map(Into::into).collect(),
             reference_estimates,
-            reference_final: tracker.estimate().into(),
+            reference_final: tracker.estimate().map(Into::into),
             reference_rejected,
         })
     })

@@ -15,7 +15,7 @@ use crate::phone::placement::PhonePlacement;
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct PdrReplay {
     pub steps: Vec<NavStep>,
-    pub rejected: u32,
+    pub rejected: i32,
     pub latest: Option<NavEstimate>,
 }
 
@@ -40,7 +40,7 @@ pub fn pdr_reference_replay(
                     reason: e.to_string(),
                 })?;
         }
-        let (mut steps, mut rejected, mut placed) = (Vec::new(), 0u32, 0u64);
+        let (mut steps, mut rejected, mut placed) = (Vec::new(), 0i32, 0u64);
         for c in records {
             let r = imu_record(c);
             let s = ImuSample {
@@ -69,7 +69,7 @@ pub fn pdr_reference_replay(
 pub struct SimulatedPhoneWalk {
     /// IMU samples in the 80-byte layout (magnetometer included).
     pub imu_packed: Vec<u8>,
-    pub samples: u32,
+    pub samples: i32,
     /// Truth every 0.1 s: time, s; position east / north of the start, m.
     pub truth_t_s: Vec<f64>,
     pub truth_east_m: Vec<f64>,
@@ -125,7 +125,7 @@ pub fn simulate_phone_walk(
         let last = sim.truth.last().copied().unwrap_or_default();
         Ok(SimulatedPhoneWalk {
             imu_packed: pack(&samples),
-            samples: u32::try_from(samples.len()).unwrap_or(u32::MAX),
+            samples: i32::try_from(samples.len()).unwrap_or(i32::MAX),
             truth_t_s: sim.truth.iter().map(|t| t.t_s).collect(),
             truth_east_m: sim.truth.iter().map(|t| t.east_m).collect(),
             truth_north_m: sim.truth.iter().map(|t| t.north_m).collect(),

@@ -139,12 +139,12 @@ public final class PedometerSource {
 
     /// `handler(t_s, steps since start)` every few seconds (CoreMotion's pace), on a
     /// CoreMotion queue. `t_s` is `endDate` converted by `MonotonicClock`.
-    public func start(from start: Date = Date(), handler: @escaping (Double, UInt64) -> Void) throws {
+    public func start(from start: Date = Date(), handler: @escaping (Double, Int64) -> Void) throws {
         guard Self.isAvailable else { throw MotionSourceError.unavailable("step counting") }
         let clock = self.clock
         pedometer.startUpdates(from: start) { data, _ in
             guard let data else { return }
-            handler(clock.seconds(from: data.endDate), data.numberOfSteps.uint64Value)
+            handler(clock.seconds(from: data.endDate), data.numberOfSteps.int64Value)
         }
     }
 

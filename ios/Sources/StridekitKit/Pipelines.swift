@@ -68,7 +68,7 @@ public final class PacePipeline: @unchecked Sendable {
     }
 
     /// A cumulative step count (CMPedometerData.numberOfSteps since the start date).
-    public func push(stepCount steps: UInt64, tS: Double) {
+    public func push(stepCount steps: Int64, tS: Double) {
         lock.lock()
         defer { lock.unlock() }
         if let batch = self.steps.add(tS: tS, { StepCountLayout.append(tS: tS, steps: steps, to: &$0) }) {

@@ -68,14 +68,15 @@ public enum AccelLayout {
 }
 
 /// `PaceTracker.pushStepCountsPacked`: 16 bytes, `t_s` f64 then the cumulative `steps`
-/// u64. Rust: `packed::STEP_COUNT_RECORD_BYTES`.
+/// i64 (≥ 0; the Kotlin/Swift `StepSample.count` type). Rust:
+/// `packed::STEP_COUNT_RECORD_BYTES`.
 public enum StepCountLayout {
     public static let recordBytes = 16
     public static let fields = ["t_s", "steps"]
 
-    public static func append(tS: Double, steps: UInt64, to data: inout Data) {
+    public static func append(tS: Double, steps: Int64, to data: inout Data) {
         appendLittleEndian(tS, to: &data)
-        appendLittleEndian(steps, to: &data)
+        appendLittleEndian(UInt64(bitPattern: steps), to: &data)
     }
 }
 

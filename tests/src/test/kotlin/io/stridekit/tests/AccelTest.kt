@@ -56,7 +56,7 @@ class AccelTest {
             val detected = t.detectedSteps().toDouble()
             val err = (detected - reference) / reference
             assertTrue(abs(err) < 0.03, "detected $detected vs reference $reference")
-            assertTrue((t.estimate().cadenceSpm ?: 0.0) >= 0.0)
+            assertTrue((t.estimate()!!.cadenceSpm ?: 0.0) >= 0.0)
         }
     }
 

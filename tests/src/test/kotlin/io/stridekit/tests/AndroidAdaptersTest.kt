@@ -180,7 +180,7 @@ class AndroidAdaptersTest {
             }
             got += session.flush()
             assertTrue(got.isEmpty(), "fixes are pushed as they arrive: nothing left")
-            assertEquals(reference(samples).last().bits(), tracker.estimate().bits())
+            assertEquals(reference(samples).last().bits(), tracker.estimate()!!.bits())
         }
     }
 
@@ -214,7 +214,7 @@ class AndroidAdaptersTest {
             // beyond its buffer of 64 when the collector falls behind (a loaded
             // machine), so only the newest 65 are certain.
             assertTrue(received.size in 65..90, "estimates received: ${received.size}")
-            assertTrue(last.steps > 20uL, "steps detected: ${last.steps}")
+            assertTrue(last.steps > 20L, "steps detected: ${last.steps}")
             assertEquals(nav.estimate(), last)
             assertEquals(0, session.merger.droppedNoGyro.toInt())
         }

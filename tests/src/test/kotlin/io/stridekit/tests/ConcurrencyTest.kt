@@ -38,7 +38,7 @@ class ConcurrencyTest {
                             // rejected with a PaceException, never crash.
                             val t = clock.incrementAndGet().toDouble() / 10.0
                             val fix = GnssFix(tS = t, latDeg = 50.0 + t * 2e-5, lonDeg = 18.0, horizontalAccuracyM = 5.0)
-                            val step = StepSample.Count(tS = t, steps = (t * 3).toULong())
+                            val step = StepSample.Count(tS = t, steps = (t * 3).toLong())
                             when (i % 4) {
                                 0 -> try { tracker.pushFix(fix); accepted.incrementAndGet() } catch (e: PaceException) { rejected.incrementAndGet() }
                                 1 -> try { tracker.pushSteps(step); accepted.incrementAndGet() } catch (e: PaceException) { rejected.incrementAndGet() }

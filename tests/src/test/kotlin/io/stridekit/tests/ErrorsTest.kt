@@ -58,12 +58,12 @@ class ErrorsTest {
             assertEquals(10.0, e.lastTS)
             assertFailsWith<PaceException.TimeNotIncreasing> { t.pushFix(fix(10.0)) }
 
-            t.pushSteps(StepSample.Count(tS = 10.0, steps = 100uL))
+            t.pushSteps(StepSample.Count(tS = 10.0, steps = 100L))
             val s = assertFailsWith<PaceException.TimeNotIncreasing> { t.pushSteps(StepSample.Event(tS = 9.5)) }
             assertEquals(SensorStream.STEPS, s.stream)
 
             // Still accepts later samples of both streams.
-            t.pushSteps(StepSample.Count(tS = 11.0, steps = 103uL))
+            t.pushSteps(StepSample.Count(tS = 11.0, steps = 103L))
             assertEquals(11.0, t.pushFix(fix(11.0)).tS)
         }
     }
@@ -76,7 +76,7 @@ class ErrorsTest {
             val e = assertFailsWith<PaceException.InvalidSnapshot> { PaceTracker.restore(bytes) }
             assertTrue(e.toString().startsWith("cannot restore snapshot"), e.toString())
         }
-        PaceTracker.restore(good).use { assertEquals(1.0, it.estimate().tS) }
+        PaceTracker.restore(good).use { assertEquals(1.0, it.estimate()!!.tS) }
     }
 
     @Test
@@ -101,7 +101,7 @@ class ErrorsTest {
         PaceTracker.withDefaults().use { t ->
             val batch = listOf(fix(1.0), fix(2.0).copy(lonDeg = Double.POSITIVE_INFINITY), fix(3.0), fix(2.5), fix(4.0))
             val r = t.pushFixes(batch)
-            assertEquals(listOf(1u, 3u), r.rejected.map { it.index })
+            assertEquals(listOf(1, 3), r.rejected.map { it.index })
             assertTrue(r.rejected[0].error is PaceException.NonFinite)
             assertTrue(r.rejected[1].error is PaceException.TimeNotIncreasing)
             assertEquals(r.rejected[1].error.toString(), r.rejected[1].description)
@@ -123,7 +123,7 @@ class ErrorsTest {
     fun `Kotlin packing matches the documented layout`() {
         val fixes = listOf(fix(1.0), fix(2.0).copy(altM = 120.0, speedMps = 3.2, speedAccuracyMps = 0.3), fix(3.0).copy(horizontalAccuracyM = null))
         assertContentEquals(packFixes(fixes), KotlinPacking.fixes(fixes))
-        val counts = listOf(StepSample.Count(0.5, 0uL), StepSample.Count(1.5, ULong.MAX_VALUE))
+        val counts = listOf(StepSample.Count(0.5, 0L), StepSample.Count(1.5, Long.MAX_VALUE))
         assertContentEquals(packStepCounts(counts), KotlinPacking.stepCounts(counts))
     }
 

@@ -112,7 +112,7 @@ class FootTest {
         val samples = walk.samples
         FootNavigator(walk.config).use { nav ->
             val strides = mutableListOf<FootEstimate>()
-            var produced = 0u
+            var produced = 0
             for (batch in samples.chunked(1000)) {
                 val r = nav.pushPacked(pack(batch), FootOutput.STRIDE_ENDS)
                 assertTrue(r.rejected.isEmpty(), "rejected: ${r.rejected.take(3)}")
@@ -125,7 +125,7 @@ class FootTest {
             val end = assertNotNull(nav.estimate())
             assertTrue(produced.toInt() in (samples.size - 200)..samples.size, "produced $produced of ${samples.size}")
             assertEquals(end.strides.toInt(), strides.size, "one stride-end estimate per stride")
-            assertTrue(end.strides >= 20u, "strides counted: ${end.strides}")
+            assertTrue(end.strides >= 20, "strides counted: ${end.strides}")
             assertTrue(end.distanceM > 0.7 * walk.truthPathM && end.distanceM < 1.2 * walk.truthPathM,
                 "distance ${end.distanceM} m vs truth path ${walk.truthPathM} m")
             val closure = end.horizontal() / end.distanceM
@@ -153,7 +153,7 @@ class FootTest {
     @Test
     fun `a simulated walk gives Rust's estimates and resumes from a snapshot`() {
         val sim = simulateFootWalk(SIM_SEED, 1u)
-        assertEquals(0u, sim.referenceRejected)
+        assertEquals(0, sim.referenceRejected)
         assertEquals(sim.sampleCount.toInt() * 56, sim.samplesPacked.size)
         val bytes = sim.samplesPacked
         val cut = bytes.size / 56 / 3 * 56
@@ -209,7 +209,7 @@ class FootTest {
             more[10] = more[10].copy(gyroXRads = Double.NaN)
             more[20] = more[20].copy(tS = 0.2)
             val r = nav.pushPacked(pack(more), FootOutput.ALL)
-            assertEquals(listOf(10u, 20u), r.rejected.map { it.index })
+            assertEquals(listOf(10, 20), r.rejected.map { it.index })
             assertTrue(r.rejected[0].error is FootException.NonFinite, "${r.rejected[0].error}")
             assertTrue(r.rejected[1].error is FootException.TimeNotIncreasing, "${r.rejected[1].error}")
             assertTrue(r.rejected[1].description.contains("not after"), r.rejected[1].description)
@@ -265,7 +265,7 @@ class FootTest {
             axisRemap = footAxesPyshoe(),
             detector = footDetectorDefault(FootDetectorKind.SVM),
             correction = FootCorrection.AS_PUBLISHED,
-            medianWindow = 3u,
+            medianWindow = 3,
             gyroRangeRads = 35.0,
         )
         assertEquals(FootDetector.Svm(modelText = null), svm.detector)
@@ -277,7 +277,7 @@ class FootTest {
             FootNavigator(c).use { assertEquals(c, it.config()) }
         }
 
-        val even = assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(medianWindow = 4u)) }
+        val even = assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(medianWindow = 4)) }
         assertEquals("median_window", even.field)
         assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(zuptNoiseMps = -1.0)) }
         assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(maxGapS = Double.NaN)) }

@@ -34,7 +34,7 @@ class NavigatorTest {
         PhoneNavigator.withDefaults().use { nav ->
             val r = nav.pushImuPacked(imu(10.0))
             assertTrue(r.rejected.isEmpty(), "${r.rejected.take(2)}")
-            assertEquals(0uL, assertNotNull(r.latest).steps)
+            assertEquals(0L, assertNotNull(r.latest).steps)
             val e = nav.pushFix(GnssFix(tS = 10.0, latDeg = 46.5, lonDeg = 6.6, horizontalAccuracyM = 4.0))
             assertEquals(46.5, assertNotNull(e.latDeg), 1e-6)
             val saved = nav.snapshot()

@@ -32,7 +32,7 @@ class OdometryTest {
         val walk = simulatePhoneWalk(seed = 21uL, placement = PhonePlacement.IN_HAND, speedMps = 1.3, durationS = 90.0)
         PhoneOdometry.withDefaults().use { o ->
             assertNull(o.estimate())
-            var estimates = 0u
+            var estimates = 0
             for (c in chunks(walk.imuPacked, 1000)) {
                 val r = o.pushImuPacked(c)
                 assertTrue(r.rejected.isEmpty(), "rejected: ${r.rejected.take(3)}")
@@ -40,7 +40,7 @@ class OdometryTest {
             }
             val e = assertNotNull(o.estimate())
             assertEquals(walk.referenceFinal, e, "the FFI gives what Rust computes")
-            assertTrue(estimates > 500u, "estimates $estimates")
+            assertTrue(estimates > 500, "estimates $estimates")
             // The default source is the general regressor (docs/odometry-pipeline.md).
             assertEquals(OdometryPlacementSource.Unknown, o.config().placement)
             assertNull(e.regressorPlacement)
@@ -83,7 +83,7 @@ class OdometryTest {
             val one = simulatePhoneWalk(1uL, PhonePlacement.BAG, 1.0, 2.0).imuPacked.copyOfRange(0, 2 * record)
             java.nio.ByteBuffer.wrap(one).order(java.nio.ByteOrder.LITTLE_ENDIAN).putDouble(record + 8, Double.NaN)
             val r = o.pushImuPacked(one)
-            assertEquals(listOf(1u), r.rejected.map { it.index })
+            assertEquals(listOf(1), r.rejected.map { it.index })
         }
         assertFailsWith<OdometryException.InvalidModel> { PhoneOdometry.withModel(odometryConfigDefault(), "stridekit-odometry 1\n") }
         assertFailsWith<OdometryException.InvalidSnapshot> { PhoneOdometry.restore(byteArrayOf(9, 9, 9)) }

@@ -18,7 +18,7 @@ class PedometerOnlyTest {
 
     private fun counts(tracker: PaceTracker, seconds: Int) {
         for (i in 1..seconds) {
-            tracker.pushSteps(StepSample.Count(tS = i.toDouble(), steps = (cadence * i).toLong().toULong()))
+            tracker.pushSteps(StepSample.Count(tS = i.toDouble(), steps = (cadence * i).toLong()))
         }
     }
 
@@ -26,7 +26,7 @@ class PedometerOnlyTest {
     fun `step counts alone give pedometer speed with an initial step length`() {
         PaceTracker(PaceConfig(mode = PaceMode.ADAPTIVE, initialStepLengthM = 1.1)).use { t ->
             counts(t, 30)
-            val e = t.estimate()
+            val e = assertNotNull(t.estimate())
             assertEquals(PaceSource.PEDOMETER, e.source)
             assertEquals(0.0, e.gnssWeight)
             val want = cadence * 1.1
@@ -44,7 +44,7 @@ class PedometerOnlyTest {
             for (i in 1..20) {
                 t.pushSteps(StepSample.Cadence(tS = i.toDouble(), stepsPerMin = 170.0))
             }
-            val e = t.estimate()
+            val e = assertNotNull(t.estimate())
             assertEquals(PaceSource.PEDOMETER, e.source)
             assertTrue(Math.abs(e.speedMps - cadence * 0.95) < 0.03, "speed ${e.speedMps}")
             val restored = PaceTracker.restore(t.snapshot())

@@ -63,7 +63,7 @@ class PlacementConcurrencyTest {
             assertTrue(rejected.get() < pushed.get() * 3 / 4, "rejected ${rejected.get()} of ${pushed.get()}")
             // Accepted samples span well over one 5.12 s window: an estimate exists.
             val e = assertNotNull(c.estimate())
-            assertTrue(e.windows > 0uL)
+            assertTrue(e.windows > 0L)
             val saved = c.snapshot()
             PlacementClassifier.restore(saved).use { assertContentEquals(saved, it.snapshot()); assertEquals(c.estimate(), it.estimate()) }
         }

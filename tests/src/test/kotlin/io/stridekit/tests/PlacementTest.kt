@@ -52,7 +52,7 @@ class PlacementTest {
             assertNull(c.estimate())
             val r = c.pushAccelPacked(packedTrace(trace!!))
             assertTrue(r.rejected.isEmpty(), "rejected: ${r.rejected.take(3)}")
-            assertTrue(r.windows > 50u, "windows ${r.windows}")
+            assertTrue(r.windows > 50, "windows ${r.windows}")
             val e = assertNotNull(r.latest)
             println("PlacementTest: ${trace.name}: ${e.placement} (confidence ${"%.2f".format(e.confidence)}) after ${e.windows} windows")
             // The shipped model has seen this trace in training: this checks the
@@ -100,13 +100,13 @@ class PlacementTest {
                 AccelSample(tS = 0.01, xMps2 = 0.0, yMps2 = 0.0, zMps2 = 9.8),
                 AccelSample(tS = 0.005, xMps2 = 0.0, yMps2 = 0.0, zMps2 = 9.8),
             ))
-            assertEquals(listOf(0u, 2u), r.rejected.map { it.index })
+            assertEquals(listOf(0, 2), r.rejected.map { it.index })
             assertTrue(r.rejected.all { it.reason.isNotEmpty() })
             assertTrue(!before.contentEquals(c.snapshot()), "the good sample was taken")
             assertFailsWith<PlacementException.InvalidBuffer> { c.pushAccelPacked(ByteArray(33)) }
         }
-        assertFailsWith<PlacementException.InvalidModel> { PlacementClassifier.withModel("not a model", 8u) }
+        assertFailsWith<PlacementException.InvalidModel> { PlacementClassifier.withModel("not a model", 8) }
         assertFailsWith<PlacementException.InvalidSnapshot> { PlacementClassifier.restore(byteArrayOf(1, 2, 3)) }
-        PlacementClassifier.withModel(placementShippedModel(), 8u).use { assertNull(it.estimate()) }
+        PlacementClassifier.withModel(placementShippedModel(), 8).use { assertNull(it.estimate()) }
     }
 }

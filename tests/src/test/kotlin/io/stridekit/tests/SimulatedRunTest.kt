@@ -20,7 +20,7 @@ class SimulatedRunTest {
         assertTrue(run.fixes.size > 100, "${run.fixes.size} fixes")
         assertTrue(run.steps.isNotEmpty(), "no step samples")
         assertEquals(run.fixes.size + run.steps.size, run.samples.size)
-        assertEquals(0u, run.referenceRejected)
+        assertEquals(0, run.referenceRejected)
         assertEquals(run.fixes.size, run.referenceEstimates.size)
     }
 

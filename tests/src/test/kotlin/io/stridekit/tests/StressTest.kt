@@ -599,7 +599,7 @@ class StressTest {
                 val t = after(imu, 0.01)
                 val r = o.pushImuPacked(validImu(t, 300), OrientationOutput.ALL)
                 assertNoRejections(r.rejected, "IMU")
-                assertEquals(300u, r.accepted)
+                assertEquals(300, r.accepted)
                 assertFinite(listOf(r.estimates, r.latest, o.estimate()), "OrientationFilter estimate")
 
                 val saved = o.snapshot()
@@ -640,7 +640,7 @@ class StressTest {
                 // 12 s: well over one 5.12 s window.
                 val r = o.pushAccelPacked(validAccel(t, 1200))
                 assertNoRejections(r.rejected, "accelerometer")
-                assertTrue(r.windows > 0u, "windows classified after the stress")
+                assertTrue(r.windows > 0, "windows classified after the stress")
                 assertFinite(listOf(r.latest, o.estimate()), "PlacementClassifier estimate")
 
                 val saved = o.snapshot()
@@ -720,7 +720,7 @@ class StressTest {
         )
         afterStress("pdrReferenceReplay", failures) {
             val r = pdrReferenceReplay(validImu(0.0, 300), null)
-            assertEquals(0u, r.rejected)
+            assertEquals(0, r.rejected)
             assertFinite(listOf(r.steps, r.latest), "replay")
         }
     }

@@ -58,7 +58,7 @@ class PackedBuffer(val recordBytes: Int, initialRecords: Int = 64) {
     }
 
     companion object {
-        /** `t_s, steps` (f64, u64): `PaceTracker.pushStepCountsPacked`. */
+        /** `t_s, steps` (f64, i64 ≥ 0): `PaceTracker.pushStepCountsPacked`. */
         const val STEP_COUNT_BYTES = 16
         /** `t_s, ax, ay, az`: `PaceTracker.pushAccelPacked`, `PlacementClassifier.pushAccelPacked`. */
         const val ACCEL_BYTES = 32
@@ -119,7 +119,7 @@ class StepCountBatcher {
     val order = Monotonic()
 
     fun add(tS: Double, steps: Long): Boolean {
-        require(steps >= 0) { "counts are unsigned" }
+        require(steps >= 0) { "step counts are never negative" }
         if (!order.accept(tS)) return false
         buffer.begin().f64(tS).u64(steps).end()
         return true

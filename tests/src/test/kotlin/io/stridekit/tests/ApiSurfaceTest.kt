@@ -1,0 +1,106 @@
+package io.stridekit.tests
+
+import io.stridekit.AccelSample
+import io.stridekit.NavException
+import io.stridekit.PaceConfig
+import io.stridekit.PaceException
+import io.stridekit.PaceMode
+import io.stridekit.PaceSource
+import io.stridekit.PaceTracker
+import io.stridekit.PhoneImuSample
+import io.stridekit.PhoneNavigator
+import io.stridekit.StepDetectorMode
+import io.stridekit.StepLengthModel
+import io.stridekit.StepSample
+import io.stridekit.navigatorConfigDefault
+import io.stridekit.packAccelSamples
+import io.stridekit.packImuSamples
+import org.junit.jupiter.api.Test
+import java.nio.ByteBuffer
+import java.nio.ByteOrder
+import kotlin.math.PI
+import kotlin.math.sin
+import kotlin.test.assertContentEquals
+import kotlin.test.assertEquals
+import kotlin.test.assertFailsWith
+import kotlin.test.assertNotNull
+import kotlin.test.assertNull
+import kotlin.test.assertTrue
+
+/** The surface an app meets: pack helpers, config records, Int/Long counts, nullability. */
+class ApiSurfaceTest {
+    private fun walk(seconds: Double): List<PhoneImuSample> = (0 until (seconds * 100).toInt()).map { i ->
+        val t = i / 100.0
+        val bounce = 2.5 * sin(2 * PI * 1.8 * t)
+        PhoneImuSample(
+            tS = t, accelXMps2 = 0.0, accelYMps2 = 0.3 * bounce, accelZMps2 = 9.81 + bounce,
+            gyroXRads = 0.0, gyroYRads = 0.0, gyroZRads = 0.0,
+            magXUt = 20.0, magYUt = 0.0, magZUt = -40.0,
+        )
+    }
+
+    @Test
+    fun `packImuSamples writes the documented 80-byte layout, gyro before accel`() {
+        val s = PhoneImuSample(
+            tS = 1.5, accelXMps2 = 0.1, accelYMps2 = 0.2, accelZMps2 = 9.8,
+            gyroXRads = 0.01, gyroYRads = 0.02, gyroZRads = 0.03,
+        )
+        val b = ByteBuffer.allocate(80).order(ByteOrder.LITTLE_ENDIAN)
+        listOf(1.5, 0.01, 0.02, 0.03, 0.1, 0.2, 9.8, Double.NaN, Double.NaN, Double.NaN).forEach { b.putDouble(it) }
+        assertContentEquals(b.array(), packImuSamples(listOf(s)))
+
+        val a = AccelSample(tS = 2.0, xMps2 = 1.0, yMps2 = -2.0, zMps2 = 9.0)
+        val ab = ByteBuffer.allocate(32).order(ByteOrder.LITTLE_ENDIAN)
+        listOf(2.0, 1.0, -2.0, 9.0).forEach { ab.putDouble(it) }
+        assertContentEquals(ab.array(), packAccelSamples(listOf(a)))
+    }
+
+    @Test
+    fun `a configured navigator walks from packed helper records`() {
+        val config = navigatorConfigDefault().copy(priorWeinbergK = 0.45)
+        assertEquals(StepDetectorMode.ROBUST, config.stepDetector)
+        assertEquals(StepLengthModel.WEINBERG, config.stepLengthModel)
+        PhoneNavigator(config).use { nav ->
+            assertNull(nav.estimate(), "null before the first sample")
+            assertEquals(config, nav.config())
+            val r = nav.pushImuPacked(packImuSamples(walk(20.0)))
+            assertTrue(r.rejected.isEmpty(), "${r.rejected.take(2)}")
+            val e = assertNotNull(r.latest)
+            assertTrue(e.steps > 10L, "steps ${e.steps}")
+        }
+        val bad = navigatorConfigDefault().let { it.copy(orientation = it.orientation.copy(accelTimeConstantS = -1.0)) }
+        assertFailsWith<NavException.InvalidConfig> { PhoneNavigator(bad) }
+    }
+
+    @Test
+    fun `indices are Int, counts Long, and a negative count is typed`() {
+        PaceTracker.withDefaults().use { t ->
+            assertNull(t.estimate(), "null before the first sample")
+            val r = t.pushStepSamples(
+                listOf(
+                    StepSample.Count(tS = 1.0, steps = 10L),
+                    StepSample.Count(tS = 2.0, steps = -5L),
+                    StepSample.Count(tS = 3.0, steps = 13L),
+                ),
+            )
+            assertEquals(listOf(1), r.rejected.map { it.index })
+            val err = r.rejected[0].error
+            assertTrue(err is PaceException.OutOfRange && err.field == "steps", "$err")
+            assertNotNull(t.estimate())
+            assertNotNull(r.latest)
+            assertFailsWith<PaceException.OutOfRange> { t.pushSteps(StepSample.Count(tS = 4.0, steps = -1L)) }
+        }
+    }
+
+    @Test
+    fun `pedometer speed without GNSS reports the step length it uses`() {
+        PaceTracker(PaceConfig(mode = PaceMode.ADAPTIVE)).use { t ->
+            for (i in 1..30) t.pushSteps(StepSample.Count(tS = i.toDouble(), steps = (170.0 / 60.0 * i).toLong()))
+            val e = assertNotNull(t.estimate())
+            assertEquals(PaceSource.PEDOMETER, e.source)
+            val l = assertNotNull(e.stepLengthM, "a PEDOMETER speed comes with its step length")
+            val cadenceHz = assertNotNull(e.cadenceSpm) / 60.0
+            assertTrue(Math.abs(e.speedMps - cadenceHz * l) < 0.1 * e.speedMps, "speed ${e.speedMps} vs $cadenceHz × $l")
+        }
+    }
+}
