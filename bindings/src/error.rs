@@ -105,7 +105,7 @@ macro_rules! engine_error {
             },
             /// Accelerometer samples look like g, not m/s² (multiply by 9.80665; on
             /// iOS by −9.80665, see ios/README.md).
-            #[error("acceleration magnitude averages {mean_magnitude:.2}: the samples look like g, expected m/s²")]
+            #[error("acceleration magnitude averages {mean_magnitude:.2}: the samples look like g, expected m/s² (multiply by 9.80665)")]
             AccelerationNotInMps2 { mean_magnitude: f64 },
             /// Timestamps are not seconds: they look like `likely_unit` (divide
             /// accordingly).
