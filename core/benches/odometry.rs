@@ -18,7 +18,7 @@ use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughpu
 use stridekit_core::odometry::bias::BiasCorrector;
 use stridekit_core::odometry::features::FeatureWindow;
 use stridekit_core::odometry::{
-    OdometryConfig, OdometryModel, OdometrySample, PhoneOdometry, PlacementSource,
+    ImuSample, OdometryConfig, OdometryModel, PhoneOdometry, PlacementSource,
 };
 use stridekit_lab::odometry::train::{sim_scenario, FIRST_EVAL_SEED};
 use stridekit_sim::{simulate_phone, PhonePlacement};
@@ -26,7 +26,7 @@ use stridekit_sim::{simulate_phone, PhonePlacement};
 const BLOCK: usize = 2_000;
 const WARM: usize = 1_000;
 
-fn data() -> Vec<OdometrySample> {
+fn data() -> Vec<ImuSample> {
     let sim = simulate_phone(&sim_scenario(FIRST_EVAL_SEED, PhonePlacement::InHand));
     sim.samples
         .iter()

@@ -6,7 +6,7 @@ use common::allocations_in;
 use stridekit_core::input::InputError;
 
 use stridekit_core::odometry::{
-    OdometryConfig, OdometryError, OdometryModel, OdometrySample, PhoneOdometry, PlacementSource,
+    ImuSample, OdometryConfig, OdometryError, OdometryModel, PhoneOdometry, PlacementSource,
     AUTO_MIN_CONFIDENCE,
 };
 use stridekit_core::placement::Placement;
@@ -18,7 +18,7 @@ fn fixed(p: PhonePlacement) -> PlacementSource {
     PlacementSource::Fixed(p.into())
 }
 
-fn walk(seed: u64, p: PhonePlacement) -> (stridekit_sim::SimulatedPhone, Vec<OdometrySample>) {
+fn walk(seed: u64, p: PhonePlacement) -> (stridekit_sim::SimulatedPhone, Vec<ImuSample>) {
     let sim = simulate_phone(&sim_scenario(seed, p));
     let samples = sim.samples.iter().map(Into::into).collect();
     (sim, samples)
@@ -62,7 +62,7 @@ fn other_input_rates_are_resampled() {
     for rate in [100.0, 200.0, 50.0] {
         sc.sample_rate_hz = rate;
         let sim = simulate_phone(&sc);
-        let samples: Vec<OdometrySample> = sim.samples.iter().map(Into::into).collect();
+        let samples: Vec<ImuSample> = sim.samples.iter().map(Into::into).collect();
         let s = run_methods(&samples, &sim, &model, fixed(PhonePlacement::InHand)).scores();
         ate.push(s[0].0);
     }
@@ -154,7 +154,7 @@ fn adversarial_input_never_panics_and_never_yields_nan() {
     let mut estimates = 0;
     for (i, s) in samples.iter().take(20_000).enumerate() {
         t += 0.01;
-        let mut x = OdometrySample { t_s: t, ..*s };
+        let mut x = ImuSample { t_s: t, ..*s };
         match i % 97 {
             1 => x.accel_mps2[0] = f64::NAN,
             2 => x.gyro_rads[2] = f64::INFINITY,
@@ -192,11 +192,11 @@ fn adversarial_input_never_panics_and_never_yields_nan() {
     let mut eng = PhoneOdometry::shipped(OdometryConfig::default()).unwrap();
     let s = samples[0];
     assert!(matches!(
-        eng.push(&OdometrySample { t_s: f64::NAN, ..s }),
+        eng.push(&ImuSample { t_s: f64::NAN, ..s }),
         Err(OdometryError::Input(InputError::NonFinite { field: "t_s" }))
     ));
     assert!(matches!(
-        eng.push(&OdometrySample {
+        eng.push(&ImuSample {
             gyro_rads: [1e4, 0.0, 0.0],
             ..s
         }),
@@ -209,7 +209,7 @@ fn adversarial_input_never_panics_and_never_yields_nan() {
     ));
     // Accelerations in g at rest.
     let mut eng = PhoneOdometry::shipped(OdometryConfig::default()).unwrap();
-    let g = OdometrySample {
+    let g = ImuSample {
         t_s: 0.0,
         accel_mps2: [0.0, 0.0, 1.0],
         gyro_rads: [0.0; 3],
@@ -225,7 +225,7 @@ fn adversarial_input_never_panics_and_never_yields_nan() {
 fn snapshot_split_and_restore_gives_identical_output() {
     let (_, samples) = walk(FIRST_EVAL_SEED + 4, PhonePlacement::Armband);
     let samples = &samples[..8000];
-    let run = |eng: &mut PhoneOdometry, s: &[OdometrySample], out: &mut Vec<[u64; 7]>| {
+    let run = |eng: &mut PhoneOdometry, s: &[ImuSample], out: &mut Vec<[u64; 7]>| {
         let code = |p: Option<Placement>| p.map_or(0, |p| 1 + p.index() as u64);
         for x in s {
             if let Ok(Some(e)) = eng.push(x) {
@@ -257,9 +257,9 @@ fn snapshot_split_and_restore_gives_identical_output() {
     );
 }
 
-type Run = fn(&mut PhoneOdometry, &[OdometrySample], &mut Vec<[u64; 7]>);
+type Run = fn(&mut PhoneOdometry, &[ImuSample], &mut Vec<[u64; 7]>);
 
-fn snapshot_case(samples: &[OdometrySample], run: Run, placement: PlacementSource) {
+fn snapshot_case(samples: &[ImuSample], run: Run, placement: PlacementSource) {
     let cfg = OdometryConfig {
         placement,
         ..OdometryConfig::default()
@@ -332,7 +332,7 @@ fn pushing_samples_does_not_allocate() {
                     std::hint::black_box(e);
                 }
             }
-            let _ = eng.push(&OdometrySample {
+            let _ = eng.push(&ImuSample {
                 t_s: f64::NAN,
                 ..b[0]
             });

@@ -17,7 +17,7 @@ use stridekit_core::foot::{
 };
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::input::{InputError, LikelyTimeUnit};
-use stridekit_core::odometry::{OdometryConfig, OdometrySample, PhoneOdometry};
+use stridekit_core::odometry::{OdometryConfig, PhoneOdometry};
 use stridekit_core::pace::{GnssFix, PaceConfig, PaceError, PaceSample, PaceTracker, StepSample};
 use stridekit_core::pdr::{NavError, NavigatorConfig, PhoneNavigator};
 use stridekit_core::placement::PlacementClassifier;
@@ -559,7 +559,7 @@ fn restore_refuses_poisoned_numbers_of_the_placement_classifier_and_odometry() {
         |c| c.snapshot(),
     );
     let mut o = PhoneOdometry::shipped(OdometryConfig::default()).unwrap();
-    let sample = |s: &ImuSample| OdometrySample {
+    let sample = |s: &ImuSample| ImuSample {
         t_s: s.t_s,
         accel_mps2: s.accel_mps2,
         gyro_rads: s.gyro_rads,

@@ -10,7 +10,7 @@
 
 use stridekit_core::ahrs::{Ahrs, AhrsSettings, ImuSample};
 use stridekit_core::foot::{FootConfig, FootNavigator, FootSample};
-use stridekit_core::odometry::{OdometryConfig, OdometrySample, PhoneOdometry};
+use stridekit_core::odometry::{OdometryConfig, PhoneOdometry};
 use stridekit_core::pace::{GnssFix, PaceConfig, PaceEstimate, PaceTracker, StepSample};
 use stridekit_core::pdr::{NavEstimate, NavigatorConfig, PhoneNavigator};
 use stridekit_core::placement::PlacementClassifier;
@@ -538,7 +538,7 @@ impl Engine for Odometry {
     fn feed(&mut self, b: &mut Bytes) {
         let t = b.time(&mut self.t, 0.01);
         let s = imu(b, t);
-        let s = OdometrySample {
+        let s = ImuSample {
             t_s: s.t_s,
             accel_mps2: s.accel_mps2,
             gyro_rads: s.gyro_rads,

@@ -12,7 +12,7 @@ use std::time::Instant;
 use stridekit_core::ahrs::{Ahrs, AhrsOutput, AhrsSettings, ImuSample};
 use stridekit_core::foot::{FootConfig, FootEstimate, FootNavigator, FootSample};
 use stridekit_core::geo::LocalFrame;
-use stridekit_core::odometry::{OdometryConfig, OdometryEstimate, OdometrySample, PhoneOdometry};
+use stridekit_core::odometry::{OdometryConfig, OdometryEstimate, PhoneOdometry};
 use stridekit_core::pace::{GnssFix, PaceConfig, PaceEstimate, PaceTracker};
 use stridekit_core::pdr::{NavEstimate, NavigatorConfig, PhoneNavigator};
 use stridekit_core::placement::{PlacementClassifier, PlacementEstimate};
@@ -744,7 +744,7 @@ pub fn run(args: &SoakArgs, mut progress: impl FnMut(&str)) -> SoakReport {
         // Learned odometry: IMU with magnetometer.
         let t = Instant::now();
         for s in &chunk.imu {
-            let o = OdometrySample {
+            let o = ImuSample {
                 t_s: s.t_s,
                 accel_mps2: s.accel_mps2,
                 gyro_rads: s.gyro_rads,

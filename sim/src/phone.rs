@@ -1050,7 +1050,7 @@ impl From<PhonePlacement> for Placement {
     }
 }
 
-impl From<&ImuSample> for stridekit_core::odometry::OdometrySample {
+impl From<&ImuSample> for stridekit_core::odometry::ImuSample {
     fn from(s: &ImuSample) -> Self {
         Self {
             t_s: s.t_s,

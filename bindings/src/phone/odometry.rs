@@ -243,7 +243,7 @@ impl PhoneOdometry {
             let mut rejected = Vec::new();
             for (index, c) in records.enumerate() {
                 let r = imu_record(c);
-                let s = core::OdometrySample {
+                let s = core::ImuSample {
                     t_s: r.t_s,
                     gyro_rads: r.gyro_rads,
                     accel_mps2: r.accel_mps2,
@@ -303,7 +303,7 @@ pub fn odometry_shipped_model() -> String {
 
 /// Samples in the 80-byte layout (NaN magnetometer when absent).
 #[cfg(any(test, feature = "testing"))]
-pub(crate) fn pack(samples: &[core::OdometrySample]) -> Vec<u8> {
+pub(crate) fn pack(samples: &[core::ImuSample]) -> Vec<u8> {
     let mut out = Vec::with_capacity(samples.len() * crate::phone::navigator::IMU_RECORD_BYTES);
     for s in samples {
         let m = s.mag_ut.unwrap_or([f64::NAN; 3]);
@@ -329,10 +329,10 @@ pub(crate) fn pack(samples: &[core::OdometrySample]) -> Vec<u8> {
 mod tests {
     use super::*;
 
-    fn walk() -> Vec<core::OdometrySample> {
+    fn walk() -> Vec<core::ImuSample> {
         use stridekit_sim::{simulate_phone, PhonePlacement as SimPlacement, PhoneScenario};
         let sim = simulate_phone(&PhoneScenario::walk(5, SimPlacement::InHand, 1.3, 30.0));
-        sim.samples.iter().map(core::OdometrySample::from).collect()
+        sim.samples.iter().map(core::ImuSample::from).collect()
     }
 
     #[test]

@@ -111,10 +111,10 @@ pub fn simulate_phone_walk(
             PhonePlacement::SwingingArm => Sim::SwingingArm,
         };
         let sim = simulate_phone(&PhoneScenario::walk(seed, p, speed_mps, duration_s));
-        let samples: Vec<core_odometry::OdometrySample> = sim
+        let samples: Vec<core_odometry::ImuSample> = sim
             .samples
             .iter()
-            .map(core_odometry::OdometrySample::from)
+            .map(core_odometry::ImuSample::from)
             .collect();
         let mut engine =
             core_odometry::PhoneOdometry::shipped(core_odometry::OdometryConfig::default())?;

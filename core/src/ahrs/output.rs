@@ -6,8 +6,10 @@ use super::error::AhrsError;
 use super::flags::AhrsFlags;
 use super::frame::EarthFrame;
 
-/// One IMU sample, for [`Ahrs::update_batch`](super::Ahrs::update_batch).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// One IMU sample, the SDK's one type for it: the AHRS
+/// ([`Ahrs::update_batch`](super::Ahrs::update_batch)), the phone navigator and the
+/// odometry take it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ImuSample {
     /// Time of the sample, seconds on the app's monotonic clock, strictly increasing.
     pub t_s: f64,

@@ -18,7 +18,7 @@ use super::error::OdometryError;
 use super::features::{FeatureWindow, WindowFeatures, MAX_WINDOW};
 use super::model::{slot, slot_placement, OdometryModel};
 use super::resample::{Channels, Resampler};
-use super::sample::{check, OdometrySample};
+use super::sample::{check, ImuSample};
 use super::smooth::{Gaussian, MAX_TAPS};
 use super::stabilise::stabilise;
 use crate::ahrs::{Ahrs, AhrsSettings};
@@ -226,7 +226,7 @@ impl PhoneOdometry {
 
     /// One sample. Returns the new estimate when a window completed. On error the
     /// state is unchanged.
-    pub fn push(&mut self, s: &OdometrySample) -> Result<Option<OdometryEstimate>, OdometryError> {
+    pub fn push(&mut self, s: &ImuSample) -> Result<Option<OdometryEstimate>, OdometryError> {
         self.push_inner(s, None)
     }
 
@@ -237,7 +237,7 @@ impl PhoneOdometry {
     /// an error.
     pub fn push_with_attitude(
         &mut self,
-        s: &OdometrySample,
+        s: &ImuSample,
         attitude_wxyz: [f64; 4],
     ) -> Result<Option<OdometryEstimate>, OdometryError> {
         for v in attitude_wxyz {
@@ -250,7 +250,7 @@ impl PhoneOdometry {
 
     fn push_inner(
         &mut self,
-        s: &OdometrySample,
+        s: &ImuSample,
         attitude: Option<[f64; 4]>,
     ) -> Result<Option<OdometryEstimate>, OdometryError> {
         check(s, &self.time)?;
@@ -372,7 +372,7 @@ impl PhoneOdometry {
     /// gets every estimate.
     pub fn push_batch(
         &mut self,
-        samples: &[OdometrySample],
+        samples: &[ImuSample],
         mut on_estimate: impl FnMut(&OdometryEstimate),
     ) -> OdometryBatch {
         let mut b = OdometryBatch::default();

@@ -37,4 +37,4 @@ pub use engine::{
 pub use error::OdometryError;
 pub use features::WindowFeatures;
 pub use model::{OdometryModel, PipelineParams, Regressor};
-pub use sample::OdometrySample;
+pub use sample::ImuSample;

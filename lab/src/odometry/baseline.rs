@@ -8,7 +8,7 @@
 
 use stridekit_core::ahrs::{Ahrs, AhrsSettings};
 use stridekit_core::input;
-use stridekit_core::odometry::sample::OdometrySample;
+use stridekit_core::odometry::sample::ImuSample;
 use stridekit_core::odometry::stabilise::rotate;
 use stridekit_core::odometry::OdometryError;
 
@@ -53,7 +53,7 @@ impl NaiveOdometry {
     }
 
     /// One sample; on error nothing changes.
-    pub fn push(&mut self, s: &OdometrySample) -> Result<(), OdometryError> {
+    pub fn push(&mut self, s: &ImuSample) -> Result<(), OdometryError> {
         self.time.check(s.t_s)?;
         input::accel(&s.accel_mps2)?;
         input::gyro(&s.gyro_rads)?;

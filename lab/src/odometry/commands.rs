@@ -12,7 +12,7 @@ use crate::odometry::train::{
     FIRST_EVAL_SEED,
 };
 use stridekit_core::odometry::{
-    OdometryConfig, OdometryModel, OdometrySample, PhoneOdometry, PipelineParams, PlacementSource,
+    ImuSample, OdometryConfig, OdometryModel, PhoneOdometry, PipelineParams, PlacementSource,
     AUTO_MIN_CONFIDENCE,
 };
 use stridekit_core::placement::{Placement, CLASSES};
@@ -90,10 +90,10 @@ fn from_sim(sim: &stridekit_sim::SimulatedPhone, p: PhonePlacement) -> Recording
     }
 }
 
-fn samples_of(rec: &Recording) -> Vec<OdometrySample> {
+fn samples_of(rec: &Recording) -> Vec<ImuSample> {
     rec.samples
         .iter()
-        .map(|s| OdometrySample {
+        .map(|s| ImuSample {
             t_s: s.t_s,
             accel_mps2: s.accel_mps2,
             gyro_rads: s.gyro_rads,
@@ -212,7 +212,7 @@ fn true_attitude(sim: &stridekit_sim::SimulatedPhone, t: f64) -> [f64; 4] {
 /// ATE / RTE of the learned pipeline fed the true attitude.
 fn true_attitude_scores(
     sim: &stridekit_sim::SimulatedPhone,
-    samples: &[OdometrySample],
+    samples: &[ImuSample],
     model: &OdometryModel,
     placement: PlacementSource,
 ) -> (f64, f64) {
@@ -246,7 +246,7 @@ fn true_attitude_scores(
 /// the counts (estimates, detected placement = `truth`, own regressor of `truth`
 /// used, general regressor used, then estimates per detected class).
 fn learned_run(
-    samples: &[OdometrySample],
+    samples: &[ImuSample],
     truth: &dyn Truth,
     model: &OdometryModel,
     source: PlacementSource,
@@ -333,7 +333,7 @@ pub fn eval(model: Option<&Path>, seeds: u64, placement_known: bool) -> Result<S
         let reg = *model.regressor(placement_known.then_some(class));
         for seed in FIRST_EVAL_SEED..FIRST_EVAL_SEED + seeds {
             let sim = simulate_phone(&sim_scenario(seed, p));
-            let samples: Vec<OdometrySample> = sim.samples.iter().map(Into::into).collect();
+            let samples: Vec<ImuSample> = sim.samples.iter().map(Into::into).collect();
             let (a, r) = true_attitude_scores(&sim, &samples, &model, source);
             oracle.0 += a;
             oracle.1 += r;

@@ -6,7 +6,7 @@ use super::metrics::{align_start, ate, rte, Point};
 use super::train::Truth;
 use stridekit_core::odometry::engine::{OdometryConfig, PhoneOdometry, PlacementSource};
 use stridekit_core::odometry::model::OdometryModel;
-use stridekit_core::odometry::sample::OdometrySample;
+use stridekit_core::odometry::sample::ImuSample;
 
 /// The methods compared, in [`Tracks::methods`] order.
 pub const METHODS: [&str; 4] = [
@@ -67,7 +67,7 @@ impl Tracks {
 /// Run every method over `samples`; the learned ones pick their regressor from
 /// `placement`.
 pub fn run_methods(
-    samples: &[OdometrySample],
+    samples: &[ImuSample],
     truth: &dyn Truth,
     model: &OdometryModel,
     placement: PlacementSource,

@@ -8,7 +8,7 @@ use nalgebra::{DMatrix, DVector};
 use stridekit_core::odometry::engine::{OdometryConfig, PhoneOdometry, PlacementSource};
 use stridekit_core::odometry::features::{WindowFeatures, N_SCALAR, N_VECTOR};
 use stridekit_core::odometry::model::{slot, OdometryModel, PipelineParams, Regressor};
-use stridekit_core::odometry::sample::OdometrySample;
+use stridekit_core::odometry::sample::ImuSample;
 use stridekit_core::placement::Placement;
 use stridekit_sim::phone::PhoneSegment;
 use stridekit_sim::{simulate_phone, PhoneActivity, PhonePlacement, PhoneScenario, Rng};
@@ -71,7 +71,7 @@ impl Truth for stridekit_sim::SimulatedPhone {
 
 /// The engine's windows over a recording, labelled from its truth.
 pub fn labelled_windows(
-    samples: &[OdometrySample],
+    samples: &[ImuSample],
     truth: &dyn Truth,
     placement: Option<Placement>,
     params: PipelineParams,
@@ -230,7 +230,7 @@ pub fn simulated_windows(seeds: u64, params: PipelineParams) -> Vec<LabelledWind
     for p in PhonePlacement::ALL {
         for seed in 1..=seeds.min(FIRST_EVAL_SEED - 1) {
             let sim = simulate_phone(&sim_scenario(seed, p));
-            let samples: Vec<OdometrySample> = sim.samples.iter().map(Into::into).collect();
+            let samples: Vec<ImuSample> = sim.samples.iter().map(Into::into).collect();
             out.extend(labelled_windows(&samples, &sim, Some(p.into()), params));
         }
     }

@@ -14,7 +14,7 @@
 
 use crate::odometry::train::{fit_model, labelled_windows, LabelledWindow, Truth};
 use stridekit_core::odometry::{
-    OdometryConfig, OdometryModel, OdometrySample, PhoneOdometry, PipelineParams, PlacementSource,
+    ImuSample, OdometryConfig, OdometryModel, PhoneOdometry, PipelineParams, PlacementSource,
 };
 use stridekit_core::placement::Placement;
 
@@ -42,11 +42,11 @@ impl Truth for AlignedTruth {
     }
 }
 
-fn samples_of(w: &Walk) -> Vec<OdometrySample> {
+fn samples_of(w: &Walk) -> Vec<ImuSample> {
     w.rec
         .samples
         .iter()
-        .map(|s| OdometrySample {
+        .map(|s| ImuSample {
             t_s: s.t_s,
             accel_mps2: s.accel_mps2,
             gyro_rads: s.gyro_rads,
