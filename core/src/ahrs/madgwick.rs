@@ -1,6 +1,6 @@
 //! Madgwick's gradient-descent orientation filter with Fusion-style robustness
-//! ([`AhrsAlgorithm::Madgwick`](super::AhrsAlgorithm::Madgwick), the default until
-//! issue 12; [`AhrsSettings::madgwick`] gives its settings, [`AhrsSettings::plain`] the
+//! ([`AhrsAlgorithm::Madgwick`](super::AhrsAlgorithm::Madgwick), the default before the
+//! decoupled filter; [`AhrsSettings::madgwick`] gives its settings, [`AhrsSettings::plain`] the
 //! paper's filter).
 //!
 //! # The filter

@@ -17,7 +17,7 @@ pub enum AhrsAlgorithm {
     #[default]
     Decoupled,
     /// Madgwick's gradient-descent filter with Fusion-style initialisation, rejection
-    /// and recovery ([`super::madgwick`]); the default until issue 12.
+    /// and recovery ([`super::madgwick`]); the default before the decoupled filter.
     Madgwick,
 }
 
@@ -148,7 +148,7 @@ impl Default for AhrsSettings {
 
 impl AhrsSettings {
     /// Madgwick's filter with its defaults (Fusion-style initialisation, rejection,
-    /// recovery and bias at rest): the default AHRS before issue 12.
+    /// recovery and bias at rest): the default AHRS before the decoupled filter.
     pub fn madgwick() -> Self {
         Self {
             algorithm: AhrsAlgorithm::Madgwick,

@@ -1,4 +1,4 @@
-//! Foot-mounted inertial navigation (paper seed 001; OpenShoe / pyshoe lineage):
+//! Foot-mounted inertial navigation (method 2 of docs/architecture.md; OpenShoe / pyshoe lineage):
 //! [`FootNavigator`] runs a sliding median pre-filter, a zero-velocity detector
 //! ([`ZeroVelocityDetector`]: fixed thresholds, gait-adaptive thresholds, SVM, SVM
 //! while walking + adaptive thresholds when running, SHOE),

@@ -1,4 +1,4 @@
-//! The SVM zero-velocity detector (paper, seed 001): six Gaussian-kernel SVMs, one per
+//! The SVM zero-velocity detector (method 2 of docs/architecture.md): six Gaussian-kernel SVMs, one per
 //! feature pair (peak ‖f‖ over the gait window, σ of one sensor axis over the
 //! detector window); a sample is stance only if all six say so.
 //!

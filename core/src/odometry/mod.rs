@@ -1,4 +1,4 @@
-//! Learned phone inertial odometry (method 4, seed 003, a RIDI-style pipeline:
+//! Learned phone inertial odometry (method 4 of docs/architecture.md, a RIDI-style pipeline:
 //! Yan, Shan, Furukawa, "RIDI: Robust IMU Double Integration", ECCV 2018).
 //!
 //! Data flows one way, one small stage per file:

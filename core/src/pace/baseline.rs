@@ -11,7 +11,7 @@ use crate::geo::LocalFrame;
 pub enum BaselineKind {
     /// Distance between consecutive raw fixes over their time difference.
     RawDifferentiation,
-    /// The paper's GNSS smoothing: quadratic fit over N fixes + EMA (seed 000, Fig. 4 "EMA").
+    /// The paper's GNSS smoothing: quadratic fit over N fixes + EMA (the pace paper's Fig. 4 "EMA").
     GnssEma,
 }
 

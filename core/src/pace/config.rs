@@ -5,7 +5,7 @@ use super::error::PaceError;
 /// Which fusion filter the tracker runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum PaceMode {
-    /// The complementary filter of Skrzypczyk (seed 000) as published, with the
+    /// The complementary filter of Skrzypczyk (method 1 of docs/architecture.md) as published, with the
     /// dimensional fixes documented in [`super::published`].
     AsPublished,
     /// stridekit's default: an adaptive Kalman filter fusing GNSS positions (with a

@@ -1,4 +1,4 @@
-//! Running pace from GNSS fixes and pedometer steps (method 1, seed 000).
+//! Running pace from GNSS fixes and pedometer steps (method 1 of docs/architecture.md).
 //!
 //! [`PaceTracker`] is the state machine apps feed. It checks every sample at the
 //! door (finite numbers, ranges, time order per stream), converts fixes into a local

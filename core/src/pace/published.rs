@@ -1,6 +1,6 @@
 //! The complementary filter of Skrzypczyk, "Running speed estimation using
 //! complementary filter based fusion of satellite navigation and pedometer data"
-//! (seed 000), as published, with only the fixes needed to make it physically right.
+//! (method 1 of docs/architecture.md), as published, with only the fixes needed to make it physically right.
 //!
 //! Per GNSS epoch n, over the window of the last N fixes:
 //! 1. fit a 2nd-order polynomial in time to east and to north (eq. 2) and replace the

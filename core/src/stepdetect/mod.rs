@@ -1,5 +1,5 @@
-//! Step detection on the acceleration magnitude of a phone carried anywhere (method 3,
-//! seed 004).
+//! Step detection on the acceleration magnitude of a phone carried anywhere (method 3 of
+//! docs/architecture.md).
 //!
 //! [`StepDetector`] is the state machine apps feed with accelerometer samples
 //! (`t_s`, acceleration in m/s², gravity included, any phone orientation). It checks

@@ -1,4 +1,4 @@
-//! The step detector of seed 004 as published: variance of the acceleration magnitude
+//! The step detector of method 3 (docs/architecture.md) as published: variance of the acceleration magnitude
 //! over a sliding window of `w` samples, two thresholds, a physiological rate gate.
 //!
 //! Per sample i: σ²ᵢ = variance of a over the last w samples (mean and variance of the

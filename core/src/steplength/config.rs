@@ -2,7 +2,7 @@
 
 use super::error::StepLengthError;
 
-/// Which step-length model the estimator runs (method 3, seed 004).
+/// Which step-length model the estimator runs (method 3 of docs/architecture.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum StepLengthModel {
     /// One step length for every step: GNSS distance / steps over good-GNSS

@@ -1,5 +1,5 @@
 //! Step length of a phone-carrying pedestrian, calibrated online from GNSS
-//! (method 3, seed 004).
+//! (method 3 of docs/architecture.md).
 //!
 //! [`StepLengthEstimator`] takes the detector's [`StepEvent`]s and GNSS fixes (in a
 //! local ENU frame) and returns a step length for every step. Models

@@ -1,5 +1,5 @@
 //! `stridekit train zupt`: host-side training of the SVM zero-velocity detector
-//! (paper, seed 001): six Gaussian-kernel SVMs, one per feature pair (peak ‖f‖ over
+//! (method 2 of docs/architecture.md): six Gaussian-kernel SVMs, one per feature pair (peak ‖f‖ over
 //! the gait window, ln(σ of one axis + 1e-3)), labels = the stance labels of each
 //! training trial's best detector (`zv_<best>_opt`, per `_summary.csv`).
 //!

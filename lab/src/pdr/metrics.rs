@@ -1,5 +1,5 @@
-//! Accuracy of a 2-D trajectory against sparse surveyed waypoints (issue 13's
-//! definitions). The map's axes are not north-aligned, so every measure allows one
+//! Accuracy of a 2-D trajectory against sparse surveyed waypoints (the definitions of
+//! docs/phone.md). The map's axes are not north-aligned, so every measure allows one
 //! rotation:
 //!
 //! - **ATE**: RMSE over the waypoints of the estimate (interpolated at the waypoint
