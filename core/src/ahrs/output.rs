@@ -22,11 +22,7 @@ pub struct ImuSample {
 }
 
 /// A sample a batch update rejected, with its index in the batch.
-#[derive(Clone, Debug, PartialEq)]
-pub struct AhrsRejection {
-    pub index: usize,
-    pub error: AhrsError,
-}
+pub type AhrsRejection = crate::batch::Rejected<AhrsError>;
 
 /// The orientation after a sample, and what follows from it. All angles in radians,
 /// all vectors in the earth frame `frame` unless named `_body`.

@@ -56,11 +56,7 @@ const MAX_ACC_BIAS_MPS2: f64 = 5.0;
 const MAX_GYRO_BIAS_RADS: f64 = 1.0;
 
 /// A sample a batch push rejected, with its index in the batch.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FootRejection {
-    pub index: usize,
-    pub error: FootError,
-}
+pub type FootRejection = crate::batch::Rejected<FootError>;
 
 /// What a batch push did.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -115,11 +115,14 @@ impl OdometryEstimate {
     }
 }
 
-/// Counts of a batch.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// A sample a batch refused, with its index.
+pub type OdometryRejection = crate::batch::Rejected<OdometryError>;
+
+/// What a batch produced: counts, and the refused samples by index.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct OdometryBatch {
     pub accepted: usize,
-    pub rejected: usize,
+    pub rejected: Vec<OdometryRejection>,
     pub estimates: usize,
 }
 
@@ -368,15 +371,15 @@ impl PhoneOdometry {
         self.fresh = true;
     }
 
-    /// Many samples in order; bad samples are skipped and counted, `on_estimate`
-    /// gets every estimate.
+    /// Many samples in order; bad samples are skipped and reported by index,
+    /// `on_estimate` gets every estimate.
     pub fn push_batch(
         &mut self,
         samples: &[ImuSample],
         mut on_estimate: impl FnMut(&OdometryEstimate),
     ) -> OdometryBatch {
         let mut b = OdometryBatch::default();
-        for s in samples {
+        for (index, s) in samples.iter().enumerate() {
             match self.push(s) {
                 Ok(e) => {
                     b.accepted += 1;
@@ -385,7 +388,7 @@ impl PhoneOdometry {
                         on_estimate(&e);
                     }
                 }
-                Err(_) => b.rejected += 1,
+                Err(error) => b.rejected.push(OdometryRejection { index, error }),
             }
         }
         b

@@ -81,11 +81,7 @@ pub struct PaceTracker {
 }
 
 /// A sample a batch push rejected, with its index in the batch.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Rejection {
-    pub index: usize,
-    pub error: PaceError,
-}
+pub type Rejection = crate::batch::Rejected<PaceError>;
 
 /// What a batch push produced.
 #[derive(Clone, Debug, Default, PartialEq)]

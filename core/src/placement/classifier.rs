@@ -44,11 +44,7 @@ pub struct PlacementEstimate {
 }
 
 /// A sample a batch push rejected, with its index in the batch.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PlacementRejection {
-    pub index: usize,
-    pub error: PlacementError,
-}
+pub type PlacementRejection = crate::batch::Rejected<PlacementError>;
 
 /// What a batch push did.
 #[derive(Clone, Debug, Default, PartialEq)]

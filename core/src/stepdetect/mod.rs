@@ -88,11 +88,7 @@ pub struct AccelSample {
 }
 
 /// A sample a batch push rejected, with its index in the batch.
-#[derive(Clone, Debug, PartialEq)]
-pub struct StepRejection {
-    pub index: usize,
-    pub error: StepDetectError,
-}
+pub type StepRejection = crate::batch::Rejected<StepDetectError>;
 
 /// What a batch push produced.
 #[derive(Clone, Debug, Default, PartialEq)]
