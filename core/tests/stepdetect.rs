@@ -673,3 +673,38 @@ fn steps_hidden_by_handling_within_a_walk_are_filled_but_not_a_pause() {
         );
     }
 }
+
+/// A few steps, a stop, then a walk (reaching a door or a surveyed point, stopping,
+/// walking on; a recording that starts a few steps before such a stop): the few
+/// steps are too short a run to be confirmed on their own, but the walk that follows
+/// at the same cadence and strength confirms them. Handling the phone before the stop
+/// is still not counted.
+#[test]
+fn a_few_steps_before_a_stop_are_counted_once_the_walk_goes_on() {
+    use Stretch::*;
+    for seed in 1..=5 {
+        let (s, truth) = stretches(
+            &[(Walk, 2.2), (Still, 2.5), (Walk, 20.0), (Still, 3.0)],
+            seed,
+        );
+        let n = count(DetectorMode::Default, &s);
+        assert!(
+            n.abs_diff(truth) <= 2,
+            "seed {seed}: {n} steps, {truth} true"
+        );
+        let (s, truth) = stretches(
+            &[
+                (HandledStanding, 2.2),
+                (Still, 2.5),
+                (Walk, 20.0),
+                (Still, 3.0),
+            ],
+            seed,
+        );
+        let n = count(DetectorMode::Default, &s);
+        assert!(
+            n <= truth + 1 && n + 1 >= truth,
+            "seed {seed}: {n} steps, {truth} true (handled before the stop)"
+        );
+    }
+}

@@ -37,9 +37,10 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 /// Snapshot engine kind byte for the step detector.
 const SNAPSHOT_KIND: u8 = 3;
 /// Snapshot format version written by this build.
-/// Version 4: the time state of the input layer ([`TimeGuard`]) replaces the last
-/// time (version 3 added the autocorrelation state of the default detector).
-const SNAPSHOT_VERSION: u16 = 4;
+/// Version 5: the default detector's short walk before a stop. Version 4: the time
+/// state of the input layer ([`TimeGuard`]) replaces the last time (version 3 added
+/// the autocorrelation state of the default detector).
+const SNAPSHOT_VERSION: u16 = 5;
 /// Steps waiting to be popped.
 const QUEUE: usize = 32;
 

@@ -142,6 +142,18 @@ const FILL_MAX_GAP_S: f64 = 6.0;
 /// Most steps filled into one gap.
 const FILL_MAX_STEPS: usize = 12;
 
+/// A run of at least this many regular candidates that ended in silence before it
+/// could be confirmed (a few steps, then a stop: reaching a door, a shop window, a
+/// surveyed point) is kept, and released as steps when a bout at the same cadence and
+/// strength is confirmed within [`SHORT_WALK_MAX_GAP_S`] after it.
+const SHORT_WALK_MIN: usize = 3;
+/// Longest stop between a short walk and the bout that confirms it, s.
+const SHORT_WALK_MAX_GAP_S: f64 = 6.0;
+/// A short walk's step intervals must be within this share of the confirming bout's
+/// period, and its median amplitude within this factor of the bout's.
+const SHORT_WALK_CADENCE: f64 = 0.3;
+const SHORT_WALK_AMPLITUDE: f64 = 2.0;
+
 /// Weight of a new candidate in the typical step amplitude.
 const AMPLITUDE_GAIN: f64 = 0.2;
 /// Input gaps longer than this restart the detector (app paused), s. Shorter ones
@@ -396,6 +408,9 @@ pub(crate) struct RobustDetector {
     moments: Moments,
     // Bout stage.
     pending: Ring<Pending, PENDING>,
+    /// Candidates of a short walk that ended in silence before it was confirmed
+    /// (see [`SHORT_WALK_MIN`]); empty if none.
+    short_walk: Ring<Pending, PENDING>,
     in_bout: bool,
     period_s: f64,
     /// Time of the last accepted candidate (pending or emitted), NaN if none.
@@ -437,6 +452,7 @@ impl RobustDetector {
             valley_x: f64::NAN,
             moments: Moments::EMPTY,
             pending: Ring::new(),
+            short_walk: Ring::new(),
             in_bout: false,
             period_s: f64::NAN,
             last_t_s: f64::NAN,
@@ -689,6 +705,7 @@ impl RobustDetector {
         let duration = if interval <= p.max_step_interval_s {
             interval
         } else {
+            self.keep_short_walk();
             self.pending.clear();
             f64::NAN
         };
@@ -855,7 +872,84 @@ impl RobustDetector {
         }
         self.bout_end_t_s = f64::NAN;
         self.bout_end_period_s = f64::NAN;
+        self.release_short_walk(period, out);
         while let Some(c) = self.pending.pop_front() {
+            out.push(c.event);
+        }
+    }
+
+    /// The pending candidates are about to be dropped by a silence: keep them as a
+    /// short walk if they look like one (at least [`SHORT_WALK_MIN`], spaced like
+    /// steps: every interval within ±[`ASYMMETRY`] of their median, inside the bout
+    /// interval range).
+    fn keep_short_walk(&mut self) {
+        let n = self.pending.len();
+        if n < SHORT_WALK_MIN {
+            return;
+        }
+        let mut iv = [0.0f64; PENDING];
+        for (j, slot) in iv.iter_mut().enumerate().take(n - 1) {
+            let (Some(a), Some(b)) = (self.pending.get(j), self.pending.get(j + 1)) else {
+                return;
+            };
+            *slot = b.event.t_s - a.event.t_s;
+        }
+        let mut sorted = iv;
+        let ivs = &mut sorted[..n - 1];
+        ivs.sort_by(f64::total_cmp);
+        let median = ivs[(n - 1) / 2];
+        let p = self.p;
+        if !(p.min_bout_interval_s..=p.max_step_interval_s).contains(&median)
+            || iv[..n - 1]
+                .iter()
+                .any(|&i| (i - median).abs() > ASYMMETRY * median)
+        {
+            return;
+        }
+        self.short_walk = self.pending;
+    }
+
+    /// A bout was just confirmed at `period` with the candidates in `pending`: release
+    /// the kept short walk first if it ended at most [`SHORT_WALK_MAX_GAP_S`] before
+    /// the bout, at its cadence and strength, with heel impacts (the same walker
+    /// walking before a stop); drop it either way.
+    fn release_short_walk(&mut self, period: f64, out: &mut Sink<'_>) {
+        let short = std::mem::replace(&mut self.short_walk, Ring::new());
+        let (Some(first), Some(last)) = (self.pending.get(0), short.newest()) else {
+            return;
+        };
+        let gap = first.event.t_s - last.event.t_s;
+        if !(gap > 0.0 && gap <= SHORT_WALK_MAX_GAP_S) {
+            return;
+        }
+        let n = short.len();
+        let mut prev = f64::NAN;
+        let (mut amp, mut imp) = ([0.0f64; PENDING], [0.0f64; PENDING]);
+        for (j, c) in short.iter().enumerate() {
+            let iv = c.event.t_s - prev;
+            if (iv - period).abs() > SHORT_WALK_CADENCE * period {
+                return;
+            }
+            prev = c.event.t_s;
+            amp[j] = c.amplitude_mps2;
+            imp[j] = c.impact;
+        }
+        let mut bout = [0.0f64; PENDING];
+        let m = self.pending.len();
+        for (j, c) in self.pending.iter().enumerate() {
+            bout[j] = c.amplitude_mps2;
+        }
+        let med = |v: &mut [f64]| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        let (a_short, a_bout) = (med(&mut amp[..n]), med(&mut bout[..m]));
+        if !(a_short * SHORT_WALK_AMPLITUDE >= a_bout && a_short <= SHORT_WALK_AMPLITUDE * a_bout)
+            || med(&mut imp[..n]) < self.p.min_impact_ratio
+        {
+            return;
+        }
+        for c in short.iter() {
             out.push(c.event);
         }
     }
@@ -883,11 +977,13 @@ impl RobustDetector {
         w.bool(self.seeking_peak);
         w.f64s(&[self.ext_x, self.ext_t_s, self.valley_x]);
         self.moments.write(w);
-        w.u64(self.pending.len() as u64);
-        for c in self.pending.iter() {
-            super::write_event(w, &c.event);
-            w.f64(c.impact);
-            w.f64(c.amplitude_mps2);
+        for ring in [&self.pending, &self.short_walk] {
+            w.u64(ring.len() as u64);
+            for c in ring.iter() {
+                super::write_event(w, &c.event);
+                w.f64(c.impact);
+                w.f64(c.amplitude_mps2);
+            }
         }
         w.bool(self.in_bout);
         w.f64s(&[
@@ -946,21 +1042,23 @@ impl RobustDetector {
             return Err(SnapshotError::Invalid("step detector valley"));
         }
         d.moments = Moments::read(r)?;
-        let n = r.len(PENDING)?;
-        for _ in 0..n {
-            let event = super::read_event(r)?;
-            let impact = r.f64_or_nan()?;
-            let amplitude_mps2 = r.f64_or_nan()?;
-            if impact < 0.0
-                || !(amplitude_mps2.is_nan() || (0.0..=2.0 * A).contains(&amplitude_mps2))
-            {
-                return Err(SnapshotError::Invalid("step candidate"));
+        for ring in [&mut d.pending, &mut d.short_walk] {
+            let n = r.len(PENDING)?;
+            for _ in 0..n {
+                let event = super::read_event(r)?;
+                let impact = r.f64_or_nan()?;
+                let amplitude_mps2 = r.f64_or_nan()?;
+                if impact < 0.0
+                    || !(amplitude_mps2.is_nan() || (0.0..=2.0 * A).contains(&amplitude_mps2))
+                {
+                    return Err(SnapshotError::Invalid("step candidate"));
+                }
+                ring.push(Pending {
+                    event,
+                    impact,
+                    amplitude_mps2,
+                });
             }
-            d.pending.push(Pending {
-                event,
-                impact,
-                amplitude_mps2,
-            });
         }
         d.in_bout = r.bool()?;
         // NaN before the first bout / step / bout end.
