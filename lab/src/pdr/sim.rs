@@ -11,7 +11,7 @@
 //!   share of the distance walked.
 //!
 //! Seeds are held out: the navigator was diagnosed on seeds 100–162 (see
-//! `core/tests/pdr_diag.rs`) and tuned with this command on seed bases 1000 (outage)
+//! `core/tests/phone/pdr_diag.rs`) and tuned with this command on seed bases 1000 (outage)
 //! and 2000 (loop), set by `STRIDEKIT_PDR_SEED_BASE=1000`; the reported tables use
 //! 5000 + 100·placement + i (outage) and 6000 + 100·placement + i (loop), never used
 //! while tuning.

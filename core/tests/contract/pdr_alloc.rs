@@ -1,8 +1,7 @@
 //! PhoneNavigator: no heap allocation per IMU sample or GNSS fix after construction
 //! (with and without a magnetometer, rejected inputs included).
 
-mod common;
-use common::allocations_in;
+use crate::common::allocations_in;
 
 use stridekit_core::ahrs::ImuSample;
 use stridekit_core::geo::LocalFrame;

@@ -5,8 +5,7 @@
 //! The core crate does not depend on the format readers, so `accelerometer.csv` (no
 //! header: ns, accuracy flag, ax, ay, az in m/s²) is parsed here directly.
 
-mod common;
-use common::allocations_in;
+use crate::common::allocations_in;
 use stridekit_core::input::InputError;
 
 use std::path::PathBuf;

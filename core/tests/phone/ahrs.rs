@@ -37,8 +37,7 @@ const DEG: f64 = PI / 180.0;
 
 // ---------------------------------------------------------------- allocation counter
 
-mod common;
-use common::allocations_in;
+use crate::common::allocations_in;
 
 // ---------------------------------------------------------------- motion generator
 

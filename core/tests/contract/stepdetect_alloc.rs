@@ -9,8 +9,7 @@ use std::hint::black_box;
 
 use stridekit_core::stepdetect::{DetectorMode, StepDetector, StepDetectorConfig};
 
-mod common;
-use common::allocations_in;
+use crate::common::allocations_in;
 
 /// A walk at ~1.9 steps/s, 100 Hz with a little timestamp jitter, as (t_s, accel).
 fn walk(n: usize) -> Vec<(f64, [f64; 3])> {

@@ -13,8 +13,7 @@ use stridekit_core::{
     GnssFix, PaceConfig, PaceError, PaceMode, PaceSample, PaceTracker, StepSample,
 };
 
-mod common;
-use common::allocations_in;
+use crate::common::allocations_in;
 
 /// Deterministic xorshift noise in −1..1.
 struct Noise(u64);
@@ -308,5 +307,5 @@ fn counting_allocator_sees_allocations() {
     let (n, v) = allocations_in(|| black_box(Vec::<u8>::with_capacity(16)));
     assert_eq!(n, 1);
     drop(v);
-    assert!(common::total_allocations() >= 1);
+    assert!(crate::common::total_allocations() >= 1);
 }

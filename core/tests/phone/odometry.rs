@@ -1,8 +1,7 @@
 //! Learned phone inertial odometry: accuracy against the baselines on held-out
 //! simulated walks, the model file, adversarial input, snapshots and allocation.
 
-mod common;
-use common::allocations_in;
+use crate::common::allocations_in;
 use stridekit_core::input::InputError;
 
 use stridekit_core::odometry::{

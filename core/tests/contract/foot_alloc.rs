@@ -2,8 +2,7 @@
 //! filter, every zero-velocity detector, the mechanisation and the Kalman filter run
 //! on fixed-size state (counting allocator in `common`).
 
-mod common;
-use common::allocations_in;
+use crate::common::allocations_in;
 
 use stridekit_core::foot::{
     AdaptiveThresholds, FixedThresholds, FootConfig, FootNavigator, FootSample, ShoeDetector,

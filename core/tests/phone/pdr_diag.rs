@@ -1,5 +1,5 @@
 //! Diagnostics of the PDR walking direction on the phone simulator (ignored by
-//! default; run with `cargo test --release -p stridekit-core --test pdr_diag --
+//! default; run with `cargo test --release -p stridekit-core --test phone pdr_diag:: --
 //! --ignored --nocapture`; `PDR_DIAG_NOMAG=1` without the magnetometer). Prints, per
 //! placement and seed, the mean over each minute (GNSS lost after minute 5) of:
 //! - `nav`: walking-azimuth error of the navigator (rad);
