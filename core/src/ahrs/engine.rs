@@ -340,27 +340,46 @@ impl Ahrs {
 }
 
 fn write_settings(w: &mut Writer, s: &AhrsSettings) {
-    w.u8(s.algorithm.to_u8());
-    w.u8(s.frame.to_u8());
-    for (src, neg) in s.axis_remap.source().iter().zip(s.axis_remap.negate()) {
+    // Exhaustive on purpose: a new setting must be added to the snapshot.
+    let AhrsSettings {
+        frame,
+        axis_remap,
+        algorithm,
+        decoupled,
+        gain,
+        initial_gain,
+        initialisation_period_s,
+        gyro_range_rads,
+        accel_rejection_mps2,
+        accel_rejection_rad,
+        mag_rejection_ut,
+        mag_rejection_dip_rad,
+        recovery_trigger_period_s,
+        bias_estimation,
+        gravity_mps2,
+        max_gap_s,
+    } = s;
+    w.u8(algorithm.to_u8());
+    w.u8(frame.to_u8());
+    for (src, neg) in axis_remap.source().iter().zip(axis_remap.negate()) {
         w.u8(*src as u8);
         w.bool(neg);
     }
     w.f64s(&[
-        s.gain,
-        s.initial_gain,
-        s.initialisation_period_s,
-        s.gyro_range_rads,
-        s.accel_rejection_mps2,
-        s.accel_rejection_rad,
-        s.mag_rejection_ut,
-        s.mag_rejection_dip_rad,
-        s.recovery_trigger_period_s,
-        s.gravity_mps2,
-        s.max_gap_s,
+        *gain,
+        *initial_gain,
+        *initialisation_period_s,
+        *gyro_range_rads,
+        *accel_rejection_mps2,
+        *accel_rejection_rad,
+        *mag_rejection_ut,
+        *mag_rejection_dip_rad,
+        *recovery_trigger_period_s,
+        *gravity_mps2,
+        *max_gap_s,
     ]);
-    w.bool(s.bias_estimation);
-    w.f64s(&s.decoupled.to_array());
+    w.bool(*bias_estimation);
+    w.f64s(&decoupled.to_array());
 }
 
 /// Frame, remap and the eleven numbers of the Madgwick settings.

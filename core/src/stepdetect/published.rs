@@ -74,12 +74,20 @@ impl PublishedStepParams {
         Ok(())
     }
     pub(crate) fn write(&self, w: &mut Writer) {
-        w.u64(self.window_n as u64);
+        // Exhaustive on purpose: a new setting must be added to the snapshot.
+        let Self {
+            window_n,
+            swing_variance_m2ps4,
+            stance_variance_m2ps4,
+            min_step_interval_s,
+            max_step_interval_s,
+        } = *self;
+        w.u64(window_n as u64);
         w.f64s(&[
-            self.swing_variance_m2ps4,
-            self.stance_variance_m2ps4,
-            self.min_step_interval_s,
-            self.max_step_interval_s,
+            swing_variance_m2ps4,
+            stance_variance_m2ps4,
+            min_step_interval_s,
+            max_step_interval_s,
         ]);
     }
     pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {

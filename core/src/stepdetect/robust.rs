@@ -277,23 +277,44 @@ impl RobustStepParams {
         Ok(())
     }
 
+    /// Every numeric setting (the snapshot writes these and `confirm_steps`).
     fn as_array(&self) -> [f64; 15] {
+        // Exhaustive on purpose: a new setting must be added here (and so to the
+        // snapshot).
+        let Self {
+            lowpass_hz,
+            min_hysteresis_mps2,
+            hysteresis_rel,
+            min_amplitude_mps2,
+            max_amplitude_mps2,
+            min_step_interval_s,
+            min_bout_interval_s,
+            max_step_interval_s,
+            regularity,
+            min_periodicity,
+            min_impact_ratio,
+            refractory,
+            relative_amplitude,
+            running_interval_s,
+            running_min_amplitude_mps2,
+            confirm_steps: _, // an integer, written on its own
+        } = *self;
         [
-            self.lowpass_hz,
-            self.min_hysteresis_mps2,
-            self.hysteresis_rel,
-            self.min_amplitude_mps2,
-            self.max_amplitude_mps2,
-            self.min_step_interval_s,
-            self.min_bout_interval_s,
-            self.max_step_interval_s,
-            self.regularity,
-            self.min_periodicity,
-            self.min_impact_ratio,
-            self.refractory,
-            self.relative_amplitude,
-            self.running_interval_s,
-            self.running_min_amplitude_mps2,
+            lowpass_hz,
+            min_hysteresis_mps2,
+            hysteresis_rel,
+            min_amplitude_mps2,
+            max_amplitude_mps2,
+            min_step_interval_s,
+            min_bout_interval_s,
+            max_step_interval_s,
+            regularity,
+            min_periodicity,
+            min_impact_ratio,
+            refractory,
+            relative_amplitude,
+            running_interval_s,
+            running_min_amplitude_mps2,
         ]
     }
 

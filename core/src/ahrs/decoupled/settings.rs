@@ -124,22 +124,41 @@ impl Default for DecoupledSettings {
 impl DecoupledSettings {
     /// The values in snapshot order.
     pub(crate) fn to_array(self) -> [f64; 15] {
+        // Exhaustive on purpose: a new setting must be added here (and so to the
+        // snapshot).
+        let Self {
+            accel_time_constant_s,
+            mag_time_constant_s,
+            motion_bias_time_constant_s,
+            bias_random_walk,
+            motion_bias_accuracy_rads,
+            heading_bias_time_constant_s,
+            rest_gyro_rads,
+            rest_accel_mps2,
+            rest_time_s,
+            rest_bias_time_constant_s,
+            max_bias_rads,
+            mag_norm_threshold,
+            mag_dip_threshold_rad,
+            mag_min_undisturbed_s,
+            mag_max_rejection_s,
+        } = self;
         [
-            self.accel_time_constant_s,
-            self.mag_time_constant_s,
-            self.motion_bias_time_constant_s,
-            self.bias_random_walk,
-            self.motion_bias_accuracy_rads,
-            self.heading_bias_time_constant_s,
-            self.rest_gyro_rads,
-            self.rest_accel_mps2,
-            self.rest_time_s,
-            self.rest_bias_time_constant_s,
-            self.max_bias_rads,
-            self.mag_norm_threshold,
-            self.mag_dip_threshold_rad,
-            self.mag_min_undisturbed_s,
-            self.mag_max_rejection_s,
+            accel_time_constant_s,
+            mag_time_constant_s,
+            motion_bias_time_constant_s,
+            bias_random_walk,
+            motion_bias_accuracy_rads,
+            heading_bias_time_constant_s,
+            rest_gyro_rads,
+            rest_accel_mps2,
+            rest_time_s,
+            rest_bias_time_constant_s,
+            max_bias_rads,
+            mag_norm_threshold,
+            mag_dip_threshold_rad,
+            mag_min_undisturbed_s,
+            mag_max_rejection_s,
         ]
     }
 

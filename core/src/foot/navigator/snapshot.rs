@@ -1,0 +1,689 @@
+//! Snapshot and restore of the [`FootNavigator`]: the configuration, the whole filter state and the latest estimate, versioned and checksummed. Exhaustive destructuring of the navigator and of its configuration makes a field that is not written a compile error.
+
+use super::*;
+
+/// Snapshot engine kind byte of the foot navigator.
+const SNAPSHOT_KIND: u8 = 6;
+/// Version 3: the input layer's time state ([`TimeGuard`]) replaces the last time
+/// (version 2 added `FootConfig::gyro_timing` and the adaptive SHOE detector).
+const SNAPSHOT_VERSION: u16 = 3;
+
+fn write_body(w: &mut Writer, s: &BodySample) {
+    w.f64(s.t_s);
+    w.f64s(&s.f);
+    w.f64s(&s.w);
+    w.bool(s.saturated);
+    w.u8(match s.external {
+        None => 0,
+        Some(false) => 1,
+        Some(true) => 2,
+    });
+}
+
+fn read_body(r: &mut Reader) -> Result<BodySample, SnapshotError> {
+    let mut s = BodySample {
+        t_s: r.f64()?,
+        ..Default::default()
+    };
+    r.f64s(&mut s.f)?;
+    r.f64s(&mut s.w)?;
+    s.saturated = r.bool()?;
+    s.external = match r.u8()? {
+        0 => None,
+        1 => Some(false),
+        2 => Some(true),
+        _ => return Err(SnapshotError::Invalid("external stance")),
+    };
+    if !(s.t_s.is_finite()
+        && s.f.iter().all(|v| v.is_finite())
+        && s.w.iter().all(|v| v.is_finite()))
+    {
+        return Err(SnapshotError::Invalid("non-finite sample"));
+    }
+    Ok(s)
+}
+
+fn write_v3(w: &mut Writer, v: &Vector3<f64>) {
+    w.f64s(v.as_slice());
+}
+
+fn read_v3(r: &mut Reader) -> Result<Vector3<f64>, SnapshotError> {
+    let mut a = [0.0; 3];
+    r.f64s(&mut a)?;
+    Ok(Vector3::from(a))
+}
+
+fn write_config(w: &mut Writer, c: &FootConfig) {
+    // Exhaustive on purpose: a new setting must be added to the snapshot.
+    let FootConfig {
+        axis_remap,
+        median_window,
+        detector_window_s,
+        gait_window_s,
+        detector,
+        alignment_s,
+        gyro_bias_from_alignment,
+        gyro_timing,
+        initial_yaw_rad,
+        correction,
+        accel_noise_density,
+        gyro_noise_density,
+        accel_bias_walk,
+        gyro_bias_walk,
+        zupt_noise_mps,
+        initial_accel_bias_std_mps2,
+        initial_gyro_bias_std_rads,
+        accel_range_mps2,
+        gyro_range_rads,
+        max_gap_s,
+        min_swing_s,
+    } = c;
+    for (src, neg) in axis_remap.source().iter().zip(axis_remap.negate()) {
+        w.u8(*src as u8);
+        w.bool(neg);
+    }
+    w.u64(*median_window as u64);
+    w.f64s(&[
+        *detector_window_s,
+        *gait_window_s,
+        *alignment_s,
+        *initial_yaw_rad,
+        *accel_noise_density,
+        *gyro_noise_density,
+        *accel_bias_walk,
+        *gyro_bias_walk,
+        *zupt_noise_mps,
+        *initial_accel_bias_std_mps2,
+        *initial_gyro_bias_std_rads,
+        *max_gap_s,
+        *min_swing_s,
+    ]);
+    w.bool(*gyro_bias_from_alignment);
+    w.u8(match correction {
+        Correction::Full => 0,
+        Correction::AsPublished => 1,
+    });
+    w.opt_f64(*accel_range_mps2);
+    w.opt_f64(*gyro_range_rads);
+    // Version 2.
+    w.u8(match gyro_timing {
+        GyroTiming::Instantaneous => 0,
+        GyroTiming::IntervalMean => 1,
+    });
+    let fixed = |w: &mut Writer, t: &FixedThresholds| {
+        let FixedThresholds {
+            acc_dev_mps2,
+            gyro_rads,
+            acc_std_mps2,
+            gyro_std_rads,
+        } = t;
+        w.f64s(&[*acc_dev_mps2, *gyro_rads, *acc_std_mps2, *gyro_std_rads]);
+    };
+    match detector {
+        ZeroVelocityDetector::Fixed(t) => {
+            w.u8(0);
+            fixed(w, t);
+        }
+        ZeroVelocityDetector::Adaptive(a) => {
+            let AdaptiveThresholds {
+                jog_peak_mps2,
+                run_peak_mps2,
+                walk,
+                jog,
+                run,
+            } = a;
+            w.u8(1);
+            w.f64s(&[*jog_peak_mps2, *run_peak_mps2]);
+            for t in [walk, jog, run] {
+                fixed(w, t);
+            }
+        }
+        ZeroVelocityDetector::Svm(m) if m.is_shipped() => {
+            // The shipped model: a tag, not its 80 kB text.
+            w.u8(4);
+        }
+        ZeroVelocityDetector::Svm(m) => {
+            w.u8(2);
+            w.bytes(m.to_text().as_bytes());
+        }
+        ZeroVelocityDetector::SvmAdaptive(d) => {
+            let SvmAdaptive {
+                svm,
+                jog_peak_mps2,
+                run_peak_mps2,
+                jog,
+                run,
+            } = d;
+            if svm.is_shipped() {
+                w.u8(6);
+            } else {
+                w.u8(5);
+                w.bytes(svm.to_text().as_bytes());
+            }
+            w.f64s(&[*jog_peak_mps2, *run_peak_mps2]);
+            fixed(w, jog);
+            fixed(w, run);
+        }
+        ZeroVelocityDetector::Shoe(d) => {
+            let ShoeDetector {
+                acc_noise_mps2,
+                gyro_noise_rads,
+                threshold,
+            } = d;
+            w.u8(3);
+            w.f64s(&[*acc_noise_mps2, *gyro_noise_rads, *threshold]);
+        }
+        ZeroVelocityDetector::AdaptiveShoe(d) => {
+            let AdaptiveShoe {
+                shoe:
+                    ShoeDetector {
+                        acc_noise_mps2,
+                        gyro_noise_rads,
+                        threshold,
+                    },
+                ref_peak_mps2,
+                exponent,
+            } = d;
+            // Version 2.
+            w.u8(7);
+            w.f64s(&[
+                *acc_noise_mps2,
+                *gyro_noise_rads,
+                *threshold,
+                *ref_peak_mps2,
+                *exponent,
+            ]);
+        }
+    }
+}
+
+fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
+    let mut source = [0usize; 3];
+    let mut negate = [false; 3];
+    for i in 0..3 {
+        source[i] = r.u8()? as usize;
+        negate[i] = r.bool()?;
+    }
+    let axis_remap =
+        AxisRemap::new(source, negate).map_err(|_| SnapshotError::Invalid("axis remap"))?;
+    let median_window = r.len(MAX_MEDIAN_WINDOW)?;
+    let mut v = [0.0; 13];
+    r.f64s(&mut v)?;
+    let gyro_bias_from_alignment = r.bool()?;
+    let correction = match r.u8()? {
+        0 => Correction::Full,
+        1 => Correction::AsPublished,
+        _ => return Err(SnapshotError::Invalid("correction").into()),
+    };
+    let accel_range_mps2 = r.opt_f64()?;
+    let gyro_range_rads = r.opt_f64()?;
+    let gyro_timing = match r.u8()? {
+        0 => GyroTiming::Instantaneous,
+        1 => GyroTiming::IntervalMean,
+        _ => return Err(SnapshotError::Invalid("gyro timing").into()),
+    };
+    let fixed = |r: &mut Reader| -> Result<FixedThresholds, SnapshotError> {
+        let mut t = [0.0; 4];
+        r.f64s(&mut t)?;
+        Ok(FixedThresholds {
+            acc_dev_mps2: t[0],
+            gyro_rads: t[1],
+            acc_std_mps2: t[2],
+            gyro_std_rads: t[3],
+        })
+    };
+    let detector = match r.u8()? {
+        0 => ZeroVelocityDetector::Fixed(fixed(r)?),
+        1 => {
+            let mut p = [0.0; 2];
+            r.f64s(&mut p)?;
+            ZeroVelocityDetector::Adaptive(AdaptiveThresholds {
+                jog_peak_mps2: p[0],
+                run_peak_mps2: p[1],
+                walk: fixed(r)?,
+                jog: fixed(r)?,
+                run: fixed(r)?,
+            })
+        }
+        2 => {
+            let text = std::str::from_utf8(r.bytes()?)
+                .map_err(|_| SnapshotError::Invalid("detector model text"))?;
+            ZeroVelocityDetector::Svm(Arc::new(SvmModel::parse(text)?))
+        }
+        4 => ZeroVelocityDetector::Svm(SvmModel::shared_shipped()),
+        tag @ (5 | 6) => {
+            let svm = if tag == 6 {
+                SvmModel::shared_shipped()
+            } else {
+                let text = std::str::from_utf8(r.bytes()?)
+                    .map_err(|_| SnapshotError::Invalid("detector model text"))?;
+                Arc::new(SvmModel::parse(text)?)
+            };
+            let mut p = [0.0; 2];
+            r.f64s(&mut p)?;
+            ZeroVelocityDetector::SvmAdaptive(SvmAdaptive {
+                svm,
+                jog_peak_mps2: p[0],
+                run_peak_mps2: p[1],
+                jog: fixed(r)?,
+                run: fixed(r)?,
+            })
+        }
+        3 => {
+            let mut p = [0.0; 3];
+            r.f64s(&mut p)?;
+            ZeroVelocityDetector::Shoe(ShoeDetector {
+                acc_noise_mps2: p[0],
+                gyro_noise_rads: p[1],
+                threshold: p[2],
+            })
+        }
+        7 => {
+            let mut p = [0.0; 5];
+            r.f64s(&mut p)?;
+            ZeroVelocityDetector::AdaptiveShoe(AdaptiveShoe {
+                shoe: ShoeDetector {
+                    acc_noise_mps2: p[0],
+                    gyro_noise_rads: p[1],
+                    threshold: p[2],
+                },
+                ref_peak_mps2: p[3],
+                exponent: p[4],
+            })
+        }
+        _ => return Err(SnapshotError::Invalid("detector kind").into()),
+    };
+    Ok(FootConfig {
+        axis_remap,
+        median_window,
+        detector_window_s: v[0],
+        gait_window_s: v[1],
+        detector,
+        alignment_s: v[2],
+        gyro_bias_from_alignment,
+        gyro_timing,
+        initial_yaw_rad: v[3],
+        correction,
+        accel_noise_density: v[4],
+        gyro_noise_density: v[5],
+        accel_bias_walk: v[6],
+        gyro_bias_walk: v[7],
+        zupt_noise_mps: v[8],
+        initial_accel_bias_std_mps2: v[9],
+        initial_gyro_bias_std_rads: v[10],
+        accel_range_mps2,
+        gyro_range_rads,
+        max_gap_s: v[11],
+        min_swing_s: v[12],
+    })
+}
+
+fn write_estimate(w: &mut Writer, e: &FootEstimate) {
+    let FootEstimate {
+        t_s,
+        position_m,
+        velocity_mps,
+        quaternion,
+        roll_rad,
+        pitch_rad,
+        yaw_rad,
+        heading_rad,
+        position_std_m,
+        velocity_std_mps,
+        tilt_std_rad,
+        heading_std_rad,
+        accel_bias_mps2,
+        gyro_bias_rads,
+        stance,
+        strides,
+        distance_m,
+        stride,
+        saturated,
+        gap,
+    } = e;
+    w.f64(*t_s);
+    w.f64s(position_m);
+    w.f64s(velocity_mps);
+    w.f64s(quaternion);
+    w.f64s(&[*roll_rad, *pitch_rad, *yaw_rad, *heading_rad]);
+    w.f64s(position_std_m);
+    w.f64s(velocity_std_mps);
+    w.f64s(tilt_std_rad);
+    w.f64(*heading_std_rad);
+    w.f64s(accel_bias_mps2);
+    w.f64s(gyro_bias_rads);
+    w.bool(*stance);
+    w.u64(*strides);
+    w.f64(*distance_m);
+    w.bool(stride.is_some());
+    let s = stride.unwrap_or_default();
+    w.f64s(&[s.t_s, s.length_m, s.duration_s, s.speed_mps, s.climb_m]);
+    w.bool(*saturated);
+    w.bool(*gap);
+}
+
+fn read_estimate(r: &mut Reader) -> Result<FootEstimate, SnapshotError> {
+    let mut e = FootEstimate {
+        t_s: r.f64()?,
+        ..Default::default()
+    };
+    r.f64s(&mut e.position_m)?;
+    r.f64s(&mut e.velocity_mps)?;
+    r.f64s(&mut e.quaternion)?;
+    let mut a = [0.0; 4];
+    r.f64s(&mut a)?;
+    [e.roll_rad, e.pitch_rad, e.yaw_rad, e.heading_rad] = a;
+    r.f64s(&mut e.position_std_m)?;
+    r.f64s(&mut e.velocity_std_mps)?;
+    r.f64s(&mut e.tilt_std_rad)?;
+    e.heading_std_rad = r.f64()?;
+    r.f64s(&mut e.accel_bias_mps2)?;
+    r.f64s(&mut e.gyro_bias_rads)?;
+    e.stance = r.bool()?;
+    e.strides = r.u64()?;
+    e.distance_m = r.f64()?;
+    let has_stride = r.bool()?;
+    let mut s = [0.0; 5];
+    r.f64s(&mut s)?;
+    e.stride = has_stride.then_some(Stride {
+        t_s: s[0],
+        length_m: s[1],
+        duration_s: s[2],
+        speed_mps: s[3],
+        climb_m: s[4],
+    });
+    e.saturated = r.bool()?;
+    e.gap = r.bool()?;
+    Ok(e)
+}
+
+impl FootNavigator {
+    /// The whole state as bytes (engine kind 6, versioned, checksummed): restoring
+    /// continues with bit-identical estimates. The SVM detector's model is stored as
+    /// its text form (a few hundred kB for the shipped model).
+    pub fn snapshot(&self) -> Vec<u8> {
+        // Exhaustive on purpose: a new field must be written (or said to be derived).
+        let FootNavigator {
+            config,
+            noise: _, // derived from the configuration at restore
+            time,
+            units,
+            median,
+            det,
+            gait,
+            align,
+            window,
+            rate_hz,
+            ins,
+            ins_t,
+            stance,
+            swing_start_t,
+            last_onset,
+            strides,
+            distance_m,
+            resets,
+            latest,
+        } = self;
+        let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
+        write_config(&mut w, config);
+        time.write(&mut w);
+        units.write(&mut w);
+        w.u64(median.samples().count() as u64);
+        for s in median.samples() {
+            write_body(&mut w, &s);
+        }
+        w.u64(det.len() as u64);
+        for s in det.iter() {
+            write_body(&mut w, &s);
+        }
+        w.u64(gait.len() as u64);
+        for (t, v) in gait.iter() {
+            w.f64(t);
+            w.f64(v);
+        }
+        let Alignment {
+            n,
+            t_first,
+            t_last,
+            sum_f,
+            sum_w,
+        } = align;
+        w.u64(*n);
+        w.f64(*t_first);
+        w.f64(*t_last);
+        w.f64s(sum_f);
+        w.f64s(sum_w);
+        w.u64(*window as u64);
+        w.f64(*rate_hz);
+        w.bool(ins.is_some());
+        if let Some(Strapdown {
+            q,
+            v,
+            p,
+            ba,
+            bg,
+            cov,
+            g,
+            prev_f,
+            prev_w,
+        }) = ins
+        {
+            w.f64s(q.coords.as_slice());
+            for x in [v, p, ba, bg] {
+                write_v3(&mut w, x);
+            }
+            w.f64s(cov.as_slice());
+            w.f64(*g);
+            write_v3(&mut w, prev_f);
+            write_v3(&mut w, prev_w);
+        }
+        w.f64(*ins_t);
+        w.bool(*stance);
+        w.f64(*swing_start_t);
+        w.bool(last_onset.is_some());
+        let (t0, p0) = last_onset.unwrap_or_default();
+        w.f64(t0);
+        w.f64s(&p0);
+        w.u64(*strides);
+        w.f64(*distance_m);
+        w.u64(*resets);
+        w.bool(latest.is_some());
+        write_estimate(&mut w, &latest.unwrap_or_default());
+        w.finish()
+    }
+
+    /// Whether a restored state is one the navigator can be in: samples within the
+    /// door's limits, sums within what that many samples can add up to, the
+    /// navigation state within the divergence guard, a covariance.
+    fn check_state(&self) -> Result<(), &'static str> {
+        use crate::input::limits::{MAX_ABS_T_S, MAX_ACCEL_NORM_MPS2 as A};
+        let w_max = crate::input::limits::MAX_GYRO_RADS * 3f64.sqrt();
+        let t_ok = |t: f64| t.abs() <= MAX_ABS_T_S + 1.0;
+        let sample_ok = |s: &BodySample| {
+            t_ok(s.t_s) && s.f.iter().all(|v| v.abs() <= A) && s.w.iter().all(|v| v.abs() <= w_max)
+        };
+        if !self.median.samples().all(|s| sample_ok(&s)) || !self.det.iter().all(|s| sample_ok(&s))
+        {
+            return Err("buffered sample");
+        }
+        if !self
+            .gait
+            .iter()
+            .all(|(t, v)| t_ok(t) && (0.0..=A).contains(&v))
+        {
+            return Err("gait queue");
+        }
+        let a = &self.align;
+        let n = a.n as f64;
+        if !(t_ok(a.t_first) && t_ok(a.t_last))
+            || a.sum_f.iter().any(|v| v.abs() > n * A)
+            || a.sum_w.iter().any(|v| v.abs() > n * w_max)
+        {
+            return Err("alignment sums");
+        }
+        if !(0.0..=100_000.0).contains(&self.rate_hz) {
+            return Err("sample rate");
+        }
+        if let Some(ins) = &self.ins {
+            let m = |v: &Vector3<f64>, max: f64| v.iter().all(|x| x.abs() <= max);
+            // Variances and positions as large as the guard's speed over the longest
+            // session allows; gravity as the alignment clamps it.
+            let diag_ok = (0..15).all(|i| (0.0..=1e20).contains(&ins.cov[(i, i)]));
+            let checks = [
+                (m(&ins.v, MAX_SPEED_MPS), "navigation state: velocity"),
+                (
+                    m(&ins.p, MAX_SPEED_MPS * MAX_ABS_T_S),
+                    "navigation state: position",
+                ),
+                // The guard holds biases of a running filter below its limits, but
+                // the alignment may start the gyroscope bias anywhere the door allows.
+                (m(&ins.ba, A), "navigation state: accelerometer bias"),
+                (m(&ins.bg, w_max), "navigation state: gyroscope bias"),
+                (
+                    m(&ins.prev_f, A) && m(&ins.prev_w, w_max),
+                    "navigation state: last sample",
+                ),
+                (
+                    (0.5 * G_MPS2..=1.5 * G_MPS2).contains(&ins.g),
+                    "navigation state: gravity",
+                ),
+                (diag_ok, "navigation state: covariance"),
+            ];
+            if let Some((_, what)) = checks.iter().find(|(ok, _)| !ok) {
+                return Err(what);
+            }
+        }
+        if !(t_ok(self.swing_start_t) && self.distance_m >= 0.0)
+            || self.last_onset.is_some_and(|(t, p)| {
+                !(t_ok(t) && p.iter().all(|v| v.abs() <= MAX_SPEED_MPS * MAX_ABS_T_S))
+            })
+        {
+            return Err("stride state");
+        }
+        Ok(())
+    }
+
+    /// A navigator continuing exactly where the snapshot was taken.
+    pub fn restore(bytes: &[u8]) -> Result<Self, FootError> {
+        let (mut r, _) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        let config = read_config(&mut r)?;
+        let mut n = FootNavigator::new(config).map_err(|e| match e {
+            FootError::Snapshot(s) => FootError::Snapshot(s),
+            _ => FootError::Snapshot(SnapshotError::Invalid("configuration")),
+        })?;
+        let invalid = |what| FootError::Snapshot(SnapshotError::Invalid(what));
+        n.time = TimeGuard::read(&mut r, Stream::Imu)?;
+        n.units = AccelUnits::read(&mut r)?;
+        let len = r.len(n.config.median_window)?;
+        for _ in 0..len {
+            n.median.restore_push(read_body(&mut r)?);
+        }
+        let len = r.len(MAX_DETECTOR_WINDOW)?;
+        for _ in 0..len {
+            n.det.push(read_body(&mut r)?);
+        }
+        let len = r.len(GAIT_CAP)?;
+        for _ in 0..len {
+            let t = r.f64()?;
+            let v = r.f64()?;
+            if !(t.is_finite() && v.is_finite()) {
+                return Err(invalid("gait queue"));
+            }
+            n.gait.push((t, v));
+        }
+        n.align.n = r.u64()?;
+        n.align.t_first = r.f64()?;
+        n.align.t_last = r.f64()?;
+        r.f64s(&mut n.align.sum_f)?;
+        r.f64s(&mut n.align.sum_w)?;
+        n.window = r.len(MAX_DETECTOR_WINDOW)?;
+        n.rate_hz = r.f64()?;
+        if r.bool()? {
+            let mut q = [0.0; 4];
+            r.f64s(&mut q)?;
+            let q = UnitQuaternion::new_unchecked(Quaternion::new(q[3], q[0], q[1], q[2]));
+            let v = read_v3(&mut r)?;
+            let p = read_v3(&mut r)?;
+            let ba = read_v3(&mut r)?;
+            let bg = read_v3(&mut r)?;
+            let mut cov = [0.0; 225];
+            r.f64s(&mut cov)?;
+            let g = r.f64()?;
+            let prev_f = read_v3(&mut r)?;
+            let prev_w = read_v3(&mut r)?;
+            let ins = Strapdown {
+                q,
+                v,
+                p,
+                ba,
+                bg,
+                cov: Cov::from_column_slice(&cov),
+                g,
+                prev_f,
+                prev_w,
+            };
+            let qn = ins.q.coords.norm_squared();
+            if !ins.is_finite()
+                || (qn - 1.0).abs() > 1e-6
+                || !(g.is_finite() && g > 0.0)
+                || (0..15).any(|i| ins.cov[(i, i)] < 0.0)
+            {
+                return Err(invalid("navigation state"));
+            }
+            n.ins = Some(ins);
+        }
+        // −∞ before the first sample.
+        n.ins_t = r.f64_any()?;
+        if n.ins_t.is_nan() || n.ins_t == f64::INFINITY {
+            return Err(invalid("integration time"));
+        }
+        n.stance = r.bool()?;
+        n.swing_start_t = r.f64()?;
+        let has_onset = r.bool()?;
+        let t0 = r.f64()?;
+        let mut p0 = [0.0; 3];
+        r.f64s(&mut p0)?;
+        n.last_onset = has_onset.then_some((t0, p0));
+        n.strides = r.u64()?;
+        n.distance_m = r.f64()?;
+        n.resets = r.u64()?;
+        let has_latest = r.bool()?;
+        let latest = read_estimate(&mut r)?;
+        n.latest = has_latest.then_some(latest);
+        r.end()?;
+        let finite = n.align.t_first.is_finite()
+            && n.align.t_last.is_finite()
+            && n.align.sum_f.iter().all(|v| v.is_finite())
+            && n.align.sum_w.iter().all(|v| v.is_finite())
+            && n.rate_hz.is_finite()
+            && n.rate_hz >= 0.0
+            && !n.ins_t.is_nan()
+            && n.swing_start_t.is_finite()
+            && t0.is_finite()
+            && p0.iter().all(|v| v.is_finite())
+            && n.distance_m.is_finite();
+        if !finite {
+            return Err(invalid("non-finite state"));
+        }
+        if n.ins.is_some() != (n.window > 0) || (n.window > 0 && n.window % 2 == 0) {
+            return Err(invalid("detector window"));
+        }
+        n.check_state().map_err(invalid)?;
+        if let Some(e) = &n.latest {
+            let qn: f64 = e.quaternion.iter().map(|c| c * c).sum();
+            let stds = e
+                .position_std_m
+                .iter()
+                .chain(&e.velocity_std_mps)
+                .chain(&e.tilt_std_rad)
+                .chain(std::iter::once(&e.heading_std_rad));
+            if (qn - 1.0).abs() > 1e-6 || stds.copied().any(|v| v < 0.0) || e.distance_m < 0.0 {
+                return Err(invalid("stored estimate"));
+            }
+        }
+        if let Some(ins) = &n.ins {
+            crate::snapshot::check_covariance(&ins.cov).map_err(invalid)?;
+        }
+        Ok(n)
+    }
+}

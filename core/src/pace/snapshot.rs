@@ -1,0 +1,218 @@
+//! Snapshot and restore of the [`PaceTracker`]: the configuration, the frame, the
+//! input streams' state, the filter and the step detector, versioned and
+//! checksummed. The tracker and its configuration are destructured exhaustively and
+//! `restore` builds them field by field, so a field that is not serialised is a
+//! compile error.
+
+use super::*;
+
+impl PaceTracker {
+    /// The whole state as bytes (versioned, checksummed), for an app killed by the OS.
+    pub fn snapshot(&self) -> Vec<u8> {
+        // Exhaustive on purpose: a new field must be written; `restore` builds the
+        // tracker field by field.
+        let PaceTracker {
+            config,
+            frame,
+            fix_time,
+            steps,
+            filter,
+            detector,
+        } = self;
+        let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
+        write_config(&mut w, config);
+        match frame {
+            Some(f) => {
+                w.bool(true);
+                let (lat, lon, alt) = f.origin();
+                w.f64s(&[lat, lon, alt]);
+            }
+            None => w.bool(false),
+        }
+        fix_time.write(&mut w);
+        steps.write(&mut w);
+        match filter {
+            Filter::Published(f) => f.write(&mut w),
+            Filter::Adaptive(f) => f.write(&mut w),
+        }
+        match detector {
+            Some(d) => {
+                w.bool(true);
+                w.bytes(&d.snapshot());
+            }
+            None => w.bool(false),
+        }
+        w.finish()
+    }
+
+    /// A tracker continuing exactly where the snapshot was taken.
+    pub fn restore(bytes: &[u8]) -> Result<Self, PaceError> {
+        let (mut r, version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        if version < SNAPSHOT_VERSION {
+            // Version 2 added the calibration and the pedometer-only speed.
+            return Err(SnapshotError::UnsupportedVersion {
+                found: version,
+                supported: SNAPSHOT_VERSION,
+            }
+            .into());
+        }
+        let config = read_config(&mut r)?;
+        config
+            .validate()
+            .map_err(|_| SnapshotError::Invalid("configuration"))?;
+        let frame = if r.bool()? {
+            let (lat, lon, alt) = (r.f64()?, r.f64()?, r.f64()?);
+            let alt_ok =
+                (crate::input::limits::MIN_ALT_M..=crate::input::limits::MAX_ALT_M).contains(&alt);
+            if !(lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt_ok) {
+                return Err(SnapshotError::Invalid("frame origin").into());
+            }
+            Some(LocalFrame::new(lat, lon, alt))
+        } else {
+            None
+        };
+        let fix_time = TimeGuard::read(&mut r, InputStream::Gnss)?;
+        let steps = StepStream::read(&mut r)?;
+        let filter = match config.mode {
+            PaceMode::AsPublished => {
+                Filter::Published(published::PublishedFilter::read(&mut r, &config)?)
+            }
+            PaceMode::Adaptive => {
+                Filter::Adaptive(adaptive::AdaptiveFilter::read(&mut r, &config)?)
+            }
+        };
+        let detector = if r.bool()? {
+            Some(StepDetector::restore(r.bytes()?)?)
+        } else {
+            None
+        };
+        r.end()?;
+        Ok(Self {
+            config,
+            frame,
+            fix_time,
+            steps,
+            filter,
+            detector,
+        })
+    }
+}
+
+fn write_config(w: &mut Writer, c: &PaceConfig) {
+    // Exhaustive on purpose: a new setting must be added to the snapshot.
+    let PaceConfig {
+        mode,
+        initial_step_length_m,
+        stationary_after_s,
+        calibration,
+        published,
+        adaptive,
+    } = c;
+    w.u8(match mode {
+        PaceMode::AsPublished => 0,
+        PaceMode::Adaptive => 1,
+    });
+    w.opt_f64(*initial_step_length_m);
+    w.f64(*stationary_after_s);
+    match calibration {
+        Some(PaceCalibration {
+            step_length_m,
+            cadence_spm,
+            slope_m_per_spm,
+            step_length_std_m,
+        }) => {
+            w.bool(true);
+            w.f64s(&[
+                *step_length_m,
+                *cadence_spm,
+                *slope_m_per_spm,
+                *step_length_std_m,
+            ]);
+        }
+        None => w.bool(false),
+    }
+    let PublishedParams {
+        window_n,
+        cadence_h,
+        variance_threshold_m2,
+        sigmoid_beta_per_m2,
+        ema_alpha,
+    } = published;
+    w.u64(*window_n as u64);
+    w.u64(*cadence_h as u64);
+    w.f64s(&[*variance_threshold_m2, *sigmoid_beta_per_m2, *ema_alpha]);
+    let AdaptiveParams {
+        accel_noise_mps2,
+        turn_accel_noise_mps2,
+        default_gnss_sigma_m,
+        gnss_bias_sigma_m,
+        gnss_bias_tau_s,
+        pedometer_rel_sigma,
+        outage_reset_s,
+        learn_max_accuracy_m,
+        step_length_rw_m_per_sqrt_s,
+    } = adaptive;
+    w.f64s(&[
+        *accel_noise_mps2,
+        *turn_accel_noise_mps2,
+        *default_gnss_sigma_m,
+        *gnss_bias_sigma_m,
+        *gnss_bias_tau_s,
+        *pedometer_rel_sigma,
+        *outage_reset_s,
+        *learn_max_accuracy_m,
+        *step_length_rw_m_per_sqrt_s,
+    ]);
+}
+
+fn read_config(r: &mut Reader) -> Result<PaceConfig, SnapshotError> {
+    let mode = match r.u8()? {
+        0 => PaceMode::AsPublished,
+        1 => PaceMode::Adaptive,
+        _ => return Err(SnapshotError::Invalid("mode")),
+    };
+    let initial_step_length_m = r.opt_f64()?;
+    let stationary_after_s = r.f64()?;
+    let calibration = if r.bool()? {
+        let mut k = [0.0; 4];
+        r.f64s(&mut k)?;
+        Some(PaceCalibration {
+            step_length_m: k[0],
+            cadence_spm: k[1],
+            slope_m_per_spm: k[2],
+            step_length_std_m: k[3],
+        })
+    } else {
+        None
+    };
+    let window_n = r.len(published::MAX_WINDOW)?;
+    let cadence_h = r.len(published::MAX_WINDOW)?;
+    let mut p = [0.0; 3];
+    r.f64s(&mut p)?;
+    let mut a = [0.0; 9];
+    r.f64s(&mut a)?;
+    Ok(PaceConfig {
+        mode,
+        initial_step_length_m,
+        stationary_after_s,
+        calibration,
+        published: PublishedParams {
+            window_n,
+            cadence_h,
+            variance_threshold_m2: p[0],
+            sigmoid_beta_per_m2: p[1],
+            ema_alpha: p[2],
+        },
+        adaptive: AdaptiveParams {
+            accel_noise_mps2: a[0],
+            turn_accel_noise_mps2: a[1],
+            default_gnss_sigma_m: a[2],
+            gnss_bias_sigma_m: a[3],
+            gnss_bias_tau_s: a[4],
+            pedometer_rel_sigma: a[5],
+            outage_reset_s: a[6],
+            learn_max_accuracy_m: a[7],
+            step_length_rw_m_per_sqrt_s: a[8],
+        },
+    })
+}

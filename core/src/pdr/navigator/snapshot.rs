@@ -1,0 +1,219 @@
+//! Snapshot and restore of the [`PhoneNavigator`]: the sub-engines' own snapshots,
+//! the position, the walking direction, the steps waiting or placed and the personal
+//! calibration, versioned and checksummed. `snapshot` destructures the navigator
+//! exhaustively and `restore` builds it field by field, so a field that is not
+//! serialised is a compile error.
+
+use super::*;
+
+impl PhoneNavigator {
+    /// The whole state (sub-engines included) as bytes.
+    pub fn snapshot(&self) -> Vec<u8> {
+        // Exhaustive on purpose: a new field must be written (or said to be derived);
+        // `restore` builds the navigator field by field, so it cannot miss one either.
+        let PhoneNavigator {
+            config: _, // the sub-engines' configurations, rebuilt from them at restore
+            ahrs,
+            detector,
+            lengths,
+            direction,
+            frame,
+            east_m,
+            north_m,
+            pos_var_m2,
+            distance_m,
+            steps,
+            last_step_length_m,
+            last_t_s,
+            imu_time,
+            fix_time,
+            dr_east_m,
+            dr_north_m,
+            course_anchor,
+            deferred,
+            recent,
+            placed,
+            calibration,
+        } = self;
+        let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
+        w.bytes(&ahrs.snapshot());
+        w.bytes(&detector.snapshot());
+        w.bytes(&lengths.snapshot());
+        direction.write(&mut w);
+        match frame {
+            Some(f) => {
+                w.bool(true);
+                let (lat, lon, alt) = f.origin();
+                w.f64s(&[lat, lon, alt]);
+            }
+            None => w.bool(false),
+        }
+        w.f64s(&[
+            *east_m,
+            *north_m,
+            *pos_var_m2,
+            *distance_m,
+            *last_step_length_m,
+            *last_t_s,
+            *dr_east_m,
+            *dr_north_m,
+        ]);
+        imu_time.write(&mut w);
+        fix_time.write(&mut w);
+        w.f64s(course_anchor);
+        w.u64(*steps);
+        w.u64(deferred.len() as u64);
+        for p in deferred.iter() {
+            let PendingStep {
+                t0_s,
+                t1_s,
+                length_m,
+            } = p;
+            w.f64s(&[t0_s, t1_s, length_m]);
+        }
+        w.u64(recent.len() as u64);
+        for p in recent.iter() {
+            let NavStep {
+                t_s,
+                east_m,
+                north_m,
+                length_m,
+                azimuth_rad,
+            } = p;
+            w.f64s(&[t_s, east_m, north_m, length_m, azimuth_rad]);
+        }
+        w.u64(*placed);
+        match calibration {
+            Some(c) => {
+                w.bool(true);
+                w.bytes(c.to_text(&[]).as_bytes());
+            }
+            None => w.bool(false),
+        }
+        w.finish()
+    }
+
+    /// A navigator continuing exactly where the snapshot was taken.
+    pub fn restore(bytes: &[u8]) -> Result<Self, NavError> {
+        let (mut r, version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
+        if version < SNAPSHOT_VERSION {
+            return Err(SnapshotError::UnsupportedVersion {
+                found: version,
+                supported: SNAPSHOT_VERSION,
+            }
+            .into());
+        }
+        let ahrs = Ahrs::restore(r.bytes()?)?;
+        let detector = StepDetector::restore(r.bytes()?)?;
+        let lengths = StepLengthEstimator::restore(r.bytes()?)?;
+        let direction = WalkingDirection::read(&mut r)?;
+        let frame = if r.bool()? {
+            let (lat, lon, alt) = (r.f64()?, r.f64()?, r.f64()?);
+            let alt_ok =
+                (crate::input::limits::MIN_ALT_M..=crate::input::limits::MAX_ALT_M).contains(&alt);
+            if !(lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt_ok) {
+                return Err(SnapshotError::Invalid("frame origin").into());
+            }
+            Some(LocalFrame::new(lat, lon, alt))
+        } else {
+            None
+        };
+        let [east_m, north_m, pos_var_m2, distance_m] = [r.f64()?, r.f64()?, r.f64()?, r.f64()?];
+        // NaN before the first step / the first input.
+        let last_step_length_m = r.f64_or_nan()?;
+        let last_t_s = r.f64_or_nan()?;
+        let [dr_east_m, dr_north_m] = [r.f64()?, r.f64()?];
+        let imu_time = TimeGuard::read(&mut r, Stream::Imu)?;
+        let fix_time = TimeGuard::read(&mut r, Stream::Gnss)?;
+        let mut course_anchor = [0.0; 5];
+        for v in &mut course_anchor {
+            // All NaN before the first stretch.
+            *v = r.f64_or_nan()?;
+        }
+        let steps = r.u64()?;
+        let mut deferred = Ring::new();
+        for _ in 0..r.len(DEFERRED_STEPS)? {
+            let mut v = [0.0; 3];
+            r.f64s(&mut v)?;
+            deferred.push(PendingStep {
+                t0_s: v[0],
+                t1_s: v[1],
+                length_m: v[2],
+            });
+        }
+        let mut recent = Ring::new();
+        for _ in 0..r.len(RECENT_STEPS)? {
+            let mut v = [0.0; 5];
+            r.f64s(&mut v)?;
+            recent.push(NavStep {
+                t_s: v[0],
+                east_m: v[1],
+                north_m: v[2],
+                length_m: v[3],
+                azimuth_rad: v[4],
+            });
+        }
+        let placed = r.u64()?;
+        let calibration = if r.bool()? {
+            let text = std::str::from_utf8(r.bytes()?)
+                .map_err(|_| SnapshotError::Invalid("calibration"))?;
+            Some(PdrCalibration::parse(text).map_err(|_| SnapshotError::Invalid("calibration"))?)
+        } else {
+            None
+        };
+        r.end()?;
+        let newest = imu_time
+            .last_t_s()
+            .into_iter()
+            .chain(fix_time.last_t_s())
+            .reduce(f64::max);
+        // Generous: garbage fixes may teleport across the globe for days.
+        let pos_ok = |v: f64| v.abs() <= 1e12;
+        let ok = pos_ok(east_m)
+            && pos_ok(north_m)
+            && pos_ok(dr_east_m)
+            && pos_ok(dr_north_m)
+            && (0.0..=1e25).contains(&pos_var_m2)
+            && (0.0..=1e13).contains(&distance_m)
+            && (last_step_length_m.is_nan() || (0.0..=10.0).contains(&last_step_length_m))
+            && course_anchor
+                .iter()
+                .all(|v| v.is_nan() || v.abs() <= 1e11 + 1.0)
+            && newest.map_or(last_t_s.is_nan(), |t| t == last_t_s)
+            && course_anchor.iter().all(|v| v.is_nan()) == course_anchor[0].is_nan()
+            && !(frame.is_none() && fix_time.last_t_s().is_some());
+        if !ok {
+            return Err(SnapshotError::Invalid("navigator state").into());
+        }
+        let config = NavigatorConfig {
+            ahrs: *ahrs.settings(),
+            detector: *detector.config(),
+            step_length_model: lengths.model(),
+            step_length: *lengths.config(),
+        };
+        Ok(Self {
+            config,
+            ahrs,
+            detector,
+            lengths,
+            direction,
+            frame,
+            east_m,
+            north_m,
+            pos_var_m2,
+            distance_m,
+            last_step_length_m,
+            last_t_s,
+            imu_time,
+            fix_time,
+            dr_east_m,
+            dr_north_m,
+            course_anchor,
+            steps,
+            deferred,
+            recent,
+            placed,
+            calibration,
+        })
+    }
+}
