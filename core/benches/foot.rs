@@ -9,7 +9,7 @@
 //! (10 s: strides, stances, turns) into a clone of an aligned navigator (the clone is
 //! not timed); divide the time by 2 000 for ns per sample (criterion also prints
 //! elements/s). `replay_1h_200hz` pushes 720 000 samples through a new navigator
-//! with `push_batch`.
+//! with `push_batch_with` (the estimates go to a callback, none is kept).
 //!
 //! Run: `cargo bench -p stridekit-core --bench foot` (add `-- --quick` for a short run).
 
@@ -114,7 +114,7 @@ fn replay_hour(c: &mut Criterion) {
             b.iter(|| {
                 let mut nav = FootNavigator::new(config.clone()).unwrap();
                 let mut strides = 0u64;
-                let out = nav.push_batch(black_box(&data), |e| strides = e.strides);
+                let out = nav.push_batch_with(black_box(&data), |e| strides = e.strides);
                 assert!(out.rejected.is_empty());
                 strides
             })

@@ -15,11 +15,15 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use stridekit_core::placement::features::{window_features, FeatureTables};
 use stridekit_core::placement::resample::BinAverager;
-use stridekit_core::placement::{PlacementClassifier, PlacementModel, WINDOW};
+use stridekit_core::placement::{AccelSample, PlacementClassifier, PlacementModel, WINDOW};
 use stridekit_sim::{simulate_phone, PhonePlacement, PhoneScenario};
 
 const BLOCK: usize = 2_000;
 const WARM_UP_S: f64 = 20.0;
+
+fn accel(t_s: f64, accel_mps2: [f64; 3]) -> AccelSample {
+    AccelSample { t_s, accel_mps2 }
+}
 
 fn walk(rate_hz: f64) -> Vec<(f64, [f64; 3])> {
     let mut sc = PhoneScenario::walk(11, PhonePlacement::FrontPocket, 1.3, 60.0);
@@ -39,7 +43,7 @@ fn bench(c: &mut Criterion) {
         let warm = (WARM_UP_S * rate) as usize;
         let mut base = PlacementClassifier::shipped();
         for &(t, a) in &samples[..warm] {
-            let _ = base.push(t, a);
+            let _ = base.push(&accel(t, a));
         }
         let block = &samples[warm..warm + BLOCK];
         g.throughput(Throughput::Elements(BLOCK as u64));
@@ -48,7 +52,7 @@ fn bench(c: &mut Criterion) {
                 || base.clone(),
                 |c| {
                     for &(t, a) in block {
-                        let _ = black_box(c.push(t, a));
+                        let _ = black_box(c.push(&accel(t, a)));
                     }
                 },
                 BatchSize::SmallInput,

@@ -23,6 +23,6 @@ pub mod stepdetect;
 pub mod steplength;
 
 pub use pace::{
-    BatchOutcome, GnssFix, PaceCalibration, PaceConfig, PaceError, PaceEstimate, PaceMode,
-    PaceSample, PaceSource, PaceTracker, Rejection, StepSample,
+    GnssFix, PaceCalibration, PaceConfig, PaceError, PaceEstimate, PaceMode, PaceSample,
+    PaceSource, PaceTracker, Rejection, StepSample,
 };

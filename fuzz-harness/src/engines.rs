@@ -13,7 +13,7 @@ use stridekit_core::foot::{FootConfig, FootNavigator, FootSample};
 use stridekit_core::odometry::{OdometryConfig, PhoneOdometry};
 use stridekit_core::pace::{GnssFix, PaceConfig, PaceEstimate, PaceTracker, StepSample};
 use stridekit_core::pdr::{NavEstimate, NavigatorConfig, PhoneNavigator};
-use stridekit_core::placement::PlacementClassifier;
+use stridekit_core::placement::{AccelSample, PlacementClassifier};
 use stridekit_core::snapshot::crc32;
 use stridekit_core::stepdetect::{StepDetector, StepEvent};
 use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
@@ -500,8 +500,11 @@ impl Engine for Placement {
         }
     }
     fn feed(&mut self, b: &mut Bytes) {
-        let t = b.time(&mut self.t, 0.01);
-        if let Ok(Some(est)) = self.e.push(t, b.vec3(GRAVITY, 3.0)) {
+        let s = AccelSample {
+            t_s: b.time(&mut self.t, 0.01),
+            accel_mps2: b.vec3(GRAVITY, 3.0),
+        };
+        if let Ok(Some(est)) = self.e.push(&s) {
             finite(est.confidence, "placement confidence");
             assert!(est.probabilities.iter().all(|p| p.is_finite()));
         }

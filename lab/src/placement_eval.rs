@@ -17,8 +17,8 @@ use crate::placement::{predict, train, TrainParams};
 use stridekit_core::placement::features::{window_features, FeatureTables};
 use stridekit_core::placement::resample::BinAverager;
 use stridekit_core::placement::{
-    trace_features, Features, Placement, PlacementClassifier, PlacementModel, CLASSES, FEATURES,
-    FEATURE_NAMES, WINDOW,
+    trace_features, AccelSample, Features, Placement, PlacementClassifier, PlacementModel, CLASSES,
+    FEATURES, FEATURE_NAMES, WINDOW,
 };
 use stridekit_formats::{list_oxford_traces, read_oxford_trace};
 use stridekit_sim::{simulate_phone, PhonePlacement, PhoneScenario};
@@ -184,7 +184,11 @@ fn timing(dir: &Path, model: &PlacementModel) -> Result<(f64, f64, f64), String>
     let mut c = PlacementClassifier::new(model.clone(), SMOOTHING);
     let start = Instant::now();
     for a in &t.accel {
-        let _ = std::hint::black_box(c.push(a.t_s, a.accel_mps2));
+        let s = AccelSample {
+            t_s: a.t_s,
+            accel_mps2: a.accel_mps2,
+        };
+        let _ = std::hint::black_box(c.push(&s));
     }
     let ns_sample = start.elapsed().as_secs_f64() * 1e9 / t.accel.len() as f64;
     Ok((ns_window, ns_sample, t.rate_hz()))

@@ -721,11 +721,7 @@ pub fn run(args: &SoakArgs, mut progress: impl FnMut(&str)) -> SoakReport {
             } else {
                 let s = &chunk.imu[ii];
                 ii += 1;
-                nav.step(
-                    s.t_s,
-                    |n| n.push_imu(s).map(|()| n.estimate()),
-                    cmp_opt(cmp_nav),
-                );
+                nav.step(s.t_s, |n| n.push(s), cmp_opt(cmp_nav));
             }
         }
         nav.stats.wall_s += t.elapsed().as_secs_f64();
@@ -733,11 +729,7 @@ pub fn run(args: &SoakArgs, mut progress: impl FnMut(&str)) -> SoakReport {
         // Placement classifier: accelerometer.
         let t = Instant::now();
         for s in &chunk.imu {
-            placement.step(
-                s.t_s,
-                |p| p.push(s.t_s, s.accel_mps2),
-                cmp_opt(cmp_placement),
-            );
+            placement.step(s.t_s, |p| p.push(&s.into()), cmp_opt(cmp_placement));
         }
         placement.stats.wall_s += t.elapsed().as_secs_f64();
 

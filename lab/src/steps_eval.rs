@@ -238,7 +238,11 @@ pub fn samples(trace: &OxfordTrace, variant: Variant) -> Vec<AccelSample> {
 /// Step times of one detector over `samples`.
 pub fn detect(config: StepDetectorConfig, samples: &[AccelSample]) -> Vec<f64> {
     let mut d = StepDetector::new(config).expect("valid configuration");
-    d.push_batch(samples).steps.iter().map(|e| e.t_s).collect()
+    d.push_batch(samples)
+        .estimates
+        .iter()
+        .map(|e| e.t_s)
+        .collect()
 }
 
 /// Matched pairs within the tolerance, one-to-one (both lists sorted).

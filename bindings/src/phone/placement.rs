@@ -146,8 +146,8 @@ impl PlacementClassifier {
         let mut c = self.lock();
         let mut windows = 0i32;
         let mut rejected = Vec::new();
-        for (index, (t, a)) in samples.enumerate() {
-            match c.push(t, a) {
+        for (index, (t_s, accel_mps2)) in samples.enumerate() {
+            match c.push(&core::AccelSample { t_s, accel_mps2 }) {
                 Ok(Some(_)) => windows = windows.saturating_add(1),
                 Ok(None) => {}
                 Err(e) => rejected.push(RejectedImuSample::new(index, &e)),

@@ -42,7 +42,7 @@ pub fn simulate_foot_walk(seed: u64, laps: u32) -> Result<SimulatedFootWalk, Foo
     guard(|| {
         let sim = stridekit_sim::simulate_foot(&stridekit_sim::FootScenario::walk(seed, laps));
         let mut nav = core::FootNavigator::new(core::FootConfig::default())?;
-        let outcome = nav.push_batch(&sim.samples, |_| {});
+        let outcome = nav.push_batch_with(&sim.samples, |_| {});
         let mut packed = Vec::with_capacity(sim.samples.len() * FOOT_SAMPLE_RECORD_BYTES);
         for s in &sim.samples {
             for v in [s.t_s].iter().chain(&s.accel_mps2).chain(&s.gyro_rads) {

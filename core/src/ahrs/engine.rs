@@ -25,6 +25,7 @@ use super::madgwick::Madgwick;
 use super::output::{AhrsOutput, AhrsRejection, ImuSample};
 use super::quat::{self, Quat};
 use super::settings::{AhrsAlgorithm, AhrsSettings};
+use crate::batch::{self, Batch};
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Snapshot engine kind byte for the AHRS.
@@ -43,8 +44,9 @@ enum Filter {
 }
 
 /// Orientation filter (attitude and heading reference system). Create with
-/// [`Ahrs::new`], feed [`Ahrs::update_imu`] / [`Ahrs::update_marg`] (or
-/// [`Ahrs::update_batch`]), read [`Ahrs::output`].
+/// [`Ahrs::new`], feed [`Ahrs::push`] / [`Ahrs::push_batch`] (the engine contract) or
+/// the Fusion-style [`Ahrs::update_imu`] / [`Ahrs::update_marg`] (or
+/// [`Ahrs::update_batch`]), read [`Ahrs::estimate`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Ahrs {
     settings: AhrsSettings,
@@ -214,8 +216,28 @@ impl Ahrs {
 
     /// Orientation and derived quantities after the latest accepted sample; `None`
     /// before the first.
-    pub fn output(&self) -> Option<AhrsOutput> {
+    pub fn estimate(&self) -> Option<AhrsOutput> {
         self.door.started().then(|| self.make_output())
+    }
+
+    /// The same as [`estimate`](Self::estimate) (the Fusion-style name, kept next to
+    /// the `update_*` methods).
+    pub fn output(&self) -> Option<AhrsOutput> {
+        self.estimate()
+    }
+
+    /// One sample (the engine contract's form of [`update`](Self::update)): the
+    /// output after it, always `Some` once accepted.
+    #[inline]
+    pub fn push(&mut self, s: &ImuSample) -> Result<Option<AhrsOutput>, AhrsError> {
+        self.update(s.t_s, s.gyro_rads, s.accel_mps2, s.mag_ut)?;
+        Ok(Some(self.make_output()))
+    }
+
+    /// Feed many samples in order: one output per accepted sample; rejected samples
+    /// leave the state untouched and the rest of the batch is still processed.
+    pub fn push_batch(&mut self, samples: &[ImuSample]) -> Batch<AhrsOutput, AhrsError> {
+        batch::run(samples, |s| self.push(s))
     }
 
     fn make_output(&self) -> AhrsOutput {
@@ -262,10 +284,10 @@ impl Ahrs {
         }
     }
 
-    /// Feed many samples in order; one output per accepted sample goes to `out`,
-    /// every rejected sample (state untouched, the rest of the batch still processed)
-    /// to `rejected`. Returns the number accepted. Allocates nothing itself (only
-    /// `out` / `rejected` may grow: reserve capacity to avoid that).
+    /// As [`push_batch`](Self::push_batch) into containers of the caller's: one
+    /// output per accepted sample goes to `out`, every rejected sample to `rejected`.
+    /// Returns the number accepted. Allocates nothing itself (only `out` /
+    /// `rejected` may grow: reserve capacity to avoid that).
     pub fn update_batch<O, R>(
         &mut self,
         samples: &[ImuSample],
@@ -276,17 +298,12 @@ impl Ahrs {
         O: Extend<AhrsOutput>,
         R: Extend<AhrsRejection>,
     {
-        let mut accepted = 0;
-        for (index, s) in samples.iter().enumerate() {
-            match self.update(s.t_s, s.gyro_rads, s.accel_mps2, s.mag_ut) {
-                Ok(_) => {
-                    accepted += 1;
-                    out.extend(Some(self.make_output()));
-                }
-                Err(error) => rejected.extend(Some(AhrsRejection { index, error })),
-            }
-        }
-        accepted
+        batch::each(
+            samples,
+            |o| out.extend(Some(o)),
+            |r| rejected.extend(Some(r)),
+            |s| self.push(s),
+        )
     }
 
     /// The whole state as bytes (versioned, checksummed): restoring continues with

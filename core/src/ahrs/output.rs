@@ -7,7 +7,7 @@ use super::flags::AhrsFlags;
 use super::frame::EarthFrame;
 
 /// One IMU sample, the SDK's one type for it: the AHRS
-/// ([`Ahrs::update_batch`](super::Ahrs::update_batch)), the phone navigator and the
+/// ([`Ahrs::push`](super::Ahrs::push)), the phone navigator and the
 /// odometry take it.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ImuSample {

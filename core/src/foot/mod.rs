@@ -20,6 +20,6 @@ pub use detect::{
     WindowStats, ZeroVelocityDetector,
 };
 pub use error::FootError;
-pub use navigator::{FootBatchOutcome, FootNavigator, FootRejection};
+pub use navigator::{FootNavigator, FootRejection};
 pub use svm::SvmModel;
 pub use types::{FootEstimate, FootSample, Stride};

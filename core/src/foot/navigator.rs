@@ -42,6 +42,7 @@ use super::median::{MedianFilter, MAX_MEDIAN_WINDOW};
 use super::svm::SvmModel;
 use super::types::{BodySample, FootEstimate, FootSample, Stride};
 use crate::ahrs::AxisRemap;
+use crate::batch::{self, Batch, Counts};
 use crate::input::{self, AccelUnits, Stream, TimeGuard};
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
@@ -57,15 +58,6 @@ const MAX_GYRO_BIAS_RADS: f64 = 1.0;
 
 /// A sample a batch push rejected, with its index in the batch.
 pub type FootRejection = crate::batch::Rejected<FootError>;
-
-/// What a batch push did.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct FootBatchOutcome {
-    /// Estimates produced (one per processed sample, after the pipeline delay).
-    pub estimates: usize,
-    /// Rejected samples (the rest of the batch was processed).
-    pub rejected: Vec<FootRejection>,
-}
 
 #[derive(Clone, Debug, Default, PartialEq)]
 struct Alignment {
@@ -225,25 +217,21 @@ impl FootNavigator {
         Ok(self.after_median(filtered))
     }
 
-    /// Push a batch; `on_estimate` sees every estimate produced, in order. Bad samples
-    /// are skipped and reported.
-    pub fn push_batch(
+    /// Push a batch. Bad samples are skipped and reported; the estimates (one per
+    /// processed sample, after the pipeline delay) are returned in order.
+    pub fn push_batch(&mut self, samples: &[FootSample]) -> Batch<FootEstimate, FootError> {
+        batch::run(samples, |s| self.push(s))
+    }
+
+    /// As [`push_batch`](Self::push_batch), but `on_estimate` sees every estimate
+    /// instead of it being kept: a long replay needs no memory for them, and a clean
+    /// batch allocates nothing.
+    pub fn push_batch_with(
         &mut self,
         samples: &[FootSample],
-        mut on_estimate: impl FnMut(&FootEstimate),
-    ) -> FootBatchOutcome {
-        let mut out = FootBatchOutcome::default();
-        for (index, s) in samples.iter().enumerate() {
-            match self.push(s) {
-                Ok(Some(e)) => {
-                    out.estimates += 1;
-                    on_estimate(&e);
-                }
-                Ok(None) => {}
-                Err(error) => out.rejected.push(FootRejection { index, error }),
-            }
-        }
-        out
+        on_estimate: impl FnMut(&FootEstimate),
+    ) -> Counts<FootError> {
+        batch::counted(samples, on_estimate, |s| self.push(s))
     }
 
     fn after_median(&mut self, s: BodySample) -> Option<FootEstimate> {

@@ -22,6 +22,7 @@ use super::sample::{check, ImuSample};
 use super::smooth::{Gaussian, MAX_TAPS};
 use super::stabilise::stabilise;
 use crate::ahrs::{Ahrs, AhrsSettings};
+use crate::batch::{self, Batch, Counts};
 use crate::input::{self, Stream, TimeGuard};
 use crate::placement::{Placement, PlacementClassifier, PlacementEstimate};
 use crate::snapshot::{Reader, SnapshotError, Writer};
@@ -117,14 +118,6 @@ impl OdometryEstimate {
 
 /// A sample a batch refused, with its index.
 pub type OdometryRejection = crate::batch::Rejected<OdometryError>;
-
-/// What a batch produced: counts, and the refused samples by index.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct OdometryBatch {
-    pub accepted: usize,
-    pub rejected: Vec<OdometryRejection>,
-    pub estimates: usize,
-}
 
 /// Learned phone inertial odometry.
 #[derive(Clone, Debug)]
@@ -270,7 +263,7 @@ impl PhoneOdometry {
             // The classifier has its own door checks (it rejects, e.g., a window's
             // worth of samples that look like g); a sample it rejects leaves it
             // unchanged and is still used by the odometry.
-            let _ = self.classifier.push(s.t_s, s.accel_mps2);
+            let _ = self.classifier.push(&s.into());
         }
         if let Some(last) = self.time.last_t_s() {
             if s.t_s - last > self.config.ahrs.max_gap_s {
@@ -371,27 +364,20 @@ impl PhoneOdometry {
         self.fresh = true;
     }
 
-    /// Many samples in order; bad samples are skipped and reported by index,
-    /// `on_estimate` gets every estimate.
-    pub fn push_batch(
+    /// Many samples in order; bad samples are skipped and reported by index. One
+    /// estimate per window hop, in order.
+    pub fn push_batch(&mut self, samples: &[ImuSample]) -> Batch<OdometryEstimate, OdometryError> {
+        batch::run(samples, |s| self.push(s))
+    }
+
+    /// As [`push_batch`](Self::push_batch), but `on_estimate` sees every estimate
+    /// instead of it being kept (a clean batch allocates nothing).
+    pub fn push_batch_with(
         &mut self,
         samples: &[ImuSample],
-        mut on_estimate: impl FnMut(&OdometryEstimate),
-    ) -> OdometryBatch {
-        let mut b = OdometryBatch::default();
-        for (index, s) in samples.iter().enumerate() {
-            match self.push(s) {
-                Ok(e) => {
-                    b.accepted += 1;
-                    if let Some(e) = e {
-                        b.estimates += 1;
-                        on_estimate(&e);
-                    }
-                }
-                Err(error) => b.rejected.push(OdometryRejection { index, error }),
-            }
-        }
-        b
+        on_estimate: impl FnMut(&OdometryEstimate),
+    ) -> Counts<OdometryError> {
+        batch::counted(samples, on_estimate, |s| self.push(s))
     }
 
     /// The whole state (model included) as bytes; restoring continues bit-exactly.

@@ -31,8 +31,8 @@ pub mod smooth;
 pub mod stabilise;
 
 pub use engine::{
-    OdometryBatch, OdometryConfig, OdometryEstimate, OdometryRejection, PhoneOdometry,
-    PlacementSource, AUTO_MIN_CONFIDENCE,
+    OdometryConfig, OdometryEstimate, OdometryRejection, PhoneOdometry, PlacementSource,
+    AUTO_MIN_CONFIDENCE,
 };
 pub use error::OdometryError;
 pub use features::WindowFeatures;

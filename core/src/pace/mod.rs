@@ -22,6 +22,7 @@ pub use config::{AdaptiveParams, PaceCalibration, PaceConfig, PaceMode, Publishe
 pub use error::{PaceError, Stream};
 pub use types::{GnssFix, PaceEstimate, PaceSample, PaceSource, StepSample, MIN_PACE_SPEED_MPS};
 
+use crate::batch::{self, Batch};
 use crate::geo::LocalFrame;
 use crate::input::{self, Stream as InputStream, TimeGuard};
 use crate::snapshot::{Reader, SnapshotError, Writer};
@@ -82,15 +83,6 @@ pub struct PaceTracker {
 
 /// A sample a batch push rejected, with its index in the batch.
 pub type Rejection = crate::batch::Rejected<PaceError>;
-
-/// What a batch push produced.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct BatchOutcome {
-    /// One estimate per accepted GNSS fix, in order.
-    pub estimates: Vec<PaceEstimate>,
-    /// Samples that were rejected (the rest of the batch was still processed).
-    pub rejected: Vec<Rejection>,
-}
 
 impl PaceTracker {
     /// A tracker with a validated configuration.
@@ -233,11 +225,12 @@ impl PaceTracker {
     /// Push many accelerometer samples; rejected ones are skipped and reported.
     pub fn push_accel_batch(&mut self, samples: &[AccelSample]) -> Vec<Rejection> {
         let mut rejected = Vec::new();
-        for (index, s) in samples.iter().enumerate() {
-            if let Err(error) = self.push_accel(s.t_s, s.accel_mps2) {
-                rejected.push(Rejection { index, error });
-            }
-        }
+        batch::each(
+            samples,
+            |()| {},
+            |r| rejected.push(r),
+            |s| self.push_accel(s.t_s, s.accel_mps2).map(|()| None),
+        );
         rejected
     }
 
@@ -270,20 +263,10 @@ impl PaceTracker {
     }
 
     /// Push many samples in order. Invalid samples are skipped and reported; the
-    /// others are processed as if pushed one by one.
-    pub fn push_batch(&mut self, samples: &[PaceSample]) -> BatchOutcome {
-        let mut out = BatchOutcome {
-            estimates: Vec::with_capacity(samples.len()),
-            rejected: Vec::new(),
-        };
-        for (index, s) in samples.iter().enumerate() {
-            match self.push(s) {
-                Ok(Some(e)) => out.estimates.push(e),
-                Ok(None) => {}
-                Err(error) => out.rejected.push(Rejection { index, error }),
-            }
-        }
-        out
+    /// others are processed as if pushed one by one. One estimate per accepted GNSS
+    /// fix.
+    pub fn push_batch(&mut self, samples: &[PaceSample]) -> Batch<PaceEstimate, PaceError> {
+        batch::run(samples, |s| self.push(s))
     }
 
     /// The current estimate, at the time of the newest sample of either stream;

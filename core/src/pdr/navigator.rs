@@ -26,6 +26,7 @@
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::ahrs::{Ahrs, AhrsError, AhrsSettings, EarthFrame, ImuSample};
+use crate::batch::{self, Batch};
 use crate::geo::LocalFrame;
 use crate::input::{self, InputError, Stream, TimeGuard};
 use crate::pace::GnssFix;
@@ -331,6 +332,19 @@ impl PhoneNavigator {
             }
         });
         self.advance(s, q_enu)
+    }
+
+    /// One IMU sample (the engine contract's form of [`push_imu`](Self::push_imu)):
+    /// the estimate after it.
+    pub fn push(&mut self, s: &ImuSample) -> Result<Option<NavEstimate>, NavError> {
+        self.push_imu(s)?;
+        Ok(self.estimate())
+    }
+
+    /// Many IMU samples in order: one estimate per accepted sample (as
+    /// [`push`](Self::push)); bad samples are skipped and reported.
+    pub fn push_batch(&mut self, samples: &[ImuSample]) -> Batch<NavEstimate, NavError> {
+        batch::run(samples, |s| self.push(s))
     }
 
     /// One IMU sample with the orientation from elsewhere instead of the internal

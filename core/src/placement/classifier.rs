@@ -10,8 +10,10 @@ use super::class::{Placement, CLASSES};
 use super::error::PlacementError;
 use super::model::PlacementModel;
 use super::stream::FeatureStream;
+use crate::batch::{self, Batch};
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
+use crate::stepdetect::AccelSample;
 
 /// Snapshot engine kind byte of the placement classifier.
 const SNAPSHOT_KIND: u8 = 7;
@@ -45,15 +47,6 @@ pub struct PlacementEstimate {
 
 /// A sample a batch push rejected, with its index in the batch.
 pub type PlacementRejection = crate::batch::Rejected<PlacementError>;
-
-/// What a batch push did.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct PlacementBatch {
-    /// Windows classified during the batch.
-    pub windows: usize,
-    /// Rejected samples (the rest of the batch was still processed).
-    pub rejected: Vec<PlacementRejection>,
-}
 
 /// Streaming phone-placement classifier.
 #[derive(Clone, Debug)]
@@ -102,30 +95,22 @@ impl PlacementClassifier {
         self.windows = 0;
     }
 
-    /// Adds one sample (`t_s` seconds, acceleration with gravity in m/s²). Returns the
-    /// new estimate when this sample completed a classified window.
-    pub fn push(
-        &mut self,
-        t_s: f64,
-        accel_mps2: [f64; 3],
-    ) -> Result<Option<PlacementEstimate>, PlacementError> {
+    /// Adds one sample (acceleration with gravity, m/s², any axes). Returns the new
+    /// estimate when this sample completed a classified window.
+    pub fn push(&mut self, s: &AccelSample) -> Result<Option<PlacementEstimate>, PlacementError> {
         Ok(self
             .stream
-            .push(t_s, accel_mps2)?
-            .map(|f| self.classify(t_s, &f)))
+            .push(s.t_s, s.accel_mps2)?
+            .map(|f| self.classify(s.t_s, &f)))
     }
 
-    /// Pushes many samples in order; invalid ones are skipped and reported.
-    pub fn push_batch(&mut self, samples: &[(f64, [f64; 3])]) -> PlacementBatch {
-        let mut out = PlacementBatch::default();
-        for (index, &(t, a)) in samples.iter().enumerate() {
-            match self.push(t, a) {
-                Ok(Some(_)) => out.windows += 1,
-                Ok(None) => {}
-                Err(error) => out.rejected.push(PlacementRejection { index, error }),
-            }
-        }
-        out
+    /// Pushes many samples in order; invalid ones are skipped and reported. One
+    /// estimate per classified window.
+    pub fn push_batch(
+        &mut self,
+        samples: &[AccelSample],
+    ) -> Batch<PlacementEstimate, PlacementError> {
+        batch::run(samples, |s| self.push(s))
     }
 
     /// The whole state as bytes (versioned, checksummed; the model is included as

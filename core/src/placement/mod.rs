@@ -22,8 +22,9 @@ pub mod model;
 pub mod resample;
 pub mod stream;
 
+pub use crate::stepdetect::AccelSample;
 pub use class::{Placement, CLASSES};
-pub use classifier::{PlacementBatch, PlacementClassifier, PlacementEstimate, PlacementRejection};
+pub use classifier::{PlacementClassifier, PlacementEstimate, PlacementRejection};
 pub use error::PlacementError;
 pub use features::{Features, FEATURES, FEATURE_NAMES, WINDOW};
 pub use model::PlacementModel;

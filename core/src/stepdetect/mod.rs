@@ -30,6 +30,7 @@ pub use event::StepEvent;
 pub use published::PublishedStepParams;
 pub use robust::RobustStepParams;
 
+use crate::batch::{self, Batch};
 use crate::input::{self, AccelUnits, Stream, TimeGuard};
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
@@ -88,17 +89,18 @@ pub struct AccelSample {
     pub accel_mps2: [f64; 3],
 }
 
+/// The accelerometer part of an IMU sample.
+impl From<&crate::ahrs::ImuSample> for AccelSample {
+    fn from(s: &crate::ahrs::ImuSample) -> Self {
+        Self {
+            t_s: s.t_s,
+            accel_mps2: s.accel_mps2,
+        }
+    }
+}
+
 /// A sample a batch push rejected, with its index in the batch.
 pub type StepRejection = crate::batch::Rejected<StepDetectError>;
-
-/// What a batch push produced.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct StepBatch {
-    /// Steps released, in time order.
-    pub steps: Vec<StepEvent>,
-    /// Samples that were rejected (the rest of the batch was still processed).
-    pub rejected: Vec<StepRejection>,
-}
 
 /// Where an engine releases its steps: the detector's queue and count.
 pub(crate) struct Sink<'a> {
@@ -355,20 +357,26 @@ impl StepDetector {
     }
 
     /// Push many samples in order. Invalid samples are skipped and reported; the others
-    /// are processed as if pushed one by one. All released steps are returned.
-    pub fn push_batch(&mut self, samples: &[AccelSample]) -> StepBatch {
-        let mut out = StepBatch::default();
-        for (index, s) in samples.iter().enumerate() {
-            match self.push_sample(s) {
-                Ok(Some(e)) => out.steps.push(e),
-                Ok(None) => {}
-                Err(error) => out.rejected.push(StepRejection { index, error }),
-            }
-            while let Some(e) = self.pop_step() {
-                out.steps.push(e);
-            }
-        }
-        out
+    /// are processed as if pushed one by one. The estimates are all released steps, in
+    /// time order (the queue is drained after every sample, so none is left waiting).
+    pub fn push_batch(&mut self, samples: &[AccelSample]) -> Batch<StepEvent, StepDetectError> {
+        let mut b = Batch::default();
+        b.accepted = batch::each_released(
+            samples,
+            |e| b.estimates.push(e),
+            |r| b.rejected.push(r),
+            |s, emit| {
+                let first = self.push_sample(s);
+                if let Ok(Some(e)) = first {
+                    emit(e);
+                }
+                while let Some(e) = self.pop_step() {
+                    emit(e);
+                }
+                first.map(|_| ())
+            },
+        );
+        b
     }
 
     /// The whole state as bytes (versioned, checksummed).

@@ -62,7 +62,7 @@ fn pushing_samples_does_not_allocate() {
                 });
                 std::hint::black_box(nav.estimate());
                 // A clean batch.
-                let outcome = nav.push_batch(half_b, |e| {
+                let outcome = nav.push_batch_with(half_b, |e| {
                     std::hint::black_box(e);
                 });
                 estimates += outcome.estimates;

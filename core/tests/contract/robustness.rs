@@ -541,7 +541,7 @@ fn restore_refuses_poisoned_numbers_of_the_placement_classifier_and_odometry() {
     let tail = &tail[..40];
     let mut c = PlacementClassifier::shipped();
     for s in head {
-        c.push(s.t_s, s.accel_mps2).unwrap();
+        c.push(&s.into()).unwrap();
     }
     let snap = c.snapshot();
     poison_from(
@@ -551,7 +551,7 @@ fn restore_refuses_poisoned_numbers_of_the_placement_classifier_and_odometry() {
         2,
         |b| PlacementClassifier::restore(b).map_err(|e| e.to_string()),
         |c| {
-            tail.iter().all(|s| match c.push(s.t_s, s.accel_mps2) {
+            tail.iter().all(|s| match c.push(&s.into()) {
                 Ok(Some(e)) => e.probabilities.iter().all(|p| p.is_finite()),
                 _ => true,
             })

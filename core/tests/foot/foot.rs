@@ -13,11 +13,10 @@ use stridekit_sim::{simulate_foot, FootScenario, SimulatedFoot};
 
 fn replay(sim: &SimulatedFoot, config: FootConfig) -> (FootNavigator, Vec<FootEstimate>) {
     let mut nav = FootNavigator::new(config).expect("valid config");
-    let mut out = Vec::with_capacity(sim.samples.len());
-    let outcome = nav.push_batch(&sim.samples, |e| out.push(*e));
+    let outcome = nav.push_batch(&sim.samples);
     assert!(outcome.rejected.is_empty(), "{:?}", &outcome.rejected[..1]);
     assert_eq!(nav.divergence_resets(), 0);
-    (nav, out)
+    (nav, outcome.estimates)
 }
 
 fn with_detector(detector: ZeroVelocityDetector) -> FootConfig {
@@ -197,11 +196,9 @@ fn jittered_timestamps_and_dropped_samples() {
     let mid = sim.strides[40].t_s + 0.05;
     samples.retain(|s| !(s.t_s > mid && s.t_s < mid + 0.3));
     let mut nav = FootNavigator::new(FootConfig::default()).unwrap();
-    let mut est = Vec::new();
-    assert!(nav
-        .push_batch(&samples, |e| est.push(*e))
-        .rejected
-        .is_empty());
+    let outcome = nav.push_batch(&samples);
+    assert!(outcome.rejected.is_empty());
+    let est = outcome.estimates;
     assert_finite(&est);
     assert_eq!(est.iter().filter(|e| e.gap).count(), 1);
     let (end, share) = closure(&sim, &est);

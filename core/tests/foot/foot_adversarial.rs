@@ -336,7 +336,8 @@ fn accelerations_in_g_are_refused_before_alignment() {
             ..*s
         })
         .collect();
-    let outcome = nav.push_batch(&g[..400], |_| panic!("no estimate expected"));
+    let outcome = nav.push_batch(&g[..400]);
+    assert!(outcome.estimates.is_empty());
     assert_eq!(outcome.rejected.len(), 400);
     assert!(outcome.rejected.iter().all(|r| matches!(
         r.error,
@@ -441,16 +442,13 @@ fn batches_skip_and_report_bad_samples() {
     samples[900].t_s = samples[899].t_s;
     samples[1200].accel_mps2[0] = 1e9;
     let mut nav = FootNavigator::new(FootConfig::default()).unwrap();
-    let mut n = 0;
-    let outcome = nav.push_batch(&samples, |e| {
-        assert!(finite_estimate(e));
-        n += 1;
-    });
+    let outcome = nav.push_batch(&samples);
+    assert!(outcome.estimates.iter().all(finite_estimate));
     assert_eq!(
         outcome.rejected.iter().map(|r| r.index).collect::<Vec<_>>(),
         vec![700, 900, 1200]
     );
-    assert_eq!(outcome.estimates, n);
+    assert_eq!(outcome.accepted, samples.len() - 3);
     // Same result as pushing only the good samples.
     let good: Vec<FootSample> = samples
         .iter()
@@ -459,7 +457,7 @@ fn batches_skip_and_report_bad_samples() {
         .map(|(_, s)| *s)
         .collect();
     let mut clean = FootNavigator::new(FootConfig::default()).unwrap();
-    clean.push_batch(&good, |_| {});
+    clean.push_batch(&good);
     assert_eq!(clean.snapshot(), nav.snapshot());
 }
 
@@ -467,7 +465,7 @@ fn batches_skip_and_report_bad_samples() {
 fn restore_never_panics_on_corrupted_snapshots() {
     let sim = simulate_foot(&FootScenario::walk(26, 1));
     let mut nav = FootNavigator::new(FootConfig::default()).unwrap();
-    nav.push_batch(&sim.samples[..1500], |_| {});
+    nav.push_batch(&sim.samples[..1500]);
     let bytes = nav.snapshot();
     let mut rng = Rng::new(5);
     for _ in 0..3000 {

@@ -335,7 +335,7 @@ fn pushing_samples_does_not_allocate() {
                 t_s: f64::NAN,
                 ..b[0]
             });
-            let out = eng.push_batch(b, |e| {
+            let out = eng.push_batch_with(b, |e| {
                 std::hint::black_box(e);
             });
             estimates += out.estimates;
@@ -417,7 +417,7 @@ fn fixed_and_unknown_sources_use_their_regressor() {
         };
         let mut eng = PhoneOdometry::new(cfg, model.clone()).unwrap();
         let mut n = 0;
-        eng.push_batch(samples, |e| {
+        eng.push_batch_with(samples, |e| {
             n += 1;
             assert_eq!(e.regressor_placement, want, "{source:?}");
             assert_eq!(e.detected_placement, None);

@@ -11,8 +11,8 @@ use stridekit_core::input::InputError;
 use std::path::PathBuf;
 
 use stridekit_core::placement::{
-    trace_features, Features, Placement, PlacementClassifier, PlacementError, PlacementEstimate,
-    PlacementModel, FEATURES,
+    trace_features, AccelSample, Features, Placement, PlacementClassifier, PlacementError,
+    PlacementEstimate, PlacementModel, FEATURES,
 };
 use stridekit_lab::placement::{accuracy, train, TrainParams};
 use stridekit_sim::{simulate_phone, PhonePlacement, PhoneScenario};
@@ -28,10 +28,14 @@ fn walk(seed: u64, p: PhonePlacement, rate_hz: f64, secs: f64) -> Vec<(f64, [f64
         .collect()
 }
 
+fn accel(t_s: f64, accel_mps2: [f64; 3]) -> AccelSample {
+    AccelSample { t_s, accel_mps2 }
+}
+
 fn run(c: &mut PlacementClassifier, samples: &[(f64, [f64; 3])]) -> Vec<PlacementEstimate> {
     samples
         .iter()
-        .filter_map(|&(t, a)| c.push(t, a).ok().flatten())
+        .filter_map(|&(t, a)| c.push(&accel(t, a)).ok().flatten())
         .collect()
 }
 
@@ -157,12 +161,12 @@ fn adversarial_input_never_panics_nor_gives_nan() {
             ];
             let (bt, ba) = bad[k % 7];
             assert!(
-                c.push(bt, ba).is_err(),
+                c.push(&accel(bt, ba)).is_err(),
                 "sample {k} kind {} accepted",
                 k % 7
             );
         }
-        if let Some(e) = c.push(t, a).unwrap() {
+        if let Some(e) = c.push(&accel(t, a)).unwrap() {
             got.push(e);
         }
         last_t = t;
@@ -171,15 +175,15 @@ fn adversarial_input_never_panics_nor_gives_nan() {
     // Samples in g from the start are refused with the typed error.
     let mut g = PlacementClassifier::shipped();
     assert!(matches!(
-        g.push(0.0, [0.0, 0.0, 1.0]),
+        g.push(&accel(0.0, [0.0, 0.0, 1.0])),
         Err(PlacementError::Input(InputError::AccelerationInG { .. }))
     ));
     let mut g = PlacementClassifier::shipped();
-    g.push(0.0, [0.0, 0.0, 9.8]).unwrap();
+    g.push(&accel(0.0, [0.0, 0.0, 9.8])).unwrap();
     let mut refused = false;
     for k in 1..300 {
         refused |= matches!(
-            g.push(k as f64 * 0.01, [0.0, 0.0, 1.0]),
+            g.push(&accel(k as f64 * 0.01, [0.0, 0.0, 1.0])),
             Err(PlacementError::Input(InputError::AccelerationInG { .. }))
         );
     }
@@ -208,7 +212,7 @@ fn adversarial_input_never_panics_nor_gives_nan() {
             (rnd() - 0.5) * 400.0,
             9.0 + (rnd() - 0.5) * 200.0,
         ];
-        if let Ok(Some(e)) = c.push(t, a) {
+        if let Ok(Some(e)) = c.push(&accel(t, a)) {
             assert_sane(&e);
             windows += 1;
         }
@@ -216,16 +220,17 @@ fn adversarial_input_never_panics_nor_gives_nan() {
     assert!(windows > 100, "{windows}");
     // A clock jump of a few months passes; times of 1e12 s are a unit error.
     let batch = c.push_batch(&[
-        (t + 1e7, [0.0, 0.0, 9.8]),
-        (t + 1e7 + 0.01, [0.0, 0.0, 9.8]),
-        (1e12, [0.0, 0.0, 9.8]),
+        accel(t + 1e7, [0.0, 0.0, 9.8]),
+        accel(t + 1e7 + 0.01, [0.0, 0.0, 9.8]),
+        accel(1e12, [0.0, 0.0, 9.8]),
     ]);
+    assert_eq!(batch.accepted, 2);
     assert_eq!(batch.rejected.len(), 1);
     assert!(matches!(
         batch.rejected[0].error,
         PlacementError::Input(InputError::TimeUnit { .. })
     ));
-    let batch = c.push_batch(&[(f64::NAN, [0.0; 3]), (0.0, [0.0, 0.0, 9.8])]);
+    let batch = c.push_batch(&[accel(f64::NAN, [0.0; 3]), accel(0.0, [0.0, 0.0, 9.8])]);
     assert_eq!(batch.rejected.len(), 2);
     assert_eq!(batch.rejected[1].index, 1);
     if let Some(e) = c.estimate() {
@@ -242,15 +247,15 @@ fn pushing_samples_does_not_allocate() {
     let mut windows = 0;
     let (n, _) = allocations_in(|| {
         for &(t, a) in rest {
-            if let Some(e) = c.push(t, a).unwrap() {
+            if let Some(e) = c.push(&accel(t, a)).unwrap() {
                 windows += 1;
                 std::hint::black_box(e);
             }
         }
         let last = rest.last().unwrap().0;
-        let _ = c.push(f64::NAN, [0.0; 3]);
-        let _ = c.push(last, [0.0, 0.0, 9.8]);
-        let _ = c.push(last + 5.0, [0.0, 0.0, 9.8]); // gap
+        let _ = c.push(&accel(f64::NAN, [0.0; 3]));
+        let _ = c.push(&accel(last, [0.0, 0.0, 9.8]));
+        let _ = c.push(&accel(last + 5.0, [0.0, 0.0, 9.8])); // gap
         std::hint::black_box(c.estimate());
     });
     assert!(windows > 10, "{windows}");
@@ -344,20 +349,20 @@ fn snapshot_restore_continues_identically() {
     let mut whole = PlacementClassifier::shipped();
     let expected: Vec<Option<PlacementEstimate>> = samples
         .iter()
-        .map(|&(t, a)| whole.push(t, a).unwrap())
+        .map(|&(t, a)| whole.push(&accel(t, a)).unwrap())
         .collect();
     assert!(expected.iter().flatten().count() > 10);
     for split in (0..samples.len()).step_by(331).chain([samples.len() - 1]) {
         let mut a = PlacementClassifier::shipped();
         for &(t, x) in &samples[..split] {
-            a.push(t, x).unwrap();
+            a.push(&accel(t, x)).unwrap();
         }
         let bytes = a.snapshot();
         let mut b = PlacementClassifier::restore(&bytes).unwrap();
         assert_eq!(b.estimate(), a.estimate());
         for (k, &(t, x)) in samples.iter().enumerate().skip(split) {
             assert_eq!(
-                b.push(t, x).unwrap(),
+                b.push(&accel(t, x)).unwrap(),
                 expected[k],
                 "split {split} sample {k}"
             );

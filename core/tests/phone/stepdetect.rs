@@ -125,8 +125,8 @@ fn count(mode: DetectorMode, samples: &[AccelSample]) -> usize {
     let mut d = StepDetector::new(config).unwrap();
     let out = d.push_batch(samples);
     assert!(out.rejected.is_empty(), "{:?}", out.rejected.first());
-    assert_eq!(out.steps.len() as u64, d.step_count());
-    out.steps.len()
+    assert_eq!(out.estimates.len() as u64, d.step_count());
+    out.estimates.len()
 }
 
 #[test]
@@ -192,7 +192,7 @@ fn dropped_bursts_and_jitter_keep_the_count() {
                     r.error
                 );
             }
-            let got = out.steps.len();
+            let got = out.estimates.len();
             // Within 4 %: where bursts crowd (30 % of 5 s lost) the cadence can lock
             // at half for a few seconds until the autocorrelation window is clean.
             let tol = (truth / 25).max(2);
@@ -208,7 +208,7 @@ fn dropped_bursts_and_jitter_keep_the_count() {
 fn step_events_carry_features() {
     let (s, _) = gait_trace(WALK, 100.0, 0.0, 30.0, 7);
     let mut d = StepDetector::new(StepDetectorConfig::default()).unwrap();
-    let steps = d.push_batch(&s).steps;
+    let steps = d.push_batch(&s).estimates;
     assert!(steps.len() > 40);
     assert!(steps[0].duration_s.is_nan() || steps[0].duration_s > 0.0);
     for w in steps.windows(2) {
@@ -319,7 +319,7 @@ fn walking_detector(mode: DetectorMode) -> (StepDetector, f64) {
         ..Default::default()
     })
     .unwrap();
-    let steps = d.push_batch(&s[..1500]).steps;
+    let steps = d.push_batch(&s[..1500]).estimates;
     if mode == DetectorMode::Default {
         assert!(!steps.is_empty());
     }
@@ -449,14 +449,14 @@ fn snapshot_split_gives_identical_output() {
             ..Default::default()
         };
         let mut whole = StepDetector::new(config).unwrap();
-        let all = whole.push_batch(&s).steps;
+        let all = whole.push_batch(&s).estimates;
         for split in [1, 999, 4321, s.len() / 2, s.len() - 1] {
             let mut a = StepDetector::new(config).unwrap();
-            let mut got = a.push_batch(&s[..split]).steps;
+            let mut got = a.push_batch(&s[..split]).estimates;
             let bytes = a.snapshot();
             let mut b = StepDetector::restore(&bytes).unwrap();
             assert_eq!(b.snapshot(), bytes);
-            got.extend(b.push_batch(&s[split..]).steps);
+            got.extend(b.push_batch(&s[split..]).estimates);
             assert!(same(&got, &all), "{mode:?} split at {split}");
             assert_eq!(b.step_count(), whole.step_count());
         }
@@ -600,14 +600,14 @@ fn a_recording_that_starts_mid_walk_counts_its_first_steps() {
         let out = d.push_batch(&s);
         assert!(out.rejected.is_empty());
         assert!(
-            out.steps.len().abs_diff(truth) <= 1,
+            out.estimates.len().abs_diff(truth) <= 1,
             "seed {seed}: {} steps, {truth} true",
-            out.steps.len()
+            out.estimates.len()
         );
         assert!(
-            out.steps[0].t_s < 1.0,
+            out.estimates[0].t_s < 1.0,
             "seed {seed}: first step at {:.2} s",
-            out.steps[0].t_s
+            out.estimates[0].t_s
         );
     }
 }

@@ -89,21 +89,23 @@ pub fn labelled_windows(
         ..OdometryConfig::default()
     };
     let mut eng = PhoneOdometry::new(cfg, model).expect("valid");
-    let mut out = Vec::new();
-    eng.push_batch(samples, |e| {
-        let f = e.features;
-        let (e0, n0) = truth.position_at(f.t_start_s);
-        let (e1, n1) = truth.position_at(f.t_end_s);
-        let span = (f.t_end_s - f.t_start_s).max(1e-6);
-        let v = [(e1 - e0) / span, (n1 - n0) / span];
-        let (s, c) = f.yaw_rad.sin_cos();
-        out.push(LabelledWindow {
-            placement,
-            features: f,
-            velocity_s_mps: [c * v[0] + s * v[1], -s * v[0] + c * v[1]],
-        });
-    });
-    out
+    eng.push_batch(samples)
+        .estimates
+        .iter()
+        .map(|e| {
+            let f = e.features;
+            let (e0, n0) = truth.position_at(f.t_start_s);
+            let (e1, n1) = truth.position_at(f.t_end_s);
+            let span = (f.t_end_s - f.t_start_s).max(1e-6);
+            let v = [(e1 - e0) / span, (n1 - n0) / span];
+            let (s, c) = f.yaw_rad.sin_cos();
+            LabelledWindow {
+                placement,
+                features: f,
+                velocity_s_mps: [c * v[0] + s * v[1], -s * v[0] + c * v[1]],
+            }
+        })
+        .collect()
 }
 
 /// Ridge least squares `min ‖A w − b‖² + α ‖w‖²` (α not applied to `free` leading

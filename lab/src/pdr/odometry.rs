@@ -67,14 +67,17 @@ pub fn track(w: &Walk, model: &OdometryModel) -> Result<Vec<TrackPoint>, String>
         t_s: w.rec.samples.first().map_or(0.0, |s| s.t_s),
         ..Default::default()
     }];
-    eng.push_batch(&samples_of(w), |e| {
-        out.push(TrackPoint {
-            t_s: e.t_s,
-            x_m: e.position_m[0],
-            y_m: e.position_m[1],
-            distance_m: 0.0,
-        })
-    });
+    out.extend(
+        eng.push_batch(&samples_of(w))
+            .estimates
+            .iter()
+            .map(|e| TrackPoint {
+                t_s: e.t_s,
+                x_m: e.position_m[0],
+                y_m: e.position_m[1],
+                distance_m: 0.0,
+            }),
+    );
     Ok(out)
 }
 
