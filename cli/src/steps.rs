@@ -106,7 +106,7 @@ pub fn run(args: &StepsArgs) -> Result<(), String> {
     let mut rejected = Rejected::default();
     let mut steps: Vec<StepEvent> = Vec::new();
     for &(t_s, a) in &rec.samples {
-        match detector.push(t_s, a) {
+        match detector.push_accel(t_s, a) {
             Ok(first) => steps.extend(first),
             Err(e) => rejected.steps(&e),
         }

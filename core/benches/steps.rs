@@ -56,7 +56,7 @@ fn bench(c: &mut Criterion) {
             })
             .unwrap();
             for &(t, a) in &samples[..warm] {
-                d.push(t, a).unwrap();
+                d.push_accel(t, a).unwrap();
                 while d.pop_step().is_some() {}
             }
             let block = &samples[warm..warm + BLOCK];
@@ -66,7 +66,7 @@ fn bench(c: &mut Criterion) {
                     |d| {
                         let mut n = 0u32;
                         for &(t, a) in block {
-                            if d.push(black_box(t), black_box(a)).unwrap().is_some() {
+                            if d.push_accel(black_box(t), black_box(a)).unwrap().is_some() {
                                 n += 1;
                             }
                             while d.pop_step().is_some() {

@@ -307,7 +307,7 @@ impl Engine for Steps {
     }
     fn feed(&mut self, b: &mut Bytes) {
         let t = b.time(&mut self.t, 0.01);
-        if let Ok(Some(ev)) = self.e.push(t, b.vec3(GRAVITY, 3.0)) {
+        if let Ok(Some(ev)) = self.e.push_accel(t, b.vec3(GRAVITY, 3.0)) {
             check_event(&ev);
         }
     }

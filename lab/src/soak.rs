@@ -678,9 +678,11 @@ pub fn run(args: &SoakArgs, mut progress: impl FnMut(&str)) -> SoakReport {
         let t = Instant::now();
         let mut detected = Vec::new();
         for s in &chunk.imu {
-            if let Some(Some(e)) =
-                steps.step(s.t_s, |d| d.push(s.t_s, s.accel_mps2), cmp_opt(cmp_step))
-            {
+            if let Some(Some(e)) = steps.step(
+                s.t_s,
+                |d| d.push_accel(s.t_s, s.accel_mps2),
+                cmp_opt(cmp_step),
+            ) {
                 detected.push(e);
             }
         }
@@ -895,7 +897,11 @@ mod tests {
             if i == 3000 {
                 p.b = StepDetector::default();
             }
-            p.step(s.t_s, |d| d.push(s.t_s, s.accel_mps2), cmp_opt(cmp_step));
+            p.step(
+                s.t_s,
+                |d| d.push_accel(s.t_s, s.accel_mps2),
+                cmp_opt(cmp_step),
+            );
         }
         let stats = p.finish();
         assert!(

@@ -205,10 +205,10 @@ impl PaceTracker {
     /// per tracker (a detected step earlier than a pushed count is ignored).
     pub fn push_accel(&mut self, t_s: f64, accel_mps2: [f64; 3]) -> Result<(), PaceError> {
         let first = match &mut self.detector {
-            Some(d) => d.push(t_s, accel_mps2)?,
+            Some(d) => d.push_accel(t_s, accel_mps2)?,
             None => {
                 let mut d = StepDetector::new(StepDetectorConfig::default())?;
-                let first = d.push(t_s, accel_mps2)?;
+                let first = d.push_accel(t_s, accel_mps2)?;
                 self.detector = Some(d);
                 first
             }

@@ -375,7 +375,7 @@ impl PhoneNavigator {
         s: &ImuSample,
         q_enu: Option<UnitQuaternion<f64>>,
     ) -> Result<(), NavError> {
-        let first = self.detector.push(s.t_s, s.accel_mps2)?;
+        let first = self.detector.push_accel(s.t_s, s.accel_mps2)?;
         self.imu_time.accept(s.t_s);
         self.last_t_s = if self.last_t_s.is_nan() {
             s.t_s

@@ -321,7 +321,12 @@ impl StepDetector {
     /// [`pop_step`](Self::pop_step) until `None` to drain them (or they come out with
     /// the next pushes). The queue holds 32 steps; older ones are dropped beyond that
     /// (they stay counted in [`step_count`](Self::step_count)).
-    pub fn push(
+    pub fn push(&mut self, s: &AccelSample) -> Result<Option<StepEvent>, StepDetectError> {
+        self.push_accel(s.t_s, s.accel_mps2)
+    }
+
+    /// [`push`](Self::push) with the time and the acceleration as plain values.
+    pub fn push_accel(
         &mut self,
         t_s: f64,
         accel_mps2: [f64; 3],
@@ -346,11 +351,6 @@ impl StepDetector {
         Ok(self.queue.pop_front())
     }
 
-    /// Push one [`AccelSample`].
-    pub fn push_sample(&mut self, s: &AccelSample) -> Result<Option<StepEvent>, StepDetectError> {
-        self.push(s.t_s, s.accel_mps2)
-    }
-
     /// The oldest released step not yet returned.
     pub fn pop_step(&mut self) -> Option<StepEvent> {
         self.queue.pop_front()
@@ -366,7 +366,7 @@ impl StepDetector {
             |e| b.estimates.push(e),
             |r| b.rejected.push(r),
             |s, emit| {
-                let first = self.push_sample(s);
+                let first = self.push(s);
                 if let Ok(Some(e)) = first {
                     emit(e);
                 }

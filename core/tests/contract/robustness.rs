@@ -62,7 +62,7 @@ fn nanosecond_timestamps_after_days_of_uptime_return_at_once() {
     // 1e9 after about 12 days of uptime; the step detector's grid loop never ended.
     let mut d = StepDetector::default();
     for t in [1e15, 1e15 + 0.25] {
-        match d.push(t, [0.0, 0.0, 9.81]) {
+        match d.push_accel(t, [0.0, 0.0, 9.81]) {
             Err(StepDetectError::Input(e)) => {
                 assert!(is_time_unit(&e, LikelyTimeUnit::Nanoseconds), "{e}")
             }
@@ -159,7 +159,7 @@ fn imu_samples_in_nanoseconds_are_refused_not_silently_stepless() {
             Err(e) => panic!("{e}"),
             Ok(()) => {}
         }
-        match d.push(ns.t_s, ns.accel_mps2) {
+        match d.push_accel(ns.t_s, ns.accel_mps2) {
             Err(StepDetectError::Input(e)) if is_time_unit(&e, LikelyTimeUnit::Nanoseconds) => {
                 refused.1 += 1
             }
@@ -284,8 +284,8 @@ fn sub_microsecond_intervals_are_duplicates_in_every_engine() {
     a.update(1e-6, [0.1; 3], g, None).unwrap();
     Ahrs::restore(&a.snapshot()).unwrap();
     let mut d = StepDetector::default();
-    d.push(5.0, g).unwrap();
-    assert!(d.push(5.0 + 1e-7, g).is_err());
+    d.push_accel(5.0, g).unwrap();
+    assert!(d.push_accel(5.0 + 1e-7, g).is_err());
     let mut p = PaceTracker::new(PaceConfig::default()).unwrap();
     p.push_fix(&GnssFix::new(10.0, 47.0, 8.0)).unwrap();
     assert!(p.push_fix(&GnssFix::new(10.0 + 5e-7, 47.0, 8.0)).is_err());
@@ -425,7 +425,7 @@ fn restore_refuses_poisoned_numbers_of_the_phone_engines() {
     for s in head {
         a.update(s.t_s, s.gyro_rads, s.accel_mps2, s.mag_ut)
             .unwrap();
-        d.push(s.t_s, s.accel_mps2).unwrap();
+        d.push_accel(s.t_s, s.accel_mps2).unwrap();
     }
     poison_everywhere(
         "ahrs",
@@ -448,10 +448,11 @@ fn restore_refuses_poisoned_numbers_of_the_phone_engines() {
         &d.snapshot(),
         |b| StepDetector::restore(b).map_err(|e| e.to_string()),
         |d| {
-            tail.iter().all(|s| match d.push(s.t_s, s.accel_mps2) {
-                Ok(Some(e)) => e.t_s.is_finite(),
-                _ => true,
-            })
+            tail.iter()
+                .all(|s| match d.push_accel(s.t_s, s.accel_mps2) {
+                    Ok(Some(e)) => e.t_s.is_finite(),
+                    _ => true,
+                })
         },
         |d| d.snapshot(),
     );

@@ -42,13 +42,13 @@ fn check(mode: DetectorMode) {
     })
     .unwrap();
     for &(t, a) in &samples[..100] {
-        d.push(t, a).unwrap();
+        d.push_accel(t, a).unwrap();
     }
     let last_t = samples.last().unwrap().0;
     let (allocs, steps) = allocations_in(|| {
         let mut steps = 0usize;
         for (i, &(t, a)) in samples[100..].iter().enumerate() {
-            if d.push(black_box(t), black_box(a)).unwrap().is_some() {
+            if d.push_accel(black_box(t), black_box(a)).unwrap().is_some() {
                 steps += 1;
             }
             while d.pop_step().is_some() {
@@ -56,12 +56,15 @@ fn check(mode: DetectorMode) {
             }
             if i % 1000 == 0 {
                 // Rejected samples build their errors without allocating too.
-                black_box(d.push(f64::NAN, a).unwrap_err());
-                black_box(d.push(t, a).unwrap_err());
-                black_box(d.push(t + 0.001, [f64::INFINITY, 0.0, 0.0]).unwrap_err());
+                black_box(d.push_accel(f64::NAN, a).unwrap_err());
+                black_box(d.push_accel(t, a).unwrap_err());
+                black_box(
+                    d.push_accel(t + 0.001, [f64::INFINITY, 0.0, 0.0])
+                        .unwrap_err(),
+                );
             }
         }
-        black_box(d.push(last_t + 0.01, [0.0, 0.0, 1.0]).is_ok());
+        black_box(d.push_accel(last_t + 0.01, [0.0, 0.0, 1.0]).is_ok());
         steps
     });
     assert_eq!(

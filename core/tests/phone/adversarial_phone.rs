@@ -57,7 +57,7 @@ fn step_detector_and_ahrs_survive_garbage() {
         let (mut accepted_d, mut accepted_a) = (0, 0);
         for _ in 0..30_000 {
             let s = imu(&mut rng, &mut t);
-            match d.push(s.t_s, s.accel_mps2) {
+            match d.push_accel(s.t_s, s.accel_mps2) {
                 Ok(Some(e)) => {
                     accepted_d += 1;
                     assert!(e.t_s.is_finite());

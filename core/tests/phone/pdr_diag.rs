@@ -154,7 +154,7 @@ fn cost_split() {
         let mut d = StepDetector::new(StepDetectorConfig::default()).unwrap();
         let t0 = Instant::now();
         for s in &sim.samples {
-            std::hint::black_box(d.push(s.t_s, s.accel_mps2).unwrap());
+            std::hint::black_box(d.push_accel(s.t_s, s.accel_mps2).unwrap());
             while d.pop_step().is_some() {}
         }
         let det_ns = t0.elapsed().as_nanos() as f64 / n;

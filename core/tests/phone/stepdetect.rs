@@ -365,12 +365,12 @@ fn invalid_samples_are_rejected_and_change_nothing() {
             }),
         ];
         for (ts, a, expected) in cases {
-            let e = d.push(ts, a).unwrap_err();
+            let e = d.push_accel(ts, a).unwrap_err();
             assert!(expected(&e), "{mode:?}: ({ts}, {a:?}) gave {e:?}");
             assert_eq!(d.snapshot(), before, "{mode:?}: state changed by {e:?}");
         }
         // Still works afterwards.
-        assert!(d.push(t + 0.01, good).is_ok());
+        assert!(d.push_accel(t + 0.01, good).is_ok());
     }
 }
 
@@ -382,7 +382,7 @@ fn samples_in_g_are_recognised() {
     for i in 0..200 {
         let t = i as f64 * 0.01;
         let e = d
-            .push(t, [0.02, -0.01, 1.0 + 0.05 * (7.0 * t).sin()])
+            .push_accel(t, [0.02, -0.01, 1.0 + 0.05 * (7.0 * t).sin()])
             .unwrap_err();
         assert!(
             matches!(
@@ -399,7 +399,7 @@ fn samples_in_g_are_recognised() {
     let (mut d, t) = walking_detector(DetectorMode::Default);
     let mut rejected = 0;
     for i in 1..=300 {
-        if d.push(t + i as f64 * 0.01, [0.0, 0.0, 1.0]).is_err() {
+        if d.push_accel(t + i as f64 * 0.01, [0.0, 0.0, 1.0]).is_err() {
             rejected += 1;
         }
     }
@@ -494,7 +494,7 @@ fn buffered_steps_drain_through_pop_step() {
     let mut burst = 0usize;
     for x in &s {
         let mut n = 0;
-        if d.push_sample(x).unwrap().is_some() {
+        if d.push(x).unwrap().is_some() {
             n += 1;
         }
         while d.pop_step().is_some() {

@@ -87,7 +87,7 @@ fn default_detector_counts_real_traces_within_target() {
                 continue;
             }
             last = t;
-            if let Some(e) = d.push(t, [r[2], r[3], r[4]]).unwrap() {
+            if let Some(e) = d.push_accel(t, [r[2], r[3], r[4]]).unwrap() {
                 detected.push(e.t_s);
             }
             while let Some(e) = d.pop_step() {

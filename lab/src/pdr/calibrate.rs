@@ -106,7 +106,7 @@ fn feature_sum(
     let mut sum = [0.0; 3];
     let mut last_hz = DEFAULT_STEP_HZ;
     for s in &w.rec.samples {
-        let Ok(first) = d.push(s.t_s, s.accel_mps2) else {
+        let Ok(first) = d.push_accel(s.t_s, s.accel_mps2) else {
             continue;
         };
         for e in first.into_iter().chain(std::iter::from_fn(|| d.pop_step())) {

@@ -164,7 +164,7 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
                 StepDetector::new(StepDetectorConfig::default()).map_err(|e| e.to_string())?;
             let mut events = Vec::new();
             for s in &rec.samples {
-                if let Ok(first) = d.push(s.t_s, s.accel_mps2) {
+                if let Ok(first) = d.push_accel(s.t_s, s.accel_mps2) {
                     for e in first.into_iter().chain(std::iter::from_fn(|| d.pop_step())) {
                         events.push((e.t_s, s.t_s));
                     }
