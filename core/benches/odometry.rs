@@ -15,8 +15,8 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
-use stridekit_core::odometry::bias::BiasCorrector;
-use stridekit_core::odometry::features::FeatureWindow;
+use stridekit_core::odometry::BiasCorrector;
+use stridekit_core::odometry::FeatureWindow;
 use stridekit_core::odometry::{
     ImuSample, OdometryConfig, OdometryModel, PhoneOdometry, PlacementSource,
 };

@@ -13,8 +13,8 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
-use stridekit_core::placement::features::{window_features, FeatureTables};
-use stridekit_core::placement::resample::BinAverager;
+use stridekit_core::placement::BinAverager;
+use stridekit_core::placement::{window_features, FeatureTables};
 use stridekit_core::placement::{AccelSample, PlacementClassifier, PlacementModel, WINDOW};
 use stridekit_sim::{simulate_phone, PhonePlacement, PhoneScenario};
 

@@ -8,7 +8,7 @@
 //! replayed over the same time-ordered samples; each method's speed is read on a
 //! 1 s grid as its latest output (what a watch would display at that second).
 
-use stridekit_core::pace::baseline::{Baseline, BaselineKind};
+use stridekit_core::pace::{Baseline, BaselineKind};
 use stridekit_core::pace::{PaceConfig, PaceEstimate, PaceSample, PaceTracker};
 use stridekit_sim::{Rng, SimulatedRun, Zone, ZoneKind};
 

@@ -14,17 +14,17 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::placement::{predict, train, TrainParams};
-use stridekit_core::placement::features::{window_features, FeatureTables};
-use stridekit_core::placement::resample::BinAverager;
+use stridekit_core::placement::BinAverager;
 use stridekit_core::placement::{
     trace_features, AccelSample, Features, Placement, PlacementClassifier, PlacementModel, CLASSES,
     FEATURES, FEATURE_NAMES, WINDOW,
 };
+use stridekit_core::placement::{window_features, FeatureTables};
 use stridekit_formats::{list_oxford_traces, read_oxford_trace};
 use stridekit_sim::{simulate_phone, PhonePlacement, PhoneScenario};
 
 /// Smoothing of the streaming classifier, windows.
-const SMOOTHING: usize = stridekit_core::placement::classifier::DEFAULT_SMOOTHING;
+const SMOOTHING: usize = stridekit_core::placement::DEFAULT_SMOOTHING;
 
 /// One trace's windows.
 pub struct TraceWindows {

@@ -21,17 +21,17 @@
 //! remap are chosen in [`frame`]. An update allocates nothing; the state snapshots to
 //! bytes and restores bit-exactly.
 
-pub mod bias;
-pub mod decoupled;
-pub mod door;
-pub mod engine;
-pub mod error;
-pub mod flags;
-pub mod frame;
-pub mod madgwick;
-pub mod output;
+mod bias;
+mod decoupled;
+mod door;
+mod engine;
+mod error;
+mod flags;
+mod frame;
+mod madgwick;
+mod output;
 pub(crate) mod quat;
-pub mod settings;
+mod settings;
 
 pub use decoupled::DecoupledSettings;
 pub use engine::Ahrs;

@@ -5,14 +5,14 @@
 //! strapdown mechanisation in a local level ENU frame and a 15-state error-state
 //! Kalman filter with zero-velocity updates. See `docs/foot.md`.
 
-pub mod config;
-pub mod detect;
+mod config;
+mod detect;
 mod ekf;
-pub mod error;
+mod error;
 mod median;
-pub mod navigator;
-pub mod svm;
-pub mod types;
+mod navigator;
+mod svm;
+mod types;
 
 pub use config::{Correction, FootConfig, GyroTiming};
 pub use detect::{
@@ -22,4 +22,6 @@ pub use detect::{
 pub use error::FootError;
 pub use navigator::{FootNavigator, FootRejection};
 pub use svm::SvmModel;
+/// The SVM pieces the zero-velocity trainer (`stridekit-lab`) builds a model from.
+pub use svm::{PairSvm, SIGMA_EPS};
 pub use types::{FootEstimate, FootSample, Stride};

@@ -20,21 +20,26 @@
 // Small fixed-size numeric loops read better with indices.
 #![allow(clippy::needless_range_loop)]
 
-pub mod bias;
-pub mod engine;
-pub mod error;
-pub mod features;
-pub mod model;
-pub mod resample;
-pub mod sample;
-pub mod smooth;
-pub mod stabilise;
+mod bias;
+mod engine;
+mod error;
+mod features;
+mod model;
+mod resample;
+mod sample;
+mod smooth;
+mod stabilise;
 
+pub use bias::BiasCorrector;
 pub use engine::{
     OdometryConfig, OdometryEstimate, OdometryRejection, PhoneOdometry, PlacementSource,
     AUTO_MIN_CONFIDENCE,
 };
 pub use error::OdometryError;
 pub use features::WindowFeatures;
+/// Pieces the odometry trainer and baselines (`stridekit-lab`) build on.
+pub use features::{FeatureWindow, N_SCALAR, N_VECTOR};
+pub use model::{placement_from_name, slot};
 pub use model::{OdometryModel, PipelineParams, Regressor};
 pub use sample::ImuSample;
+pub use stabilise::rotate;

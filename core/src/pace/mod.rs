@@ -9,15 +9,17 @@
 //!
 //! A rejected sample returns a [`PaceError`] and leaves the state exactly as it was.
 
-pub mod adaptive;
-pub mod baseline;
-pub mod cadence;
-pub mod config;
-pub mod error;
-pub mod published;
-pub mod steps;
-pub mod types;
+mod adaptive;
+mod baseline;
+mod cadence;
+mod config;
+mod error;
+mod published;
+mod steps;
+mod types;
 
+/// GNSS-only speed baselines the evaluation compares the fusion filters against.
+pub use baseline::{Baseline, BaselineKind};
 pub use config::{AdaptiveParams, PaceCalibration, PaceConfig, PaceMode, PublishedParams};
 pub use error::{PaceError, Stream};
 pub use types::{GnssFix, PaceEstimate, PaceSample, PaceSource, StepSample, MIN_PACE_SPEED_MPS};

@@ -2,11 +2,12 @@
 //! ([`PhoneNavigator`]), built from the AHRS, the step detector, the step-length
 //! estimator and the walking-direction estimator ([`WalkingDirection`]).
 
-pub mod calibration;
-pub mod heading;
-pub mod navigator;
+mod calibration;
+mod heading;
+mod navigator;
 
 pub use calibration::{CalibrationError, PdrCalibration};
+pub use heading::wrap;
 pub use heading::WalkingDirection;
 pub use navigator::{
     NavError, NavEstimate, NavStep, NavigatorConfig, PhoneNavigator, RECENT_STEPS,

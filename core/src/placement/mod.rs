@@ -14,18 +14,22 @@
 //!
 //! Accuracy (leave-one-user-out on the Oxford traces) and limits: docs/odometry.md.
 
-pub mod class;
-pub mod classifier;
+mod class;
+mod classifier;
 mod error;
-pub mod features;
-pub mod model;
-pub mod resample;
-pub mod stream;
+mod features;
+mod model;
+mod resample;
+mod stream;
 
 pub use crate::stepdetect::AccelSample;
 pub use class::{Placement, CLASSES};
+/// Pieces the placement trainer (`stridekit-lab`) builds on.
+pub use classifier::DEFAULT_SMOOTHING;
 pub use classifier::{PlacementClassifier, PlacementEstimate, PlacementRejection};
 pub use error::PlacementError;
+pub use features::{window_features, FeatureTables};
 pub use features::{Features, FEATURES, FEATURE_NAMES, WINDOW};
 pub use model::PlacementModel;
+pub use resample::BinAverager;
 pub use stream::{trace_features, FeatureStream, HOP};

@@ -22,8 +22,8 @@
 mod error;
 mod event;
 mod gait;
-pub mod published;
-pub mod robust;
+mod published;
+mod robust;
 
 pub use error::StepDetectError;
 pub use event::StepEvent;

@@ -245,7 +245,8 @@ fn snapshot_split_and_restore_gives_identical_output() {
     }
     // Version-1 snapshots (no placement source and classifier) are typed errors.
     use stridekit_core::snapshot::{SnapshotError, Writer};
-    let mut w = Writer::new(stridekit_core::odometry::engine::SNAPSHOT_KIND, 1);
+    // Engine kind 8: the phone odometry (docs/architecture.md).
+    let mut w = Writer::new(8, 1);
     w.bytes(OdometryModel::shipped().to_text().as_bytes());
     assert_eq!(
         PhoneOdometry::restore(&w.finish()),

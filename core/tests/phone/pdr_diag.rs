@@ -12,7 +12,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use stridekit_core::ahrs::ImuSample;
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::pace::GnssFix;
-use stridekit_core::pdr::heading::wrap;
+use stridekit_core::pdr::wrap;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
 use stridekit_sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
 

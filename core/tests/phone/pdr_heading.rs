@@ -4,7 +4,7 @@
 use std::f64::consts::PI;
 
 use nalgebra::{UnitQuaternion, Vector3};
-use stridekit_core::pdr::heading::{wrap, WalkingDirection};
+use stridekit_core::pdr::{wrap, WalkingDirection};
 use stridekit_sim::Rng;
 
 const GRAVITY_MPS2: f64 = 9.80665;

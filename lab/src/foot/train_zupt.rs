@@ -11,8 +11,8 @@
 
 use std::path::Path;
 
-use stridekit_core::foot::svm::{PairSvm, SIGMA_EPS};
 use stridekit_core::foot::{FootConfig, FootNavigator, FootSample, SvmModel, WindowStats};
+use stridekit_core::foot::{PairSvm, SIGMA_EPS};
 
 use crate::foot::eval::Trial;
 

@@ -8,8 +8,8 @@
 
 use stridekit_core::ahrs::{Ahrs, AhrsSettings};
 use stridekit_core::input;
-use stridekit_core::odometry::sample::ImuSample;
-use stridekit_core::odometry::stabilise::rotate;
+use stridekit_core::odometry::rotate;
+use stridekit_core::odometry::ImuSample;
 use stridekit_core::odometry::OdometryError;
 
 /// Which orientation rotates the acceleration.

@@ -56,7 +56,7 @@ fn sim_from_name(s: &str) -> Option<PhonePlacement> {
 /// placement name (`front_pocket`, as the RIDI reader guesses).
 fn placement_of(rec: &Recording) -> Option<Placement> {
     let name = rec.placement.as_deref()?;
-    stridekit_core::odometry::model::placement_from_name(name)
+    stridekit_core::odometry::placement_from_name(name)
         .flatten()
         .or_else(|| sim_from_name(name).map(Placement::from))
 }

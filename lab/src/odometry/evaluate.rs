@@ -4,9 +4,9 @@
 use super::baseline::{NaiveMode, NaiveOdometry};
 use super::metrics::{align_start, ate, rte, Point};
 use super::train::Truth;
-use stridekit_core::odometry::engine::{OdometryConfig, PhoneOdometry, PlacementSource};
-use stridekit_core::odometry::model::OdometryModel;
-use stridekit_core::odometry::sample::ImuSample;
+use stridekit_core::odometry::ImuSample;
+use stridekit_core::odometry::OdometryModel;
+use stridekit_core::odometry::{OdometryConfig, PhoneOdometry, PlacementSource};
 
 /// The methods compared, in [`Tracks::methods`] order.
 pub const METHODS: [&str; 4] = [

@@ -5,10 +5,10 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use stridekit_core::odometry::engine::{OdometryConfig, PhoneOdometry, PlacementSource};
-use stridekit_core::odometry::features::{WindowFeatures, N_SCALAR, N_VECTOR};
-use stridekit_core::odometry::model::{slot, OdometryModel, PipelineParams, Regressor};
-use stridekit_core::odometry::sample::ImuSample;
+use stridekit_core::odometry::ImuSample;
+use stridekit_core::odometry::{slot, OdometryModel, PipelineParams, Regressor};
+use stridekit_core::odometry::{OdometryConfig, PhoneOdometry, PlacementSource};
+use stridekit_core::odometry::{WindowFeatures, N_SCALAR, N_VECTOR};
 use stridekit_core::placement::Placement;
 use stridekit_sim::phone::PhoneSegment;
 use stridekit_sim::{simulate_phone, PhoneActivity, PhonePlacement, PhoneScenario, Rng};

@@ -18,7 +18,7 @@ use std::fmt::Write as _;
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use stridekit_core::ahrs::ImuSample;
-use stridekit_core::pdr::heading::wrap;
+use stridekit_core::pdr::wrap;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
 
 use crate::pdr::metrics::median;

@@ -30,12 +30,12 @@
 //!
 //! One update is ~300 floating-point operations and allocates nothing.
 
-pub mod bias;
-pub mod heading;
-pub mod magnetic;
-pub mod rest;
-pub mod settings;
-pub mod tilt;
+mod bias;
+mod heading;
+mod magnetic;
+mod rest;
+mod settings;
+mod tilt;
 
 use self::bias::Bias;
 use self::heading::{wrap_pi, Heading};
