@@ -99,6 +99,35 @@ pub fn horizontal_distance_m(lat1: f64, lon1: f64, lat2: f64, lon2: f64) -> f64 
     p[0].hypot(p[1])
 }
 
+/// Snapshot codec of an optional local frame (its WGS84 origin), shared by the engines
+/// that anchor one.
+pub(crate) fn write_frame(w: &mut crate::snapshot::Writer, frame: Option<&LocalFrame>) {
+    match frame {
+        Some(f) => {
+            w.bool(true);
+            let (lat, lon, alt) = f.origin();
+            w.f64s(&[lat, lon, alt]);
+        }
+        None => w.bool(false),
+    }
+}
+
+/// Read what [`write_frame`] wrote; an origin off the globe or outside the altitude
+/// limits of the input layer is refused.
+pub(crate) fn read_frame(
+    r: &mut crate::snapshot::Reader,
+) -> Result<Option<LocalFrame>, crate::snapshot::SnapshotError> {
+    if !r.bool()? {
+        return Ok(None);
+    }
+    let (lat, lon, alt) = (r.f64()?, r.f64()?, r.f64()?);
+    let alt_ok = (crate::input::limits::MIN_ALT_M..=crate::input::limits::MAX_ALT_M).contains(&alt);
+    if !(lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt_ok) {
+        return Err(crate::snapshot::SnapshotError::Invalid("frame origin"));
+    }
+    Ok(Some(LocalFrame::new(lat, lon, alt)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

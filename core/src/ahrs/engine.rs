@@ -378,10 +378,7 @@ fn write_settings(w: &mut Writer, s: &AhrsSettings) {
     } = s;
     w.u8(algorithm.to_u8());
     w.u8(frame.to_u8());
-    for (src, neg) in axis_remap.source().iter().zip(axis_remap.negate()) {
-        w.u8(*src as u8);
-        w.bool(neg);
-    }
+    axis_remap.write(w);
     w.f64s(&[
         *gain,
         *initial_gain,
@@ -405,14 +402,7 @@ fn read_common_settings(
     algorithm: AhrsAlgorithm,
 ) -> Result<AhrsSettings, AhrsError> {
     let frame = EarthFrame::from_u8(r.u8()?).ok_or(SnapshotError::Invalid("frame"))?;
-    let mut source = [0usize; 3];
-    let mut negate = [false; 3];
-    for i in 0..3 {
-        source[i] = r.u8()? as usize;
-        negate[i] = r.bool()?;
-    }
-    let axis_remap =
-        AxisRemap::new(source, negate).map_err(|_| SnapshotError::Invalid("axis remap"))?;
+    let axis_remap = AxisRemap::read(r)?;
     // +∞ switches a feature off: the settings' own validation (run by `Ahrs::new`)
     // decides what each value may be.
     let mut v = [0.0; 11];

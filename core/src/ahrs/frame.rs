@@ -155,6 +155,29 @@ impl AxisRemap {
     }
 }
 
+impl AxisRemap {
+    /// Snapshot codec: per body axis, its sensor axis (u8) and whether it is negated.
+    pub(crate) fn write(&self, w: &mut crate::snapshot::Writer) {
+        for (src, neg) in self.source().iter().zip(self.negate()) {
+            w.u8(*src as u8);
+            w.bool(neg);
+        }
+    }
+
+    /// Read what [`Self::write`] wrote; a remap that is not a rotation is refused.
+    pub(crate) fn read(
+        r: &mut crate::snapshot::Reader,
+    ) -> Result<Self, crate::snapshot::SnapshotError> {
+        let mut source = [0usize; 3];
+        let mut negate = [false; 3];
+        for i in 0..3 {
+            source[i] = r.u8()? as usize;
+            negate[i] = r.bool()?;
+        }
+        Self::new(source, negate).map_err(|_| crate::snapshot::SnapshotError::Invalid("axis remap"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -21,14 +21,7 @@ impl PaceTracker {
         } = self;
         let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
         write_config(&mut w, config);
-        match frame {
-            Some(f) => {
-                w.bool(true);
-                let (lat, lon, alt) = f.origin();
-                w.f64s(&[lat, lon, alt]);
-            }
-            None => w.bool(false),
-        }
+        crate::geo::write_frame(&mut w, frame.as_ref());
         fix_time.write(&mut w);
         steps.write(&mut w);
         match filter {
@@ -60,17 +53,7 @@ impl PaceTracker {
         config
             .validate()
             .map_err(|_| SnapshotError::Invalid("configuration"))?;
-        let frame = if r.bool()? {
-            let (lat, lon, alt) = (r.f64()?, r.f64()?, r.f64()?);
-            let alt_ok =
-                (crate::input::limits::MIN_ALT_M..=crate::input::limits::MAX_ALT_M).contains(&alt);
-            if !(lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt_ok) {
-                return Err(SnapshotError::Invalid("frame origin").into());
-            }
-            Some(LocalFrame::new(lat, lon, alt))
-        } else {
-            None
-        };
+        let frame = crate::geo::read_frame(&mut r)?;
         let fix_time = TimeGuard::read(&mut r, InputStream::Gnss)?;
         let steps = StepStream::read(&mut r)?;
         let filter = match config.mode {

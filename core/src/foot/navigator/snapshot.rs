@@ -78,10 +78,7 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
         max_gap_s,
         min_swing_s,
     } = c;
-    for (src, neg) in axis_remap.source().iter().zip(axis_remap.negate()) {
-        w.u8(*src as u8);
-        w.bool(neg);
-    }
+    axis_remap.write(w);
     w.u64(*median_window as u64);
     w.f64s(&[
         *detector_window_s,
@@ -198,14 +195,7 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
 }
 
 fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
-    let mut source = [0usize; 3];
-    let mut negate = [false; 3];
-    for i in 0..3 {
-        source[i] = r.u8()? as usize;
-        negate[i] = r.bool()?;
-    }
-    let axis_remap =
-        AxisRemap::new(source, negate).map_err(|_| SnapshotError::Invalid("axis remap"))?;
+    let axis_remap = AxisRemap::read(r)?;
     let median_window = r.len(MAX_MEDIAN_WINDOW)?;
     let mut v = [0.0; 13];
     r.f64s(&mut v)?;

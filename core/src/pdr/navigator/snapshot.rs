@@ -40,14 +40,7 @@ impl PhoneNavigator {
         w.bytes(&detector.snapshot());
         w.bytes(&lengths.snapshot());
         direction.write(&mut w);
-        match frame {
-            Some(f) => {
-                w.bool(true);
-                let (lat, lon, alt) = f.origin();
-                w.f64s(&[lat, lon, alt]);
-            }
-            None => w.bool(false),
-        }
+        crate::geo::write_frame(&mut w, frame.as_ref());
         w.f64s(&[
             *east_m,
             *north_m,
@@ -107,17 +100,7 @@ impl PhoneNavigator {
         let detector = StepDetector::restore(r.bytes()?)?;
         let lengths = StepLengthEstimator::restore(r.bytes()?)?;
         let direction = WalkingDirection::read(&mut r)?;
-        let frame = if r.bool()? {
-            let (lat, lon, alt) = (r.f64()?, r.f64()?, r.f64()?);
-            let alt_ok =
-                (crate::input::limits::MIN_ALT_M..=crate::input::limits::MAX_ALT_M).contains(&alt);
-            if !(lat.abs() <= 90.0 && lon.abs() <= 180.0 && alt_ok) {
-                return Err(SnapshotError::Invalid("frame origin").into());
-            }
-            Some(LocalFrame::new(lat, lon, alt))
-        } else {
-            None
-        };
+        let frame = crate::geo::read_frame(&mut r)?;
         let [east_m, north_m, pos_var_m2, distance_m] = [r.f64()?, r.f64()?, r.f64()?, r.f64()?];
         // NaN before the first step / the first input.
         let last_step_length_m = r.f64_or_nan()?;
