@@ -17,6 +17,7 @@ pub mod placement_mlp;
 pub mod progress;
 pub mod report;
 pub mod soak;
+pub mod stats;
 pub mod steplength;
 pub mod steplength_eval;
 pub mod steps_eval;

@@ -305,18 +305,7 @@ pub fn score(detected: &[f64], reference: &[f64]) -> Score {
     }
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
+use crate::stats::median;
 
 /// Summary of a set of scores: median |count error| %, worst |count error| %, median F1,
 /// mean F1.

@@ -116,9 +116,9 @@ pub fn run(dir: &Path) -> Result<String, String> {
                 .collect::<Result<Vec<_>, _>>()?;
             out.push_str(&format!(
                 "| {lname}, {tname} | {:.4} | {:+.1} | {:.3} |",
-                median(rows.iter().map(|r| r.ratio).collect()),
-                1000.0 * median(rows.iter().map(|r| r.dz_per_stride_m).collect()),
-                median(rows.iter().map(|r| r.h).collect()),
+                median(rows.iter().map(|r| r.ratio).collect::<Vec<f64>>()),
+                1000.0 * median(rows.iter().map(|r| r.dz_per_stride_m).collect::<Vec<f64>>()),
+                median(rows.iter().map(|r| r.h).collect::<Vec<f64>>()),
             ));
             for s in &sessions {
                 out.push_str(&format!(
@@ -127,7 +127,7 @@ pub fn run(dir: &Path) -> Result<String, String> {
                         rows.iter()
                             .filter(|r| &r.session == s)
                             .map(|r| r.h)
-                            .collect()
+                            .collect::<Vec<f64>>()
                     )
                 ));
             }

@@ -593,19 +593,7 @@ fn norm(a: [f64; 3]) -> f64 {
     (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
-pub fn median(mut v: Vec<f64>) -> f64 {
-    v.retain(|x| x.is_finite());
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
+pub use crate::stats::median;
 
 /// Geometric mean of the RMSEs (the tuning objective: every trial counts, none
 /// dominates).
@@ -671,7 +659,7 @@ fn summary(
                     .zip(rows)
                     .filter(|(i, _)| kind.is_none_or(|k| i.kind() == k))
                     .map(|(_, row)| f(&row[j]))
-                    .collect(),
+                    .collect::<Vec<f64>>(),
             )
         };
         let pooled = |c: usize, num: fn(&Outcome, usize) -> usize| {
@@ -882,7 +870,12 @@ pub fn run(dir: &Path) -> Result<String, String> {
     out.push_str(&crate::foot::sessions::session_table(
         &trials, &names, &results, &loso,
     ));
-    let med_oracle = median(results.iter().map(|r| r[oracle].rmse_m).collect());
+    let med_oracle = median(
+        results
+            .iter()
+            .map(|r| r[oracle].rmse_m)
+            .collect::<Vec<f64>>(),
+    );
     let ours: Vec<f64> = results.iter().map(|r| r[oracle].armse_2d_m).collect();
     let theirs: Vec<f64> = trials
         .iter()
@@ -904,7 +897,7 @@ pub fn run(dir: &Path) -> Result<String, String> {
         .collect();
     let yes = |b: bool| if b { "yes" } else { "no" };
     for (j, name) in names.iter().enumerate() {
-        let rmse = median(results.iter().map(|r| r[j].rmse_m).collect());
+        let rmse = median(results.iter().map(|r| r[j].rmse_m).collect::<Vec<f64>>());
         let (a, n) = results.iter().fold((0, 0), |(a, n), r| {
             (
                 a + r[j].zv_agree[GaitClass::Run as usize],
@@ -912,8 +905,16 @@ pub fn run(dir: &Path) -> Result<String, String> {
             )
         });
         let zv = a as f64 / n.max(1) as f64 * 100.0;
-        let ch = median(walk.iter().map(|&i| results[i][j].closure_h_pct).collect());
-        let c3 = median(walk.iter().map(|&i| results[i][j].closure_pct).collect());
+        let ch = median(
+            walk.iter()
+                .map(|&i| results[i][j].closure_h_pct)
+                .collect::<Vec<f64>>(),
+        );
+        let c3 = median(
+            walk.iter()
+                .map(|&i| results[i][j].closure_pct)
+                .collect::<Vec<f64>>(),
+        );
         out.push_str(&format!(
             "| {name} | {rmse:.3} | {} | {zv:.1} | {} | {ch:.2} / {c3:.2} | {} (horizontal), {} (3-D) |\n",
             yes(rmse <= med_oracle),

@@ -93,7 +93,7 @@ pub fn session_table(
         }
         out.push_str(&format!(
             " {:.3} |\n",
-            median(results.iter().map(|r| r[j].rmse_h_m).collect())
+            median(results.iter().map(|r| r[j].rmse_h_m).collect::<Vec<f64>>())
         ));
     }
     out

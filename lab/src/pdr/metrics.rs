@@ -195,20 +195,7 @@ pub fn evaluate(track: &[TrackPoint], waypoints: &[(f64, f64, f64)]) -> Option<M
     })
 }
 
-/// Median of finite values (NaN when there are none).
-pub fn median(values: impl IntoIterator<Item = f64>) -> f64 {
-    let mut v: Vec<f64> = values.into_iter().filter(|x| x.is_finite()).collect();
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
+pub use crate::stats::median;
 
 #[cfg(test)]
 mod tests {
