@@ -22,7 +22,18 @@ pub mod snapshot;
 pub mod stepdetect;
 pub mod steplength;
 
+// What apps use, at the crate root: each engine with its configuration, sample,
+// estimate and error (the domain modules hold the rest of their surface).
+pub use ahrs::{Ahrs, AhrsError, AhrsOutput, AhrsSettings, ImuSample};
+pub use batch::{Batch, Rejected};
+pub use foot::{FootConfig, FootError, FootEstimate, FootNavigator, FootSample};
+pub use input::InputError;
+pub use odometry::{OdometryConfig, OdometryError, OdometryEstimate, PhoneOdometry};
 pub use pace::{
     GnssFix, PaceCalibration, PaceConfig, PaceError, PaceEstimate, PaceMode, PaceSample,
     PaceSource, PaceTracker, Rejection, StepSample,
 };
+pub use pdr::{NavError, NavEstimate, NavigatorConfig, PdrCalibration, PhoneNavigator};
+pub use placement::{PlacementClassifier, PlacementError, PlacementEstimate};
+pub use stepdetect::{AccelSample, StepDetectError, StepDetector, StepDetectorConfig, StepEvent};
+pub use steplength::{StepLengthConfig, StepLengthError, StepLengthEstimator, StepLengthModel};
