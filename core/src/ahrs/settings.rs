@@ -13,11 +13,11 @@ pub enum AhrsAlgorithm {
     /// The default: inclination from the accelerometer averaged in an
     /// almost-inertial frame, heading from the magnetometer on its own, gyroscope
     /// bias learned at rest and in motion, magnetic disturbance rejection
-    /// ([`super::decoupled`]; settings in [`AhrsSettings::decoupled`]).
+    /// (`super::decoupled`; settings in [`AhrsSettings::decoupled`]).
     #[default]
     Decoupled,
     /// Madgwick's gradient-descent filter with Fusion-style initialisation, rejection
-    /// and recovery ([`super::madgwick`]); the default before the decoupled filter.
+    /// and recovery (`super::madgwick`); the default before the decoupled filter.
     Madgwick,
 }
 

@@ -2,18 +2,18 @@
 //! Yan, Shan, Furukawa, "RIDI: Robust IMU Double Integration", ECCV 2018).
 //!
 //! Data flows one way, one small stage per file:
-//! - [`sample`]: the IMU sample and the checks at the door;
-//! - [`stabilise`]: AHRS attitude → angular rate and linear acceleration in ENU,
+//! - `sample`: the IMU sample and the checks at the door;
+//! - `stabilise`: AHRS attitude → angular rate and linear acceleration in ENU,
 //!   and the yaw of the stabilised frame S;
-//! - [`resample`]: onto the model's rate; [`smooth`]: Gaussian FIR (documented delay);
-//! - [`features`]: fixed-capacity window ring and the engineered features in S;
-//! - [`model`]: one velocity regressor per placement class (+ general), the model file;
-//! - [`bias`]: the low-frequency acceleration-bias correction over a sliding block;
-//! - [`engine`]: [`PhoneOdometry`], which chains them, picks the regressor from the
+//! - `resample`: onto the model's rate; `smooth`: Gaussian FIR (documented delay);
+//! - `features`: fixed-capacity window ring and the engineered features in S;
+//! - `model`: one velocity regressor per placement class (+ general), the model file;
+//! - `bias`: the low-frequency acceleration-bias correction over a sliding block;
+//! - `engine`: [`PhoneOdometry`], which chains them, picks the regressor from the
 //!   [`PlacementSource`] (default: the embedded placement classifier) and integrates
 //!   the position;
-//! - [`baseline`]: naive double integration (fixed or AHRS orientation);
-//! - [`metrics`]: ATE / RTE (RoNIN's definitions); [`train`]: fitting on the simulator.
+//! - `baseline`: naive double integration (fixed or AHRS orientation);
+//! - `metrics`: ATE / RTE (RoNIN's definitions); `train`: fitting on the simulator.
 //!
 //! No allocation per sample after construction; snapshot engine kind 8.
 

@@ -57,7 +57,7 @@ pub struct PipelineParams {
     pub window: usize,
     pub hop: usize,
     pub sigma_samples: f64,
-    /// Weight of the bias term in the correction (see [`super::bias`]).
+    /// Weight of the bias term in the correction (see `super::bias`).
     pub lambda: f64,
 }
 

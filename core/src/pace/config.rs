@@ -6,7 +6,7 @@ use super::error::PaceError;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum PaceMode {
     /// The complementary filter of Skrzypczyk (method 1 of docs/architecture.md) as published, with the
-    /// dimensional fixes documented in [`super::published`].
+    /// dimensional fixes documented in `super::published`.
     AsPublished,
     /// stridekit's default: an adaptive Kalman filter fusing GNSS positions (with a
     /// correlated-error model and robust weighting) with cadence × learned step length.

@@ -4,8 +4,8 @@
 //! door (finite numbers, ranges, time order per stream), converts fixes into a local
 //! ENU frame anchored at the first fix, keeps the step stream, and runs one of two
 //! fusion filters chosen by [`PaceMode`]:
-//! - [`PaceMode::AsPublished`]: the paper's complementary filter ([`published`]);
-//! - [`PaceMode::Adaptive`] (default): an adaptive Kalman filter ([`adaptive`]).
+//! - [`PaceMode::AsPublished`]: the paper's complementary filter (`published`);
+//! - [`PaceMode::Adaptive`] (default): an adaptive Kalman filter (`adaptive`).
 //!
 //! A rejected sample returns a [`PaceError`] and leaves the state exactly as it was.
 

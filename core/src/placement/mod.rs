@@ -2,15 +2,15 @@
 //! pocket, in a bag, in a neck pouch, on an armband, in a swinging hand), from the
 //! accelerometer alone, at any sampling rate and phone orientation.
 //!
-//! - [`class`]: the [`Placement`] classes and their mapping from the Oxford Step
+//! - `class`: the [`Placement`] classes and their mapping from the Oxford Step
 //!   Counter positions and the simulator's placements;
-//! - [`resample`]: rate-independent 20-ms bin means;
-//! - [`features`]: 23 window features (5.12 s windows every 1.28 s);
-//! - [`stream`]: [`FeatureStream`], door checks + bins + window ring;
-//! - [`model`]: [`PlacementModel`], multinomial logistic regression and its
+//! - `resample`: rate-independent 20-ms bin means;
+//! - `features`: 23 window features (5.12 s windows every 1.28 s);
+//! - `stream`: [`FeatureStream`], door checks + bins + window ring;
+//! - `model`: [`PlacementModel`], multinomial logistic regression and its
 //!   versioned text file (`core/models/placement_lr_v1.txt` ships, [`PlacementModel::shipped`]);
-//! - [`train`]: class-balanced training of the model;
-//! - [`classifier`]: [`PlacementClassifier`], the streaming engine apps use.
+//! - `train`: class-balanced training of the model;
+//! - `classifier`: [`PlacementClassifier`], the streaming engine apps use.
 //!
 //! Accuracy (leave-one-user-out on the Oxford traces) and limits: docs/odometry.md.
 

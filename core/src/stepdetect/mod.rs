@@ -5,10 +5,10 @@
 //! (`t_s`, acceleration in m/s², gravity included, any phone orientation). It checks
 //! every sample at the door and runs one of two detectors chosen by [`DetectorMode`]:
 //! - [`DetectorMode::AsPublished`]: the paper's windowed-variance detector
-//!   ([`published`]), w = 15 samples, thresholds T1/T2, a 0.2–2 s rate gate;
+//!   (`published`), w = 15 samples, thresholds T1/T2, a 0.2–2 s rate gate;
 //! - [`DetectorMode::Default`]: a detector that works in time at any rate, confirms
 //!   walking/running bouts by their regularity and ignores shaking, vehicles and
-//!   cycling ([`robust`]).
+//!   cycling (`robust`).
 //!
 //! A confirmed bout can release several buffered steps at once. They wait in a small
 //! queue (no heap): [`StepDetector::push`] returns the oldest waiting step and
@@ -48,9 +48,9 @@ const QUEUE: usize = 32;
 /// Which detector runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DetectorMode {
-    /// The paper's detector, faithfully (see [`published`]).
+    /// The paper's detector, faithfully (see `published`).
     AsPublished,
-    /// The robust detector (see [`robust`]).
+    /// The robust detector (see `robust`).
     #[default]
     Default,
 }

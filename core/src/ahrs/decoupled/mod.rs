@@ -50,6 +50,15 @@ use super::settings::AhrsSettings;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 pub use self::settings::DecoupledSettings;
+/// The named defaults of [`DecoupledSettings`].
+pub use self::settings::{
+    DEFAULT_ACCEL_TIME_CONSTANT_S, DEFAULT_BIAS_RANDOM_WALK, DEFAULT_HEADING_BIAS_TIME_CONSTANT_S,
+    DEFAULT_MAG_DIP_THRESHOLD_RAD, DEFAULT_MAG_MAX_REJECTION_S, DEFAULT_MAG_MIN_UNDISTURBED_S,
+    DEFAULT_MAG_NORM_THRESHOLD, DEFAULT_MAG_TIME_CONSTANT_S, DEFAULT_MAX_BIAS_RADS,
+    DEFAULT_MOTION_BIAS_ACCURACY_RADS, DEFAULT_MOTION_BIAS_TIME_CONSTANT_S,
+    DEFAULT_REST_ACCEL_MPS2, DEFAULT_REST_BIAS_TIME_CONSTANT_S, DEFAULT_REST_GYRO_RADS,
+    DEFAULT_REST_TIME_S,
+};
 
 /// The slow loops (motion bias, magnetometer heading: time constants ≥ 10 s) run at
 /// most this often, s (100 Hz).
