@@ -450,14 +450,7 @@ impl PhoneNavigator {
     #[uniffi::constructor]
     pub fn restore(snapshot: Vec<u8>) -> Result<Arc<Self>, NavError> {
         guard(|| {
-            let n = core::PhoneNavigator::restore(&snapshot).map_err(|e| match e {
-                core::NavError::Snapshot(s) => NavError::InvalidSnapshot {
-                    reason: s.to_string(),
-                },
-                e => NavError::InvalidSnapshot {
-                    reason: e.to_string(),
-                },
-            })?;
+            let n = core::PhoneNavigator::restore(&snapshot)?;
             Ok(Arc::new(Self {
                 inner: Mutex::new(n),
             }))
@@ -535,6 +528,43 @@ mod tests {
         match PhoneNavigator::new(bad) {
             Err(NavError::InvalidConfig { reason }) => assert!(!reason.is_empty()),
             other => panic!("expected InvalidConfig, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_corrupt_snapshot_is_invalid_snapshot() {
+        let nav = PhoneNavigator::with_defaults();
+        let samples: Vec<crate::ImuSample> = (0..300)
+            .map(|i| crate::ImuSample {
+                t_s: f64::from(i) * 0.01,
+                accel_x_mps2: 0.0,
+                accel_y_mps2: 0.3 * (f64::from(i) * 0.1).sin(),
+                accel_z_mps2: 9.81,
+                gyro_x_rads: 0.01,
+                gyro_y_rads: 0.0,
+                gyro_z_rads: 0.0,
+                mag_x_ut: Some(20.0),
+                mag_y_ut: Some(0.0),
+                mag_z_ut: Some(-40.0),
+            })
+            .collect();
+        let r = nav
+            .push_imu_packed(crate::packed::pack_imu_samples(samples))
+            .unwrap();
+        assert!(r.rejected.is_empty() && r.latest.is_some());
+        let good = nav.snapshot();
+        assert_eq!(
+            PhoneNavigator::restore(good.clone()).unwrap().snapshot(),
+            good
+        );
+        let mut flipped = good.clone();
+        let mid = flipped.len() / 2;
+        flipped[mid] ^= 0x40;
+        for bad in [vec![1, 2, 3], good[..good.len() - 1].to_vec(), flipped] {
+            match PhoneNavigator::restore(bad) {
+                Err(NavError::InvalidSnapshot { reason }) => assert!(!reason.is_empty()),
+                other => panic!("expected InvalidSnapshot, got {other:?}"),
+            }
         }
     }
 }
