@@ -28,18 +28,18 @@
 //! **IMU samples**, one layout family for every IMU engine: the 6-axis record and
 //! the 9-axis record, which is the same 56 bytes followed by the magnetometer.
 //!
-//! | offset | field                                        | record       |
-//! |-------:|----------------------------------------------|--------------|
-//! | 0      | `t_s`, seconds (monotonic clock)             | 6- and 9-axis |
+//! | offset | field                                             | record        |
+//! |-------:|---------------------------------------------------|---------------|
+//! | 0      | `t_s`, seconds (monotonic clock)                  | 6- and 9-axis |
 //! | 8      | `accel_x_mps2` (specific force, gravity included) | 6- and 9-axis |
-//! | 16     | `accel_y_mps2`                               | 6- and 9-axis |
-//! | 24     | `accel_z_mps2`                               | 6- and 9-axis |
-//! | 32     | `gyro_x_rads`                                | 6- and 9-axis |
-//! | 40     | `gyro_y_rads`                                | 6- and 9-axis |
-//! | 48     | `gyro_z_rads`                                | 6- and 9-axis |
-//! | 56     | `mag_x_ut` (NaN: no magnetometer)            | 9-axis only  |
-//! | 64     | `mag_y_ut`                                   | 9-axis only  |
-//! | 72     | `mag_z_ut`                                   | 9-axis only  |
+//! | 16     | `accel_y_mps2`                                    | 6- and 9-axis |
+//! | 24     | `accel_z_mps2`                                    | 6- and 9-axis |
+//! | 32     | `gyro_x_rads`                                     | 6- and 9-axis |
+//! | 40     | `gyro_y_rads`                                     | 6- and 9-axis |
+//! | 48     | `gyro_z_rads`                                     | 6- and 9-axis |
+//! | 56     | `mag_x_ut` (NaN: no magnetometer)                 | 9-axis only   |
+//! | 64     | `mag_y_ut`                                        | 9-axis only   |
+//! | 72     | `mag_z_ut`                                        | 9-axis only   |
 //!
 //! - 9-axis ([`IMU_RECORD_BYTES`] = 80 bytes, ten f64 LE): `PhoneNavigator`,
 //!   `PhoneOdometry`, `OrientationFilter` (`pushImuPacked`), device axes as the
@@ -59,8 +59,9 @@
 //! `withUnsafeBytes(of: value.bitPattern.littleEndian)`.
 //!
 //! A buffer whose length is not a whole number of records is rejected as a whole
-//! (the engine's `InvalidBuffer` error, e.g. [`PaceError::InvalidBuffer`]); otherwise each record is checked and pushed like
-//! its record-list counterpart, and rejected records are reported by index.
+//! (the engine's `InvalidBuffer` error, e.g. [`PaceError::InvalidBuffer`]); otherwise
+//! each record is checked and pushed like its record-list counterpart, and rejected
+//! records are reported by index.
 
 use crate::error::PaceError;
 use stridekit_core::ahrs::ImuSample as CoreImuSample;
