@@ -17,7 +17,8 @@ StridekitFFI.h, StridekitFFI.modulemap) and, optionally, the header directory th
     Apple-SDK / Swift-standard-library names listed below (a renamed Rust API then
     fails here instead of on a Mac); argument labels are not checked;
  4. the packed layouts in ios/Sources/StridekitPacking/Packing.swift match the Rust
-    constants and decoders in bindings/src (sizes 16/32/56/80/56 and field order).
+    constants and decoders in bindings/src/packed.rs (sizes 16/32/56/80/56 and field
+    order; the 80-byte IMU record is the 56-byte one followed by the magnetometer).
 
 Python 3 standard library only. Exit status 1 with a list of problems on failure.
 """
@@ -313,14 +314,15 @@ def rust_fn_body(text, signature):
 
 def rust_consts():
     consts = {}
-    for f in ("packed.rs", "phone/navigator.rs", "foot/mod.rs"):
+    for f in ("packed.rs",):
         for name, v in re.findall(r"pub const (\w+_BYTES): usize = (\d+);", read(BINDINGS_SRC / f)):
             consts[name] = int(v)
     return consts
 
 
-def expand_slots(body, call):
-    """Index -> field name from `name: CALL(i)` and `name: [CALL(i), CALL(j), CALL(k)]`."""
+def expand_slots(body, call, first=0):
+    """Field names in slot order (8-byte slots from `first`) from `name: CALL(offset)`
+    and `name: [CALL(a), CALL(b), CALL(c)]` (also `let name = [...]` feeding `name_unit:`)."""
     slots = {}
     idx = call + r"(\d+)\)"
     for name, i in re.findall(r"(\w+):\s*" + idx, body):
@@ -335,7 +337,7 @@ def expand_slots(body, call):
             unit = m.group(1).partition("_")[2] if m else ""
         for axis, idx in zip("xyz", (a, b, c)):
             slots[int(idx)] = f"{base}_{axis}_{unit}" if unit else f"{base}_{axis}"
-    return [slots.get(i, "?") for i in range(len(slots))] if slots else []
+    return [slots.get(first + 8 * i, "?") for i in range(len(slots))] if slots else []
 
 
 def swift_layouts(text):
@@ -347,6 +349,7 @@ def swift_layouts(text):
             "bytes": int(m.group(1)) if m else None,
             "fields": re.findall(r'"(\w+)"', f.group(1)) if f else [],
             "appends": re.findall(r"appendLittleEndian\(([^,]+), to:", body),
+            "nested": re.findall(r"\b(\w+Layout)\.append\(", body),
         }
     return layouts
 
@@ -359,8 +362,6 @@ def camel(snake):
 def check_layouts():
     consts = rust_consts()
     packed = read(BINDINGS_SRC / "packed.rs")
-    nav = read(BINDINGS_SRC / "phone" / "navigator.rs")
-    foot = read(BINDINGS_SRC / "foot" / "records.rs")
     types = read(BINDINGS_SRC / "pace" / "types.rs")
 
     fix_body = rust_fn_body(packed, "pub fn fixes(")
@@ -376,11 +377,18 @@ def check_layouts():
     step_fields = []
     if re.search(r"t_s:\s*f64_at\(c,\s*0\)", steps_body) and "c[8..16]" in steps_body:
         step_fields = ["t_s", "steps"]
-    imu_fields = expand_slots(rust_fn_body(nav, "pub(crate) fn imu_record("), r"f64_at\(c,\s*")
-    foot_fields = expand_slots(rust_fn_body(foot, "pub fn unpack_foot_samples("), r"\bf\(")
-    foot_pack = re.findall(r"\bs\.(\w+),", rust_fn_body(foot, "pub fn pack_foot_samples("))
-    if foot_pack and foot_pack != foot_fields:
-        fail(f"foot/records.rs: pack_foot_samples order {foot_pack} != unpack order {foot_fields}")
+    # The IMU family: the 6-axis record, and the 9-axis record = the 6-axis one + mag.
+    at = r"f64_at\(c,\s*"
+    imu6_fields = expand_slots(rust_fn_body(packed, "fn imu6_record("), at)
+    imu9_body = rust_fn_body(packed, "fn imu_record(")
+    if "imu6_record(c)" not in imu9_body:
+        fail("packed.rs: imu_record does not start with imu6_record (one layout family)")
+    imu_fields = imu6_fields + expand_slots(imu9_body, at, first=8 * len(imu6_fields))
+    # The pack side writes the 6-axis fields in the same order (`s.accel_mps2[0]` ...).
+    pack6 = [f"{n.partition('_')[0]}_{'xyz'[int(i)]}_{n.partition('_')[2]}" if i else n
+             for n, i in re.findall(r"\bs\.(\w+)(?:\[(\d)\])?,", rust_fn_body(packed, "fn imu6_values("))]
+    if pack6 != imu6_fields:
+        fail(f"packed.rs: imu6_values order {pack6} != decode order {imu6_fields}")
 
     # Other engines taking 32-byte accelerometer records must decode them with packed::accel.
     for f in sorted(BINDINGS_SRC.rglob("*.rs")):
@@ -394,7 +402,7 @@ def check_layouts():
         "StepCountLayout": ("STEP_COUNT_RECORD_BYTES", step_fields),
         "FixLayout": ("FIX_RECORD_BYTES", fix_fields),
         "ImuLayout": ("IMU_RECORD_BYTES", imu_fields),
-        "FootImuLayout": ("FOOT_SAMPLE_RECORD_BYTES", foot_fields),
+        "FootImuLayout": ("IMU6_RECORD_BYTES", imu6_fields),
     }
     swift = swift_layouts(read(IOS / "Sources" / "StridekitPacking" / "Packing.swift"))
     report = []
@@ -414,8 +422,13 @@ def check_layouts():
             fail(f"Packing.swift {layout}.fields has {len(s['fields'])} 8-byte fields for {consts[const]} bytes")
         if s["fields"] != fields:
             fail(f"Packing.swift {layout}.fields {s['fields']} != Rust order {fields}")
-        if len(s["appends"]) != len(s["fields"]):
-            fail(f"Packing.swift {layout}.append writes {len(s['appends'])} values for {len(s['fields'])} fields")
+        # A layout of the family may write a leading record with its layout's append.
+        nested = [swift.get(n, {}).get("fields", []) for n in s["nested"]]
+        if sum(map(len, nested)) + len(s["appends"]) != len(s["fields"]):
+            fail(f"Packing.swift {layout}.append writes {len(s['appends'])} values and "
+                 f"{' + '.join(s['nested']) or 'no nested layout'} for {len(s['fields'])} fields")
+        if any(n != s["fields"][:len(n)] for n in nested):
+            fail(f"Packing.swift {layout}.fields does not start with the fields of {s['nested']}")
         report.append(f"{layout}={consts[const]}")
     fix = swift.get("FixLayout")
     if fix:

@@ -19,7 +19,7 @@
 //!
 //! The other engines follow the same pattern with their own error type:
 //! [`phone::navigator::PhoneNavigator`] (`NavError`), [`foot::FootNavigator`] (`FootError`,
-//! Kotlin `FootException`; packed 56-byte IMU records, see the [`foot`] module docs),
+//! Kotlin `FootException`; packed 56-byte IMU records, see the [`packed`] module docs),
 //! [`phone::placement::PlacementClassifier`] (`PlacementError`), [`phone::odometry::PhoneOdometry`]
 //! (`OdometryError`) and [`phone::orientation::OrientationFilter`] (`OrientationError`). On Android, `init_android_logging(level)` sends the SDK's `log`
 //! records to logcat (a no-op elsewhere).
@@ -36,9 +36,10 @@ pub mod phone;
 pub mod testing;
 
 pub use error::{PaceError, SensorStream};
-pub use foot::{FootConfig, FootError, FootEstimate, FootImuSample, FootNavigator};
+pub use foot::{FootConfig, FootError, FootEstimate, FootNavigator};
 pub use logging::{init_android_logging, LogLevel};
 pub use pace::{
     default_pace_config, AccelSample, BatchResult, GnssFix, PaceCalibration, PaceConfig,
     PaceEstimate, PaceMode, PaceSample, PaceSource, PaceTracker, RejectedSample, StepSample,
 };
+pub use packed::ImuSample;

@@ -25,13 +25,31 @@
 //! **Accelerometer samples** ([`ACCEL_RECORD_BYTES`] = 32 bytes per sample, four
 //! f64 LE): `t_s`, `ax`, `ay`, `az` (m/s², gravity included, any axes).
 //!
-//! **Phone IMU samples** (80 bytes per sample, ten f64 LE; `PhoneNavigator`,
-//! `PhoneOdometry`, `OrientationFilter`): `t_s`, `gyro_x/y/z` (rad/s),
-//! `accel_x/y/z` (m/s², gravity included), `mag_x/y/z` (µT; NaN when there is no
-//! magnetometer), device axes as the platform reports them.
+//! **IMU samples**, one layout family for every IMU engine: the 6-axis record and
+//! the 9-axis record, which is the same 56 bytes followed by the magnetometer.
 //!
-//! **Foot IMU samples** (56 bytes, seven f64 LE; `FootNavigator`): `t_s`,
-//! `accel_x/y/z` (m/s²), `gyro_x/y/z` (rad/s), sensor axes.
+//! | offset | field                                             | record        |
+//! |-------:|---------------------------------------------------|---------------|
+//! | 0      | `t_s`, seconds (monotonic clock)                  | 6- and 9-axis |
+//! | 8      | `accel_x_mps2` (specific force, gravity included) | 6- and 9-axis |
+//! | 16     | `accel_y_mps2`                                    | 6- and 9-axis |
+//! | 24     | `accel_z_mps2`                                    | 6- and 9-axis |
+//! | 32     | `gyro_x_rads`                                     | 6- and 9-axis |
+//! | 40     | `gyro_y_rads`                                     | 6- and 9-axis |
+//! | 48     | `gyro_z_rads`                                     | 6- and 9-axis |
+//! | 56     | `mag_x_ut` (NaN: no magnetometer)                 | 9-axis only   |
+//! | 64     | `mag_y_ut`                                        | 9-axis only   |
+//! | 72     | `mag_z_ut`                                        | 9-axis only   |
+//!
+//! - 9-axis ([`IMU_RECORD_BYTES`] = 80 bytes, ten f64 LE): `PhoneNavigator`,
+//!   `PhoneOdometry`, `OrientationFilter` (`pushImuPacked`), device axes as the
+//!   platform reports them; a record with any magnetometer field NaN has no
+//!   magnetometer.
+//! - 6-axis ([`IMU6_RECORD_BYTES`] = 56 bytes, seven f64 LE): `FootNavigator`
+//!   (`pushPacked`), sensor axes.
+//!
+//! Both are packed from the one `ImuSample` record: `packImuSamples` (80 bytes) and
+//! `packFootSamples` (56 bytes, the magnetometer fields are not written).
 //!
 //! Every layout has a pack helper (`packFixes`, `packStepCounts`, `packAccelSamples`,
 //! `packImuSamples`, `packFootSamples`) for code that has records; code that fills a
@@ -41,10 +59,13 @@
 //! `withUnsafeBytes(of: value.bitPattern.littleEndian)`.
 //!
 //! A buffer whose length is not a whole number of records is rejected as a whole
-//! ([`PaceError::InvalidBuffer`]); otherwise each record is checked and pushed like
-//! its record-list counterpart, and rejected records are reported by index.
+//! (the engine's `InvalidBuffer` error, e.g. [`PaceError::InvalidBuffer`]); otherwise
+//! each record is checked and pushed like its record-list counterpart, and rejected
+//! records are reported by index.
 
 use crate::error::PaceError;
+use stridekit_core::ahrs::ImuSample as CoreImuSample;
+use stridekit_core::foot::FootSample;
 use stridekit_core::pace as core;
 
 /// Bytes per packed step-count record.
@@ -53,26 +74,36 @@ pub const STEP_COUNT_RECORD_BYTES: usize = 16;
 pub const FIX_RECORD_BYTES: usize = 56;
 /// Bytes per packed accelerometer record.
 pub const ACCEL_RECORD_BYTES: usize = 32;
+/// Bytes per packed 6-axis IMU record (`FootNavigator`).
+pub const IMU6_RECORD_BYTES: usize = 56;
+/// Bytes per packed 9-axis IMU record (the phone engines): a 6-axis record, then
+/// the magnetometer.
+pub const IMU_RECORD_BYTES: usize = 80;
 
-/// Decode packed accelerometer samples `(t_s, ax, ay, az)`.
-pub fn accel(bytes: &[u8]) -> Result<impl Iterator<Item = (f64, [f64; 3])> + '_, PaceError> {
-    check_len(bytes, ACCEL_RECORD_BYTES, "accelerometer")?;
-    Ok(bytes
-        .chunks_exact(ACCEL_RECORD_BYTES)
-        .map(|c| (f64_at(c, 0), [f64_at(c, 8), f64_at(c, 16), f64_at(c, 24)])))
+/// `bytes` as records of `record` bytes, or why not (the engine wraps the reason in
+/// its own `InvalidBuffer`).
+fn whole_records<'a>(
+    bytes: &'a [u8],
+    record: usize,
+    what: &str,
+) -> Result<std::slice::ChunksExact<'a, u8>, String> {
+    if bytes.len() % record == 0 {
+        Ok(bytes.chunks_exact(record))
+    } else {
+        Err(format!(
+            "{} bytes is not a whole number of {record}-byte {what} records",
+            bytes.len()
+        ))
+    }
 }
 
-fn check_len(bytes: &[u8], record: usize, what: &str) -> Result<(), PaceError> {
-    if bytes.len() % record == 0 {
-        Ok(())
-    } else {
-        Err(PaceError::InvalidBuffer {
-            reason: format!(
-                "{} bytes is not a whole number of {record}-byte {what} records",
-                bytes.len()
-            ),
-        })
-    }
+/// [`whole_records`] with the pace engine's error.
+fn pace_records<'a>(
+    bytes: &'a [u8],
+    record: usize,
+    what: &str,
+) -> Result<std::slice::ChunksExact<'a, u8>, PaceError> {
+    whole_records(bytes, record, what).map_err(|reason| PaceError::InvalidBuffer { reason })
 }
 
 fn f64_at(chunk: &[u8], offset: usize) -> f64 {
@@ -86,34 +117,128 @@ fn opt_f64_at(chunk: &[u8], offset: usize) -> Option<f64> {
     (!v.is_nan()).then_some(v)
 }
 
+fn put(out: &mut Vec<u8>, values: impl IntoIterator<Item = f64>) {
+    for v in values {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+}
+
+/// Decode packed accelerometer samples `(t_s, ax, ay, az)`.
+pub fn accel(bytes: &[u8]) -> Result<impl Iterator<Item = (f64, [f64; 3])> + '_, PaceError> {
+    Ok(pace_records(bytes, ACCEL_RECORD_BYTES, "accelerometer")?
+        .map(|c| (f64_at(c, 0), [f64_at(c, 8), f64_at(c, 16), f64_at(c, 24)])))
+}
+
 /// Decode packed step counts (see the module docs for the layout).
 /// A record with a negative count decodes to its (typed) rejection.
 pub fn step_counts(
     bytes: &[u8],
 ) -> Result<impl Iterator<Item = Result<core::StepSample, core::PaceError>> + '_, PaceError> {
-    check_len(bytes, STEP_COUNT_RECORD_BYTES, "step-count")?;
-    Ok(bytes.chunks_exact(STEP_COUNT_RECORD_BYTES).map(|c| {
-        let mut s = [0u8; 8];
-        s.copy_from_slice(&c[8..16]);
-        Ok(core::StepSample::Count {
-            t_s: f64_at(c, 0),
-            steps: crate::pace::types::step_count(i64::from_le_bytes(s))?,
-        })
-    }))
+    Ok(
+        pace_records(bytes, STEP_COUNT_RECORD_BYTES, "step-count")?.map(|c| {
+            let mut s = [0u8; 8];
+            s.copy_from_slice(&c[8..16]);
+            Ok(core::StepSample::Count {
+                t_s: f64_at(c, 0),
+                steps: crate::pace::types::step_count(i64::from_le_bytes(s))?,
+            })
+        }),
+    )
 }
 
 /// Decode packed GNSS fixes (see the module docs for the layout).
 pub fn fixes(bytes: &[u8]) -> Result<impl Iterator<Item = core::GnssFix> + '_, PaceError> {
-    check_len(bytes, FIX_RECORD_BYTES, "GNSS fix")?;
-    Ok(bytes.chunks_exact(FIX_RECORD_BYTES).map(|c| core::GnssFix {
+    Ok(
+        pace_records(bytes, FIX_RECORD_BYTES, "GNSS fix")?.map(|c| core::GnssFix {
+            t_s: f64_at(c, 0),
+            lat_deg: f64_at(c, 8),
+            lon_deg: f64_at(c, 16),
+            alt_m: opt_f64_at(c, 24),
+            horizontal_accuracy_m: opt_f64_at(c, 32),
+            speed_mps: opt_f64_at(c, 40),
+            speed_accuracy_mps: opt_f64_at(c, 48),
+        }),
+    )
+}
+
+/// Decode one 6-axis IMU record (also the first 56 bytes of a 9-axis one;
+/// `ios/check-generated.py` reads the field order from this function).
+fn imu6_record(c: &[u8]) -> FootSample {
+    FootSample {
         t_s: f64_at(c, 0),
-        lat_deg: f64_at(c, 8),
-        lon_deg: f64_at(c, 16),
-        alt_m: opt_f64_at(c, 24),
-        horizontal_accuracy_m: opt_f64_at(c, 32),
-        speed_mps: opt_f64_at(c, 40),
-        speed_accuracy_mps: opt_f64_at(c, 48),
-    }))
+        accel_mps2: [f64_at(c, 8), f64_at(c, 16), f64_at(c, 24)],
+        gyro_rads: [f64_at(c, 32), f64_at(c, 40), f64_at(c, 48)],
+    }
+}
+
+/// Decode one 9-axis IMU record: the 6-axis record, then the magnetometer (`None`
+/// when any of its fields is NaN).
+fn imu_record(c: &[u8]) -> CoreImuSample {
+    let FootSample {
+        t_s,
+        accel_mps2,
+        gyro_rads,
+    } = imu6_record(c);
+    let mag = [f64_at(c, 56), f64_at(c, 64), f64_at(c, 72)];
+    CoreImuSample {
+        t_s,
+        gyro_rads,
+        accel_mps2,
+        mag_ut: (!mag.iter().any(|v| v.is_nan())).then_some(mag),
+    }
+}
+
+/// Decode packed 6-axis IMU records (`FootNavigator.pushPacked`), or why the buffer
+/// is not a whole number of them.
+pub fn imu6_samples(
+    bytes: &[u8],
+) -> Result<impl ExactSizeIterator<Item = FootSample> + '_, String> {
+    Ok(whole_records(bytes, IMU6_RECORD_BYTES, "6-axis IMU")?.map(imu6_record))
+}
+
+/// Decode packed 9-axis IMU records (`pushImuPacked` of the phone engines), or why
+/// the buffer is not a whole number of them.
+pub fn imu_samples(
+    bytes: &[u8],
+) -> Result<impl ExactSizeIterator<Item = CoreImuSample> + '_, String> {
+    Ok(whole_records(bytes, IMU_RECORD_BYTES, "IMU")?.map(imu_record))
+}
+
+/// The 6-axis record of a sample, in layout order (the pack side of [`imu6_record`]).
+fn imu6_values(s: &FootSample) -> [f64; 7] {
+    [
+        s.t_s,
+        s.accel_mps2[0],
+        s.accel_mps2[1],
+        s.accel_mps2[2],
+        s.gyro_rads[0],
+        s.gyro_rads[1],
+        s.gyro_rads[2],
+    ]
+}
+
+/// Core samples as 9-axis records (NaN magnetometer when absent).
+pub(crate) fn pack_imu(samples: impl ExactSizeIterator<Item = CoreImuSample>) -> Vec<u8> {
+    let mut out = Vec::with_capacity(samples.len() * IMU_RECORD_BYTES);
+    for s in samples {
+        let six = FootSample {
+            t_s: s.t_s,
+            accel_mps2: s.accel_mps2,
+            gyro_rads: s.gyro_rads,
+        };
+        put(&mut out, imu6_values(&six));
+        put(&mut out, s.mag_ut.unwrap_or([f64::NAN; 3]));
+    }
+    out
+}
+
+/// Core samples as 6-axis records.
+pub(crate) fn pack_imu6(samples: impl ExactSizeIterator<Item = FootSample>) -> Vec<u8> {
+    let mut out = Vec::with_capacity(samples.len() * IMU6_RECORD_BYTES);
+    for s in samples {
+        put(&mut out, imu6_values(&s));
+    }
+    out
 }
 
 /// Pack step counts into the 16-byte little-endian layout of
@@ -138,17 +263,18 @@ pub fn pack_step_counts(samples: Vec<crate::StepSample>) -> Vec<u8> {
 pub fn pack_fixes(fixes: Vec<crate::GnssFix>) -> Vec<u8> {
     let mut out = Vec::with_capacity(fixes.len() * FIX_RECORD_BYTES);
     for f in fixes {
-        for v in [
-            f.t_s,
-            f.lat_deg,
-            f.lon_deg,
-            f.alt_m.unwrap_or(f64::NAN),
-            f.horizontal_accuracy_m.unwrap_or(f64::NAN),
-            f.speed_mps.unwrap_or(f64::NAN),
-            f.speed_accuracy_mps.unwrap_or(f64::NAN),
-        ] {
-            out.extend_from_slice(&v.to_le_bytes());
-        }
+        put(
+            &mut out,
+            [
+                f.t_s,
+                f.lat_deg,
+                f.lon_deg,
+                f.alt_m.unwrap_or(f64::NAN),
+                f.horizontal_accuracy_m.unwrap_or(f64::NAN),
+                f.speed_mps.unwrap_or(f64::NAN),
+                f.speed_accuracy_mps.unwrap_or(f64::NAN),
+            ],
+        );
     }
     out
 }
@@ -160,20 +286,22 @@ pub fn pack_fixes(fixes: Vec<crate::GnssFix>) -> Vec<u8> {
 pub fn pack_accel_samples(samples: Vec<crate::AccelSample>) -> Vec<u8> {
     let mut out = Vec::with_capacity(samples.len() * ACCEL_RECORD_BYTES);
     for s in samples {
-        for v in [s.t_s, s.x_mps2, s.y_mps2, s.z_mps2] {
-            out.extend_from_slice(&v.to_le_bytes());
-        }
+        put(&mut out, [s.t_s, s.x_mps2, s.y_mps2, s.z_mps2]);
     }
     out
 }
 
-/// One phone IMU sample: what `packImuSamples` packs for `PhoneNavigator`,
-/// `PhoneOdometry` and `OrientationFilter`. Device axes as the platform reports them.
+/// One IMU sample, the record of every IMU engine: `packImuSamples` packs it for
+/// `PhoneNavigator`, `PhoneOdometry` and `OrientationFilter` (device axes as the
+/// platform reports them); `FootNavigator.push`, `pushWithStance` and `pushSamples`
+/// take it directly and `packFootSamples` packs it for `FootNavigator.pushPacked`
+/// (sensor axes). The foot navigator does not use the magnetometer fields.
 #[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
-pub struct PhoneImuSample {
+pub struct ImuSample {
     /// Time, seconds on the app's monotonic clock, strictly increasing.
     pub t_s: f64,
-    /// Specific force, m/s² (gravity included; iOS reports g: multiply by −9.80665).
+    /// Specific force, m/s² (gravity included: +9.8 along "up" at rest; iOS reports
+    /// g: multiply by −9.80665).
     pub accel_x_mps2: f64,
     pub accel_y_mps2: f64,
     pub accel_z_mps2: f64,
@@ -181,7 +309,8 @@ pub struct PhoneImuSample {
     pub gyro_x_rads: f64,
     pub gyro_y_rads: f64,
     pub gyro_z_rads: f64,
-    /// Magnetic field, µT (null: no magnetometer; all three or none).
+    /// Magnetic field, µT (null: no magnetometer; all three or none, a sample with
+    /// only some of them counts as none). Not used by `FootNavigator`.
     #[uniffi(default = None)]
     pub mag_x_ut: Option<f64>,
     #[uniffi(default = None)]
@@ -190,40 +319,60 @@ pub struct PhoneImuSample {
     pub mag_z_ut: Option<f64>,
 }
 
-/// Pack phone IMU samples into the 80-byte little-endian layout of
-/// `pushImuPacked`: ten f64 `t_s, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y,
-/// accel_z (m/s²), mag_x, mag_y, mag_z (µT, NaN when absent)`. Note the order: gyro
-/// before accel (the foot layout has accel first).
-#[uniffi::export]
-pub fn pack_imu_samples(samples: Vec<PhoneImuSample>) -> Vec<u8> {
-    let mut out = Vec::with_capacity(samples.len() * crate::phone::navigator::IMU_RECORD_BYTES);
-    for s in samples {
-        let nan = f64::NAN;
-        for v in [
-            s.t_s,
-            s.gyro_x_rads,
-            s.gyro_y_rads,
-            s.gyro_z_rads,
-            s.accel_x_mps2,
-            s.accel_y_mps2,
-            s.accel_z_mps2,
-            s.mag_x_ut.unwrap_or(nan),
-            s.mag_y_ut.unwrap_or(nan),
-            s.mag_z_ut.unwrap_or(nan),
-        ] {
-            out.extend_from_slice(&v.to_le_bytes());
+/// The 6-axis part (what `FootNavigator` takes): the magnetometer is dropped.
+impl From<ImuSample> for FootSample {
+    fn from(s: ImuSample) -> Self {
+        Self {
+            t_s: s.t_s,
+            accel_mps2: [s.accel_x_mps2, s.accel_y_mps2, s.accel_z_mps2],
+            gyro_rads: [s.gyro_x_rads, s.gyro_y_rads, s.gyro_z_rads],
         }
     }
-    out
+}
+
+impl From<ImuSample> for CoreImuSample {
+    fn from(s: ImuSample) -> Self {
+        let FootSample {
+            t_s,
+            accel_mps2,
+            gyro_rads,
+        } = s.into();
+        Self {
+            t_s,
+            gyro_rads,
+            accel_mps2,
+            mag_ut: match (s.mag_x_ut, s.mag_y_ut, s.mag_z_ut) {
+                (Some(x), Some(y), Some(z)) => Some([x, y, z]),
+                _ => None,
+            },
+        }
+    }
+}
+
+/// Pack IMU samples into the 80-byte (9-axis) little-endian layout of
+/// `pushImuPacked` (`PhoneNavigator`, `PhoneOdometry`, `OrientationFilter`): ten f64
+/// `t_s, accel_x, accel_y, accel_z (m/s²), gyro_x, gyro_y, gyro_z (rad/s), mag_x,
+/// mag_y, mag_z (µT, NaN when absent)`.
+#[uniffi::export]
+pub fn pack_imu_samples(samples: Vec<ImuSample>) -> Vec<u8> {
+    pack_imu(samples.into_iter().map(Into::into))
+}
+
+/// Pack IMU samples into the 56-byte (6-axis) little-endian layout of
+/// `FootNavigator.pushPacked`: seven f64 `t_s, accel_x, accel_y, accel_z (m/s²),
+/// gyro_x, gyro_y, gyro_z (rad/s)`, the first 56 bytes of the 80-byte record (the
+/// magnetometer fields are not written).
+#[uniffi::export]
+pub fn pack_foot_samples(samples: Vec<ImuSample>) -> Vec<u8> {
+    pack_imu6(samples.into_iter().map(Into::into))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    #[test]
-    fn imu_pack_decodes_to_the_same_fields() {
-        let s = PhoneImuSample {
+    fn sample() -> ImuSample {
+        ImuSample {
             t_s: 1.5,
             accel_x_mps2: 0.1,
             accel_y_mps2: 0.2,
@@ -234,8 +383,17 @@ mod tests {
             mag_x_ut: Some(20.0),
             mag_y_ut: Some(0.0),
             mag_z_ut: Some(-40.0),
-        };
-        let no_mag = PhoneImuSample {
+        }
+    }
+
+    fn values(bytes: &[u8]) -> Vec<f64> {
+        bytes.chunks_exact(8).map(|c| f64_at(c, 0)).collect()
+    }
+
+    #[test]
+    fn imu_pack_decodes_to_the_same_fields() {
+        let s = sample();
+        let no_mag = ImuSample {
             mag_x_ut: None,
             mag_y_ut: None,
             mag_z_ut: None,
@@ -243,14 +401,47 @@ mod tests {
             ..s
         };
         let bytes = pack_imu_samples(vec![s, no_mag]);
-        let mut recs = crate::phone::navigator::imu_records(&bytes).unwrap();
-        let r = crate::phone::navigator::imu_record(recs.next().unwrap());
+        let mut recs = imu_samples(&bytes).unwrap();
+        assert_eq!(recs.len(), 2);
+        let r = recs.next().unwrap();
         assert_eq!(r.t_s, 1.5);
         assert_eq!(r.accel_mps2, [0.1, 0.2, 9.8]);
         assert_eq!(r.gyro_rads, [0.01, 0.02, 0.03]);
         assert_eq!(r.mag_ut, Some([20.0, 0.0, -40.0]));
-        let r = crate::phone::navigator::imu_record(recs.next().unwrap());
+        assert_eq!(r, CoreImuSample::from(s));
+        let r = recs.next().unwrap();
         assert_eq!((r.t_s, r.mag_ut), (2.0, None));
+        assert!(imu_samples(&bytes[..79]).is_err());
+    }
+
+    #[test]
+    fn the_two_imu_records_are_one_family_accel_before_gyro() {
+        let s = sample();
+        let nine = pack_imu_samples(vec![s]);
+        let six = pack_foot_samples(vec![s]);
+        assert_eq!(
+            (nine.len(), six.len()),
+            (IMU_RECORD_BYTES, IMU6_RECORD_BYTES)
+        );
+        assert_eq!(
+            values(&nine),
+            [1.5, 0.1, 0.2, 9.8, 0.01, 0.02, 0.03, 20.0, 0.0, -40.0]
+        );
+        // The 6-axis record is the 9-axis record without the magnetometer.
+        assert_eq!(six[..], nine[..IMU6_RECORD_BYTES]);
+        let foot: Vec<_> = imu6_samples(&six).unwrap().collect();
+        assert_eq!(foot, vec![FootSample::from(s)]);
+        assert!(imu6_samples(&six[..55]).is_err());
+        // A partial magnetometer is none.
+        let partial = ImuSample {
+            mag_y_ut: None,
+            ..s
+        };
+        let r = imu_samples(&pack_imu_samples(vec![partial]))
+            .unwrap()
+            .next()
+            .unwrap();
+        assert_eq!(r.mag_ut, None);
     }
 
     #[test]

@@ -40,18 +40,20 @@ const FIX: &[Field] = &[
 ];
 const STEP_COUNT: &[Field] = &[Time(1.0), Count];
 const ACCEL: &[Field] = &[Time(0.01), V(0.0, 3.0), V(0.0, 3.0), V(9.81, 3.0)];
+/// The 9-axis IMU record (`stridekit::packed`): `t_s`, accel xyz, gyro xyz, mag xyz.
 const IMU: &[Field] = &[
     Time(0.01),
-    V(0.0, 0.5),
-    V(0.0, 0.5),
-    V(0.0, 0.5),
     V(0.0, 1.5),
     V(0.0, 1.5),
     V(9.81, 1.5),
+    V(0.0, 0.5),
+    V(0.0, 0.5),
+    V(0.0, 0.5),
     V(20.0, 5.0),
     V(0.0, 5.0),
     V(-40.0, 5.0),
 ];
+/// The 6-axis IMU record (foot): `t_s`, accel xyz, gyro xyz.
 const FOOT: &[Field] = &[
     Time(0.005),
     V(0.0, 5.0),

@@ -17,22 +17,15 @@
 //! }
 //! ```
 //!
-//! # Packed samples
+//! # Samples
 //!
-//! [`FOOT_SAMPLE_RECORD_BYTES`] = 56 bytes per sample, seven f64, little-endian:
-//!
-//! | offset | field                                        |
-//! |-------:|----------------------------------------------|
-//! | 0      | `t_s`, seconds (monotonic clock)             |
-//! | 8      | `accel_x_mps2` (specific force, gravity included) |
-//! | 16     | `accel_y_mps2`                               |
-//! | 24     | `accel_z_mps2`                               |
-//! | 32     | `gyro_x_rads`                                |
-//! | 40     | `gyro_y_rads`                                |
-//! | 48     | `gyro_z_rads`                                |
-//!
-//! Sensor axes as the IMU reports them; `FootConfig.axisRemap` maps them to the body
-//! frame (x forward, y left, z up). Kotlin: `ByteBuffer.allocate(n * 56)
+//! `push`, `pushWithStance` and `pushSamples` take the SDK's one `ImuSample` record
+//! (the magnetometer fields are not used); `pushPacked` takes the 6-axis packed
+//! layout of [`crate::packed`] ([`crate::packed::IMU6_RECORD_BYTES`] = 56 bytes per
+//! sample, seven f64 LE: `t_s`, `accel_x/y/z_mps2` (specific force, gravity
+//! included), `gyro_x/y/z_rads`), the first 56 bytes of the phone engines' 80-byte
+//! record. Sensor axes as the IMU reports them; `FootConfig.axisRemap` maps them to
+//! the body frame (x forward, y left, z up). Kotlin: `ByteBuffer.allocate(n * 56)
 //! .order(ByteOrder.LITTLE_ENDIAN)` and `putDouble` seven times per sample
 //! (`packFootSamples` does it from records). A buffer whose length is not a multiple of
 //! 56 is rejected as a whole ([`FootError::InvalidBuffer`]); otherwise every record is
@@ -54,6 +47,3 @@ pub use config::*;
 pub use error::*;
 pub use navigator::*;
 pub use records::*;
-
-/// Bytes per packed foot IMU record (seven little-endian f64).
-pub const FOOT_SAMPLE_RECORD_BYTES: usize = 56;

@@ -5,6 +5,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use stridekit_core::foot as core;
 
 use super::*;
+use crate::packed::{self, ImuSample};
 
 /// Foot-mounted inertial navigation: median pre-filter, zero-velocity detector,
 /// strapdown mechanisation and a 15-state error-state Kalman filter with
@@ -102,10 +103,10 @@ impl FootNavigator {
         self.lock().config().clone().into()
     }
 
-    /// Push one sample. Returns the estimate of the sample the pipeline finished
-    /// (`delaySamples()` back), or null while filling or aligning. A rejected sample
-    /// throws and changes nothing.
-    pub fn push(&self, sample: FootImuSample) -> Result<Option<FootEstimate>, FootError> {
+    /// Push one sample (its magnetometer fields are not used). Returns the estimate of
+    /// the sample the pipeline finished (`delaySamples()` back), or null while filling
+    /// or aligning. A rejected sample throws and changes nothing.
+    pub fn push(&self, sample: ImuSample) -> Result<Option<FootEstimate>, FootError> {
         guard(|| Ok(self.lock().push(&sample.into())?.map(Into::into)))
     }
 
@@ -113,7 +114,7 @@ impl FootNavigator {
     /// labels): the detector is bypassed for it. Otherwise like `push`.
     pub fn push_with_stance(
         &self,
-        sample: FootImuSample,
+        sample: ImuSample,
         stance: bool,
     ) -> Result<Option<FootEstimate>, FootError> {
         guard(|| {
@@ -124,25 +125,28 @@ impl FootNavigator {
         })
     }
 
-    /// Push samples in time order. Rejected samples are skipped and reported by
-    /// index; the others are processed as if pushed one by one.
-    pub fn push_samples(&self, samples: Vec<FootImuSample>, output: FootOutput) -> FootBatchResult {
+    /// Push samples in time order (magnetometer fields not used). Rejected samples are
+    /// skipped and reported by index; the others are processed as if pushed one by one.
+    pub fn push_samples(&self, samples: Vec<ImuSample>, output: FootOutput) -> FootBatchResult {
         let n = samples.len();
         self.batch(samples.into_iter().map(Into::into), n, output)
     }
 
-    /// Fast path: samples packed as 56-byte little-endian records of seven f64
-    /// `t_s, accel_x, accel_y, accel_z (m/s²), gyro_x, gyro_y, gyro_z (rad/s)`
-    /// (`packFootSamples` builds them). Fails as a whole only if the length is not a multiple of 56;
-    /// otherwise behaves like `pushSamples`.
+    /// Fast path: samples packed as 56-byte (6-axis) little-endian records of seven f64
+    /// `t_s, accel_x, accel_y, accel_z (m/s²), gyro_x, gyro_y, gyro_z (rad/s)`, the
+    /// 80-byte phone record without the magnetometer (`packFootSamples` builds them).
+    /// Fails as a whole only if the length is not a multiple of 56; otherwise behaves
+    /// like `pushSamples`.
     pub fn push_packed(
         &self,
         data: Vec<u8>,
         output: FootOutput,
     ) -> Result<FootBatchResult, FootError> {
         guard(|| {
-            let samples = unpack_foot_samples(&data)?;
-            Ok(self.batch(samples, data.len() / FOOT_SAMPLE_RECORD_BYTES, output))
+            let samples = packed::imu6_samples(&data)
+                .map_err(|reason| FootError::InvalidBuffer { reason })?;
+            let n = samples.len();
+            Ok(self.batch(samples, n, output))
         })
     }
 
@@ -185,8 +189,8 @@ mod tests {
     use super::*;
     use stridekit_core::ahrs::AxisRemap;
 
-    fn rest(t_s: f64) -> FootImuSample {
-        FootImuSample {
+    fn rest(t_s: f64) -> ImuSample {
+        ImuSample {
             t_s,
             accel_x_mps2: 0.0,
             accel_y_mps2: 0.0,
@@ -194,6 +198,9 @@ mod tests {
             gyro_x_rads: 0.0,
             gyro_y_rads: 0.0,
             gyro_z_rads: 0.0,
+            mag_x_ut: None,
+            mag_y_ut: None,
+            mag_z_ut: None,
         }
     }
 
@@ -303,14 +310,14 @@ mod tests {
 
     #[test]
     fn packed_and_records_agree_and_rejections_are_reported() {
-        let mut samples: Vec<FootImuSample> = (0..200).map(|i| rest(i as f64 * 0.005)).collect();
+        let mut samples: Vec<ImuSample> = (0..200).map(|i| rest(i as f64 * 0.005)).collect();
         samples[50].accel_y_mps2 = f64::NAN;
         samples[60].t_s = 0.0;
         let a = FootNavigator::with_defaults();
         let b = FootNavigator::with_defaults();
         let ra = a.push_samples(samples.clone(), FootOutput::All);
         let rb = b
-            .push_packed(pack_foot_samples(samples), FootOutput::All)
+            .push_packed(packed::pack_foot_samples(samples), FootOutput::All)
             .unwrap();
         assert_eq!(ra, rb);
         assert_eq!(ra.rejected.len(), 2);
@@ -326,7 +333,7 @@ mod tests {
         assert_eq!(ra.latest, a.estimate());
         let only = FootNavigator::with_defaults()
             .push_packed(
-                pack_foot_samples((0..200).map(|i| rest(i as f64 * 0.005)).collect()),
+                packed::pack_foot_samples((0..200).map(|i| rest(i as f64 * 0.005)).collect()),
                 FootOutput::LatestOnly,
             )
             .unwrap();
@@ -346,11 +353,11 @@ mod tests {
         assert_eq!(sim.reference_rejected, 0);
         assert_eq!(
             sim.samples_packed.len(),
-            sim.sample_count as usize * FOOT_SAMPLE_RECORD_BYTES
+            sim.sample_count as usize * packed::IMU6_RECORD_BYTES
         );
         let nav = FootNavigator::with_defaults();
         let half =
-            sim.samples_packed.len() / 2 / FOOT_SAMPLE_RECORD_BYTES * FOOT_SAMPLE_RECORD_BYTES;
+            sim.samples_packed.len() / 2 / packed::IMU6_RECORD_BYTES * packed::IMU6_RECORD_BYTES;
         let a = nav
             .push_packed(sim.samples_packed[..half].to_vec(), FootOutput::LatestOnly)
             .unwrap();

@@ -1,33 +1,9 @@
-//! Samples, estimates, batch results and the packed 56-byte sample layout.
+//! Estimates and batch results (the samples are `crate::packed::ImuSample`, packed in
+//! the 6-axis layout of `crate::packed`).
 
 use stridekit_core::foot as core;
 
 use super::*;
-
-/// One IMU sample from the foot, sensor axes.
-#[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
-pub struct FootImuSample {
-    /// Time, seconds on the app's monotonic clock, strictly increasing.
-    pub t_s: f64,
-    /// Specific force, m/s² (gravity included: +9.8 along "up" at rest).
-    pub accel_x_mps2: f64,
-    pub accel_y_mps2: f64,
-    pub accel_z_mps2: f64,
-    /// Angular rate, rad/s.
-    pub gyro_x_rads: f64,
-    pub gyro_y_rads: f64,
-    pub gyro_z_rads: f64,
-}
-
-impl From<FootImuSample> for core::FootSample {
-    fn from(s: FootImuSample) -> Self {
-        Self {
-            t_s: s.t_s,
-            accel_mps2: [s.accel_x_mps2, s.accel_y_mps2, s.accel_z_mps2],
-            gyro_rads: [s.gyro_x_rads, s.gyro_y_rads, s.gyro_z_rads],
-        }
-    }
-}
 
 /// A vector in the local level East-North-Up frame.
 #[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
@@ -210,50 +186,4 @@ pub struct FootBatchResult {
     /// The newest estimate after the batch (what `estimate()` returns; null before
     /// the alignment is complete).
     pub latest: Option<FootEstimate>,
-}
-
-/// Pack samples into the 56-byte little-endian layout of `pushPacked`.
-#[uniffi::export]
-pub fn pack_foot_samples(samples: Vec<FootImuSample>) -> Vec<u8> {
-    let mut out = Vec::with_capacity(samples.len() * FOOT_SAMPLE_RECORD_BYTES);
-    for s in samples {
-        for v in [
-            s.t_s,
-            s.accel_x_mps2,
-            s.accel_y_mps2,
-            s.accel_z_mps2,
-            s.gyro_x_rads,
-            s.gyro_y_rads,
-            s.gyro_z_rads,
-        ] {
-            out.extend_from_slice(&v.to_le_bytes());
-        }
-    }
-    out
-}
-
-/// Decode packed samples; the buffer must be a whole number of records.
-pub fn unpack_foot_samples(
-    bytes: &[u8],
-) -> Result<impl Iterator<Item = core::FootSample> + '_, FootError> {
-    if bytes.len() % FOOT_SAMPLE_RECORD_BYTES != 0 {
-        return Err(FootError::InvalidBuffer {
-            reason: format!(
-                "{} bytes is not a whole number of {FOOT_SAMPLE_RECORD_BYTES}-byte foot IMU records",
-                bytes.len()
-            ),
-        });
-    }
-    Ok(bytes.chunks_exact(FOOT_SAMPLE_RECORD_BYTES).map(|c| {
-        let f = |i: usize| {
-            let mut b = [0u8; 8];
-            b.copy_from_slice(&c[8 * i..8 * i + 8]);
-            f64::from_le_bytes(b)
-        };
-        core::FootSample {
-            t_s: f(0),
-            accel_mps2: [f(1), f(2), f(3)],
-            gyro_rads: [f(4), f(5), f(6)],
-        }
-    }))
 }

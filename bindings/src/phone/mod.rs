@@ -1,7 +1,7 @@
 //! The phone engines at the FFI: dead reckoning (`PhoneNavigator`), learned odometry
 //! (`PhoneOdometry`), orientation (`OrientationFilter`) and placement
-//! (`PlacementClassifier`). They share the packed 80-byte IMU record of
-//! [`navigator`].
+//! (`PlacementClassifier`). The first three take the SDK's one `ImuSample` record
+//! packed in the 80-byte (9-axis) layout of [`crate::packed`].
 
 pub mod navigator;
 pub mod odometry;

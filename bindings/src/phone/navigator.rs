@@ -1,20 +1,17 @@
 //! `PhoneNavigator` at the FFI: pedestrian dead reckoning from raw phone IMU data,
 //! corrected by GNSS (core: `stridekit_core::pdr`).
 //!
-//! IMU samples cross the FFI packed, 80-byte little-endian records of ten f64:
-//! `t_s, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y, accel_z (m/s², gravity
-//! included), mag_x, mag_y, mag_z (µT; NaN when there is no magnetometer)`, device
-//! axes as the platform reports them.
+//! IMU samples cross the FFI packed, in the 80-byte (9-axis) layout of
+//! [`crate::packed`]: ten little-endian f64 `t_s, accel_x, accel_y, accel_z (m/s²,
+//! gravity included), gyro_x, gyro_y, gyro_z (rad/s), mag_x, mag_y, mag_z (µT; NaN
+//! when there is no magnetometer)`, device axes as the platform reports them.
 
 use std::sync::{Arc, Mutex, MutexGuard};
 
-use stridekit_core::ahrs::ImuSample;
 use stridekit_core::pdr as core;
 
 use crate::pace::types::GnssFix;
-
-/// Bytes per packed IMU record.
-pub const IMU_RECORD_BYTES: usize = 80;
+use crate::packed::imu_samples;
 
 crate::error::engine_error! {
     /// Why the navigator rejected an input, a buffer or a snapshot (Kotlin
@@ -384,44 +381,6 @@ impl PhoneNavigator {
     }
 }
 
-fn f64_at(c: &[u8], i: usize) -> f64 {
-    let mut b = [0u8; 8];
-    b.copy_from_slice(&c[8 * i..8 * i + 8]);
-    f64::from_le_bytes(b)
-}
-
-/// One decoded 80-byte IMU record (layout in the module docs).
-pub(crate) struct ImuRecord {
-    pub t_s: f64,
-    pub gyro_rads: [f64; 3],
-    pub accel_mps2: [f64; 3],
-    /// `None` when any of its fields is NaN (no magnetometer).
-    pub mag_ut: Option<[f64; 3]>,
-}
-
-/// Decode one 80-byte IMU record (`ios/check-generated.py` reads the field order
-/// from this function).
-pub(crate) fn imu_record(c: &[u8]) -> ImuRecord {
-    let mag = [f64_at(c, 7), f64_at(c, 8), f64_at(c, 9)];
-    ImuRecord {
-        t_s: f64_at(c, 0),
-        gyro_rads: [f64_at(c, 1), f64_at(c, 2), f64_at(c, 3)],
-        accel_mps2: [f64_at(c, 4), f64_at(c, 5), f64_at(c, 6)],
-        mag_ut: (!mag.iter().any(|v| v.is_nan())).then_some(mag),
-    }
-}
-
-/// `data` as 80-byte IMU records, or why not.
-pub(crate) fn imu_records(data: &[u8]) -> Result<std::slice::ChunksExact<'_, u8>, String> {
-    if data.len() % IMU_RECORD_BYTES != 0 {
-        return Err(format!(
-            "{} bytes is not a whole number of {IMU_RECORD_BYTES}-byte IMU records",
-            data.len()
-        ));
-    }
-    Ok(data.chunks_exact(IMU_RECORD_BYTES))
-}
-
 #[uniffi::export]
 impl PhoneNavigator {
     /// A navigator with the given configuration (typed `InvalidConfig` error when a
@@ -491,37 +450,25 @@ impl PhoneNavigator {
     #[uniffi::constructor]
     pub fn restore(snapshot: Vec<u8>) -> Result<Arc<Self>, NavError> {
         guard(|| {
-            let n = core::PhoneNavigator::restore(&snapshot).map_err(|e| match e {
-                core::NavError::Snapshot(s) => NavError::InvalidSnapshot {
-                    reason: s.to_string(),
-                },
-                e => NavError::InvalidSnapshot {
-                    reason: e.to_string(),
-                },
-            })?;
+            let n = core::PhoneNavigator::restore(&snapshot)?;
             Ok(Arc::new(Self {
                 inner: Mutex::new(n),
             }))
         })
     }
 
-    /// Push IMU samples packed as 80-byte little-endian records of ten f64 `t_s, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y, accel_z (m/s²), mag_x, mag_y, mag_z (µT, NaN: none)` (`packImuSamples` builds them).
+    /// Push IMU samples packed as 80-byte little-endian records of ten f64 `t_s,
+    /// accel_x, accel_y, accel_z (m/s²), gyro_x, gyro_y, gyro_z (rad/s), mag_x, mag_y,
+    /// mag_z (µT, NaN: none)` (`packImuSamples` builds them).
     pub fn push_imu_packed(&self, data: Vec<u8>) -> Result<ImuBatchResult, NavError> {
         guard(|| {
-            let records =
-                imu_records(&data).map_err(|reason| NavError::InvalidBuffer { reason })?;
+            let samples =
+                imu_samples(&data).map_err(|reason| NavError::InvalidBuffer { reason })?;
             let mut nav = self.lock();
             let mut rejected = Vec::new();
             let mut steps = Vec::new();
             let mut placed = nav.recent_steps().1;
-            for (index, c) in records.enumerate() {
-                let r = imu_record(c);
-                let s = ImuSample {
-                    t_s: r.t_s,
-                    gyro_rads: r.gyro_rads,
-                    accel_mps2: r.accel_mps2,
-                    mag_ut: r.mag_ut,
-                };
+            for (index, s) in samples.enumerate() {
                 if let Err(e) = nav.push_imu(&s) {
                     rejected.push(RejectedImuSample::new(index, &e));
                 }
@@ -581,6 +528,43 @@ mod tests {
         match PhoneNavigator::new(bad) {
             Err(NavError::InvalidConfig { reason }) => assert!(!reason.is_empty()),
             other => panic!("expected InvalidConfig, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_corrupt_snapshot_is_invalid_snapshot() {
+        let nav = PhoneNavigator::with_defaults();
+        let samples: Vec<crate::ImuSample> = (0..300)
+            .map(|i| crate::ImuSample {
+                t_s: f64::from(i) * 0.01,
+                accel_x_mps2: 0.0,
+                accel_y_mps2: 0.3 * (f64::from(i) * 0.1).sin(),
+                accel_z_mps2: 9.81,
+                gyro_x_rads: 0.01,
+                gyro_y_rads: 0.0,
+                gyro_z_rads: 0.0,
+                mag_x_ut: Some(20.0),
+                mag_y_ut: Some(0.0),
+                mag_z_ut: Some(-40.0),
+            })
+            .collect();
+        let r = nav
+            .push_imu_packed(crate::packed::pack_imu_samples(samples))
+            .unwrap();
+        assert!(r.rejected.is_empty() && r.latest.is_some());
+        let good = nav.snapshot();
+        assert_eq!(
+            PhoneNavigator::restore(good.clone()).unwrap().snapshot(),
+            good
+        );
+        let mut flipped = good.clone();
+        let mid = flipped.len() / 2;
+        flipped[mid] ^= 0x40;
+        for bad in [vec![1, 2, 3], good[..good.len() - 1].to_vec(), flipped] {
+            match PhoneNavigator::restore(bad) {
+                Err(NavError::InvalidSnapshot { reason }) => assert!(!reason.is_empty()),
+                other => panic!("expected InvalidSnapshot, got {other:?}"),
+            }
         }
     }
 }

@@ -14,7 +14,8 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use stridekit_core::odometry as core;
 
-use crate::phone::navigator::{imu_record, imu_records, RejectedImuSample};
+use crate::packed::imu_samples;
+use crate::phone::navigator::RejectedImuSample;
 use crate::phone::placement::{PhonePlacement, PlacementEstimate};
 
 /// Where the placement that picks the velocity regressor comes from.
@@ -232,23 +233,18 @@ impl PhoneOdometry {
         guard(|| Ok(Self::wrap(core::PhoneOdometry::restore(&snapshot)?)))
     }
 
-    /// Push IMU samples packed as 80-byte little-endian records of ten f64 `t_s, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y, accel_z (m/s²), mag_x, mag_y, mag_z (µT, NaN: none)` (`packImuSamples` builds them); bad
-    /// samples are skipped and reported by index.
+    /// Push IMU samples packed as 80-byte little-endian records of ten f64 `t_s,
+    /// accel_x, accel_y, accel_z (m/s²), gyro_x, gyro_y, gyro_z (rad/s), mag_x, mag_y,
+    /// mag_z (µT, NaN: none)` (`packImuSamples` builds them); bad samples are skipped
+    /// and reported by index.
     pub fn push_imu_packed(&self, data: Vec<u8>) -> Result<OdometryBatchResult, OdometryError> {
         guard(|| {
-            let records =
-                imu_records(&data).map_err(|reason| OdometryError::InvalidBuffer { reason })?;
+            let samples =
+                imu_samples(&data).map_err(|reason| OdometryError::InvalidBuffer { reason })?;
             let mut engine = self.lock();
             let mut estimates = 0i32;
             let mut rejected = Vec::new();
-            for (index, c) in records.enumerate() {
-                let r = imu_record(c);
-                let s = core::ImuSample {
-                    t_s: r.t_s,
-                    gyro_rads: r.gyro_rads,
-                    accel_mps2: r.accel_mps2,
-                    mag_ut: r.mag_ut,
-                };
+            for (index, s) in samples.enumerate() {
                 match engine.push(&s) {
                     Ok(Some(_)) => estimates = estimates.saturating_add(1),
                     Ok(None) => {}
@@ -301,30 +297,6 @@ pub fn odometry_shipped_model() -> String {
     core::OdometryModel::shipped().to_text()
 }
 
-/// Samples in the 80-byte layout (NaN magnetometer when absent).
-#[cfg(any(test, feature = "testing"))]
-pub(crate) fn pack(samples: &[core::ImuSample]) -> Vec<u8> {
-    let mut out = Vec::with_capacity(samples.len() * crate::phone::navigator::IMU_RECORD_BYTES);
-    for s in samples {
-        let m = s.mag_ut.unwrap_or([f64::NAN; 3]);
-        for v in [
-            s.t_s,
-            s.gyro_rads[0],
-            s.gyro_rads[1],
-            s.gyro_rads[2],
-            s.accel_mps2[0],
-            s.accel_mps2[1],
-            s.accel_mps2[2],
-            m[0],
-            m[1],
-            m[2],
-        ] {
-            out.extend_from_slice(&v.to_le_bytes());
-        }
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -343,7 +315,9 @@ mod tests {
         );
         let o = PhoneOdometry::with_defaults();
         assert!(o.estimate().is_none());
-        let r = o.push_imu_packed(pack(&walk())).unwrap();
+        let r = o
+            .push_imu_packed(crate::packed::pack_imu(walk().into_iter()))
+            .unwrap();
         assert!(r.rejected.is_empty());
         assert!(r.estimates > 100, "{r:?}");
         let e = r.latest.unwrap();
@@ -375,7 +349,9 @@ mod tests {
         ));
         let mut bad = walk()[..2].to_vec();
         bad[0].t_s = f64::NAN;
-        let r = o.push_imu_packed(pack(&bad)).unwrap();
+        let r = o
+            .push_imu_packed(crate::packed::pack_imu(bad.into_iter()))
+            .unwrap();
         assert_eq!(r.rejected.len(), 1);
         assert!(matches!(
             PhoneOdometry::with_model(odometry_config_default(), "nope".into()),

@@ -13,7 +13,8 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use stridekit_core::ahrs as core;
 
-use crate::phone::navigator::{imu_record, imu_records, RejectedImuSample};
+use crate::packed::imu_samples;
+use crate::phone::navigator::RejectedImuSample;
 
 /// Which orientation filter runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, uniffi::Enum)]
@@ -406,25 +407,25 @@ impl OrientationFilter {
         (*self.lock().settings()).into()
     }
 
-    /// Push IMU samples packed as 80-byte little-endian records of ten f64 `t_s, gyro_x, gyro_y, gyro_z (rad/s), accel_x, accel_y, accel_z (m/s²), mag_x, mag_y, mag_z (µT, NaN: none)` (`packImuSamples` builds them). A buffer
-    /// that is not a whole number of records is refused as a whole; otherwise bad
-    /// records are skipped and reported, and the result equals pushing only the good
-    /// ones.
+    /// Push IMU samples packed as 80-byte little-endian records of ten f64 `t_s,
+    /// accel_x, accel_y, accel_z (m/s²), gyro_x, gyro_y, gyro_z (rad/s), mag_x, mag_y,
+    /// mag_z (µT, NaN: none)` (`packImuSamples` builds them). A buffer that is not a
+    /// whole number of records is refused as a whole; otherwise bad records are skipped
+    /// and reported, and the result equals pushing only the good ones.
     pub fn push_imu_packed(
         &self,
         data: Vec<u8>,
         output: OrientationOutput,
     ) -> Result<OrientationBatchResult, OrientationError> {
         guard(|| {
-            let records =
-                imu_records(&data).map_err(|reason| OrientationError::InvalidBuffer { reason })?;
+            let samples =
+                imu_samples(&data).map_err(|reason| OrientationError::InvalidBuffer { reason })?;
             let mut a = self.lock();
             let mut rejected = Vec::new();
             let mut estimates = Vec::new();
             let mut accepted = 0i32;
-            for (index, c) in records.enumerate() {
-                let r = imu_record(c);
-                match a.update(r.t_s, r.gyro_rads, r.accel_mps2, r.mag_ut) {
+            for (index, s) in samples.enumerate() {
+                match a.update(s.t_s, s.gyro_rads, s.accel_mps2, s.mag_ut) {
                     Ok(_) => {
                         accepted = accepted.saturating_add(1);
                         if output == OrientationOutput::All {
@@ -493,26 +494,16 @@ impl OrientationFilter {
 mod tests {
     use super::*;
 
-    fn record(t: f64, g: [f64; 3], a: [f64; 3], m: Option<[f64; 3]>) -> Vec<u8> {
-        let m = m.unwrap_or([f64::NAN; 3]);
-        [t, g[0], g[1], g[2], a[0], a[1], a[2], m[0], m[1], m[2]]
-            .iter()
-            .flat_map(|v| v.to_le_bytes())
-            .collect()
-    }
-
     fn samples(n: usize) -> Vec<u8> {
-        (0..n)
-            .flat_map(|i| {
-                let x = i as f64 * 0.01;
-                record(
-                    x,
-                    [0.3 * x.sin(), 0.2 * (1.3 * x).cos(), 0.1],
-                    [0.5 * (2.0 * x).sin(), 0.3, 9.7],
-                    (i % 3 != 0).then_some([20.0 * (0.5 * x).cos(), 5.0, -40.0]),
-                )
-            })
-            .collect()
+        crate::packed::pack_imu((0..n).map(|i| {
+            let x = i as f64 * 0.01;
+            core::ImuSample {
+                t_s: x,
+                gyro_rads: [0.3 * x.sin(), 0.2 * (1.3 * x).cos(), 0.1],
+                accel_mps2: [0.5 * (2.0 * x).sin(), 0.3, 9.7],
+                mag_ut: (i % 3 != 0).then_some([20.0 * (0.5 * x).cos(), 5.0, -40.0]),
+            }
+        }))
     }
 
     #[test]
@@ -603,8 +594,7 @@ mod tests {
         // The core, sample by sample.
         let mut reference = core::Ahrs::new(core::AhrsSettings::default()).unwrap();
         let mut want = Vec::new();
-        for c in data.chunks_exact(80) {
-            let r = imu_record(c);
+        for r in imu_samples(&data).unwrap() {
             reference
                 .update(r.t_s, r.gyro_rads, r.accel_mps2, r.mag_ut)
                 .unwrap();

@@ -14,7 +14,7 @@ pub const MAX_SIM_FOOT_LAPS: u32 = 20;
 pub struct SimulatedFootWalk {
     pub seed: u64,
     pub laps: u32,
-    /// The samples as 56-byte records (layout in the module docs).
+    /// The samples as 56-byte (6-axis) records (layout in `crate::packed`).
     pub samples_packed: Vec<u8>,
     pub sample_count: i32,
     /// True path length (sum of stride lengths), m, and true number of strides.
@@ -43,12 +43,7 @@ pub fn simulate_foot_walk(seed: u64, laps: u32) -> Result<SimulatedFootWalk, Foo
         let sim = stridekit_sim::simulate_foot(&stridekit_sim::FootScenario::walk(seed, laps));
         let mut nav = core::FootNavigator::new(core::FootConfig::default())?;
         let outcome = nav.push_batch_with(&sim.samples, |_| {});
-        let mut packed = Vec::with_capacity(sim.samples.len() * FOOT_SAMPLE_RECORD_BYTES);
-        for s in &sim.samples {
-            for v in [s.t_s].iter().chain(&s.accel_mps2).chain(&s.gyro_rads) {
-                packed.extend_from_slice(&v.to_le_bytes());
-            }
-        }
+        let packed = crate::packed::pack_imu6(sim.samples.iter().copied());
         let count = |n: usize| i32::try_from(n).unwrap_or(i32::MAX);
         Ok(SimulatedFootWalk {
             seed,

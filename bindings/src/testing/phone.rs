@@ -1,14 +1,12 @@
 //! Phone test helpers: a simulated phone walk for `PhoneOdometry` and the Rust
 //! reference replay of packed IMU records through the navigator.
 
-use stridekit_core::ahrs::ImuSample;
 use stridekit_core::odometry as core_odometry;
 use stridekit_core::pdr as core;
 
-use crate::phone::navigator::{
-    collect_new_steps, imu_record, imu_records, NavError, NavEstimate, NavStep, PdrCalibration,
-};
-use crate::phone::odometry::{pack, OdometryError, OdometryEstimate};
+use crate::packed::{imu_samples, pack_imu};
+use crate::phone::navigator::{collect_new_steps, NavError, NavEstimate, NavStep, PdrCalibration};
+use crate::phone::odometry::{OdometryError, OdometryEstimate};
 use crate::phone::placement::PhonePlacement;
 
 /// What a Rust replay of packed IMU records produced (see [`pdr_reference_replay`]).
@@ -30,8 +28,8 @@ pub fn pdr_reference_replay(
     calibration: Option<PdrCalibration>,
 ) -> Result<PdrReplay, NavError> {
     crate::phone::navigator::guard(|| {
-        let records =
-            imu_records(&imu_packed).map_err(|reason| NavError::InvalidBuffer { reason })?;
+        let samples =
+            imu_samples(&imu_packed).map_err(|reason| NavError::InvalidBuffer { reason })?;
         let mut nav = core::PhoneNavigator::new(core::NavigatorConfig::default())
             .expect("the core default configuration is valid");
         if let Some(c) = &calibration {
@@ -41,14 +39,7 @@ pub fn pdr_reference_replay(
                 })?;
         }
         let (mut steps, mut rejected, mut placed) = (Vec::new(), 0i32, 0u64);
-        for c in records {
-            let r = imu_record(c);
-            let s = ImuSample {
-                t_s: r.t_s,
-                gyro_rads: r.gyro_rads,
-                accel_mps2: r.accel_mps2,
-                mag_ut: r.mag_ut,
-            };
+        for s in samples {
             if nav.push_imu(&s).is_err() {
                 rejected += 1;
             }
@@ -124,7 +115,7 @@ pub fn simulate_phone_walk(
         }
         let last = sim.truth.last().copied().unwrap_or_default();
         Ok(SimulatedPhoneWalk {
-            imu_packed: pack(&samples),
+            imu_packed: pack_imu(samples.iter().copied()),
             samples: i32::try_from(samples.len()).unwrap_or(i32::MAX),
             truth_t_s: sim.truth.iter().map(|t| t.t_s).collect(),
             truth_east_m: sim.truth.iter().map(|t| t.east_m).collect(),

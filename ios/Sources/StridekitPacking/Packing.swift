@@ -1,5 +1,5 @@
 // Packed little-endian sample records, byte for byte the layouts the Rust bindings
-// decode (bindings/src/packed.rs, navigator.rs, foot.rs). Foundation only: no
+// decode (bindings/src/packed.rs holds every layout). Foundation only: no
 // CoreMotion, no Stridekit import, so this file compiles and is tested anywhere.
 //
 // ios/check-generated.py (run by scripts/test) compares every `recordBytes` and
@@ -122,7 +122,8 @@ public enum FixLayout {
 }
 
 /// One phone IMU sample: specific force (m/s², gravity included), rotation rate
-/// (rad/s), magnetic field (µT, nil without a magnetometer), device axes.
+/// (rad/s), magnetic field (µT, nil without a magnetometer), device axes (the
+/// Stridekit `ImuSample` record without the import; `ImuLayout` packs it).
 public struct ImuRecord: Equatable, Sendable {
     public var tS: Double
     public var gyroRads: Vector3
@@ -137,31 +138,11 @@ public struct ImuRecord: Equatable, Sendable {
     }
 }
 
-/// `PhoneNavigator.pushImuPacked`: 80 bytes, ten f64: `t_s`, gyro x y z, accel x y z,
-/// mag x y z (NaN without a magnetometer). Rust: `navigator::IMU_RECORD_BYTES`.
-public enum ImuLayout {
-    public static let recordBytes = 80
-    public static let fields = ["t_s", "gyro_x_rads", "gyro_y_rads", "gyro_z_rads",
-                                "accel_x_mps2", "accel_y_mps2", "accel_z_mps2",
-                                "mag_x_ut", "mag_y_ut", "mag_z_ut"]
-
-    public static func append(_ s: ImuRecord, to data: inout Data) {
-        appendLittleEndian(s.tS, to: &data)
-        appendLittleEndian(s.gyroRads.x, to: &data)
-        appendLittleEndian(s.gyroRads.y, to: &data)
-        appendLittleEndian(s.gyroRads.z, to: &data)
-        appendLittleEndian(s.accelMps2.x, to: &data)
-        appendLittleEndian(s.accelMps2.y, to: &data)
-        appendLittleEndian(s.accelMps2.z, to: &data)
-        let mag = s.magUt ?? Vector3(.nan, .nan, .nan)
-        appendLittleEndian(mag.x, to: &data)
-        appendLittleEndian(mag.y, to: &data)
-        appendLittleEndian(mag.z, to: &data)
-    }
-}
-
-/// `FootNavigator.pushPacked`: 56 bytes, seven f64: `t_s`, accel x y z (m/s²),
-/// gyro x y z (rad/s), sensor axes. Rust: `foot::FOOT_SAMPLE_RECORD_BYTES`.
+/// The IMU layout family (Rust: `packed.rs`): the 6-axis record, and the 9-axis record
+/// = the same 56 bytes followed by the magnetometer. Both carry accel before gyro.
+///
+/// `FootNavigator.pushPacked`: the 6-axis record, 56 bytes, seven f64: `t_s`, accel
+/// x y z (m/s²), gyro x y z (rad/s), sensor axes. Rust: `packed::IMU6_RECORD_BYTES`.
 public enum FootImuLayout {
     public static let recordBytes = 56
     public static let fields = ["t_s", "accel_x_mps2", "accel_y_mps2", "accel_z_mps2",
@@ -176,5 +157,23 @@ public enum FootImuLayout {
         appendLittleEndian(g.x, to: &data)
         appendLittleEndian(g.y, to: &data)
         appendLittleEndian(g.z, to: &data)
+    }
+}
+
+/// `pushImuPacked` of `PhoneNavigator`, `PhoneOdometry` and `OrientationFilter`: the
+/// 9-axis record, 80 bytes, ten f64: the 6-axis record (`t_s`, accel x y z, gyro x y
+/// z), then mag x y z (NaN without a magnetometer). Rust: `packed::IMU_RECORD_BYTES`.
+public enum ImuLayout {
+    public static let recordBytes = 80
+    public static let fields = ["t_s", "accel_x_mps2", "accel_y_mps2", "accel_z_mps2",
+                                "gyro_x_rads", "gyro_y_rads", "gyro_z_rads",
+                                "mag_x_ut", "mag_y_ut", "mag_z_ut"]
+
+    public static func append(_ s: ImuRecord, to data: inout Data) {
+        FootImuLayout.append(tS: s.tS, accelMps2: s.accelMps2, gyroRads: s.gyroRads, to: &data)
+        let mag = s.magUt ?? Vector3(.nan, .nan, .nan)
+        appendLittleEndian(mag.x, to: &data)
+        appendLittleEndian(mag.y, to: &data)
+        appendLittleEndian(mag.z, to: &data)
     }
 }

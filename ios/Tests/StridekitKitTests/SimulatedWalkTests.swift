@@ -27,14 +27,24 @@ final class SimulatedWalkTests: XCTestCase {
         }
         XCTAssertEqual(counts, packStepCounts(samples: run.steps))
 
-        let samples = [FootImuSample(tS: 0.005, accelXMps2: 0.1, accelYMps2: -0.2, accelZMps2: 9.8,
-                                     gyroXRads: 0.01, gyroYRads: 0.02, gyroZRads: -0.03)]
+        // One ImuSample record for both IMU layouts (the foot one ignores the magnetometer).
+        let samples = [ImuSample(tS: 0.005, accelXMps2: 0.1, accelYMps2: -0.2, accelZMps2: 9.8,
+                                 gyroXRads: 0.01, gyroYRads: 0.02, gyroZRads: -0.03,
+                                 magXUt: 20, magYUt: 0, magZUt: -40),
+                       ImuSample(tS: 0.010, accelXMps2: 0.2, accelYMps2: -0.1, accelZMps2: 9.7,
+                                 gyroXRads: 0.02, gyroYRads: 0.01, gyroZRads: -0.02)]
         var foot = Data()
+        var imu = Data()
         for s in samples {
-            FootImuLayout.append(tS: s.tS, accelMps2: Vector3(s.accelXMps2, s.accelYMps2, s.accelZMps2),
-                                 gyroRads: Vector3(s.gyroXRads, s.gyroYRads, s.gyroZRads), to: &foot)
+            let accel = Vector3(s.accelXMps2, s.accelYMps2, s.accelZMps2)
+            let gyro = Vector3(s.gyroXRads, s.gyroYRads, s.gyroZRads)
+            FootImuLayout.append(tS: s.tS, accelMps2: accel, gyroRads: gyro, to: &foot)
+            var mag: Vector3? = nil
+            if let x = s.magXUt, let y = s.magYUt, let z = s.magZUt { mag = Vector3(x, y, z) }
+            ImuLayout.append(ImuRecord(tS: s.tS, gyroRads: gyro, accelMps2: accel, magUt: mag), to: &imu)
         }
         XCTAssertEqual(foot, packFootSamples(samples: samples))
+        XCTAssertEqual(imu, packImuSamples(samples: samples))
     }
 
     /// A 10-minute simulated run pushed through PacePipeline (packed batches, the

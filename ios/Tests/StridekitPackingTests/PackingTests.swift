@@ -63,8 +63,13 @@ final class PackingTests: XCTestCase {
                                    accelMps2: Vector3(1, 2, 3), magUt: nil), to: &d)
         XCTAssertEqual(d.count, 80)
         let v = (0..<10).map { readLittleEndianDouble(d, at: 8 * $0) }
-        XCTAssertEqual(Array(v[0..<7]), [2, 0.1, 0.2, 0.3, 1, 2, 3])
+        XCTAssertEqual(Array(v[0..<7]), [2, 1, 2, 3, 0.1, 0.2, 0.3])  // accel before gyro
         XCTAssertTrue(v[7...].allSatisfy { $0.isNaN })
+        // One family: the 80-byte record starts with the 56-byte one.
+        var six = Data()
+        FootImuLayout.append(tS: 2, accelMps2: Vector3(1, 2, 3), gyroRads: Vector3(0.1, 0.2, 0.3), to: &six)
+        XCTAssertEqual(d.prefix(FootImuLayout.recordBytes), six)
+        XCTAssertEqual(Array(ImuLayout.fields.prefix(FootImuLayout.fields.count)), FootImuLayout.fields)
     }
 
     func testFootRecordOrder() {

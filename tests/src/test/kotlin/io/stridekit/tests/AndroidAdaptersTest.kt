@@ -102,10 +102,11 @@ class AndroidAdaptersTest {
         assertEquals(3, m.buffer.size)
         val b = ByteBuffer.wrap(m.buffer.drain()).order(ByteOrder.LITTLE_ENDIAN)
         val r = List(3) { List(10) { b.getDouble() } }
-        assertEquals(listOf(0.01, 0.1, 0.2, 0.3, 1.0, 2.0, 9.8), r[0].take(7))
+        // The 9-axis layout: t_s, accel xyz, gyro xyz, mag xyz.
+        assertEquals(listOf(0.01, 1.0, 2.0, 9.8, 0.1, 0.2, 0.3), r[0].take(7))
         assertTrue(r[0].drop(7).all { it.isNaN() })
-        assertEquals(listOf(0.02, 0.1, 0.2, 0.3, 1.5, 2.5, 9.7, 20.0, 0.0, -40.0), r[1])
-        assertEquals(listOf(0.61, -0.1, -0.2, -0.3), r[2].take(4))
+        assertEquals(listOf(0.02, 1.5, 2.5, 9.7, 0.1, 0.2, 0.3, 20.0, 0.0, -40.0), r[1])
+        assertEquals(listOf(0.61, 0.0, 0.0, 9.8, -0.1, -0.2, -0.3), r[2].take(7))
         assertTrue(r[2].drop(7).all { it.isNaN() })
     }
 

@@ -1,19 +1,20 @@
 package io.stridekit.tests
 
 import io.stridekit.AccelSample
+import io.stridekit.ImuSample
 import io.stridekit.NavException
 import io.stridekit.PaceConfig
 import io.stridekit.PaceException
 import io.stridekit.PaceMode
 import io.stridekit.PaceSource
 import io.stridekit.PaceTracker
-import io.stridekit.PhoneImuSample
 import io.stridekit.PhoneNavigator
 import io.stridekit.StepDetectorMode
 import io.stridekit.StepLengthModel
 import io.stridekit.StepSample
 import io.stridekit.navigatorConfigDefault
 import io.stridekit.packAccelSamples
+import io.stridekit.packFootSamples
 import io.stridekit.packImuSamples
 import org.junit.jupiter.api.Test
 import java.nio.ByteBuffer
@@ -29,10 +30,10 @@ import kotlin.test.assertTrue
 
 /** The surface an app meets: pack helpers, config records, Int/Long counts, nullability. */
 class ApiSurfaceTest {
-    private fun walk(seconds: Double): List<PhoneImuSample> = (0 until (seconds * 100).toInt()).map { i ->
+    private fun walk(seconds: Double): List<ImuSample> = (0 until (seconds * 100).toInt()).map { i ->
         val t = i / 100.0
         val bounce = 2.5 * sin(2 * PI * 1.8 * t)
-        PhoneImuSample(
+        ImuSample(
             tS = t, accelXMps2 = 0.0, accelYMps2 = 0.3 * bounce, accelZMps2 = 9.81 + bounce,
             gyroXRads = 0.0, gyroYRads = 0.0, gyroZRads = 0.0,
             magXUt = 20.0, magYUt = 0.0, magZUt = -40.0,
@@ -40,14 +41,19 @@ class ApiSurfaceTest {
     }
 
     @Test
-    fun `packImuSamples writes the documented 80-byte layout, gyro before accel`() {
-        val s = PhoneImuSample(
+    fun `packImuSamples and packFootSamples write one layout family, accel before gyro`() {
+        val s = ImuSample(
             tS = 1.5, accelXMps2 = 0.1, accelYMps2 = 0.2, accelZMps2 = 9.8,
             gyroXRads = 0.01, gyroYRads = 0.02, gyroZRads = 0.03,
         )
         val b = ByteBuffer.allocate(80).order(ByteOrder.LITTLE_ENDIAN)
-        listOf(1.5, 0.01, 0.02, 0.03, 0.1, 0.2, 9.8, Double.NaN, Double.NaN, Double.NaN).forEach { b.putDouble(it) }
+        listOf(1.5, 0.1, 0.2, 9.8, 0.01, 0.02, 0.03, Double.NaN, Double.NaN, Double.NaN).forEach { b.putDouble(it) }
         assertContentEquals(b.array(), packImuSamples(listOf(s)))
+        // The 56-byte record is the 80-byte one without the magnetometer (which the foot
+        // layout never carries).
+        val withMag = s.copy(magXUt = 20.0, magYUt = 0.0, magZUt = -40.0)
+        assertContentEquals(b.array().copyOf(56), packFootSamples(listOf(withMag)))
+        assertContentEquals(packImuSamples(listOf(withMag)).copyOf(56), packFootSamples(listOf(s)))
 
         val a = AccelSample(tS = 2.0, xMps2 = 1.0, yMps2 = -2.0, zMps2 = 9.0)
         val ab = ByteBuffer.allocate(32).order(ByteOrder.LITTLE_ENDIAN)

@@ -75,7 +75,7 @@ class EngineConcurrencyTest {
                 val b = ByteBuffer.allocate(block * 80).order(ByteOrder.LITTLE_ENDIAN)
                 for (j in 0 until block) {
                     val t = (first + j) / 100.0
-                    listOf(t, 0.001, -0.002, 0.0, 0.05, 0.02, 9.81, 20.0, 0.0, -40.0).forEach { b.putDouble(it) }
+                    listOf(t, 0.05, 0.02, 9.81, 0.001, -0.002, 0.0, 20.0, 0.0, -40.0).forEach { b.putDouble(it) }
                 }
                 c.add(block, nav.pushImuPacked(b.array()).rejected.size)
                 if (i % 5 == 0) {

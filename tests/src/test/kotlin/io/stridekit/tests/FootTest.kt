@@ -8,9 +8,9 @@ import io.stridekit.FootDetectorKind
 import io.stridekit.FootEstimate
 import io.stridekit.FootException
 import io.stridekit.FootGyroTiming
-import io.stridekit.FootImuSample
 import io.stridekit.FootNavigator
 import io.stridekit.FootOutput
+import io.stridekit.ImuSample
 import io.stridekit.footAxesFromSpec
 import io.stridekit.footAxesPyshoe
 import io.stridekit.footConfigCalibratedImu
@@ -42,8 +42,8 @@ class FootTest {
             ?.let { File(it) }
             ?.takeIf { it.isDirectory }
 
-    /** The documented 56-byte little-endian records: t, ax, ay, az, gx, gy, gz. */
-    private fun pack(samples: List<FootImuSample>): ByteArray {
+    /** The documented 56-byte (6-axis) little-endian records: t, ax, ay, az, gx, gy, gz. */
+    private fun pack(samples: List<ImuSample>): ByteArray {
         val b = ByteBuffer.allocate(samples.size * 56).order(ByteOrder.LITTLE_ENDIAN)
         for (s in samples) {
             b.putDouble(s.tS)
@@ -54,9 +54,9 @@ class FootTest {
     }
 
     /** A foot at rest on a level floor, body axes = sensor axes (z up), 200 Hz. */
-    private fun rest(n: Int, t0: Double = 0.0): List<FootImuSample> =
+    private fun rest(n: Int, t0: Double = 0.0): List<ImuSample> =
         (0 until n).map { i ->
-            FootImuSample(
+            ImuSample(
                 tS = t0 + i * 0.005,
                 accelXMps2 = 0.02, accelYMps2 = -0.01, accelZMps2 = 9.81,
                 gyroXRads = 0.001, gyroYRads = -0.002, gyroZRads = 0.0005,
@@ -66,7 +66,7 @@ class FootTest {
     private fun FootEstimate.horizontal() = hypot(positionM.east, positionM.north)
 
     /** A walk to push: its samples, the config for its axes, the truth's path length and end, where it comes from. */
-    private class Walk(val samples: List<FootImuSample>, val config: FootConfig, val truthPathM: Double, val truthEndM: Double, val name: String)
+    private class Walk(val samples: List<ImuSample>, val config: FootConfig, val truthPathM: Double, val truthEndM: Double, val name: String)
 
     /** The pyshoe trial 2017-11-22-11-37-47 (axes x fwd, y right, z down; VICON truth), or null when absent. */
     private fun realTrial(): Walk? {
@@ -77,13 +77,13 @@ class FootTest {
         val idx = listOf("t_s", "acc_x_mps2", "acc_y_mps2", "acc_z_mps2", "gyr_x_rads", "gyr_y_rads", "gyr_z_rads")
             .map { name -> cols.indexOf(name).also { assertTrue(it >= 0, "column $name missing") } }
         val gt = listOf("gt_x_m", "gt_y_m").map { cols.indexOf(it) }
-        val samples = ArrayList<FootImuSample>(lines.size)
+        val samples = ArrayList<ImuSample>(lines.size)
         val truth = ArrayList<Pair<Double, Double>>(lines.size)
         for (line in lines.drop(1)) {
             if (line.isBlank()) continue
             val f = line.split(',')
             val v = idx.map { f[it].toDouble() }
-            samples.add(FootImuSample(v[0], v[1], v[2], v[3], v[4], v[5], v[6]))
+            samples.add(ImuSample(v[0], v[1], v[2], v[3], v[4], v[5], v[6]))
             truth.add(f[gt[0]].toDouble() to f[gt[1]].toDouble())
         }
         // Horizontal path length of the truth at ~10 Hz, for scale.
@@ -95,10 +95,10 @@ class FootTest {
         return Walk(samples, footConfigDefault().copy(axisRemap = footAxesPyshoe()), path, end, file.name)
     }
 
-    private fun unpack(bytes: ByteArray): List<FootImuSample> {
+    private fun unpack(bytes: ByteArray): List<ImuSample> {
         val b = ByteBuffer.wrap(bytes).order(ByteOrder.LITTLE_ENDIAN)
         return (0 until bytes.size / 56).map {
-            FootImuSample(b.getDouble(), b.getDouble(), b.getDouble(), b.getDouble(), b.getDouble(), b.getDouble(), b.getDouble())
+            ImuSample(b.getDouble(), b.getDouble(), b.getDouble(), b.getDouble(), b.getDouble(), b.getDouble(), b.getDouble())
         }
     }
 
@@ -148,6 +148,11 @@ class FootTest {
         assertEquals(viaPacked, viaRecords)
         assertEquals(viaPacked, oneByOne)
         assertContentEquals(pack(head), packFootSamples(head))
+        // The foot navigator does not use the magnetometer fields of ImuSample.
+        val withMag = head.map { it.copy(magXUt = 20.0, magYUt = 0.0, magZUt = -40.0) }
+        assertContentEquals(packFootSamples(head), packFootSamples(withMag))
+        val viaMag = FootNavigator(walk.config).use { it.pushSamples(withMag, FootOutput.ALL).estimates }
+        assertEquals(viaRecords, viaMag)
     }
 
     @Test

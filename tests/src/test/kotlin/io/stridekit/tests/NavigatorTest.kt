@@ -17,14 +17,14 @@ import kotlin.test.assertTrue
 
 /** PhoneNavigator from Kotlin: packed IMU records, GNSS, errors, snapshot. */
 class NavigatorTest {
-    /** 80-byte records: t, gyro xyz, accel xyz, mag xyz (NaN: no magnetometer). */
+    /** 80-byte records: t, accel xyz, gyro xyz, mag xyz (NaN: no magnetometer). */
     private fun imu(seconds: Double, t0: Double = 0.0, walking: Boolean = false, g: Double = 9.81): ByteArray {
         val n = (seconds * 100).toInt()
         val buf = ByteBuffer.allocate(n * 80).order(ByteOrder.LITTLE_ENDIAN)
         for (i in 0 until n) {
             val t = t0 + i / 100.0
             val bounce = if (walking) 2.5 * sin(2 * PI * 1.8 * t) else 0.0
-            listOf(t, 0.0, 0.0, 0.0, 0.0, 0.3 * bounce, g + bounce, 20.0, 0.0, -40.0).forEach { buf.putDouble(it) }
+            listOf(t, 0.0, 0.3 * bounce, g + bounce, 0.0, 0.0, 0.0, 20.0, 0.0, -40.0).forEach { buf.putDouble(it) }
         }
         return buf.array()
     }

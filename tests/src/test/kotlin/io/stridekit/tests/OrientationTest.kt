@@ -31,7 +31,7 @@ class OrientationTest {
             ?.let { File(it) }
             ?.takeIf { it.isDirectory }
 
-    /** A BROAD trial: the 80-byte records (t, gyro xyz, accel xyz, mag xyz), the optical truth (null: occluded), movement. */
+    /** A BROAD trial: the 80-byte records (t, accel xyz, gyro xyz, mag xyz), the optical truth (null: occluded), movement. */
     private class Trial(val packed: ByteArray, val truth: List<DoubleArray?>, val movement: List<Boolean>) {
         val size get() = truth.size
     }
@@ -41,7 +41,7 @@ class OrientationTest {
         val lines = GZIPInputStream(file.inputStream()).bufferedReader().readLines()
         val cols = lines.first().split(',').map { it.trim() }
         fun col(n: String) = cols.indexOf(n).also { assertTrue(it >= 0, "column $n missing") }
-        val imu = listOf("t_s", "gyr_x_rads", "gyr_y_rads", "gyr_z_rads", "acc_x_mps2", "acc_y_mps2", "acc_z_mps2",
+        val imu = listOf("t_s", "acc_x_mps2", "acc_y_mps2", "acc_z_mps2", "gyr_x_rads", "gyr_y_rads", "gyr_z_rads",
             "mag_x_ut", "mag_y_ut", "mag_z_ut").map(::col)
         val opt = listOf("opt_qw", "opt_qx", "opt_qy", "opt_qz").map(::col)
         val mov = col("movement")
@@ -146,7 +146,7 @@ class OrientationTest {
             val buf = ByteBuffer.allocate(n * 80).order(ByteOrder.LITTLE_ENDIAN)
             for (i in 0 until n) {
                 val gx = if (i == 7) Double.NaN else 0.001
-                listOf(i / 100.0, gx, 0.0, 0.0, 0.0, 0.0, 9.81, 20.0, 0.0, -40.0).forEach { buf.putDouble(it) }
+                listOf(i / 100.0, 0.0, 0.0, 9.81, gx, 0.0, 0.0, 20.0, 0.0, -40.0).forEach { buf.putDouble(it) }
             }
             val r = f.pushImuPacked(buf.array(), OrientationOutput.LATEST_ONLY)
             assertEquals(listOf(7), r.rejected.map { it.index })

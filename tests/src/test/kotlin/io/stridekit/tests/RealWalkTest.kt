@@ -40,7 +40,7 @@ class RealWalkTest {
         (System.getenv("STRIDEKIT_DATA") ?: System.getProperty("stridekit.data"))?.let { File(it, "phone-indoor") }
 
     /**
-     * The log's IMU samples as 80-byte records (t, gyro xyz, accel xyz, mag xyz), built as
+     * The log's IMU samples as 80-byte records (t, accel xyz, gyro xyz, mag xyz), built as
      * the Rust reader does: at the accelerometer's times, gyroscope and magnetometer
      * interpolated linearly between their events around it (held 0.1 s past the ends).
      */
@@ -79,8 +79,8 @@ class RealWalkTest {
             val g = at(gyr, a[0]) ?: continue
             val m = at(mag, a[0]) ?: doubleArrayOf(Double.NaN, Double.NaN, Double.NaN)
             out.putDouble(a[0])
-            g.forEach { out.putDouble(it) }
             for (j in 1..3) out.putDouble(a[j])
+            g.forEach { out.putDouble(it) }
             m.forEach { out.putDouble(it) }
             n++
         }

@@ -130,16 +130,12 @@ class StressTest {
     }
 
     // ------------------------------------------------------------------------------
-    // Records (layouts: bindings/src/packed.rs, navigator.rs, foot.rs)
+    // Records (layouts: bindings/src/packed.rs)
     // ------------------------------------------------------------------------------
 
-    /** 80-byte IMU record: t, gyro xyz (rad/s), accel xyz (m/s²), mag xyz (µT, NaN = none). */
+    /** 80-byte IMU record: the 56-byte one (t, accel xyz, gyro xyz), then mag xyz (µT, NaN = none). */
     private fun imuRecord(r: Random, b: ByteBuffer, t: Double) {
-        b.putDouble(t)
-        repeat(3) { b.putDouble(field(r, r.nextGaussian() * 0.5)) }
-        b.putDouble(field(r, r.nextGaussian() * 1.5))
-        b.putDouble(field(r, r.nextGaussian() * 1.5))
-        b.putDouble(field(r, 9.81 + r.nextGaussian() * 2.0))
+        footRecord(r, b, t)
         if (r.nextInt(3) == 0) {
             repeat(3) { b.putDouble(Double.NaN) }
         } else {
@@ -157,7 +153,7 @@ class StressTest {
         b.putDouble(field(r, 9.81 + r.nextGaussian() * 2.0))
     }
 
-    /** 56-byte foot record: t, accel xyz (m/s²), gyro xyz (rad/s). */
+    /** 56-byte (6-axis) IMU record, the foot's: t, accel xyz (m/s²), gyro xyz (rad/s). */
     private fun footRecord(r: Random, b: ByteBuffer, t: Double) {
         b.putDouble(t)
         b.putDouble(field(r, r.nextGaussian() * 1.5))
@@ -370,8 +366,8 @@ class StressTest {
             val t = t0 + i * dt
             val w = 2 * PI * 1.8 * (i * dt)
             b.putDouble(t)
-            b.putDouble(0.02 * sin(w)).putDouble(0.01 * cos(w)).putDouble(0.005)
             b.putDouble(0.3 * sin(w)).putDouble(0.2 * cos(w)).putDouble(9.81 + 1.5 * sin(w))
+            b.putDouble(0.02 * sin(w)).putDouble(0.01 * cos(w)).putDouble(0.005)
             b.putDouble(20.0).putDouble(0.5).putDouble(-40.0)
         }
         return b.array()

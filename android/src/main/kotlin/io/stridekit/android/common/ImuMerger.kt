@@ -3,7 +3,8 @@ package io.stridekit.android.common
 /**
  * Merges the separate accelerometer, gyroscope and magnetometer event streams of
  * SensorManager into the 80-byte IMU records of `PhoneNavigator.pushImuPacked`
- * (`t_s, gyro xyz rad/s, accel xyz m/s², mag xyz µT`).
+ * (`t_s, accel xyz m/s², gyro xyz rad/s, mag xyz µT`: the 9-axis layout of
+ * `packImuSamples`).
  *
  * Android delivers each sensor on its own schedule, never in one event. The
  * accelerometer paces the output: each accelerometer sample becomes one record at its
@@ -51,7 +52,7 @@ class ImuMerger(
         if (!out.accept(tS)) return false
         val magAge = tS - magT
         val hasMag = magAge <= maxMagAgeS && magAge >= -maxMagAgeS
-        buffer.begin().f64(tS).f64(gyro[0]).f64(gyro[1]).f64(gyro[2]).f64(x).f64(y).f64(z)
+        buffer.begin().f64(tS).f64(x).f64(y).f64(z).f64(gyro[0]).f64(gyro[1]).f64(gyro[2])
         if (hasMag) buffer.f64(mag[0]).f64(mag[1]).f64(mag[2]) else buffer.f64(Double.NaN).f64(Double.NaN).f64(Double.NaN)
         buffer.end()
         return true

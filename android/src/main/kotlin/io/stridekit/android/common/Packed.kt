@@ -64,7 +64,7 @@ class PackedBuffer(val recordBytes: Int, initialRecords: Int = 64) {
         const val ACCEL_BYTES = 32
         /** `t_s, lat, lon, alt, hAcc, speed, speedAcc` (NaN = absent): `PaceTracker.pushFixesPacked`. */
         const val FIX_BYTES = 56
-        /** `t_s, gyro xyz, accel xyz, mag xyz` (mag NaN = none): `PhoneNavigator.pushImuPacked`. */
+        /** `t_s, accel xyz, gyro xyz, mag xyz` (mag NaN = none): `pushImuPacked` of `PhoneNavigator`, `PhoneOdometry`, `OrientationFilter`. */
         const val IMU_BYTES = 80
     }
 }
