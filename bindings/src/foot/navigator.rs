@@ -41,11 +41,12 @@ impl FootNavigator {
             FootOutput::All => capacity,
             FootOutput::StrideEnds | FootOutput::LatestOnly => 0,
         });
-        let mut produced = 0i32;
+        let (mut accepted, mut produced) = (0i32, 0i32);
         let mut rejected = Vec::new();
         for (index, s) in samples.enumerate() {
             let error = match catch_unwind(AssertUnwindSafe(|| nav.push(&s))) {
                 Ok(Ok(Some(e))) => {
+                    accepted = accepted.saturating_add(1);
                     produced = produced.saturating_add(1);
                     match output {
                         FootOutput::All => estimates.push(e.into()),
@@ -54,7 +55,10 @@ impl FootNavigator {
                     }
                     continue;
                 }
-                Ok(Ok(None)) => continue,
+                Ok(Ok(None)) => {
+                    accepted = accepted.saturating_add(1);
+                    continue;
+                }
                 Ok(Err(e)) => FootError::from(e),
                 Err(panic) => FootError::from_panic(panic),
             };
@@ -65,8 +69,9 @@ impl FootNavigator {
             });
         }
         FootBatchResult {
-            estimates,
+            accepted,
             produced,
+            estimates,
             rejected,
             latest: nav.estimate().map(Into::into),
         }

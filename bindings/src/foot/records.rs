@@ -177,10 +177,12 @@ pub struct FootRejectedSample {
 /// What a batch push produced.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct FootBatchResult {
+    /// Samples accepted (the batch minus the rejected ones).
+    pub accepted: i32,
+    /// Estimates the engine produced during the batch (returned or not).
+    pub produced: i32,
     /// The estimates selected by the `FootOutput` argument, in time order.
     pub estimates: Vec<FootEstimate>,
-    /// How many estimates the batch produced (returned or not).
-    pub produced: i32,
     /// Rejected samples, in batch order.
     pub rejected: Vec<FootRejectedSample>,
     /// The newest estimate after the batch (what `estimate()` returns; null before

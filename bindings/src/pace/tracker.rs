@@ -25,6 +25,10 @@ pub struct RejectedSample {
 /// What a batch push produced.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct BatchResult {
+    /// Samples accepted (the batch minus the rejected ones).
+    pub accepted: i32,
+    /// Estimates the engine produced during the batch (returned or not).
+    pub produced: i32,
     /// One estimate per accepted GNSS fix, in batch order (empty for step-only batches).
     pub estimates: Vec<PaceEstimate>,
     /// Samples that were rejected, in batch order.
@@ -69,14 +73,19 @@ impl PaceTracker {
         let mut tracker = self.lock();
         let mut estimates = Vec::with_capacity(capacity);
         let mut rejected = Vec::new();
+        let mut accepted = 0i32;
         for (index, item) in items.enumerate() {
             let outcome = catch_unwind(AssertUnwindSafe(|| push(&mut tracker, item)));
             let error = match outcome {
                 Ok(Ok(Some(e))) => {
+                    accepted = accepted.saturating_add(1);
                     estimates.push(e.into());
                     continue;
                 }
-                Ok(Ok(None)) => continue,
+                Ok(Ok(None)) => {
+                    accepted = accepted.saturating_add(1);
+                    continue;
+                }
                 Ok(Err(e)) => PaceError::from(e),
                 Err(panic) => PaceError::from_panic(panic),
             };
@@ -89,6 +98,8 @@ impl PaceTracker {
         // A panic here (a core bug) is caught by uniffi's scaffolding.
         let latest = tracker.estimate().map(Into::into);
         BatchResult {
+            accepted,
+            produced: i32::try_from(estimates.len()).unwrap_or(i32::MAX),
             estimates,
             rejected,
             latest,

@@ -154,10 +154,14 @@ impl From<core::NavStep> for NavStep {
 /// What a packed IMU push produced.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct ImuBatchResult {
-    pub rejected: Vec<RejectedImuSample>,
+    /// Samples accepted (the batch minus the rejected ones).
+    pub accepted: i32,
+    /// Estimates produced during the batch: one per accepted sample.
+    pub produced: i32,
     /// Steps placed during the batch, in time order (the trajectory: a step detected
     /// before the walking direction was known is placed later, at its own time).
     pub steps: Vec<NavStep>,
+    pub rejected: Vec<RejectedImuSample>,
     /// The estimate after the batch (null while nothing was accepted yet).
     pub latest: Option<NavEstimate>,
 }
@@ -467,16 +471,20 @@ impl PhoneNavigator {
             let mut nav = self.lock();
             let mut rejected = Vec::new();
             let mut steps = Vec::new();
+            let mut accepted = 0i32;
             let mut placed = nav.recent_steps().1;
             for (index, s) in samples.enumerate() {
-                if let Err(e) = nav.push_imu(&s) {
-                    rejected.push(RejectedImuSample::new(index, &e));
+                match nav.push_imu(&s) {
+                    Ok(()) => accepted = accepted.saturating_add(1),
+                    Err(e) => rejected.push(RejectedImuSample::new(index, &e)),
                 }
                 collect_new_steps(&nav, &mut placed, &mut steps);
             }
             Ok(ImuBatchResult {
-                rejected,
+                accepted,
+                produced: accepted,
                 steps,
+                rejected,
                 latest: nav.estimate().map(Into::into),
             })
         })

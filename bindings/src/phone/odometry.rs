@@ -172,8 +172,10 @@ pub(crate) fn guard<T>(f: impl FnOnce() -> Result<T, OdometryError>) -> Result<T
 /// What a packed IMU push produced.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct OdometryBatchResult {
+    /// Samples accepted (the batch minus the rejected ones).
+    pub accepted: i32,
     /// Window estimates produced during the batch.
-    pub estimates: i32,
+    pub produced: i32,
     pub rejected: Vec<RejectedImuSample>,
     /// The estimate after the batch (null until the first window, about 2 s in).
     pub latest: Option<OdometryEstimate>,
@@ -242,17 +244,20 @@ impl PhoneOdometry {
             let samples =
                 imu_samples(&data).map_err(|reason| OdometryError::InvalidBuffer { reason })?;
             let mut engine = self.lock();
-            let mut estimates = 0i32;
+            let (mut accepted, mut produced) = (0i32, 0i32);
             let mut rejected = Vec::new();
             for (index, s) in samples.enumerate() {
                 match engine.push(&s) {
-                    Ok(Some(_)) => estimates = estimates.saturating_add(1),
-                    Ok(None) => {}
+                    Ok(e) => {
+                        accepted = accepted.saturating_add(1);
+                        produced = produced.saturating_add(i32::from(e.is_some()));
+                    }
                     Err(e) => rejected.push(RejectedImuSample::new(index, &e)),
                 }
             }
             Ok(OdometryBatchResult {
-                estimates,
+                accepted,
+                produced,
                 rejected,
                 latest: engine.estimate().map(Into::into),
             })
@@ -319,7 +324,7 @@ mod tests {
             .push_imu_packed(crate::packed::pack_imu(walk().into_iter()))
             .unwrap();
         assert!(r.rejected.is_empty());
-        assert!(r.estimates > 100, "{r:?}");
+        assert!(r.produced > 100, "{r:?}");
         let e = r.latest.unwrap();
         assert!(e.east_m.hypot(e.north_m) > 5.0, "{e:?}");
         let restored = PhoneOdometry::restore(o.snapshot()).unwrap();

@@ -335,12 +335,14 @@ pub enum OrientationOutput {
 /// What a packed push produced.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct OrientationBatchResult {
-    /// Samples accepted.
+    /// Samples accepted (the batch minus the rejected ones).
     pub accepted: i32,
-    /// Samples rejected (by index in the buffer, with the reason); the rest went in.
-    pub rejected: Vec<RejectedImuSample>,
+    /// Estimates produced during the batch: one per accepted sample once the filter has an orientation (returned or not).
+    pub produced: i32,
     /// Per accepted sample (with `OrientationOutput.ALL`), else empty.
     pub estimates: Vec<OrientationEstimate>,
+    /// Samples rejected (by index in the buffer, with the reason); the rest went in.
+    pub rejected: Vec<RejectedImuSample>,
     /// The estimate after the batch (null before the first accepted sample).
     pub latest: Option<OrientationEstimate>,
 }
@@ -423,14 +425,17 @@ impl OrientationFilter {
             let mut a = self.lock();
             let mut rejected = Vec::new();
             let mut estimates = Vec::new();
-            let mut accepted = 0i32;
+            let (mut accepted, mut produced) = (0i32, 0i32);
             for (index, s) in samples.enumerate() {
                 match a.update(s.t_s, s.gyro_rads, s.accel_mps2, s.mag_ut) {
                     Ok(_) => {
                         accepted = accepted.saturating_add(1);
-                        if output == OrientationOutput::All {
-                            if let Some(o) = a.output() {
-                                estimates.push(o.into());
+                        if a.quaternion().is_some() {
+                            produced = produced.saturating_add(1);
+                            if output == OrientationOutput::All {
+                                if let Some(o) = a.output() {
+                                    estimates.push(o.into());
+                                }
                             }
                         }
                     }
@@ -439,8 +444,9 @@ impl OrientationFilter {
             }
             Ok(OrientationBatchResult {
                 accepted,
-                rejected,
+                produced,
                 estimates,
+                rejected,
                 latest: a.output().map(Into::into),
             })
         })

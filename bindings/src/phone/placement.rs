@@ -121,8 +121,10 @@ fn guard<T>(f: impl FnOnce() -> Result<T, PlacementError>) -> Result<T, Placemen
 /// What a batch push produced.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct PlacementBatchResult {
+    /// Samples accepted (the batch minus the rejected ones).
+    pub accepted: i32,
     /// Windows classified during the batch.
-    pub windows: i32,
+    pub produced: i32,
     pub rejected: Vec<RejectedImuSample>,
     /// The estimate after the batch (null until the first window is full).
     pub latest: Option<PlacementEstimate>,
@@ -144,17 +146,20 @@ impl PlacementClassifier {
         samples: impl Iterator<Item = (f64, [f64; 3])>,
     ) -> Result<PlacementBatchResult, PlacementError> {
         let mut c = self.lock();
-        let mut windows = 0i32;
+        let (mut accepted, mut produced) = (0i32, 0i32);
         let mut rejected = Vec::new();
         for (index, (t_s, accel_mps2)) in samples.enumerate() {
             match c.push(&core::AccelSample { t_s, accel_mps2 }) {
-                Ok(Some(_)) => windows = windows.saturating_add(1),
-                Ok(None) => {}
+                Ok(e) => {
+                    accepted = accepted.saturating_add(1);
+                    produced = produced.saturating_add(i32::from(e.is_some()));
+                }
                 Err(e) => rejected.push(RejectedImuSample::new(index, &e)),
             }
         }
         Ok(PlacementBatchResult {
-            windows,
+            accepted,
+            produced,
             rejected,
             latest: c.estimate().map(Into::into),
         })
@@ -283,7 +288,7 @@ mod tests {
         assert!(c.estimate().is_none());
         let r = c.push_accel_packed(walk(12.0)).unwrap();
         assert!(r.rejected.is_empty());
-        assert!(r.windows >= 2, "{r:?}");
+        assert!(r.produced >= 2, "{r:?}");
         let e = r.latest.unwrap();
         assert_eq!(e.probabilities.len(), phone_placements().len());
         assert!((e.probabilities.iter().sum::<f64>() - 1.0).abs() < 1e-9);

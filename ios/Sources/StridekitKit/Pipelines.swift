@@ -232,7 +232,7 @@ public final class PlacementPipeline: @unchecked Sendable {
         do {
             let result = try classifier.pushAccelPacked(data: batch)
             for r in result.rejected { onProblem("accelerometer sample \(r.index): \(r.reason)") }
-            if result.windows > 0, let latest = result.latest { continuation.yield(latest) }
+            if result.produced > 0, let latest = result.latest { continuation.yield(latest) }
         } catch {
             onProblem("accelerometer batch not pushed: \(error)")
         }

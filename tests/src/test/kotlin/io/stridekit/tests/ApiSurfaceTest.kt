@@ -1,6 +1,15 @@
 package io.stridekit.tests
 
 import io.stridekit.AccelSample
+import io.stridekit.FootNavigator
+import io.stridekit.FootOutput
+import io.stridekit.GnssFix
+import io.stridekit.OrientationFilter
+import io.stridekit.OrientationOutput
+import io.stridekit.PhoneOdometry
+import io.stridekit.PlacementClassifier
+import io.stridekit.defaultPaceConfig
+import io.stridekit.packFixes
 import io.stridekit.ImuSample
 import io.stridekit.NavException
 import io.stridekit.PaceConfig
@@ -59,6 +68,50 @@ class ApiSurfaceTest {
         val ab = ByteBuffer.allocate(32).order(ByteOrder.LITTLE_ENDIAN)
         listOf(2.0, 1.0, -2.0, 9.0).forEach { ab.putDouble(it) }
         assertContentEquals(ab.array(), packAccelSamples(listOf(a)))
+    }
+
+    @Test
+    fun `every batch result counts the same way - accepted plus rejected is the batch`() {
+        // One bad sample (a NaN time) in the middle of each batch.
+        val imu = walk(12.0).toMutableList().also { it[300] = it[300].copy(tS = Double.NaN) }
+        val n = imu.size
+        fun check(name: String, accepted: Int, produced: Int, rejected: List<Int>) {
+            assertEquals(listOf(300), rejected, "$name: rejected indices")
+            assertEquals(n - 1, accepted, "$name: accepted")
+            assertTrue(produced in 1..accepted, "$name: produced $produced of $accepted")
+        }
+        PhoneNavigator(navigatorConfigDefault()).use { e ->
+            val r = e.pushImuPacked(packImuSamples(imu))
+            check("PhoneNavigator", r.accepted, r.produced, r.rejected.map { it.index })
+            assertEquals(r.accepted, r.produced, "one estimate per accepted sample")
+        }
+        OrientationFilter.withDefaults().use { e ->
+            val r = e.pushImuPacked(packImuSamples(imu), OrientationOutput.LATEST_ONLY)
+            check("OrientationFilter", r.accepted, r.produced, r.rejected.map { it.index })
+            assertTrue(r.estimates.isEmpty(), "LATEST_ONLY returns no list")
+        }
+        PhoneOdometry.withDefaults().use { e ->
+            val r = e.pushImuPacked(packImuSamples(imu))
+            check("PhoneOdometry", r.accepted, r.produced, r.rejected.map { it.index })
+        }
+        PlacementClassifier.withDefaults().use { e ->
+            val accel = imu.map { AccelSample(tS = it.tS, xMps2 = it.accelXMps2, yMps2 = it.accelYMps2, zMps2 = it.accelZMps2) }
+            val r = e.pushAccelPacked(packAccelSamples(accel))
+            check("PlacementClassifier", r.accepted, r.produced, r.rejected.map { it.index })
+        }
+        FootNavigator.withDefaults().use { e ->
+            val rest = imu.map { it.copy(accelYMps2 = 0.0, accelZMps2 = 9.81) }
+            val r = e.pushPacked(packFootSamples(rest), FootOutput.LATEST_ONLY)
+            check("FootNavigator", r.accepted, r.produced, r.rejected.map { it.index })
+        }
+        PaceTracker(defaultPaceConfig()).use { e ->
+            val fixes = (0 until n).map { i ->
+                GnssFix(tS = if (i == 300) Double.NaN else i.toDouble(), latDeg = 52.0 + i * 1e-5, lonDeg = 21.0, horizontalAccuracyM = 5.0)
+            }
+            val r = e.pushFixesPacked(packFixes(fixes))
+            check("PaceTracker", r.accepted, r.produced, r.rejected.map { it.index })
+            assertEquals(r.produced, r.estimates.size, "one estimate per accepted fix, all returned")
+        }
     }
 
     @Test

@@ -36,7 +36,7 @@ class OdometryTest {
             for (c in chunks(walk.imuPacked, 1000)) {
                 val r = o.pushImuPacked(c)
                 assertTrue(r.rejected.isEmpty(), "rejected: ${r.rejected.take(3)}")
-                estimates += r.estimates
+                estimates += r.produced
             }
             val e = assertNotNull(o.estimate())
             assertEquals(walk.referenceFinal, e, "the FFI gives what Rust computes")

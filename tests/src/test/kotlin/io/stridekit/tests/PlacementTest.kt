@@ -52,7 +52,7 @@ class PlacementTest {
             assertNull(c.estimate())
             val r = c.pushAccelPacked(packedTrace(trace!!))
             assertTrue(r.rejected.isEmpty(), "rejected: ${r.rejected.take(3)}")
-            assertTrue(r.windows > 50, "windows ${r.windows}")
+            assertTrue(r.produced > 50, "windows ${r.produced}")
             val e = assertNotNull(r.latest)
             println("PlacementTest: ${trace.name}: ${e.placement} (confidence ${"%.2f".format(e.confidence)}) after ${e.windows} windows")
             // The shipped model has seen this trace in training: this checks the
