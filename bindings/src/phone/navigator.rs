@@ -126,6 +126,38 @@ impl RejectedImuSample {
     }
 }
 
+/// The counts and refusals of a phone engine's batch (the common part of every
+/// phone batch result).
+pub(crate) struct ImuBatch {
+    pub accepted: i32,
+    pub produced: i32,
+    pub rejected: Vec<RejectedImuSample>,
+}
+
+/// The one batch loop of the phone engines: pushes every decoded sample with `push`
+/// (`Ok(true)` when it produced an estimate), counts, and reports the refused ones by
+/// index; the rest of the batch goes on as if pushed one by one.
+pub(crate) fn push_each<S, E: crate::error::InputCause>(
+    samples: impl Iterator<Item = S>,
+    mut push: impl FnMut(S) -> Result<bool, E>,
+) -> ImuBatch {
+    let mut b = ImuBatch {
+        accepted: 0,
+        produced: 0,
+        rejected: Vec::new(),
+    };
+    for (index, s) in samples.enumerate() {
+        match push(s) {
+            Ok(produced) => {
+                b.accepted = b.accepted.saturating_add(1);
+                b.produced = b.produced.saturating_add(i32::from(produced));
+            }
+            Err(e) => b.rejected.push(RejectedImuSample::new(index, &e)),
+        }
+    }
+    b
+}
+
 /// A step placed on the track (see the core `NavStep`).
 #[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
 pub struct NavStep {
@@ -469,22 +501,19 @@ impl PhoneNavigator {
             let samples =
                 imu_samples(&data).map_err(|reason| NavError::InvalidBuffer { reason })?;
             let mut nav = self.lock();
-            let mut rejected = Vec::new();
             let mut steps = Vec::new();
-            let mut accepted = 0i32;
             let mut placed = nav.recent_steps().1;
-            for (index, s) in samples.enumerate() {
-                match nav.push_imu(&s) {
-                    Ok(()) => accepted = accepted.saturating_add(1),
-                    Err(e) => rejected.push(RejectedImuSample::new(index, &e)),
-                }
+            // One estimate per accepted sample.
+            let b = push_each(samples, |s| {
+                let pushed = nav.push_imu(&s).map(|()| true);
                 collect_new_steps(&nav, &mut placed, &mut steps);
-            }
+                pushed
+            });
             Ok(ImuBatchResult {
-                accepted,
-                produced: accepted,
+                accepted: b.accepted,
+                produced: b.produced,
                 steps,
-                rejected,
+                rejected: b.rejected,
                 latest: nav.estimate().map(Into::into),
             })
         })

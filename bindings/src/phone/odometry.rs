@@ -15,7 +15,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use stridekit_core::odometry as core;
 
 use crate::packed::imu_samples;
-use crate::phone::navigator::RejectedImuSample;
+use crate::phone::navigator::{push_each, RejectedImuSample};
 use crate::phone::placement::{PhonePlacement, PlacementEstimate};
 
 /// Where the placement that picks the velocity regressor comes from.
@@ -244,21 +244,11 @@ impl PhoneOdometry {
             let samples =
                 imu_samples(&data).map_err(|reason| OdometryError::InvalidBuffer { reason })?;
             let mut engine = self.lock();
-            let (mut accepted, mut produced) = (0i32, 0i32);
-            let mut rejected = Vec::new();
-            for (index, s) in samples.enumerate() {
-                match engine.push(&s) {
-                    Ok(e) => {
-                        accepted = accepted.saturating_add(1);
-                        produced = produced.saturating_add(i32::from(e.is_some()));
-                    }
-                    Err(e) => rejected.push(RejectedImuSample::new(index, &e)),
-                }
-            }
+            let b = push_each(samples, |s| engine.push(&s).map(|e| e.is_some()));
             Ok(OdometryBatchResult {
-                accepted,
-                produced,
-                rejected,
+                accepted: b.accepted,
+                produced: b.produced,
+                rejected: b.rejected,
                 latest: engine.estimate().map(Into::into),
             })
         })

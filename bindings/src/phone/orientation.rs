@@ -14,7 +14,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use stridekit_core::ahrs as core;
 
 use crate::packed::imu_samples;
-use crate::phone::navigator::RejectedImuSample;
+use crate::phone::navigator::{push_each, RejectedImuSample};
 
 /// Which orientation filter runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, uniffi::Enum)]
@@ -423,30 +423,21 @@ impl OrientationFilter {
             let samples =
                 imu_samples(&data).map_err(|reason| OrientationError::InvalidBuffer { reason })?;
             let mut a = self.lock();
-            let mut rejected = Vec::new();
             let mut estimates = Vec::new();
-            let (mut accepted, mut produced) = (0i32, 0i32);
-            for (index, s) in samples.enumerate() {
-                match a.update(s.t_s, s.gyro_rads, s.accel_mps2, s.mag_ut) {
-                    Ok(_) => {
-                        accepted = accepted.saturating_add(1);
-                        if a.quaternion().is_some() {
-                            produced = produced.saturating_add(1);
-                            if output == OrientationOutput::All {
-                                if let Some(o) = a.output() {
-                                    estimates.push(o.into());
-                                }
-                            }
-                        }
-                    }
-                    Err(e) => rejected.push(RejectedImuSample::new(index, &e)),
+            let b = push_each(samples, |s| {
+                a.update(s.t_s, s.gyro_rads, s.accel_mps2, s.mag_ut)?;
+                // An estimate once the filter has an orientation.
+                let produced = a.quaternion().is_some();
+                if produced && output == OrientationOutput::All {
+                    estimates.extend(a.output().map(OrientationEstimate::from));
                 }
-            }
+                Ok::<_, core::AhrsError>(produced)
+            });
             Ok(OrientationBatchResult {
-                accepted,
-                produced,
+                accepted: b.accepted,
+                produced: b.produced,
                 estimates,
-                rejected,
+                rejected: b.rejected,
                 latest: a.output().map(Into::into),
             })
         })

@@ -13,7 +13,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use stridekit_core::placement as core;
 
 use crate::pace::types::AccelSample;
-use crate::phone::navigator::RejectedImuSample;
+use crate::phone::navigator::{push_each, RejectedImuSample};
 
 /// Where a phone is carried.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, uniffi::Enum)]
@@ -146,21 +146,14 @@ impl PlacementClassifier {
         samples: impl Iterator<Item = (f64, [f64; 3])>,
     ) -> Result<PlacementBatchResult, PlacementError> {
         let mut c = self.lock();
-        let (mut accepted, mut produced) = (0i32, 0i32);
-        let mut rejected = Vec::new();
-        for (index, (t_s, accel_mps2)) in samples.enumerate() {
-            match c.push(&core::AccelSample { t_s, accel_mps2 }) {
-                Ok(e) => {
-                    accepted = accepted.saturating_add(1);
-                    produced = produced.saturating_add(i32::from(e.is_some()));
-                }
-                Err(e) => rejected.push(RejectedImuSample::new(index, &e)),
-            }
-        }
+        let b = push_each(samples, |(t_s, accel_mps2)| {
+            c.push(&core::AccelSample { t_s, accel_mps2 })
+                .map(|e| e.is_some())
+        });
         Ok(PlacementBatchResult {
-            accepted,
-            produced,
-            rejected,
+            accepted: b.accepted,
+            produced: b.produced,
+            rejected: b.rejected,
             latest: c.estimate().map(Into::into),
         })
     }

@@ -40,15 +40,8 @@ impl PaceTracker {
 
     /// A tracker continuing exactly where the snapshot was taken.
     pub fn restore(bytes: &[u8]) -> Result<Self, PaceError> {
-        let (mut r, version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
-        if version < SNAPSHOT_VERSION {
-            // Version 2 added the calibration and the pedometer-only speed.
-            return Err(SnapshotError::UnsupportedVersion {
-                found: version,
-                supported: SNAPSHOT_VERSION,
-            }
-            .into());
-        }
+        // The reader refuses any other version than this build writes.
+        let (mut r, _) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
         let config = read_config(&mut r)?;
         config
             .validate()

@@ -88,14 +88,8 @@ impl PhoneNavigator {
 
     /// A navigator continuing exactly where the snapshot was taken.
     pub fn restore(bytes: &[u8]) -> Result<Self, NavError> {
-        let (mut r, version) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
-        if version < SNAPSHOT_VERSION {
-            return Err(SnapshotError::UnsupportedVersion {
-                found: version,
-                supported: SNAPSHOT_VERSION,
-            }
-            .into());
-        }
+        // The reader refuses any other version than this build writes.
+        let (mut r, _) = Reader::new(bytes, SNAPSHOT_KIND, SNAPSHOT_VERSION)?;
         let ahrs = Ahrs::restore(r.bytes()?)?;
         let detector = StepDetector::restore(r.bytes()?)?;
         let lengths = StepLengthEstimator::restore(r.bytes()?)?;
