@@ -9,10 +9,16 @@ use stridekit_sim::Rng;
 
 const GRAVITY_MPS2: f64 = 9.80665;
 
-/// A walker heading `az(t)` with the phone upright in a pocket (body y up, body x
-/// pointing 1 rad anticlockwise of forward), inverted-pendulum acceleration plus
-/// sway and noise, an ideal AHRS whose yaw drifts by `drift` rad/s, and a
-/// magnetometer if `mag`.
+/// The phone upright in a pocket: body y up, body x pointing 1 rad anticlockwise of
+/// forward (phone body → walking frame x forward, y left, z up).
+fn pocket() -> UnitQuaternion<f64> {
+    UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 1.0)
+        * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * PI)
+}
+
+/// A walker heading `az(t)` with the phone in a [`pocket`], inverted-pendulum
+/// acceleration plus sway and noise, an ideal AHRS whose yaw drifts by `drift` rad/s,
+/// and a magnetometer if `mag`.
 #[allow(clippy::too_many_arguments)]
 fn walk(
     wd: &mut WalkingDirection,
@@ -24,6 +30,35 @@ fn walk(
     drift: f64,
     mag: bool,
 ) -> f64 {
+    walk_with(
+        wd,
+        rng,
+        t0,
+        seconds,
+        az_of_t,
+        step_hz,
+        drift,
+        mag,
+        pocket(),
+        1.0,
+    )
+}
+
+/// [`walk`] with the phone at `body_to_walk` and the forward acceleration's gait
+/// phase multiplied by `gait_sign` (−1: the gait cue says backwards).
+#[allow(clippy::too_many_arguments)]
+fn walk_with(
+    wd: &mut WalkingDirection,
+    rng: &mut Rng,
+    t0: f64,
+    seconds: f64,
+    az_of_t: impl Fn(f64) -> f64,
+    step_hz: f64,
+    drift: f64,
+    mag: bool,
+    body_to_walk: UnitQuaternion<f64>,
+    gait_sign: f64,
+) -> f64 {
     let fs = 100.0;
     let mut next_step = t0 + 1.0 / step_hz;
     let n = (seconds * fs) as usize;
@@ -34,14 +69,11 @@ fn walk(
         let ph = 2.0 * PI * step_hz * (t - t0);
         let vz = 0.15 * ph.cos();
         let a_up = -0.15 * 2.0 * PI * step_hz * ph.sin();
-        let a_fwd = -2.0 * vz / 0.15 * 0.6 + 0.2 * rng.normal();
+        let a_fwd = -gait_sign * 2.0 * vz / 0.15 * 0.6 + 0.2 * rng.normal();
         let a_side = 0.4 * (0.5 * ph).sin() + 0.2 * rng.normal();
         let az = az_of_t(t);
-        // True attitude: walking frame (x fwd, y left, z up) → ENU, phone body
-        // x = forward rotated 1 rad anticlockwise, z = left-ish, y = up.
+        // True attitude: walking frame (x fwd, y left, z up) → ENU, then the phone.
         let walk_to_enu = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.5 * PI - az);
-        let body_to_walk = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 1.0)
-            * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * PI);
         let q_true = walk_to_enu * body_to_walk;
         let q_ahrs = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), -drift * t) * q_true;
         let a_true = walk_to_enu * Vector3::new(a_fwd, a_side, a_up + GRAVITY_MPS2);
@@ -65,6 +97,50 @@ fn finds_the_walking_direction_from_the_gait() {
         let est = wd.azimuth_rad().unwrap();
         assert!(wrap(est - az).abs() < 0.1, "{az}: {est}");
     }
+}
+
+#[test]
+fn a_phone_held_to_be_read_walks_towards_its_top_edge() {
+    // Screen up, tilted 40° towards the walker, top edge 0.1 rad left of forward
+    // (phone body x right, y top edge, z out of the screen).
+    let read = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), -0.5 * PI + 0.1)
+        * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 40f64.to_radians());
+    for (az, gait_sign) in [(0.3, 1.0), (2.0, -1.0), (-2.5, -1.0)] {
+        let mut wd = WalkingDirection::new();
+        let mut rng = Rng::new(4);
+        walk_with(
+            &mut wd,
+            &mut rng,
+            0.0,
+            3.0,
+            |_| az,
+            1.8,
+            0.0,
+            true,
+            read,
+            gait_sign,
+        );
+        // From the first strides, even where the gait cue says backwards: the top
+        // edge's azimuth (0.1 rad anticlockwise of the walking direction).
+        let est = wd.azimuth_rad().unwrap();
+        assert!(wrap(est - (az - 0.1)).abs() < 0.05, "{az}: {est}");
+    }
+    // The same gait in a pocket follows the gait cue: backwards when it says so.
+    let mut wd = WalkingDirection::new();
+    let mut rng = Rng::new(4);
+    walk_with(
+        &mut wd,
+        &mut rng,
+        0.0,
+        3.0,
+        |_| 2.0,
+        1.8,
+        0.0,
+        true,
+        pocket(),
+        -1.0,
+    );
+    assert!(wrap(wd.azimuth_rad().unwrap() - 2.0).abs() > 0.5 * PI);
 }
 
 #[test]
