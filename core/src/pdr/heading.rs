@@ -18,6 +18,8 @@
 //!    a limb swing, a rotation about the body's lateral axis, leaves its azimuth
 //!    unchanged). It is
 //!    - *set* by a personal calibration when there is one ([`WalkingDirection::set_carrying`]),
+//!      else, for a phone held in front to be read (screen up, portrait), *the top
+//!      edge*: the walker goes where it points (`top_edge_if_read`),
 //!      else *initialised* from the body's motion: walking makes the horizontal acceleration
 //!      oscillate mostly along the walking direction, so the principal axis of the
 //!      earth-frame horizontal linear acceleration over a stride (2×2 covariance) gives
