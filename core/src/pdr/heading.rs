@@ -63,8 +63,10 @@ pub const RUNNING_STEP_HZ: f64 = 2.4;
 /// Held to be read: body-frame up (low-passed) with its screen-normal component at
 /// least this (screen within 60° of facing up) ...
 const READ_POSE_UP_Z: f64 = 0.5;
-/// ... and its top-edge component at least this (the top edge not tilted down towards
-/// the walker by more than ~17°) ...
+/// ... and its top-edge component at least this: the top edge at most ~17° below the
+/// bottom edge. A reader tilts the screen towards the face, so the edge away from them
+/// is the higher one; a phone held upside down (top edge towards the walker) and
+/// tilted like that has its top edge lower, and is not taken ...
 const READ_POSE_UP_Y: f64 = -0.3;
 /// ... and the stride axis within ~60° of the phone's long side (portrait).
 const READ_POSE_AXIS_Y: f64 = 0.5;
@@ -449,8 +451,8 @@ impl WalkingDirection {
     }
 
     /// The azimuth (AHRS frame) of the phone's top edge when the phone is held in
-    /// front to be read — screen facing up ([`READ_POSE_UP_Z`]), top edge not tilted
-    /// down towards the walker ([`READ_POSE_UP_Y`]), portrait: the stride axis at
+    /// front to be read — screen facing up ([`READ_POSE_UP_Z`]), top edge not below the
+    /// bottom edge by more than ~17° ([`READ_POSE_UP_Y`]), portrait: the stride axis at
     /// `axis_ahrs` within ~60° of the long side ([`READ_POSE_AXIS_Y`]). A phone held
     /// to be read points where its walker goes (on issue 13's 287 real walks the
     /// walking direction is within ±9° of the top edge for half the legs, ±20° for
