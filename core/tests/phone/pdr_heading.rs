@@ -125,6 +125,25 @@ fn a_phone_held_to_be_read_walks_towards_its_top_edge() {
         let est = wd.azimuth_rad().unwrap();
         assert!(wrap(est - (az - 0.1)).abs() < 0.05, "{az}: {est}");
     }
+    // Upside down (top edge towards the walker, lower than the bottom edge): not the
+    // reading pose, the gait cue decides (forward here).
+    let upside_down = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.5 * PI)
+        * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), -40f64.to_radians());
+    let mut wd = WalkingDirection::new();
+    let mut rng = Rng::new(4);
+    walk_with(
+        &mut wd,
+        &mut rng,
+        0.0,
+        3.0,
+        |_| 2.0,
+        1.8,
+        0.0,
+        true,
+        upside_down,
+        1.0,
+    );
+    assert!(wrap(wd.azimuth_rad().unwrap() - 2.0).abs() < 0.5 * PI);
     // The same gait in a pocket follows the gait cue: backwards when it says so.
     let mut wd = WalkingDirection::new();
     let mut rng = Rng::new(4);
