@@ -16,38 +16,12 @@ fn pocket() -> UnitQuaternion<f64> {
         * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * PI)
 }
 
-/// A walker heading `az(t)` with the phone in a [`pocket`], inverted-pendulum
-/// acceleration plus sway and noise, an ideal AHRS whose yaw drifts by `drift` rad/s,
-/// and a magnetometer if `mag`.
+/// A walker heading `az(t)` with the phone at `body_to_walk` (e.g. [`pocket`]),
+/// inverted-pendulum acceleration (its forward part's gait phase multiplied by
+/// `gait_sign`: −1, the gait cue says backwards) plus sway and noise, an ideal AHRS
+/// whose yaw drifts by `drift` rad/s, and a magnetometer if `mag`.
 #[allow(clippy::too_many_arguments)]
 fn walk(
-    wd: &mut WalkingDirection,
-    rng: &mut Rng,
-    t0: f64,
-    seconds: f64,
-    az_of_t: impl Fn(f64) -> f64,
-    step_hz: f64,
-    drift: f64,
-    mag: bool,
-) -> f64 {
-    walk_with(
-        wd,
-        rng,
-        t0,
-        seconds,
-        az_of_t,
-        step_hz,
-        drift,
-        mag,
-        pocket(),
-        1.0,
-    )
-}
-
-/// [`walk`] with the phone at `body_to_walk` and the forward acceleration's gait
-/// phase multiplied by `gait_sign` (−1: the gait cue says backwards).
-#[allow(clippy::too_many_arguments)]
-fn walk_with(
     wd: &mut WalkingDirection,
     rng: &mut Rng,
     t0: f64,
@@ -88,13 +62,29 @@ fn walk_with(
     t
 }
 
+/// The walking azimuth after `seconds` of walking towards `az` from t = 0 (noise seed
+/// `seed`) with the phone at `pose` and the gait cue's sign `gait_sign`
+/// (magnetometer, no yaw drift).
+fn azimuth_after(
+    seconds: f64,
+    seed: u64,
+    az: f64,
+    pose: UnitQuaternion<f64>,
+    gait_sign: f64,
+) -> f64 {
+    let mut wd = WalkingDirection::new();
+    let mut rng = Rng::new(seed);
+    let az_of_t = |_| az;
+    walk(
+        &mut wd, &mut rng, 0.0, seconds, az_of_t, 1.8, 0.0, true, pose, gait_sign,
+    );
+    wd.azimuth_rad().unwrap()
+}
+
 #[test]
 fn finds_the_walking_direction_from_the_gait() {
     for az in [0.3, 2.0, -2.5] {
-        let mut wd = WalkingDirection::new();
-        let mut rng = Rng::new(1);
-        walk(&mut wd, &mut rng, 0.0, 30.0, |_| az, 1.8, 0.0, true);
-        let est = wd.azimuth_rad().unwrap();
+        let est = azimuth_after(30.0, 1, az, pocket(), 1.0);
         assert!(wrap(est - az).abs() < 0.1, "{az}: {est}");
     }
 }
@@ -106,60 +96,18 @@ fn a_phone_held_to_be_read_walks_towards_its_top_edge() {
     let read = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), -0.5 * PI + 0.1)
         * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 40f64.to_radians());
     for (az, gait_sign) in [(0.3, 1.0), (2.0, -1.0), (-2.5, -1.0)] {
-        let mut wd = WalkingDirection::new();
-        let mut rng = Rng::new(4);
-        walk_with(
-            &mut wd,
-            &mut rng,
-            0.0,
-            3.0,
-            |_| az,
-            1.8,
-            0.0,
-            true,
-            read,
-            gait_sign,
-        );
         // From the first strides, even where the gait cue says backwards: the top
         // edge's azimuth (0.1 rad anticlockwise of the walking direction).
-        let est = wd.azimuth_rad().unwrap();
+        let est = azimuth_after(3.0, 4, az, read, gait_sign);
         assert!(wrap(est - (az - 0.1)).abs() < 0.05, "{az}: {est}");
     }
     // Upside down (top edge towards the walker, lower than the bottom edge): not the
     // reading pose, the gait cue decides (forward here).
     let upside_down = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 0.5 * PI)
         * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), -40f64.to_radians());
-    let mut wd = WalkingDirection::new();
-    let mut rng = Rng::new(4);
-    walk_with(
-        &mut wd,
-        &mut rng,
-        0.0,
-        3.0,
-        |_| 2.0,
-        1.8,
-        0.0,
-        true,
-        upside_down,
-        1.0,
-    );
-    assert!(wrap(wd.azimuth_rad().unwrap() - 2.0).abs() < 0.5 * PI);
+    assert!(wrap(azimuth_after(3.0, 4, 2.0, upside_down, 1.0) - 2.0).abs() < 0.5 * PI);
     // The same gait in a pocket follows the gait cue: backwards when it says so.
-    let mut wd = WalkingDirection::new();
-    let mut rng = Rng::new(4);
-    walk_with(
-        &mut wd,
-        &mut rng,
-        0.0,
-        3.0,
-        |_| 2.0,
-        1.8,
-        0.0,
-        true,
-        pocket(),
-        -1.0,
-    );
-    assert!(wrap(wd.azimuth_rad().unwrap() - 2.0).abs() > 0.5 * PI);
+    assert!(wrap(azimuth_after(3.0, 4, 2.0, pocket(), -1.0) - 2.0).abs() > 0.5 * PI);
 }
 
 #[test]
@@ -177,7 +125,18 @@ fn follows_turns_and_the_magnetometer_cancels_yaw_drift() {
             0.5 * PI
         }
     };
-    walk(&mut wd, &mut rng, 0.0, 200.0, az, 1.8, 0.01, true);
+    walk(
+        &mut wd,
+        &mut rng,
+        0.0,
+        200.0,
+        az,
+        1.8,
+        0.01,
+        true,
+        pocket(),
+        1.0,
+    );
     assert!(wrap(wd.azimuth_rad().unwrap() - 0.5 * PI).abs() < 0.1);
 }
 
@@ -185,11 +144,26 @@ fn follows_turns_and_the_magnetometer_cancels_yaw_drift() {
 fn gnss_flips_a_wrong_sign_once_and_calibrates() {
     let mut wd = WalkingDirection::new();
     let mut rng = Rng::new(3);
-    walk(&mut wd, &mut rng, 0.0, 10.0, |_| 1.0, 1.8, 0.0, false);
+    // North-east-ish in a pocket, no magnetometer.
+    let walk_ne = |wd: &mut WalkingDirection, rng: &mut Rng, t0: f64, seconds: f64| {
+        walk(
+            wd,
+            rng,
+            t0,
+            seconds,
+            |_| 1.0,
+            1.8,
+            0.0,
+            false,
+            pocket(),
+            1.0,
+        );
+    };
+    walk_ne(&mut wd, &mut rng, 0.0, 10.0);
     let before = wd.azimuth_rad().unwrap();
     wd.observe_rotation(PI - 0.1, 10.0, 0.5);
     assert!(wd.sign_resolved());
-    walk(&mut wd, &mut rng, 10.0, 2.0, |_| 1.0, 1.8, 0.0, false);
+    walk_ne(&mut wd, &mut rng, 10.0, 2.0);
     let after = wd.azimuth_rad().unwrap();
     assert!(
         (wrap(after - before).abs() - (PI - 0.05)).abs() < 0.05,
