@@ -14,6 +14,7 @@
 //!   itself (map → estimate), whose spread across walks shows how consistent the
 //!   absolute heading is (one building, one map rotation).
 
+use std::f64::consts::FRAC_PI_2;
 use std::fmt::Write as _;
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
@@ -427,6 +428,14 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
         &a.carry_nav,
         deg,
         "°",
+    );
+    // The surveyor walks where the top edge points (the rotation vector's row above):
+    // a leg more than 90° off it was dead-reckoned backwards.
+    let backwards = a.carry_nav.iter().filter(|x| x.abs() > FRAC_PI_2).count();
+    let _ = writeln!(
+        out,
+        "\nLegs dead-reckoned backwards (navigator walking azimuth more than 90° from its +y): {backwards} of {}.",
+        a.carry_nav.len()
     );
     // Heading error against time into the walk.
     let _ = writeln!(
