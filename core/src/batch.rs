@@ -97,12 +97,13 @@ pub fn counted<S, T, E>(
 
 /// Pushes `samples` in order with `push`; each estimate goes to `on_estimate`, each
 /// refused sample to `on_rejected`. Returns the number of samples accepted.
-/// Allocates nothing itself.
-pub fn each<S, T, E>(
-    samples: &[S],
+/// Allocates nothing itself. `samples` is any sequence: a slice (`push` gets `&S`),
+/// or samples decoded on the fly (the bindings' packed buffers).
+pub fn each<I: IntoIterator, T, E>(
+    samples: I,
     mut on_estimate: impl FnMut(T),
     on_rejected: impl FnMut(Rejected<E>),
-    mut push: impl FnMut(&S) -> Result<Option<T>, E>,
+    mut push: impl FnMut(I::Item) -> Result<Option<T>, E>,
 ) -> usize {
     each_released(samples, &mut on_estimate, on_rejected, |s, emit| {
         if let Some(t) = push(s)? {
@@ -117,14 +118,14 @@ pub fn each<S, T, E>(
 /// it released to `emit` (`on_estimate`), in order. An `Err` refuses the sample
 /// (`on_rejected` gets it with its index); `push` may still have emitted estimates
 /// released earlier. Returns the number of samples accepted.
-pub fn each_released<S, T, E, F: FnMut(T)>(
-    samples: &[S],
+pub fn each_released<I: IntoIterator, T, E, F: FnMut(T)>(
+    samples: I,
     mut on_estimate: F,
     mut on_rejected: impl FnMut(Rejected<E>),
-    mut push: impl FnMut(&S, &mut F) -> Result<(), E>,
+    mut push: impl FnMut(I::Item, &mut F) -> Result<(), E>,
 ) -> usize {
     let mut accepted = 0;
-    for (index, s) in samples.iter().enumerate() {
+    for (index, s) in samples.into_iter().enumerate() {
         match push(s, &mut on_estimate) {
             Ok(()) => accepted += 1,
             Err(error) => on_rejected(Rejected { index, error }),

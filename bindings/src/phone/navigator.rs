@@ -134,28 +134,26 @@ pub(crate) struct ImuBatch {
     pub rejected: Vec<RejectedImuSample>,
 }
 
-/// The one batch loop of the phone engines: pushes every decoded sample with `push`
-/// (`Ok(true)` when it produced an estimate), counts, and reports the refused ones by
-/// index; the rest of the batch goes on as if pushed one by one.
+/// The phone engines' batch at the FFI: the core's batch loop
+/// ([`stridekit_core::batch::each`]) over the decoded samples, `push` answering
+/// `Ok(true)` when the sample produced an estimate; refused samples are reported by
+/// index, the rest of the batch goes on as if pushed one by one.
 pub(crate) fn push_each<S, E: crate::error::InputCause>(
     samples: impl Iterator<Item = S>,
     mut push: impl FnMut(S) -> Result<bool, E>,
 ) -> ImuBatch {
-    let mut b = ImuBatch {
-        accepted: 0,
-        produced: 0,
-        rejected: Vec::new(),
-    };
-    for (index, s) in samples.enumerate() {
-        match push(s) {
-            Ok(produced) => {
-                b.accepted = b.accepted.saturating_add(1);
-                b.produced = b.produced.saturating_add(i32::from(produced));
-            }
-            Err(e) => b.rejected.push(RejectedImuSample::new(index, &e)),
-        }
+    let (mut produced, mut rejected) = (0i32, Vec::new());
+    let accepted = stridekit_core::batch::each(
+        samples,
+        |()| produced = produced.saturating_add(1),
+        |r| rejected.push(RejectedImuSample::new(r.index, &r.error)),
+        |s| push(s).map(|p| p.then_some(())),
+    );
+    ImuBatch {
+        accepted: i32::try_from(accepted).unwrap_or(i32::MAX),
+        produced,
+        rejected,
     }
-    b
 }
 
 /// A step placed on the track (see the core `NavStep`).

@@ -712,42 +712,42 @@ impl WalkingDirection {
         }
         let quality = ((ratio - MIN_AXIS_RATIO) / (4.0 * MIN_AXIS_RATIO)).clamp(0.0, 1.0);
         let axis = wrap(axis_ahrs - self.mu_rad);
+        // Held to be read: the walker walks where the top edge points.
+        let top_edge = self.top_edge_if_read(axis_ahrs);
         if !self.forward_known {
-            let forward_is_axis = if self.known {
-                // After a carrying change: continuity with the last direction.
-                wrap(axis - self.azimuth_rad).abs() <= 0.5 * PI
-            } else {
-                // Gait cue: walking → forward acceleration is anti-correlated with
-                // vertical velocity; running → correlated.
-                let cov = stats.forward_vz_cov(axis_ahrs);
-                let running = step_hz > RUNNING_STEP_HZ;
-                if running {
-                    cov > 0.0
+            let dir_ahrs = top_edge.unwrap_or_else(|| {
+                let forward_is_axis = if self.known {
+                    // After a carrying change: continuity with the last direction.
+                    wrap(axis - self.azimuth_rad).abs() <= 0.5 * PI
                 } else {
-                    cov < 0.0
+                    // Gait cue: walking → forward acceleration is anti-correlated with
+                    // vertical velocity; running → correlated.
+                    let cov = stats.forward_vz_cov(axis_ahrs);
+                    if step_hz > RUNNING_STEP_HZ {
+                        cov > 0.0
+                    } else {
+                        cov < 0.0
+                    }
+                };
+                if forward_is_axis {
+                    axis_ahrs
+                } else {
+                    axis_ahrs + PI
                 }
-            };
-            let dir_ahrs = if let Some(top) = self.top_edge_if_read(axis_ahrs) {
-                // Held to be read: the walker walks where the top edge points.
-                top
-            } else if forward_is_axis {
-                axis_ahrs
-            } else {
-                axis_ahrs + PI
-            };
+            });
             let u = Vector3::new(dir_ahrs.sin(), dir_ahrs.cos(), 0.0);
             self.forward_body = self.quat().inverse_transform_vector(&u).into();
             self.forward_known = true;
             self.axis_strides = 1.0;
             return;
         }
-        // Of the axis' two directions, take the one nearer the current estimate.
-        let mut target = axis;
-        if let Some(top) = self.top_edge_if_read(axis_ahrs) {
-            target = wrap(top - self.mu_rad);
-        } else if wrap(target - self.azimuth_rad).abs() > 0.5 * PI {
-            target = wrap(target + PI);
-        }
+        // The top edge, or of the axis' two directions the one nearer the current
+        // estimate.
+        let target = match top_edge {
+            Some(top) => wrap(top - self.mu_rad),
+            None if wrap(axis - self.azimuth_rad).abs() > 0.5 * PI => wrap(axis + PI),
+            None => axis,
+        };
         // The carrying is constant until it changes (detected above): average the
         // stride axes (gain 1/n), down to a floor that follows slow changes.
         let gain = (1.0 / (self.axis_strides + 1.0)).clamp(AXIS_MIN_GAIN, AXIS_GAIN);
