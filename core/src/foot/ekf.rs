@@ -111,6 +111,8 @@ impl Strapdown {
     /// diagonal (white noise on velocity, attitude and biases, [`GAP_SPEED_MPS`] on
     /// position): the linearised cross-terms over hours would be meaningless and,
     /// fed back by the next zero-velocity update, throw the state kilometres away.
+    /// The covariance is left for [`condition`](Self::condition), once per sample
+    /// after the zero-velocity update (if any).
     #[inline]
     pub fn propagate(
         &mut self,
@@ -164,7 +166,6 @@ impl Strapdown {
             self.cov[(IBA + i, IBA + i)] += n.acc_bias_var_per_s * t;
             self.cov[(IBG + i, IBG + i)] += n.gyro_bias_var_per_s * t;
         }
-        self.condition();
     }
 
     fn propagate_cov(&mut self, c: &Matrix3<f64>, f_n: &Vector3<f64>, dt: f64, n: &Noise) {
@@ -197,31 +198,42 @@ impl Strapdown {
             self.cov[(IBA + i, IBA + i)] += n.acc_bias_var_per_s * dt;
             self.cov[(IBG + i, IBG + i)] += n.gyro_bias_var_per_s * dt;
         }
-        self.condition();
     }
 
-    /// Symmetrise, cap and floor the diagonal.
+    /// Symmetrise, cap and floor the diagonal (once per sample, after the
+    /// propagation and the zero-velocity update). Returns whether every element is
+    /// finite afterwards.
     #[allow(clippy::needless_range_loop)] // (i, j) index pairs read best as such
-    fn condition(&mut self) {
+    pub fn condition(&mut self) -> bool {
         // Column-major storage: `m[j][i]` is element (i, j).
         let m = &mut self.cov.data.0;
+        let mut all_finite = true;
         for i in 0..15 {
             for j in (i + 1)..15 {
                 let s = 0.5 * (m[j][i] + m[i][j]);
                 m[j][i] = s;
                 m[i][j] = s;
+                all_finite &= s.is_finite();
             }
         }
+        let mut capped = false;
         for i in 0..15 {
             let d = self.cov.data.0[i][i];
             if d > VAR_CAP[i] {
                 self.cap(i, d);
+                capped = true;
             }
             let d = &mut self.cov.data.0[i][i];
             if d.is_nan() || *d < VAR_FLOOR {
                 *d = VAR_FLOOR;
             }
+            all_finite &= d.is_finite();
         }
+        if capped {
+            // A cap rescales a row and column (by 0 when the variance was infinite).
+            return finite(self.cov.as_slice());
+        }
+        all_finite
     }
 
     /// Scale row and column `i` so that the variance becomes the cap.
@@ -241,7 +253,8 @@ impl Strapdown {
 
     /// Zero-velocity update with measurement noise σ (m/s); feeds back what
     /// `correction` says. Returns false (and changes nothing) if the innovation
-    /// covariance cannot be inverted.
+    /// covariance cannot be inverted. The covariance is left for
+    /// [`condition`](Self::condition).
     pub fn zupt(&mut self, sigma_mps: f64, correction: Correction) -> bool {
         let r = sigma_mps * sigma_mps;
         let s = self.cov.fixed_view::<3, 3>(IV, IV) + Matrix3::from_diagonal_element(r);
@@ -255,7 +268,6 @@ impl Strapdown {
         }
         let ks = k * s;
         self.cov -= ks * k.transpose();
-        self.condition();
 
         let dp = Vector3::new(dx[IP], dx[IP + 1], dx[IP + 2]);
         let dv = Vector3::new(dx[IV], dx[IV + 1], dx[IV + 2]);
@@ -278,32 +290,37 @@ impl Strapdown {
         true
     }
 
-    pub fn is_finite(&self) -> bool {
-        // `x · 0` is ±0 for a finite x and NaN otherwise; four independent sums with
-        // no early exit vectorise.
-        let finite = |s: &[f64]| {
-            let mut acc = [0.0_f64; 4];
-            let mut chunks = s.chunks_exact(4);
-            for c in &mut chunks {
-                for k in 0..4 {
-                    acc[k] += c[k] * 0.0;
-                }
-            }
-            let mut r = (acc[0] + acc[1]) + (acc[2] + acc[3]);
-            for x in chunks.remainder() {
-                r += x * 0.0;
-            }
-            r == 0.0
-        };
+    /// Whether everything but the covariance is finite.
+    pub fn state_is_finite(&self) -> bool {
         finite(self.q.coords.as_slice())
             & finite(self.v.as_slice())
             & finite(self.p.as_slice())
             & finite(self.ba.as_slice())
             & finite(self.bg.as_slice())
-            & finite(self.cov.as_slice())
             & finite(self.prev_f.as_slice())
             & finite(self.prev_w.as_slice())
     }
+
+    pub fn is_finite(&self) -> bool {
+        self.state_is_finite() & finite(self.cov.as_slice())
+    }
+}
+
+/// Whether every value is finite. `x · 0` is ±0 for a finite x and NaN otherwise;
+/// four independent sums with no early exit vectorise.
+fn finite(s: &[f64]) -> bool {
+    let mut acc = [0.0_f64; 4];
+    let mut chunks = s.chunks_exact(4);
+    for c in &mut chunks {
+        for k in 0..4 {
+            acc[k] += c[k] * 0.0;
+        }
+    }
+    let mut r = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+    for x in chunks.remainder() {
+        r += x * 0.0;
+    }
+    r == 0.0
 }
 
 use std::ops::AddAssign;

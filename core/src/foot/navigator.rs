@@ -415,7 +415,8 @@ impl FootNavigator {
         if stance {
             ins.zupt(zupt_sigma, correction);
         }
-        if !ins.is_finite()
+        let cov_finite = ins.condition();
+        if !(cov_finite && ins.state_is_finite())
             || ins.v.norm() > MAX_SPEED_MPS
             || ins.ba.norm() > MAX_ACC_BIAS_MPS2
             || ins.bg.norm() > MAX_GYRO_BIAS_RADS

@@ -22,17 +22,6 @@ pub(crate) struct BodySample {
     pub external: Option<bool>,
 }
 
-impl BodySample {
-    #[inline]
-    pub fn set_channel(&mut self, ch: usize, v: f64) {
-        if ch < 3 {
-            self.f[ch] = v
-        } else {
-            self.w[ch - 3] = v
-        }
-    }
-}
-
 /// One stride: from one stance onset of the instrumented foot to the next.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Stride {
