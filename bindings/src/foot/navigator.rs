@@ -41,33 +41,33 @@ impl FootNavigator {
             FootOutput::All => capacity,
             FootOutput::StrideEnds | FootOutput::LatestOnly => 0,
         });
-        let (mut accepted, mut produced) = (0i32, 0i32);
+        let mut produced = 0i32;
         let mut rejected = Vec::new();
-        for (index, s) in samples.enumerate() {
-            let error = match catch_unwind(AssertUnwindSafe(|| nav.push(&s))) {
-                Ok(Ok(Some(e))) => {
-                    accepted = accepted.saturating_add(1);
-                    produced = produced.saturating_add(1);
-                    match output {
-                        FootOutput::All => estimates.push(e.into()),
-                        FootOutput::StrideEnds if e.stride.is_some() => estimates.push(e.into()),
-                        FootOutput::StrideEnds | FootOutput::LatestOnly => {}
-                    }
-                    continue;
+        // The core's batch loop; a panic in one sample (a core bug) refuses that
+        // sample and the batch goes on.
+        let accepted = stridekit_core::batch::each(
+            samples,
+            |e: core::FootEstimate| {
+                produced = produced.saturating_add(1);
+                match output {
+                    FootOutput::All => estimates.push(e.into()),
+                    FootOutput::StrideEnds if e.stride.is_some() => estimates.push(e.into()),
+                    FootOutput::StrideEnds | FootOutput::LatestOnly => {}
                 }
-                Ok(Ok(None)) => {
-                    accepted = accepted.saturating_add(1);
-                    continue;
-                }
-                Ok(Err(e)) => FootError::from(e),
-                Err(panic) => FootError::from_panic(panic),
-            };
-            rejected.push(FootRejectedSample {
-                index: i32::try_from(index).unwrap_or(i32::MAX),
-                description: error.to_string(),
-                error,
-            });
-        }
+            },
+            |r: stridekit_core::batch::Rejected<FootError>| {
+                rejected.push(FootRejectedSample {
+                    index: i32::try_from(r.index).unwrap_or(i32::MAX),
+                    description: r.error.to_string(),
+                    error: r.error,
+                })
+            },
+            |s| match catch_unwind(AssertUnwindSafe(|| nav.push(&s))) {
+                Ok(outcome) => outcome.map_err(FootError::from),
+                Err(panic) => Err(FootError::from_panic(panic)),
+            },
+        );
+        let accepted = i32::try_from(accepted).unwrap_or(i32::MAX);
         FootBatchResult {
             accepted,
             produced,

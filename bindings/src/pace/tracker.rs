@@ -73,28 +73,24 @@ impl PaceTracker {
         let mut tracker = self.lock();
         let mut estimates = Vec::with_capacity(capacity);
         let mut rejected = Vec::new();
-        let mut accepted = 0i32;
-        for (index, item) in items.enumerate() {
-            let outcome = catch_unwind(AssertUnwindSafe(|| push(&mut tracker, item)));
-            let error = match outcome {
-                Ok(Ok(Some(e))) => {
-                    accepted = accepted.saturating_add(1);
-                    estimates.push(e.into());
-                    continue;
-                }
-                Ok(Ok(None)) => {
-                    accepted = accepted.saturating_add(1);
-                    continue;
-                }
-                Ok(Err(e)) => PaceError::from(e),
-                Err(panic) => PaceError::from_panic(panic),
-            };
-            rejected.push(RejectedSample {
-                index: i32::try_from(index).unwrap_or(i32::MAX),
-                description: error.to_string(),
-                error,
-            });
-        }
+        // The core's batch loop; a panic in one sample (a core bug) refuses that
+        // sample and the batch goes on.
+        let accepted = stridekit_core::batch::each(
+            items,
+            |e: core::PaceEstimate| estimates.push(e.into()),
+            |r: stridekit_core::batch::Rejected<PaceError>| {
+                rejected.push(RejectedSample {
+                    index: i32::try_from(r.index).unwrap_or(i32::MAX),
+                    description: r.error.to_string(),
+                    error: r.error,
+                })
+            },
+            |item| match catch_unwind(AssertUnwindSafe(|| push(&mut tracker, item))) {
+                Ok(outcome) => outcome.map_err(PaceError::from),
+                Err(panic) => Err(PaceError::from_panic(panic)),
+            },
+        );
+        let accepted = i32::try_from(accepted).unwrap_or(i32::MAX);
         // A panic here (a core bug) is caught by uniffi's scaffolding.
         let latest = tracker.estimate().map(Into::into);
         BatchResult {
