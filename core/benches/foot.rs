@@ -28,18 +28,7 @@ const WARM: usize = 1_000;
 
 /// `n` samples: the simulated walk repeated with shifted timestamps.
 fn samples(n: usize) -> Vec<FootSample> {
-    let sim = simulate_foot(&FootScenario::walk(42, 2));
-    let span = sim.samples.last().unwrap().t_s + 0.005;
-    (0..n)
-        .map(|k| {
-            let rep = k / sim.samples.len();
-            let s = sim.samples[k % sim.samples.len()];
-            FootSample {
-                t_s: s.t_s + rep as f64 * span,
-                ..s
-            }
-        })
-        .collect()
+    simulate_foot(&FootScenario::walk(42, 2)).repeated_samples(n)
 }
 
 fn detectors() -> [(&'static str, ZeroVelocityDetector); 6] {

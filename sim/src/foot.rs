@@ -193,6 +193,33 @@ pub struct SimulatedFoot {
     pub gyro_bias_rads: [f64; 3],
 }
 
+impl SimulatedFoot {
+    /// `n` samples: this walk repeated with shifted timestamps (one sample interval
+    /// between repetitions). A walk that starts and ends at rest joins up, so long
+    /// inputs for benches need no longer simulation.
+    pub fn repeated_samples(&self, n: usize) -> Vec<FootSample> {
+        let Some(last) = self.samples.last() else {
+            return Vec::new();
+        };
+        let dt = if self.samples.len() > 1 {
+            last.t_s - self.samples[self.samples.len() - 2].t_s
+        } else {
+            0.005
+        };
+        let span = last.t_s + dt;
+        (0..n)
+            .map(|k| {
+                let rep = k / self.samples.len();
+                let s = self.samples[k % self.samples.len()];
+                FootSample {
+                    t_s: s.t_s + rep as f64 * span,
+                    ..s
+                }
+            })
+            .collect()
+    }
+}
+
 fn stream(seed: u64, k: u64) -> Rng {
     Rng::new(seed ^ k.wrapping_mul(0x9E6C_63D0_676A_9A99).rotate_left(23) ^ 0x464F_4F54)
 }
