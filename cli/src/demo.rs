@@ -89,7 +89,7 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
     if let Some(l) = last_len {
         let _ = writeln!(
             summary,
-            "\nLearned step length at the end: {l:.2} m (true {:.2} m).",
+            "\nStep length at the end: {l:.2} m (true {:.2} m).",
             run.truth
                 .last()
                 .map(|t| t.step_length_m)

@@ -325,7 +325,9 @@ pub struct PaceConfig {
     pub mode: PaceMode,
     /// Step length at 168 steps/min used before one is learned from GNSS, metres,
     /// 0.2..=3.0 (null: a population prior of 1.0 m, uncertain, learned from GNSS).
-    /// Without GNSS the pedometer speed uses it from the first steps.
+    /// Without GNSS the pedometer speed uses it from the first steps. It is the
+    /// running step length: below 132 steps/min (a walk) a population walking step
+    /// length (0.72 m at 112 steps/min) is used instead.
     #[uniffi(default = None)]
     pub initial_step_length_m: Option<f64>,
     /// Without a step for this long while step data flows, the runner is stationary, seconds.

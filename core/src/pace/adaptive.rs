@@ -42,6 +42,8 @@ use super::{Context, LocalFix, PaceConfig, PaceEstimate, PaceSource};
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
+use super::walking::{is_walk, walking_step_m, WALK_STEP_SIGMA_M};
+
 type V8 = SVector<f64, 8>;
 type M8 = SMatrix<f64, 8, 8>;
 
@@ -227,6 +229,9 @@ pub struct AdaptiveFilter {
     /// Step-weighted sums over the accepted path windows of this session: steps,
     /// steps × cadence, steps × step length (the calibration's level and cadence).
     session: [f64; 3],
+    /// The latest cadence was a walk (`super::walking`): the pedometer uses the
+    /// walking step length, and GNSS teaches the running line nothing.
+    walking_gait: bool,
     out: PaceEstimate,
 }
 
@@ -264,6 +269,7 @@ impl AdaptiveFilter {
             info_ped: 0.0,
             ped_speed: f64::NAN,
             session: [0.0; 3],
+            walking_gait: false,
             out: PaceEstimate::initial(
                 config
                     .calibration
@@ -313,6 +319,19 @@ impl AdaptiveFilter {
             cadence
         };
         (self.x[LA] + self.x[LB] * (cadence - cref)).clamp(0.2, 3.0)
+    }
+
+    /// Step length for the current gait: the walking step length at the cadence `c`
+    /// when it is a walk, else the running line read at the slow cadence (at `c` when
+    /// the slow one still says walk: a run just started). Also returns the cadence
+    /// the running line was read at (NaN for a walk).
+    fn gait_step_length(&self, c: f64, c_slow: f64) -> (f64, f64) {
+        if is_walk(c) {
+            (walking_step_m(c), f64::NAN)
+        } else {
+            let c_read = if is_walk(c_slow) { c } else { c_slow };
+            (self.step_length_at(c_read), c_read)
+        }
     }
 
     fn step_length_learned(&self) -> bool {
@@ -366,8 +385,12 @@ impl AdaptiveFilter {
         let qb = prm.gnss_bias_sigma_m * prm.gnss_bias_sigma_m * (1.0 - phi * phi);
         q[(BE, BE)] = qb;
         q[(BN, BN)] = qb;
-        q[(LA, LA)] = prm.step_length_rw_m_per_sqrt_s.powi(2) * dt;
-        q[(LB, LB)] = SLOPE_RW * SLOPE_RW * dt;
+        if !self.walking_gait {
+            // The running line drifts while running (fatigue, terrain); a walk
+            // neither uses nor teaches it.
+            q[(LA, LA)] = prm.step_length_rw_m_per_sqrt_s.powi(2) * dt;
+            q[(LB, LB)] = SLOPE_RW * SLOPE_RW * dt;
+        }
         // P ← F P Fᵀ + Q, applying the sparse F to rows, then to columns.
         let p = &mut self.p;
         for c in 0..8 {
@@ -603,7 +626,15 @@ impl AdaptiveFilter {
             && self.nis_avg < TRUST_NIS
             && fix.t_s - self.reset_t_s > TRUST_AFTER_RESET_S;
         let before = self.speed_var();
-        self.apply(&h, &y, &r, &s_inv, Learn::level_if(trusted));
+        // While walking the speed is the walking line's: GNSS must not teach the
+        // running line through the correlations its pedometer updates left.
+        self.apply(
+            &h,
+            &y,
+            &r,
+            &s_inv,
+            Learn::level_if(trusted && !self.walking_gait),
+        );
         self.info_gnss += (1.0 / self.speed_var() - 1.0 / before).max(0.0);
         if let Some((v, acc)) = fix.speed {
             self.doppler_update(v, acc);
@@ -699,6 +730,11 @@ impl AdaptiveFilter {
             return;
         }
         let c_mean = steps / span;
+        if is_walk(c_mean) {
+            // A walk teaches the running line nothing (and the walking step length is
+            // not learned: see `super::walking`).
+            return;
+        }
         let cref = if self.cadence_ref.is_finite() {
             self.cadence_ref
         } else {
@@ -770,6 +806,7 @@ impl AdaptiveFilter {
         self.last_ped_t_s = t;
         let was_stationary = self.stationary;
         self.stationary = c <= 0.0;
+        self.walking_gait = is_walk(c);
         if self.stationary {
             self.ped_speed = 0.0;
             self.zupt();
@@ -783,7 +820,9 @@ impl AdaptiveFilter {
             .filter(|&v| v > 0.0)
             .unwrap_or(c);
         self.track_cadence_ref(c_slow, dt.min(10.0));
-        self.ped_speed = c * self.step_length_at(c_slow);
+        let walking = self.walking_gait;
+        let (l, c_read) = self.gait_step_length(c, c_slow);
+        self.ped_speed = c * l;
         let mut s = self.speed();
         if s < 0.3 {
             if !(was_stationary && self.last_dir.0.is_finite()) {
@@ -793,7 +832,7 @@ impl AdaptiveFilter {
             }
             // Moving again after a stop: start from cadence × step length along the
             // last direction of motion, uncertain enough for GNSS to correct quickly.
-            let v = c * self.step_length_at(c_slow);
+            let v = c * l;
             self.x[VE] = v * self.last_dir.0;
             self.x[VN] = v * self.last_dir.1;
             for i in [VE, VN] {
@@ -805,27 +844,42 @@ impl AdaptiveFilter {
             }
             s = v;
         }
-        let l = self.step_length_at(c_slow);
         let mut h = SMatrix::<f64, 1, 8>::zeros();
         h[(0, VE)] = self.x[VE] / s;
         h[(0, VN)] = self.x[VN] / s;
-        h[(0, LA)] = -c;
-        h[(0, LB)] = -c * (c_slow - self.cadence_ref);
         let v_ped = c * l;
         let rel = self.params.pedometer_rel_sigma;
         let c_sigma = c_sigma.max(MIN_CADENCE_SIGMA);
-        let r = (rel * v_ped).powi(2) + (c_sigma * l).powi(2);
-        self.info_ped += self.scalar_update(&h, v_ped - s, r, Learn::level_if(learn));
+        let mut r = (rel * v_ped).powi(2) + (c_sigma * l).powi(2);
+        let teach = if walking {
+            // The walking line is not a state: its uncertainty is measurement noise
+            // here, and the running line learns nothing from a walk.
+            r += (c * WALK_STEP_SIGMA_M).powi(2);
+            Learn::Nothing
+        } else {
+            h[(0, LA)] = -c;
+            h[(0, LB)] = -c * (c_read - self.cadence_ref);
+            Learn::level_if(learn)
+        };
+        self.info_ped += self.scalar_update(&h, v_ped - s, r, teach);
     }
 
     /// Integrate distance up to the filter time and refresh the output.
     fn publish(&mut self, ctx: &Context, t_out: f64) {
         let no_steps = !ctx.steps.has_data() || self.steps_distrusted;
         let ped_only = self.pedometer_only_output(ctx);
+        let cadence = ctx
+            .steps
+            .smoothed_cadence(t_out, ctx.config.stationary_after_s)
+            .map(|(c, _)| c);
+        let walk_cadence = cadence.filter(|&c| is_walk(c));
         let (raw, sd) = if ped_only {
             // σ of cadence × step length: the step length's and the gait's.
-            let l = self.x[LA].max(0.2);
-            let rel = (self.p[(LA, LA)].max(0.0).sqrt() / l).hypot(self.params.pedometer_rel_sigma);
+            let (l, l_sigma) = match walk_cadence {
+                Some(c) => (walking_step_m(c), WALK_STEP_SIGMA_M),
+                None => (self.x[LA].max(0.2), self.p[(LA, LA)].max(0.0).sqrt()),
+            };
+            let rel = (l_sigma / l).hypot(self.params.pedometer_rel_sigma);
             (self.ped_speed, rel * self.ped_speed)
         } else {
             (self.speed(), self.speed_var().sqrt())
@@ -858,15 +912,13 @@ impl AdaptiveFilter {
         } else {
             self.out.gnss_weight
         };
-        let cadence = ctx
-            .steps
-            .smoothed_cadence(t_out, ctx.config.stationary_after_s)
-            .map(|(c, _)| c);
         let learned = self.step_length_learned();
         let slow =
             ctx.steps
                 .cadence_at(t_out, SLOW_CADENCE_WINDOW_S, ctx.config.stationary_after_s);
         let step_length = match slow {
+            // Walking (the walking line has a population prior from the start).
+            _ if walk_cadence.is_some() => walk_cadence.map(walking_step_m),
             Some(c) if c > 0.0 && learned => Some(self.step_length_at(c)),
             // The same physical range as every other reading of the line.
             _ if learned => Some(self.x[LA].clamp(0.2, 3.0)),
@@ -1024,7 +1076,7 @@ impl AdaptiveFilter {
                 .filter(|&v| v > 0.0)
                 .unwrap_or(c);
             self.track_cadence_ref(c_slow, dt.min(10.0));
-            self.ped_speed = c * self.step_length_at(c_slow);
+            self.ped_speed = c * self.gait_step_length(c, c_slow).0;
         }
         self.publish(ctx, t);
     }
@@ -1041,12 +1093,22 @@ impl AdaptiveFilter {
         self.initialized.then(|| [self.x[PE], self.x[PN]])
     }
 
-    pub fn calibration(&self) -> Option<super::PaceCalibration> {
-        if !(self.step_length_learned() && self.cadence_ref.is_finite()) {
+    pub fn calibration(
+        &self,
+        imported: Option<super::PaceCalibration>,
+    ) -> Option<super::PaceCalibration> {
+        let [n, nc, nl] = self.session;
+        // Enough trusted running windows make the session's line known even if the
+        // filter's uncertainty grew since (stops and walks teach the running line
+        // nothing); an imported line that no window refined is exported as it came.
+        let session_known = n >= SESSION_MIN_STEPS;
+        if n == 0.0 && !self.step_length_learned() {
+            return imported;
+        }
+        if !((session_known || self.step_length_learned()) && self.cadence_ref.is_finite()) {
             return None;
         }
-        let [n, nc, nl] = self.session;
-        let (level, cadence) = if n >= SESSION_MIN_STEPS {
+        let (level, cadence) = if session_known {
             (nl / n, nc / n)
         } else {
             (self.x[LA], self.cadence_ref)
@@ -1078,6 +1140,7 @@ impl AdaptiveFilter {
             self.ped_speed,
         ]);
         w.f64s(&self.session);
+        w.bool(self.walking_gait);
         w.bool(self.stationary);
         w.u64(self.contradictions as u64);
         w.bool(self.steps_distrusted);
@@ -1123,6 +1186,7 @@ impl AdaptiveFilter {
         f.info_ped = r.f64()?;
         f.ped_speed = r.f64_or_nan()?;
         r.f64s(&mut f.session)?;
+        f.walking_gait = r.bool()?;
         f.stationary = r.bool()?;
         f.contradictions = r.len(u32::MAX as usize)? as u32;
         f.steps_distrusted = r.bool()?;

@@ -136,7 +136,9 @@ impl PaceCalibration {
 pub struct PaceConfig {
     pub mode: PaceMode,
     /// Step length at 168 steps/min used before any is learned, metres (`None`: a
-    /// population prior of 1.0 m with a wide uncertainty, learned from GNSS).
+    /// population prior of 1.0 m with a wide uncertainty, learned from GNSS). It is
+    /// the running step length: below 132 steps/min (a walk) a population walking
+    /// step length is used instead (`pace/walking.rs`).
     pub initial_step_length_m: Option<f64>,
     /// Without a step for this long while step data flows, the runner is stationary, seconds.
     pub stationary_after_s: f64,

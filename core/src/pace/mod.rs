@@ -17,6 +17,7 @@ mod error;
 mod published;
 mod steps;
 mod types;
+mod walking;
 
 /// GNSS-only speed baselines the evaluation compares the fusion filters against.
 pub use baseline::{Baseline, BaselineKind};
@@ -40,7 +41,7 @@ const SNAPSHOT_KIND: u8 = 1;
 /// Snapshot format version written by this build.
 /// Version 3: the input layer's time state per stream, the pedometer speed and the
 /// session's calibration sums.
-const SNAPSHOT_VERSION: u16 = 3;
+const SNAPSHOT_VERSION: u16 = 4;
 
 /// A GNSS fix after validation, in the local frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -127,7 +128,7 @@ impl PaceTracker {
     pub fn calibration(&self) -> Option<PaceCalibration> {
         match &self.filter {
             Filter::Published(_) => None,
-            Filter::Adaptive(f) => f.calibration(),
+            Filter::Adaptive(f) => f.calibration(self.config.calibration),
         }
     }
 

@@ -209,3 +209,45 @@ fn gnss_arriving_after_pedometer_only_takes_over_without_a_drop_to_zero() {
     assert!(moving);
     assert_ne!(tr.estimate().unwrap().source, PaceSource::Initializing);
 }
+
+/// `spm` steps/min reported as cadence once a second from `t0_s` for `seconds`.
+fn cadence_reports(t0_s: f64, seconds: usize, spm: f64) -> Vec<StepSample> {
+    (0..seconds)
+        .map(|i| StepSample::Cadence {
+            t_s: t0_s + i as f64,
+            steps_per_min: spm,
+        })
+        .collect()
+}
+
+#[test]
+fn a_walk_is_paced_with_a_walking_step_length_not_the_running_line() {
+    // A runner's watch without GNSS, configured with the running step length: run at
+    // 170 steps/min, then walk at 100 steps/min (a recovery, a cool-down).
+    let mut tr = PaceTracker::new(PaceConfig {
+        initial_step_length_m: Some(1.1),
+        ..PaceConfig::default()
+    })
+    .unwrap();
+    for s in cadence_reports(1.0, 60, 170.0) {
+        tr.push_steps(&s).unwrap();
+    }
+    let run = tr.estimate().unwrap();
+    assert!((run.speed_mps - 170.0 / 60.0 * 1.1).abs() < 0.05, "{run:?}");
+    for s in cadence_reports(61.0, 60, 100.0) {
+        tr.push_steps(&s).unwrap();
+    }
+    let walk = tr.estimate().unwrap();
+    assert_eq!(walk.source, PaceSource::Pedometer);
+    // The running line read at 100 steps/min says 0.53 m steps, 0.89 m/s; an adult
+    // walks ≈ 1.0–1.2 m/s at that cadence (steps of ≈ 0.6–0.7 m).
+    assert!((0.98..=1.25).contains(&walk.speed_mps), "{walk:?}");
+    let l = walk.step_length_m.expect("a step length while walking");
+    assert!((0.58..=0.75).contains(&l), "{l}");
+    // Back to running: the running line again, untouched by the walk.
+    for s in cadence_reports(121.0, 60, 170.0) {
+        tr.push_steps(&s).unwrap();
+    }
+    let again = tr.estimate().unwrap();
+    assert!((again.speed_mps - run.speed_mps).abs() < 0.05, "{again:?}");
+}
