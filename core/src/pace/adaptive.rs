@@ -42,7 +42,7 @@ use super::{Context, LocalFix, PaceConfig, PaceEstimate, PaceSource};
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
-use super::walking::{is_walk, walking_step_m, WALK_STEP_SIGMA_M};
+use super::walking::{is_walk, walk_weight, walking_step_m, WALK_STEP_SIGMA_M};
 
 type V8 = SVector<f64, 8>;
 type M8 = SMatrix<f64, 8, 8>;
@@ -322,16 +322,20 @@ impl AdaptiveFilter {
     }
 
     /// Step length for the current gait: the walking step length at the cadence `c`
-    /// when it is a walk, else the running line read at the slow cadence (at `c` when
-    /// the slow one still says walk: a run just started). Also returns the cadence
-    /// the running line was read at (NaN for a walk).
-    fn gait_step_length(&self, c: f64, c_slow: f64) -> (f64, f64) {
-        if is_walk(c) {
-            (walking_step_m(c), f64::NAN)
+    /// blended (weight `w`, `super::walking::walk_weight`) with the running line read
+    /// at the slow cadence (at `c` when the slow one still says walk: a run just
+    /// started). Returns the step length, the cadence the running line was read at,
+    /// and `w`.
+    fn gait_step_length(&self, c: f64, c_slow: f64) -> (f64, f64, f64) {
+        let w = walk_weight(c);
+        let c_read = if is_walk(c_slow) { c } else { c_slow };
+        let run = if w < 1.0 {
+            self.step_length_at(c_read)
         } else {
-            let c_read = if is_walk(c_slow) { c } else { c_slow };
-            (self.step_length_at(c_read), c_read)
-        }
+            0.0
+        };
+        let walk = if w > 0.0 { walking_step_m(c) } else { 0.0 };
+        (w * walk + (1.0 - w) * run, c_read, w)
     }
 
     fn step_length_learned(&self) -> bool {
@@ -821,7 +825,7 @@ impl AdaptiveFilter {
             .unwrap_or(c);
         self.track_cadence_ref(c_slow, dt.min(10.0));
         let walking = self.walking_gait;
-        let (l, c_read) = self.gait_step_length(c, c_slow);
+        let (l, c_read, w) = self.gait_step_length(c, c_slow);
         self.ped_speed = c * l;
         let mut s = self.speed();
         if s < 0.3 {
@@ -851,14 +855,14 @@ impl AdaptiveFilter {
         let rel = self.params.pedometer_rel_sigma;
         let c_sigma = c_sigma.max(MIN_CADENCE_SIGMA);
         let mut r = (rel * v_ped).powi(2) + (c_sigma * l).powi(2);
+        // The walking line is not a state: its uncertainty is measurement noise here;
+        // the running line enters with its weight and learns nothing from a walk.
+        r += (c * w * WALK_STEP_SIGMA_M).powi(2);
+        h[(0, LA)] = -c * (1.0 - w);
+        h[(0, LB)] = -c * (1.0 - w) * (c_read - self.cadence_ref);
         let teach = if walking {
-            // The walking line is not a state: its uncertainty is measurement noise
-            // here, and the running line learns nothing from a walk.
-            r += (c * WALK_STEP_SIGMA_M).powi(2);
             Learn::Nothing
         } else {
-            h[(0, LA)] = -c;
-            h[(0, LB)] = -c * (c_read - self.cadence_ref);
             Learn::level_if(learn)
         };
         self.info_ped += self.scalar_update(&h, v_ped - s, r, teach);
@@ -872,14 +876,18 @@ impl AdaptiveFilter {
             .steps
             .smoothed_cadence(t_out, ctx.config.stationary_after_s)
             .map(|(c, _)| c);
-        let walk_cadence = cadence.filter(|&c| is_walk(c));
+        let slow =
+            ctx.steps
+                .cadence_at(t_out, SLOW_CADENCE_WINDOW_S, ctx.config.stationary_after_s);
+        // The walking line's share of the step length now (0 when not moving).
+        let walk_w = cadence.map_or(0.0, walk_weight);
         let (raw, sd) = if ped_only {
             // σ of cadence × step length: the step length's and the gait's.
-            let (l, l_sigma) = match walk_cadence {
-                Some(c) => (walking_step_m(c), WALK_STEP_SIGMA_M),
-                None => (self.x[LA].max(0.2), self.p[(LA, LA)].max(0.0).sqrt()),
-            };
-            let rel = (l_sigma / l).hypot(self.params.pedometer_rel_sigma);
+            let l_run = self.x[LA].max(0.2);
+            let s_run = self.p[(LA, LA)].max(0.0).sqrt() / l_run;
+            let s_walk = cadence.map_or(0.0, |c| WALK_STEP_SIGMA_M / walking_step_m(c));
+            let rel =
+                (walk_w * s_walk + (1.0 - walk_w) * s_run).hypot(self.params.pedometer_rel_sigma);
             (self.ped_speed, rel * self.ped_speed)
         } else {
             (self.speed(), self.speed_var().sqrt())
@@ -913,13 +921,14 @@ impl AdaptiveFilter {
             self.out.gnss_weight
         };
         let learned = self.step_length_learned();
-        let slow =
-            ctx.steps
-                .cadence_at(t_out, SLOW_CADENCE_WINDOW_S, ctx.config.stationary_after_s);
-        let step_length = match slow {
-            // Walking (the walking line has a population prior from the start).
-            _ if walk_cadence.is_some() => walk_cadence.map(walking_step_m),
-            Some(c) if c > 0.0 && learned => Some(self.step_length_at(c)),
+        let step_length = match (slow, cadence) {
+            // Walking or near it (the walking line has a population value from the
+            // start): the same blend the pedometer speed uses.
+            (_, Some(c)) if walk_w > 0.0 && (learned || walk_w >= 1.0) => Some(
+                self.gait_step_length(c, slow.filter(|&v| v > 0.0).unwrap_or(c))
+                    .0,
+            ),
+            (Some(c), _) if c > 0.0 && learned => Some(self.step_length_at(c)),
             // The same physical range as every other reading of the line.
             _ if learned => Some(self.x[LA].clamp(0.2, 3.0)),
             // Not learned yet: the configured one, else the prior the pedometer speed

@@ -7,7 +7,8 @@
 //! inside GNSS outages came out at 0.8 m/s against the watch's 1.45 m/s). Below
 //! [`WALK_MAX_CADENCE`] the step length is a population walking line instead: ≈ 0.72 m
 //! at 112 steps/min (an adult's comfortable walk, ≈ 1.35 m/s), growing in proportion to
-//! cadence (L ≈ (L₀ / c₀)·c). It is not learned: learning it from the GNSS windows of
+//! cadence (L ≈ (L₀ / c₀)·c), blended into the running line over ±6 steps/min around
+//! the boundary. It is not learned: learning it from the GNSS windows of
 //! the real runs' short walks made it worse (docs/pace.md), and while GNSS is good it
 //! carries the speed anyway. A walk teaches the running line nothing either.
 
@@ -21,9 +22,25 @@ const WALK_REF_CADENCE: f64 = 1.87;
 const WALK_STEP_M: f64 = 0.72;
 pub(crate) const WALK_STEP_SIGMA_M: f64 = 0.12;
 
+/// Half-width of the band around [`WALK_MAX_CADENCE`] over which the step length
+/// blends from the walking line into the running line, steps/s (±6 steps/min): a
+/// cadence that hovers at the boundary (a brisk walk, a slow jog) gives no jumps.
+const BLEND_HALF_WIDTH: f64 = 0.1;
+
 /// Whether `cadence` (steps/s) is a walk.
 pub(crate) fn is_walk(cadence: f64) -> bool {
     cadence > 0.0 && cadence < WALK_MAX_CADENCE
+}
+
+/// Weight of the walking line at `cadence` (steps/s): 1 below the blend band, 0
+/// above it, a smooth step in between (0.5 at [`WALK_MAX_CADENCE`]).
+pub(crate) fn walk_weight(cadence: f64) -> f64 {
+    if cadence.is_nan() || cadence <= 0.0 {
+        return 0.0;
+    }
+    let x = ((WALK_MAX_CADENCE + BLEND_HALF_WIDTH - cadence) / (2.0 * BLEND_HALF_WIDTH))
+        .clamp(0.0, 1.0);
+    x * x * (3.0 - 2.0 * x)
 }
 
 /// Step length at a walking cadence (steps/s), m.
@@ -48,5 +65,11 @@ mod tests {
         );
         // Slower cadence, shorter steps.
         assert!(walking_step_m(1.5) < walking_step_m(2.0));
+        // The blend: all walk below the band, all run above, half at the boundary.
+        assert_eq!(walk_weight(2.0), 1.0);
+        assert_eq!(walk_weight(2.4), 0.0);
+        assert!((walk_weight(WALK_MAX_CADENCE) - 0.5).abs() < 1e-12);
+        assert!(walk_weight(2.15) > walk_weight(2.25));
+        assert_eq!(walk_weight(0.0), 0.0);
     }
 }

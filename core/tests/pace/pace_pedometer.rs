@@ -251,3 +251,20 @@ fn a_walk_is_paced_with_a_walking_step_length_not_the_running_line() {
     let again = tr.estimate().unwrap();
     assert!((again.speed_mps - run.speed_mps).abs() < 0.05, "{again:?}");
 }
+
+#[test]
+fn speed_has_no_jump_where_walking_turns_into_running() {
+    // Cadence rising 1 step/min every 5 s from 120 to 145 steps/min (a walk becoming a
+    // jog): the step length blends from the walking line into the running line.
+    let mut tr = PaceTracker::new(PaceConfig::default()).unwrap();
+    let mut speeds = Vec::new();
+    for (k, spm) in (120..=145).enumerate() {
+        for s in cadence_reports(1.0 + 5.0 * k as f64, 5, spm as f64) {
+            tr.push_steps(&s).unwrap();
+        }
+        speeds.push(tr.estimate().unwrap().speed_mps);
+    }
+    for w in speeds.windows(2) {
+        assert!((w[1] - w[0]).abs() < 0.08, "{speeds:?}");
+    }
+}
