@@ -203,15 +203,6 @@ pub(crate) fn guard_with<T, E>(
         .unwrap_or_else(|p| Err(internal(panic_reason(p))))
 }
 
-impl PaceError {
-    /// The error for a caught panic payload.
-    pub(crate) fn from_panic(payload: Box<dyn std::any::Any + Send>) -> Self {
-        Self::Internal {
-            reason: panic_reason(payload),
-        }
-    }
-}
-
 /// Run `f`, turning a panic into [`PaceError::Internal`].
 pub(crate) fn guard<T>(f: impl FnOnce() -> Result<T, PaceError>) -> Result<T, PaceError> {
     guard_with(f, |reason| PaceError::Internal { reason })

@@ -1,6 +1,5 @@
 //! The `FootNavigator` object.
 
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::{Arc, Mutex, MutexGuard};
 use stridekit_core::foot as core;
 
@@ -62,10 +61,7 @@ impl FootNavigator {
                     error: r.error,
                 })
             },
-            |s| match catch_unwind(AssertUnwindSafe(|| nav.push(&s))) {
-                Ok(outcome) => outcome.map_err(FootError::from),
-                Err(panic) => Err(FootError::from_panic(panic)),
-            },
+            |s| guard(|| Ok(nav.push(&s)?)),
         );
         let accepted = i32::try_from(accepted).unwrap_or(i32::MAX);
         FootBatchResult {

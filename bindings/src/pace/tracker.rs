@@ -1,6 +1,5 @@
 //! `PaceTracker` at the FFI: the core tracker behind a mutex, single and batch pushes.
 
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use stridekit_core::pace as core;
@@ -85,10 +84,7 @@ impl PaceTracker {
                     error: r.error,
                 })
             },
-            |item| match catch_unwind(AssertUnwindSafe(|| push(&mut tracker, item))) {
-                Ok(outcome) => outcome.map_err(PaceError::from),
-                Err(panic) => Err(PaceError::from_panic(panic)),
-            },
+            |item| guard(|| Ok(push(&mut tracker, item)?)),
         );
         let accepted = i32::try_from(accepted).unwrap_or(i32::MAX);
         // A panic here (a core bug) is caught by uniffi's scaffolding.
