@@ -12,7 +12,14 @@
 //!   leg), and the same for the azimuth of the phone's top edge (device +y) from the
 //!   navigator's attitude and from the rotation vector; and the per-walk rotation
 //!   itself (map → estimate), whose spread across walks shows how consistent the
-//!   absolute heading is (one building, one map rotation).
+//!   absolute heading is (one building, one map rotation);
+//! - **the truth itself**: when the phone turns at a waypoint where the polyline turns
+//!   (rotation vector and navigator), against the waypoint's time; and how noisy the
+//!   waypoints are: the along-track residual per leg (leg length − the navigator's
+//!   displacement over the leg, the walk's scale removed) has a variance a + b·d² over
+//!   legs of displacement d, whose intercept a = 2σ² gives the per-waypoint noise σ
+//!   (what no estimator can remove), and the ATE a perfect track would score against
+//!   these waypoints with that noise added (simulated, fixed seed).
 
 use std::f64::consts::FRAC_PI_2;
 use std::fmt::Write as _;
@@ -22,7 +29,7 @@ use stridekit_core::ahrs::ImuSample;
 use stridekit_core::pdr::wrap;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
 
-use crate::pdr::metrics::median;
+use crate::pdr::metrics::{evaluate, median, TrackPoint};
 use crate::pdr::walks::Walk;
 
 /// Legs shorter than this (m) or quicker (s) carry no direction.
@@ -87,6 +94,57 @@ struct Acc {
     carry_rv: Vec<f64>,
     carry_nav: Vec<f64>,
     leg_err_by_time: Vec<(f64, f64, f64)>,
+    /// Turn centre − waypoint time at turning waypoints: rotation vector, navigator.
+    turn_rv_s: Vec<f64>,
+    turn_nav_s: Vec<f64>,
+    /// Per leg: (displacement with the walk's scale, leg length − that), m.
+    leg_resid: Vec<(f64, f64)>,
+}
+
+/// Waypoints where the polyline turns at least this much get a turn-timing row, rad.
+const TURN_MIN_RAD: f64 = 45.0 * std::f64::consts::PI / 180.0;
+/// Window around the waypoint searched for the turn, and the least turn seen in it.
+const TURN_WINDOW_S: f64 = 3.0;
+const TURN_SEEN_RAD: f64 = 20.0 * std::f64::consts::PI / 180.0;
+
+/// Time of the centre of a turn of sign `sign` in the azimuth series `az` (t, rad)
+/// within ±[`TURN_WINDOW_S`] of `t`, relative to `t`: when the azimuth, unwrapped
+/// over the window, has made half of its net change (which must be at least
+/// [`TURN_SEEN_RAD`] in the turn's direction). Symmetric noise does not move it.
+fn turn_centre(az: &[(f64, f64)], t: f64, sign: f64) -> Option<f64> {
+    let window = || {
+        az.iter()
+            .filter(move |p| (p.0 - t).abs() <= TURN_WINDOW_S && p.1.is_finite())
+    };
+    let mut prev: Option<f64> = None;
+    let mut total = 0.0;
+    for &(_, a) in window() {
+        if let Some(ap) = prev {
+            total += wrap(a - ap);
+        }
+        prev = Some(a);
+    }
+    if total * sign < TURN_SEEN_RAD {
+        return None;
+    }
+    let (mut prev, mut acc) = (None::<(f64, f64)>, 0.0);
+    for &(ti, a) in window() {
+        if let Some((tp, ap)) = prev {
+            let d = wrap(a - ap);
+            if (acc + d) * sign >= 0.5 * total * sign {
+                // Interpolate within the sample interval.
+                let k = if d != 0.0 {
+                    (0.5 * total - acc) / d
+                } else {
+                    1.0
+                };
+                return Some(tp + k.clamp(0.0, 1.0) * (ti - tp) - t);
+            }
+            acc += d;
+        }
+        prev = Some((ti, a));
+    }
+    None
 }
 
 fn pct(v: &[f64], q: f64) -> f64 {
@@ -255,6 +313,43 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
                 walk_az,
                 0.5 * (x[0].0 + x[1].0) - t0,
             ));
+        }
+        // Turn timing at turning waypoints.
+        let rv_az: Vec<(f64, f64)> = pts.iter().filter_map(|p| p.6.map(|a| (p.0, a))).collect();
+        let nav_az: Vec<(f64, f64)> = pts.iter().filter_map(|p| p.7.map(|a| (p.0, a))).collect();
+        for k in 1..wp.len().saturating_sub(1) {
+            let a1 = (wp[k].1 - wp[k - 1].1).atan2(wp[k].2 - wp[k - 1].2);
+            let a2 = (wp[k + 1].1 - wp[k].1).atan2(wp[k + 1].2 - wp[k].2);
+            let turn = wrap(a2 - a1);
+            if turn.abs() < TURN_MIN_RAD {
+                continue;
+            }
+            let (c_rv, c_nav) = (
+                turn_centre(&rv_az, wp[k].0, turn.signum()),
+                turn_centre(&nav_az, wp[k].0, turn.signum()),
+            );
+            if let (Some(r), Some(n)) = (c_rv, c_nav) {
+                a.turn_rv_s.push(r);
+                a.turn_nav_s.push(n);
+            }
+        }
+        // Along-track residual per leg, the walk's scale removed.
+        let mut walk_legs: Vec<(f64, f64)> = Vec::new();
+        for x in wp.windows(2) {
+            if x[1].0 - x[0].0 < MIN_LEG_S {
+                continue;
+            }
+            let (e0, e1) = (at(x[0].0), at(x[1].0));
+            let d = (e1.1 - e0.1).hypot(e1.2 - e0.2);
+            walk_legs.push((d, (x[1].1 - x[0].1).hypot(x[1].2 - x[0].2)));
+        }
+        let (sl, sd) = walk_legs
+            .iter()
+            .fold((0.0, 0.0), |s, l| (s.0 + l.1, s.1 + l.0));
+        if walk_legs.len() >= 2 && sd > 0.0 {
+            let k = sl / sd;
+            a.leg_resid
+                .extend(walk_legs.iter().map(|&(d, len)| (k * d, len - k * d)));
         }
         let rot = |get: &dyn Fn(&Leg) -> Option<f64>| {
             let v: Vec<(f64, f64)> = legs
@@ -429,6 +524,20 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
         deg,
         "°",
     );
+    row(
+        &mut out,
+        "turn centre − waypoint time, rotation vector (waypoints turning ≥ 45°)",
+        &a.turn_rv_s,
+        1.0,
+        "s",
+    );
+    row(
+        &mut out,
+        "turn centre − waypoint time, navigator walking azimuth",
+        &a.turn_nav_s,
+        1.0,
+        "s",
+    );
     // The surveyor walks where the top edge points (the rotation vector's row above):
     // a leg more than 90° off it was dead-reckoned backwards.
     let backwards = a.carry_nav.iter().filter(|x| x.abs() > FRAC_PI_2).count();
@@ -437,6 +546,7 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
         "\nLegs dead-reckoned backwards (navigator walking azimuth more than 90° from its +y): {backwards} of {}.",
         a.carry_nav.len()
     );
+    waypoint_noise(&mut out, &a.leg_resid, walks);
     // Heading error against time into the walk.
     let _ = writeln!(
         out,
@@ -469,4 +579,148 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
         );
     }
     Ok(out)
+}
+
+/// Bins of leg displacement for the waypoint-noise fit, m.
+const NOISE_BINS_M: [(f64, f64); 5] = [
+    (1.0, 3.0),
+    (3.0, 5.0),
+    (5.0, 7.0),
+    (7.0, 10.0),
+    (10.0, 15.0),
+];
+
+/// Robust variance (1.4826 · MAD)² of the residuals per displacement bin (bins with
+/// at least 20 legs): `(lo, hi, legs, sd m, mean d²)`.
+fn residual_bins(resid: &[(f64, f64)]) -> Vec<(f64, f64, usize, f64, f64)> {
+    let mut rows = Vec::new();
+    for (lo, hi) in NOISE_BINS_M {
+        let bin: Vec<(f64, f64)> = resid
+            .iter()
+            .copied()
+            .filter(|r| r.0 >= lo && r.0 < hi)
+            .collect();
+        if bin.len() < 20 {
+            continue;
+        }
+        let med = median(bin.iter().map(|r| r.1));
+        let sd = 1.4826 * median(bin.iter().map(|r| (r.1 - med).abs()));
+        let d2 = bin.iter().map(|r| r.0 * r.0).sum::<f64>() / bin.len() as f64;
+        rows.push((lo, hi, bin.len(), sd, d2));
+    }
+    rows
+}
+
+/// Least squares of var = a + b·d² over the bins of [`residual_bins`]: `(a, b)`.
+fn noise_fit(rows: &[(f64, f64, usize, f64, f64)]) -> Option<(f64, f64)> {
+    if rows.len() < 2 {
+        return None;
+    }
+    let n = rows.len() as f64;
+    let (mx, my) = (
+        rows.iter().map(|r| r.4).sum::<f64>() / n,
+        rows.iter().map(|r| r.3 * r.3).sum::<f64>() / n,
+    );
+    let sxy: f64 = rows.iter().map(|r| (r.4 - mx) * (r.3 * r.3 - my)).sum();
+    let sxx: f64 = rows.iter().map(|r| (r.4 - mx).powi(2)).sum();
+    let b = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+    Some((my - b * mx, b))
+}
+
+/// The waypoints' own noise from the along-track leg residuals (see the module doc),
+/// and the ATE of a perfect track against waypoints with that noise.
+fn waypoint_noise(out: &mut String, resid: &[(f64, f64)], walks: &[Walk]) {
+    let _ = writeln!(
+        out,
+        "\nWaypoint noise: along-track residual per leg (leg length − the navigator's displacement, the walk's scale removed) by displacement:\n"
+    );
+    let _ = writeln!(out, "| displacement | legs | robust sd of the residual |");
+    let _ = writeln!(out, "|---|---|---|");
+    let rows = residual_bins(resid);
+    for (lo, hi, n, sd, _) in &rows {
+        let _ = writeln!(out, "| {lo}–{hi} m | {n} | {sd:.2} m |");
+    }
+    let Some((a0, b)) = noise_fit(&rows) else {
+        return;
+    };
+    let sigma = (a0.max(0.0) / 2.0).sqrt();
+    // A perfect track (the waypoint polyline itself) against its waypoints with
+    // isotropic noise σ per axis; 5 draws per walk, fixed seed.
+    let mut rng = stridekit_sim::Rng::new(13);
+    let mut ates = Vec::new();
+    for w in walks {
+        let wp = &w.rec.truth;
+        if wp.len() < 3 {
+            continue;
+        }
+        let track: Vec<TrackPoint> = wp
+            .iter()
+            .map(|p| TrackPoint {
+                t_s: p.0,
+                x_m: p.1,
+                y_m: p.2,
+                distance_m: 0.0,
+            })
+            .collect();
+        for _ in 0..5 {
+            let noisy: Vec<(f64, f64, f64)> = wp
+                .iter()
+                .map(|p| (p.0, p.1 + sigma * rng.normal(), p.2 + sigma * rng.normal()))
+                .collect();
+            if let Some(m) = evaluate(&track, &noisy) {
+                ates.push(m.ate_m);
+            }
+        }
+    }
+    let _ = writeln!(
+        out,
+        "\nFit var = a + b·d²: a = {a0:.3} m², b = {b:.5} (relative along-track scatter {:.1} %): per-waypoint noise σ = √(a/2) = {sigma:.2} m. A perfect track against these waypoints with that noise added: median ATE {:.2} m (5 draws per walk).",
+        100.0 * b.max(0.0).sqrt(),
+        median(ates.iter().copied()),
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn a_turn_is_timed_at_its_centre_in_either_direction() {
+        // 90° over 1 s centred at t = 0.7, sampled at 50 Hz, with a little noise.
+        let az = |sign: f64| -> Vec<(f64, f64)> {
+            (0..600)
+                .map(|i| {
+                    let t = -6.0 + i as f64 * 0.02;
+                    let ramp = ((t - 0.2) / 1.0).clamp(0.0, 1.0);
+                    let wobble = 0.01 * (37.0 * t).sin();
+                    (t, wrap(sign * (0.5 * PI * ramp) + 3.0 + wobble))
+                })
+                .collect()
+        };
+        for sign in [1.0, -1.0] {
+            let c = turn_centre(&az(sign), 0.0, sign).expect("a 90° turn is seen");
+            assert!((c - 0.7).abs() < 0.1, "{c}");
+        }
+        // No turn in the window: nothing to time.
+        let flat: Vec<(f64, f64)> = (0..600).map(|i| (-6.0 + i as f64 * 0.02, 1.0)).collect();
+        assert_eq!(turn_centre(&flat, 0.0, 1.0), None);
+    }
+
+    #[test]
+    fn the_noise_fit_recovers_a_known_waypoint_noise() {
+        // Leg residual = n1 − n0 (σ = 0.4 m per waypoint) + 5 % of the displacement.
+        let mut rng = stridekit_sim::Rng::new(7);
+        let resid: Vec<(f64, f64)> = (0..20_000)
+            .map(|_| {
+                let d = rng.range(1.0, 15.0);
+                let e = 0.4 * (rng.normal() - rng.normal()) + 0.05 * d * rng.normal();
+                (d, e)
+            })
+            .collect();
+        let (a, b) = noise_fit(&residual_bins(&resid)).expect("enough legs");
+        let sigma = (a / 2.0).sqrt();
+        assert!((sigma - 0.4).abs() < 0.05, "σ {sigma}");
+        assert!((b.sqrt() - 0.05).abs() < 0.01, "relative {}", b.sqrt());
+    }
 }
