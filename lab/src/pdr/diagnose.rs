@@ -17,9 +17,11 @@
 //!   (rotation vector and navigator), against the waypoint's time; and how noisy the
 //!   waypoints are: the along-track residual per leg (leg length − the navigator's
 //!   displacement over the leg, the walk's scale removed) has a variance a + b·d² over
-//!   legs of displacement d, whose intercept a = 2σ² gives the per-waypoint noise σ
-//!   (what no estimator can remove), and the ATE a perfect track would score against
-//!   these waypoints with that noise added (simulated, fixed seed).
+//!   legs of displacement d, and the leg's azimuth error a variance h² + c/L² over legs
+//!   of length L; the parts that do not grow with the leg, a = 2σ²_along and
+//!   c = 2σ²_across, bound the per-waypoint noise (what no estimator can remove, plus
+//!   any error of ours that does not grow with the leg), and the ATE a perfect track
+//!   would score against these waypoints with that noise added (simulated, fixed seed).
 
 use std::f64::consts::FRAC_PI_2;
 use std::fmt::Write as _;
@@ -546,7 +548,8 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
         "\nLegs dead-reckoned backwards (navigator walking azimuth more than 90° from its +y): {backwards} of {}.",
         a.carry_nav.len()
     );
-    waypoint_noise(&mut out, &a.leg_resid, walks);
+    let azimuth: Vec<(f64, f64)> = a.leg_err_by_time.iter().map(|l| (l.2, l.1)).collect();
+    waypoint_noise(&mut out, &a.leg_resid, &azimuth, walks);
     // Heading error against time into the walk.
     let _ = writeln!(
         out,
@@ -581,7 +584,7 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
     Ok(out)
 }
 
-/// Bins of leg displacement for the waypoint-noise fit, m.
+/// Bins of leg displacement for the along-track noise fit, m.
 const NOISE_BINS_M: [(f64, f64); 5] = [
     (1.0, 3.0),
     (3.0, 5.0),
@@ -589,13 +592,28 @@ const NOISE_BINS_M: [(f64, f64); 5] = [
     (7.0, 10.0),
     (10.0, 15.0),
 ];
+/// Bins of leg length for the cross-track (azimuth) noise fit, m.
+const AZIMUTH_BINS_M: [(f64, f64); 5] = [
+    (2.0, 4.0),
+    (4.0, 6.0),
+    (6.0, 9.0),
+    (9.0, 13.0),
+    (13.0, 25.0),
+];
 
-/// Robust variance (1.4826 · MAD)² of the residuals per displacement bin (bins with
-/// at least 20 legs): `(lo, hi, legs, sd m, mean d²)`.
-fn residual_bins(resid: &[(f64, f64)]) -> Vec<(f64, f64, usize, f64, f64)> {
+/// One bin of a noise fit: `(lo, hi, n, robust sd, mean regressor)`.
+type NoiseBin = (f64, f64, usize, f64, f64);
+
+/// Robust sd (1.4826 · MAD) of `(x, value)` pairs per bin of x (bins with at least
+/// 20 pairs), with the mean of `regressor(x)` over the bin.
+fn residual_bins(
+    pairs: &[(f64, f64)],
+    bins: &[(f64, f64)],
+    regressor: impl Fn(f64) -> f64,
+) -> Vec<NoiseBin> {
     let mut rows = Vec::new();
-    for (lo, hi) in NOISE_BINS_M {
-        let bin: Vec<(f64, f64)> = resid
+    for &(lo, hi) in bins {
+        let bin: Vec<(f64, f64)> = pairs
             .iter()
             .copied()
             .filter(|r| r.0 >= lo && r.0 < hi)
@@ -605,14 +623,14 @@ fn residual_bins(resid: &[(f64, f64)]) -> Vec<(f64, f64, usize, f64, f64)> {
         }
         let med = median(bin.iter().map(|r| r.1));
         let sd = 1.4826 * median(bin.iter().map(|r| (r.1 - med).abs()));
-        let d2 = bin.iter().map(|r| r.0 * r.0).sum::<f64>() / bin.len() as f64;
-        rows.push((lo, hi, bin.len(), sd, d2));
+        let x = bin.iter().map(|r| regressor(r.0)).sum::<f64>() / bin.len() as f64;
+        rows.push((lo, hi, bin.len(), sd, x));
     }
     rows
 }
 
-/// Least squares of var = a + b·d² over the bins of [`residual_bins`]: `(a, b)`.
-fn noise_fit(rows: &[(f64, f64, usize, f64, f64)]) -> Option<(f64, f64)> {
+/// Least squares of sd² = a + b·x over the bins of [`residual_bins`]: `(a, b)`.
+fn noise_fit(rows: &[NoiseBin]) -> Option<(f64, f64)> {
     if rows.len() < 2 {
         return None;
     }
@@ -627,25 +645,57 @@ fn noise_fit(rows: &[(f64, f64, usize, f64, f64)]) -> Option<(f64, f64)> {
     Some((my - b * mx, b))
 }
 
-/// The waypoints' own noise from the along-track leg residuals (see the module doc),
-/// and the ATE of a perfect track against waypoints with that noise.
-fn waypoint_noise(out: &mut String, resid: &[(f64, f64)], walks: &[Walk]) {
+/// The waypoints' own noise from the leg residuals (see the module doc), and the ATE
+/// of a perfect track against waypoints with that noise. `along`: (displacement,
+/// along-track residual) per leg; `azimuth`: (leg length, azimuth error after the
+/// walk's rotation) per leg.
+fn waypoint_noise(out: &mut String, along: &[(f64, f64)], azimuth: &[(f64, f64)], walks: &[Walk]) {
     let _ = writeln!(
         out,
-        "\nWaypoint noise: along-track residual per leg (leg length − the navigator's displacement, the walk's scale removed) by displacement:\n"
+        "\nWaypoint noise. Along the leg: leg length − the navigator's displacement (the walk's scale removed), by displacement; across it: the leg's azimuth error after the walk's rotation, by leg length:\n"
     );
-    let _ = writeln!(out, "| displacement | legs | robust sd of the residual |");
-    let _ = writeln!(out, "|---|---|---|");
-    let rows = residual_bins(resid);
+    let _ = writeln!(out, "| residual | bin | legs | robust sd |");
+    let _ = writeln!(out, "|---|---|---|---|");
+    let rows = residual_bins(along, &NOISE_BINS_M, |d| d * d);
     for (lo, hi, n, sd, _) in &rows {
-        let _ = writeln!(out, "| {lo}–{hi} m | {n} | {sd:.2} m |");
+        let _ = writeln!(out, "| along | {lo}–{hi} m | {n} | {sd:.2} m |");
+    }
+    let az_rows = residual_bins(azimuth, &AZIMUTH_BINS_M, |l| 1.0 / (l * l));
+    for (lo, hi, n, sd, _) in &az_rows {
+        let _ = writeln!(
+            out,
+            "| azimuth | {lo}–{hi} m | {n} | {:.1}° |",
+            sd.to_degrees()
+        );
     }
     let Some((a0, b)) = noise_fit(&rows) else {
         return;
     };
-    let sigma = (a0.max(0.0) / 2.0).sqrt();
-    // A perfect track (the waypoint polyline itself) against its waypoints with
-    // isotropic noise σ per axis; 5 draws per walk, fixed seed.
+    let sigma_along = (a0.max(0.0) / 2.0).sqrt();
+    // Azimuth: sd² = h² + c/L² (a heading error that does not shrink with the leg,
+    // and the waypoints' cross-track noise, 2σ² = c).
+    let (h2, c) = noise_fit(&az_rows).unwrap_or((f64::NAN, f64::NAN));
+    let sigma_cross = (c.max(0.0) / 2.0).sqrt();
+    let sigma = if sigma_cross.is_finite() {
+        (0.5 * (sigma_along * sigma_along + sigma_cross * sigma_cross)).sqrt()
+    } else {
+        sigma_along
+    };
+    let (floor_along, floor) = (
+        perfect_track_ate(walks, sigma_along),
+        perfect_track_ate(walks, sigma),
+    );
+    let _ = writeln!(
+        out,
+        "\nFits: along-track sd² = a + b·d² gives a = {a0:.3} m² (relative along-track scatter √b = {:.1} %), per-waypoint noise σ_along = √(a/2) = {sigma_along:.2} m; azimuth sd² = h² + c/L² gives a heading error h = {:.1}° that does not shrink with the leg and σ_across = √(c/2) = {sigma_cross:.2} m. A perfect track against these waypoints with isotropic noise σ = {sigma:.2} m (the RMS of the two) added: median ATE {floor:.2} m (with σ_along alone {floor_along:.2} m; 5 draws per walk).",
+        100.0 * b.max(0.0).sqrt(),
+        h2.max(0.0).sqrt().to_degrees(),
+    );
+}
+
+/// Median ATE of a perfect track (the waypoint polyline itself) against its
+/// waypoints with isotropic noise σ per axis added; 5 draws per walk, fixed seed.
+fn perfect_track_ate(walks: &[Walk], sigma: f64) -> f64 {
     let mut rng = stridekit_sim::Rng::new(13);
     let mut ates = Vec::new();
     for w in walks {
@@ -672,12 +722,7 @@ fn waypoint_noise(out: &mut String, resid: &[(f64, f64)], walks: &[Walk]) {
             }
         }
     }
-    let _ = writeln!(
-        out,
-        "\nFit var = a + b·d²: a = {a0:.3} m², b = {b:.5} (relative along-track scatter {:.1} %): per-waypoint noise σ = √(a/2) = {sigma:.2} m. A perfect track against these waypoints with that noise added: median ATE {:.2} m (5 draws per walk).",
-        100.0 * b.max(0.0).sqrt(),
-        median(ates.iter().copied()),
-    );
+    median(ates)
 }
 
 #[cfg(test)]
@@ -718,9 +763,38 @@ mod tests {
                 (d, e)
             })
             .collect();
-        let (a, b) = noise_fit(&residual_bins(&resid)).expect("enough legs");
+        let (a, b) =
+            noise_fit(&residual_bins(&resid, &NOISE_BINS_M, |d| d * d)).expect("enough legs");
         let sigma = (a / 2.0).sqrt();
         assert!((sigma - 0.4).abs() < 0.05, "σ {sigma}");
         assert!((b.sqrt() - 0.05).abs() < 0.01, "relative {}", b.sqrt());
+    }
+
+    #[test]
+    fn a_perfect_track_scores_the_noise_added_to_its_waypoints() {
+        // An L-shaped walk of 6 waypoints, 5 m apart.
+        let truth: Vec<(f64, f64, f64)> = [
+            (0.0, 0.0),
+            (5.0, 0.0),
+            (10.0, 0.0),
+            (10.0, 5.0),
+            (10.0, 10.0),
+            (15.0, 10.0),
+        ]
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (i as f64 * 4.0, p.0, p.1))
+        .collect();
+        let walks = vec![Walk {
+            floor: "F".into(),
+            rec: stridekit_formats::InertialRecording {
+                truth,
+                ..Default::default()
+            },
+        }];
+        assert!(perfect_track_ate(&walks, 0.0) < 1e-9);
+        let a = perfect_track_ate(&walks, 0.5);
+        // Rigid alignment absorbs 3 of the 12 degrees of freedom: ≈ 0.5·√(2·9/12).
+        assert!(a > 0.3 && a < 0.9, "{a}");
     }
 }
