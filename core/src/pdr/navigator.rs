@@ -41,7 +41,7 @@ use super::heading::WalkingDirection;
 const SNAPSHOT_KIND: u8 = 5;
 /// Version 4: the input layer's time state per stream (version 3 added the attitude
 /// history, deferred and recent steps).
-const SNAPSHOT_VERSION: u16 = 4;
+const SNAPSHOT_VERSION: u16 = 5;
 /// Steps waiting for the carrying to be known, and recent placed steps kept.
 const DEFERRED_STEPS: usize = 32;
 pub const RECENT_STEPS: usize = 32;

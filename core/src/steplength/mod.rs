@@ -7,6 +7,11 @@
 //! published), linear on frequency only (cadence-only devices), and Weinberg
 //! `L = K·(a_max − a_min)^¼`.
 //!
+//! **Gait initiation** ([`BoutPosition`]): the models are of steady steps;
+//! the first two steps of a walk (the first step, or the first after a stop of
+//! [`STOP_S`] or more) get [`GAIT_INITIATION`] (0.6, 0.85) of the model's length, and
+//! they do not enter the calibration.
+//!
 //! **Calibration** follows the paper: while GNSS is good, every 5 steps give one
 //! sample (GNSS distance / 5, with the mean features of those steps); every 20 steps
 //! (4 samples) the model is refitted by least squares, and successive fits are
@@ -56,9 +61,11 @@
 mod calib;
 mod config;
 mod error;
+mod initiation;
 
 pub use config::{StepLengthConfig, StepLengthModel};
 pub use error::StepLengthError;
+pub use initiation::{BoutPosition, GAIT_INITIATION, STOP_S};
 
 use crate::input::{self, in_range, Stream};
 use calib::{PublishedFit, Regression};
@@ -70,7 +77,7 @@ use crate::stepdetect::StepEvent;
 /// Snapshot engine kind byte of the step-length estimator.
 const SNAPSHOT_KIND: u8 = 4;
 /// Snapshot format version written by this build.
-const SNAPSHOT_VERSION: u16 = 1;
+const SNAPSHOT_VERSION: u16 = 2;
 /// Steps per calibration sample (paper: 5).
 pub const STEPS_PER_SAMPLE: usize = 5;
 /// Samples per fit (paper: 4, i.e. every 20 steps).
@@ -138,6 +145,8 @@ pub struct StepLengthEstimator {
     config: StepLengthConfig,
     fixes: Ring<Fix, FIXES>,
     last_step_t_s: Option<f64>,
+    /// Where the last step was in its bout (gait initiation).
+    bout: BoutPosition,
     /// Last known step frequency, steps/s (NaN before any).
     last_f_hz: f64,
     pending: Ring<StepRec, PENDING>,
@@ -162,6 +171,7 @@ impl StepLengthEstimator {
             config,
             fixes: Ring::new(),
             last_step_t_s: None,
+            bout: BoutPosition::STEADY,
             last_f_hz: f64::NAN,
             pending: Ring::new(),
             block: [StepRec::default(); BLOCK_STEPS + 1],
@@ -318,7 +328,11 @@ impl StepLengthEstimator {
         } else {
             DEFAULT_FREQUENCY_HZ
         };
-        let length = self.predict(self.features(f_for_model, sv, w));
+        // The model is of steady steps; the first steps from standing are shorter.
+        let share = self
+            .bout
+            .step(BoutPosition::starts_walk(event.t_s, self.last_step_t_s));
+        let length = share * self.predict(self.features(f_for_model, sv, w));
         self.last_step_t_s = Some(event.t_s);
         if f_hz.is_finite() {
             self.last_f_hz = f_hz;
@@ -326,7 +340,13 @@ impl StepLengthEstimator {
         if !self.frozen() {
             let rec = StepRec {
                 t_s: event.t_s,
-                f_hz,
+                // An initiation step only anchors the next calibration block (a NaN
+                // frequency does not continue one): the model learns steady steps.
+                f_hz: if self.bout.is_steady() {
+                    f_hz
+                } else {
+                    f64::NAN
+                },
                 sv,
                 w,
                 east_m: 0.0,

@@ -15,6 +15,7 @@ impl StepLengthEstimator {
             config,
             fixes,
             last_step_t_s,
+            bout,
             last_f_hz,
             pending,
             block,
@@ -42,6 +43,7 @@ impl StepLengthEstimator {
             w.bool(good);
         }
         w.opt_f64(*last_step_t_s);
+        w.u8(bout.code());
         w.f64(*last_f_hz);
         w.u64(pending.len() as u64);
         for s in pending.iter() {
@@ -86,6 +88,7 @@ impl StepLengthEstimator {
             });
         }
         s.last_step_t_s = r.opt_f64()?;
+        s.bout = BoutPosition::from_code(r.u8()?).ok_or(SnapshotError::Invalid("bout position"))?;
         // NaN before the first step with a frequency.
         s.last_f_hz = r.f64_or_nan()?;
         for _ in 0..r.len(PENDING)? {

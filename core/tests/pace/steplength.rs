@@ -4,7 +4,7 @@ use stridekit_core::input::InputError;
 use stridekit_core::snapshot::SnapshotError;
 use stridekit_core::stepdetect::StepEvent;
 use stridekit_core::steplength::{
-    StepLengthConfig, StepLengthError, StepLengthEstimator, StepLengthModel,
+    StepLengthConfig, StepLengthError, StepLengthEstimator, StepLengthModel, GAIT_INITIATION,
 };
 use stridekit_core::{PaceConfig, PaceTracker};
 use stridekit_sim::phone::{simulate_phone, PhonePlacement, PhoneScenario, SimulatedPhone};
@@ -42,7 +42,8 @@ fn uncalibrated_gives_the_prior_and_bad_input_is_rejected_without_change() {
     let c = StepLengthConfig::default();
     for m in StepLengthModel::ALL {
         let mut est = StepLengthEstimator::new(m, c).unwrap();
-        let l = est.push_step(&event(1.0, 0.55, 10.0)).unwrap();
+        // The first step of a walk is read at its gait-initiation share of the prior.
+        let l = est.push_step(&event(1.0, 0.55, 10.0)).unwrap() / GAIT_INITIATION[0];
         assert!((0.5..=0.95).contains(&l), "{m:?}: prior {l}");
         let before = est.snapshot();
         let bad = [
@@ -374,4 +375,40 @@ fn steps_lagging_or_leading_gnss_are_located_alike() {
     for c in &results[1..] {
         assert_eq!(c, &results[0]);
     }
+}
+
+#[test]
+fn the_first_steps_from_standing_are_short_and_a_short_gap_is_not_a_stop() {
+    let c = StepLengthConfig::default();
+    let mut est = StepLengthEstimator::new(StepLengthModel::Weinberg, c).unwrap();
+    let mut lengths = Vec::new();
+    // Identical steps: a walk, a 3 s gap (steps lost in a turn), a 6 s stop, a walk.
+    let times = [1.0, 1.5, 2.0, 2.5, 5.5, 6.0, 12.0, 12.5, 13.0];
+    let mut snapshot_at_restart = None;
+    for (i, &t) in times.iter().enumerate() {
+        if i == 7 {
+            snapshot_at_restart = Some(est.snapshot());
+        }
+        lengths.push(est.push_step(&event(t, 0.5, 10.0)).unwrap());
+    }
+    let steady = lengths[2];
+    let shares: Vec<f64> = lengths.iter().map(|l| l / steady).collect();
+    let want = [
+        GAIT_INITIATION[0],
+        GAIT_INITIATION[1],
+        1.0,
+        1.0,
+        1.0,
+        1.0,
+        GAIT_INITIATION[0],
+        GAIT_INITIATION[1],
+        1.0,
+    ];
+    for (got, want) in shares.iter().zip(want) {
+        assert!((got - want).abs() < 1e-12, "{shares:?}");
+    }
+    // A snapshot taken inside the initiation steps continues them.
+    let mut restored = StepLengthEstimator::restore(&snapshot_at_restart.unwrap()).unwrap();
+    let l7 = restored.push_step(&event(12.5, 0.5, 10.0)).unwrap();
+    assert_eq!(l7, lengths[7]);
 }

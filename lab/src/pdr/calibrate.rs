@@ -6,7 +6,8 @@
 //! - **step length**: the step-length model's θ by least squares over walks, each
 //!   walk one equation: polyline length between its first and last waypoint =
 //!   θ · Σ x(step) over the steps the navigator's detector finds in that span (x the
-//!   model's features, e.g. (a_max − a_min)^¼ for Weinberg), each walk weighted by
+//!   model's features, e.g. (a_max − a_min)^¼ for Weinberg, times the step's
+//!   gait-initiation share as the navigator applies it), each walk weighted by
 //!   1 / polyline (its error grows with its length), on top of the population prior;
 //!   the 1-σ written is the posterior's, floored at 1 % of θ;
 //! - **carrying**: the navigator's own converged walking direction in the phone's
@@ -22,7 +23,7 @@ use nalgebra::{Matrix3, Vector3};
 use stridekit_core::ahrs::ImuSample;
 use stridekit_core::pdr::{NavigatorConfig, PdrCalibration, PhoneNavigator};
 use stridekit_core::stepdetect::StepDetector;
-use stridekit_core::steplength::{prior_of, StepLengthEstimator, StepLengthModel};
+use stridekit_core::steplength::{prior_of, BoutPosition, StepLengthEstimator, StepLengthModel};
 
 use crate::pdr::metrics::polyline_m;
 use crate::pdr::walks::Walk;
@@ -105,6 +106,10 @@ fn feature_sum(
     let mut d = StepDetector::new(config.detector).map_err(|e| e.to_string())?;
     let mut sum = [0.0; 3];
     let mut last_hz = DEFAULT_STEP_HZ;
+    // The navigator shortens the first steps of a walk (gait initiation): the same
+    // shares here, so that θ is the model of steady steps.
+    let mut walk = BoutPosition::STEADY;
+    let mut last_t: Option<f64> = None;
     for s in &w.rec.samples {
         let Ok(first) = d.push_accel(s.t_s, s.accel_mps2) else {
             continue;
@@ -117,13 +122,15 @@ fn feature_sum(
             } else {
                 last_hz
             };
+            let share = walk.step(BoutPosition::starts_walk(e.t_s, last_t));
+            last_t = Some(e.t_s);
             if e.t_s < t0 || e.t_s > t1 {
                 continue;
             }
             let wf = (e.accel_max_mps2 - e.accel_min_mps2).max(0.0).powf(0.25);
             let x = StepLengthEstimator::model_features(model, f, e.accel_variance_m2ps4, wf);
             for i in 0..3 {
-                sum[i] += x[i];
+                sum[i] += share * x[i];
             }
         }
     }
