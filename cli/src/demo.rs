@@ -85,15 +85,32 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             f(s.outage[m])
         );
     }
-    let last_len = r.step_length.iter().rev().find(|v| v.is_finite()).copied();
-    if let Some(l) = last_len {
+    // Step length over the last minute (medians: the very last grid point can fall
+    // between the last step sample and the end of the recording).
+    let t_end = r.t_s.last().copied().unwrap_or(0.0);
+    let est: Vec<f64> = r
+        .t_s
+        .iter()
+        .zip(&r.step_length)
+        .filter(|(t, l)| **t >= t_end - 60.0 && l.is_finite())
+        .map(|(_, l)| *l)
+        .collect();
+    let tru: Vec<f64> = run
+        .truth
+        .iter()
+        .filter(|p| p.t_s >= t_end - 60.0 && p.cadence_spm > 0.0)
+        .map(|p| p.step_length_m)
+        .collect();
+    let last_len = (!est.is_empty() && !tru.is_empty()).then(|| {
+        (
+            stridekit_lab::stats::median(est),
+            stridekit_lab::stats::median(tru),
+        )
+    });
+    if let Some((l, t)) = last_len {
         let _ = writeln!(
             summary,
-            "\nStep length at the end: {l:.2} m (true {:.2} m).",
-            run.truth
-                .last()
-                .map(|t| t.step_length_m)
-                .unwrap_or(f64::NAN)
+            "\nStep length over the last minute (median): {l:.2} m (true {t:.2} m)."
         );
     }
     print!("{summary}");
@@ -117,9 +134,8 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
         run.zones.iter().filter(|z| z.kind == ZoneKind::Outage).count(),
         run.zones.iter().filter(|z| z.kind == ZoneKind::Stop).count(),
         last_len
-            .map(|l| format!(
-                " Step length learned by the end: {l:.2} m (true {:.2} m).",
-                run.truth.last().map(|t| t.step_length_m).unwrap_or(f64::NAN)
+            .map(|(l, t)| format!(
+                " Step length over the last minute (median): {l:.2} m (true {t:.2} m)."
             ))
             .unwrap_or_default()
     );
