@@ -9,7 +9,7 @@
 //! not walked, always in the direction of the first leg.
 //!
 //! [`GAIT_INITIATION`] holds the shares of the steady step length used for the first
-//! and second step of a bout. They are physiological values, not fitted here: on the
+//! and second step of a walk. They are physiological values, not fitted here: on the
 //! 287 indoor walks (`stridekit eval pdr --diagnose`, docs/phone.md) the model read
 //! the first waypoint leg (from standing) 0.9 step-equivalents longer than the other
 //! legs, and `0.6 + 0.85` takes 0.55 steps off; the sensitivity to other shares is in
@@ -34,28 +34,28 @@ pub struct BoutPosition {
     index: u8,
 }
 
-impl Default for BoutPosition {
-    /// Steady: before any step nothing is known, and the first step will restart.
-    fn default() -> Self {
-        Self::STEADY
-    }
-}
-
 impl BoutPosition {
-    /// Past the initiation steps.
+    /// Past the initiation steps (also the state before any step: the first step
+    /// starts a walk).
     pub const STEADY: Self = Self {
         index: GAIT_INITIATION.len() as u8,
     };
 
+    /// Advance by a step at `t_s` whose previous step was at `previous_t_s` (`None`:
+    /// there was none) and return its share of the steady step length.
+    pub fn next_step(&mut self, t_s: f64, previous_t_s: Option<f64>) -> f64 {
+        self.step(Self::starts_walk(t_s, previous_t_s))
+    }
+
     /// Whether a step at `t_s` starts a walk: there was no step before it
     /// (`previous_t_s` `None`) or the previous one was [`STOP_S`] or more before it.
-    pub fn starts_walk(t_s: f64, previous_t_s: Option<f64>) -> bool {
+    fn starts_walk(t_s: f64, previous_t_s: Option<f64>) -> bool {
         previous_t_s.is_none_or(|t| t_s - t >= STOP_S)
     }
 
     /// Advance by one step (`restart`: it starts a walk) and return its share of the
     /// steady step length.
-    pub fn step(&mut self, restart: bool) -> f64 {
+    fn step(&mut self, restart: bool) -> f64 {
         if restart {
             self.index = 0;
         } else if (self.index as usize) < GAIT_INITIATION.len() {
@@ -65,7 +65,7 @@ impl BoutPosition {
     }
 
     /// The share of the steady step length at this position.
-    pub fn factor(&self) -> f64 {
+    fn factor(&self) -> f64 {
         GAIT_INITIATION
             .get(self.index as usize)
             .copied()
@@ -93,12 +93,12 @@ mod tests {
 
     #[test]
     fn the_first_two_steps_of_a_walk_are_short_and_the_rest_steady() {
-        let mut b = BoutPosition::default();
+        let mut b = BoutPosition::STEADY;
         let mut prev = None;
         let mut shares = Vec::new();
         // A walk, a 3 s gap (steps lost in a turn: no restart), a 6 s stop, a walk.
         for t in [1.0, 1.5, 2.0, 2.5, 5.5, 6.0, 12.0, 12.5, 13.0] {
-            shares.push(b.step(BoutPosition::starts_walk(t, prev)));
+            shares.push(b.next_step(t, prev));
             prev = Some(t);
         }
         assert_eq!(shares, vec![0.6, 0.85, 1.0, 1.0, 1.0, 1.0, 0.6, 0.85, 1.0]);
@@ -114,7 +114,7 @@ mod tests {
 
     #[test]
     fn codes_round_trip_and_out_of_range_is_refused() {
-        let mut b = BoutPosition::default();
+        let mut b = BoutPosition::STEADY;
         for restart in [true, false, false, false] {
             b.step(restart);
             assert_eq!(BoutPosition::from_code(b.code()), Some(b));

@@ -145,7 +145,7 @@ pub struct StepLengthEstimator {
     config: StepLengthConfig,
     fixes: Ring<Fix, FIXES>,
     last_step_t_s: Option<f64>,
-    /// Where the last step was in its bout (gait initiation).
+    /// Where the last step was in its walk (gait initiation).
     bout: BoutPosition,
     /// Last known step frequency, steps/s (NaN before any).
     last_f_hz: f64,
@@ -329,9 +329,7 @@ impl StepLengthEstimator {
             DEFAULT_FREQUENCY_HZ
         };
         // The model is of steady steps; the first steps from standing are shorter.
-        let share = self
-            .bout
-            .step(BoutPosition::starts_walk(event.t_s, self.last_step_t_s));
+        let share = self.bout.next_step(event.t_s, self.last_step_t_s);
         let length = share * self.predict(self.features(f_for_model, sv, w));
         self.last_step_t_s = Some(event.t_s);
         if f_hz.is_finite() {

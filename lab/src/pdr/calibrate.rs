@@ -122,7 +122,7 @@ fn feature_sum(
             } else {
                 last_hz
             };
-            let share = walk.step(BoutPosition::starts_walk(e.t_s, last_t));
+            let share = walk.next_step(e.t_s, last_t);
             last_t = Some(e.t_s);
             if e.t_s < t0 || e.t_s > t1 {
                 continue;
