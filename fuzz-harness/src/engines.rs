@@ -356,6 +356,7 @@ impl Engine for StepLength {
                 accel_variance_m2ps4: b.value(4.0, 2.0),
                 accel_max_mps2: b.value(14.0, 3.0),
                 accel_min_mps2: b.value(6.0, 2.0),
+                vertical_displacement_m: b.value(0.07, 0.03),
             };
             if let Ok(l) = self.e.push_step(&ev) {
                 assert!(l.is_finite() && l >= 0.0, "step length {l}");

@@ -182,6 +182,7 @@ fn synth_steps(cadence: &[(f64, f64)]) -> Vec<StepEvent> {
                 accel_variance_m2ps4: 0.0,
                 accel_max_mps2: 9.81,
                 accel_min_mps2: 9.81,
+                vertical_displacement_m: f64::NAN,
             });
             bout_new = false;
             next += 1.0;

@@ -321,12 +321,34 @@ impl SimulatedPhone {
 
     /// Step events at the true heel strikes with the features a detector would
     /// compute over each step (previous heel strike, this one] from the simulated
-    /// acceleration magnitude. Duration is `NaN` for the first step of a bout.
+    /// acceleration magnitude, and the vertical displacement a navigator would
+    /// measure over it (the accelerometer rotated by the true attitude, the nearest
+    /// 10 Hz truth row). Duration is `NaN` for the first step of a bout.
     pub fn step_events(&self) -> Vec<StepEvent> {
         let mut out = Vec::with_capacity(self.steps.len());
         let mut i = 0;
         let mut prev_t = f64::NEG_INFINITY;
+        let mut vertical = stridekit_core::pdr::VerticalHistory::new();
+        let (mut k, mut m) = (0, 0);
         for s in &self.steps {
+            while k < self.samples.len() && self.samples[k].t_s <= s.t_s {
+                let x = &self.samples[k];
+                while m + 1 < self.truth.len()
+                    && (self.truth[m + 1].t_s - x.t_s).abs() <= (self.truth[m].t_s - x.t_s).abs()
+                {
+                    m += 1;
+                }
+                if let Some(tr) = self.truth.get(m) {
+                    let [w, qx, qy, qz] = tr.attitude_wxyz;
+                    let a = x.accel_mps2;
+                    // The third row of the body → ENU rotation.
+                    let up = 2.0 * (qx * qz - w * qy) * a[0]
+                        + 2.0 * (qy * qz + w * qx) * a[1]
+                        + (1.0 - 2.0 * (qx * qx + qy * qy)) * a[2];
+                    vertical.push(x.t_s, up);
+                }
+                k += 1;
+            }
             let t0 = if s.duration_s.is_finite() {
                 s.t_s - s.duration_s
             } else {
@@ -361,6 +383,7 @@ impl SimulatedPhone {
                 accel_variance_m2ps4: var,
                 accel_max_mps2: hi,
                 accel_min_mps2: lo,
+                vertical_displacement_m: vertical.displacement_range_m(t0, s.t_s),
             });
             prev_t = s.t_s;
         }

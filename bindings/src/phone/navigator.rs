@@ -167,6 +167,9 @@ pub struct NavStep {
     pub length_m: f64,
     /// Walking azimuth over the step, radians clockwise from north.
     pub azimuth_rad: f64,
+    /// Peak-to-peak vertical displacement of the phone over the step, metres (what
+    /// the `PENDULUM` step length uses; NaN when it could not be measured).
+    pub vertical_displacement_m: f64,
 }
 
 impl From<core::NavStep> for NavStep {
@@ -177,6 +180,7 @@ impl From<core::NavStep> for NavStep {
             north_m: s.north_m,
             length_m: s.length_m,
             azimuth_rad: s.azimuth_rad,
+            vertical_displacement_m: s.vertical_displacement_m,
         }
     }
 }
@@ -204,6 +208,9 @@ pub enum StepLengthModel {
     LinearAsPublished,
     LinearFrequencyOnly,
     Weinberg,
+    /// The inverted pendulum, L = K·√h (h the phone's vertical displacement over the
+    /// step, measured by the navigator from its attitude): the navigator's default.
+    Pendulum,
 }
 
 impl From<StepLengthModel> for stridekit_core::steplength::StepLengthModel {
@@ -215,6 +222,7 @@ impl From<StepLengthModel> for stridekit_core::steplength::StepLengthModel {
             StepLengthModel::LinearAsPublished => M::LinearAsPublished,
             StepLengthModel::LinearFrequencyOnly => M::LinearFrequencyOnly,
             StepLengthModel::Weinberg => M::Weinberg,
+            StepLengthModel::Pendulum => M::Pendulum,
         }
     }
 }
@@ -228,6 +236,7 @@ impl From<stridekit_core::steplength::StepLengthModel> for StepLengthModel {
             M::LinearAsPublished => Self::LinearAsPublished,
             M::LinearFrequencyOnly => Self::LinearFrequencyOnly,
             M::Weinberg => Self::Weinberg,
+            M::Pendulum => Self::Pendulum,
         }
     }
 }
@@ -320,7 +329,7 @@ pub struct NavigatorConfig {
     pub orientation: crate::phone::orientation::OrientationSettings,
     /// Step detector (default: `ROBUST`).
     pub step_detector: StepDetectorMode,
-    /// Step-length model (default: `WEINBERG`; a calibration replaces it).
+    /// Step-length model (default: `PENDULUM`; a calibration replaces it).
     pub step_length_model: StepLengthModel,
     /// Prior step length of the `CONSTANT` model before GNSS teaches one, metres.
     #[uniffi(default = 0.75)]
@@ -328,6 +337,10 @@ pub struct NavigatorConfig {
     /// Prior K of the `WEINBERG` model (L = K·(a_max − a_min)^¼, a in m/s²).
     #[uniffi(default = 0.4)]
     pub prior_weinberg_k: f64,
+    /// Prior K of the `PENDULUM` model (L = K·√h, h in m): 2·√(2·l) for a leg length
+    /// l of 0.9 m.
+    #[uniffi(default = 2.683281572999748)]
+    pub prior_pendulum_k: f64,
     /// GNSS fixes reporting a worse horizontal accuracy (68 %) are not used to learn
     /// step length, metres.
     #[uniffi(default = 10.0)]
@@ -347,6 +360,7 @@ impl From<&core::NavigatorConfig> for NavigatorConfig {
             step_length_model: c.step_length_model.into(),
             prior_step_length_m: c.step_length.prior_step_length_m,
             prior_weinberg_k: c.step_length.prior_weinberg_k,
+            prior_pendulum_k: c.step_length.prior_pendulum_k,
             max_fix_accuracy_m: c.step_length.max_accuracy_m,
         }
     }
@@ -374,6 +388,7 @@ impl TryFrom<NavigatorConfig> for core::NavigatorConfig {
             step_length: stridekit_core::steplength::StepLengthConfig {
                 prior_step_length_m: c.prior_step_length_m,
                 prior_weinberg_k: c.prior_weinberg_k,
+                prior_pendulum_k: c.prior_pendulum_k,
                 max_accuracy_m: c.max_fix_accuracy_m,
                 ..base.step_length
             },
@@ -435,7 +450,7 @@ impl PhoneNavigator {
     }
 
     /// A navigator with the default configuration (`navigatorConfigDefault()`: ENU,
-    /// robust step detector, Weinberg step length).
+    /// robust step detector, pendulum step length).
     #[uniffi::constructor]
     pub fn with_defaults() -> Arc<Self> {
         Arc::new(Self {
@@ -553,8 +568,13 @@ mod tests {
         // The record's literal defaults (used by the Kotlin/Swift constructors).
         let s = c.step_length;
         assert_eq!(
-            (s.prior_step_length_m, s.prior_weinberg_k, s.max_accuracy_m),
-            (0.75, 0.4, 10.0)
+            (
+                s.prior_step_length_m,
+                s.prior_weinberg_k,
+                s.prior_pendulum_k,
+                s.max_accuracy_m
+            ),
+            (0.75, 0.4, 2.683281572999748, 10.0)
         );
         let nav = PhoneNavigator::new(d.clone()).unwrap();
         assert_eq!(nav.config(), d);

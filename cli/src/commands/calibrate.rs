@@ -22,8 +22,8 @@ pub enum Calibrate {
         /// The calibration file to write.
         #[arg(long, value_name = "FILE")]
         out: PathBuf,
-        /// Step-length model to learn.
-        #[arg(long, value_enum, default_value_t = Model::Weinberg)]
+        /// Step-length model to learn (the navigator's default: pendulum).
+        #[arg(long, value_enum, default_value_t = Model::Pendulum)]
         model: Model,
     },
 }
@@ -31,6 +31,7 @@ pub enum Calibrate {
 /// Step-length models on the command line.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum Model {
+    Pendulum,
     Weinberg,
     Linear,
     LinearF,
@@ -40,6 +41,7 @@ pub enum Model {
 impl From<Model> for StepLengthModel {
     fn from(m: Model) -> Self {
         let name = match m {
+            Model::Pendulum => "pendulum",
             Model::Weinberg => "weinberg",
             Model::Linear => "linear",
             Model::LinearF => "linear-f",

@@ -78,6 +78,7 @@ fn model_name(m: StepLengthModel) -> &'static str {
         StepLengthModel::LinearAsPublished => "linear_as_published",
         StepLengthModel::LinearFrequencyOnly => "linear_frequency_only",
         StepLengthModel::Weinberg => "weinberg",
+        StepLengthModel::Pendulum => "pendulum",
     }
 }
 

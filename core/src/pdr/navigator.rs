@@ -5,8 +5,10 @@
 //! acceleration in the earth frame; the step detector ([`crate::stepdetect`]) finds
 //! steps in the raw acceleration; the walking direction ([`super::heading`]) combines
 //! the orientation, the magnetometer (when given: it corrects the AHRS yaw) and how the
-//! phone is carried. Per step: the step-length estimator ([`crate::steplength`]) gives
-//! a length, and the position advances by it along the step's walking direction. GNSS
+//! phone is carried. Per step: the phone's vertical displacement over the step
+//! ([`super::VerticalHistory`], from the attitude) and the step-length estimator
+//! ([`crate::steplength`], by default the inverted pendulum) give a length, and the
+//! position advances by it along the step's walking direction. GNSS
 //! fixes, when pushed, anchor the local East-North-Up frame (at the first fix),
 //! correct the position (a 2-D Kalman update weighted by the fix's accuracy against
 //! the dead-reckoning uncertainty), calibrate step length, and calibrate how the phone
@@ -37,17 +39,21 @@ use crate::steplength::{StepLengthConfig, StepLengthError, StepLengthEstimator, 
 
 use super::calibration::{CalibrationError, PdrCalibration};
 use super::heading::WalkingDirection;
+use super::vertical::VerticalHistory;
 
 const SNAPSHOT_KIND: u8 = 5;
-/// Version 4: the input layer's time state per stream (version 3 added the attitude
-/// history, deferred and recent steps).
-const SNAPSHOT_VERSION: u16 = 5;
+/// Version 6: the vertical history and each step's vertical displacement (5: gait
+/// initiation in the step-length state; 4: the input layer's time state per stream;
+/// 3 added the attitude history, deferred and recent steps).
+const SNAPSHOT_VERSION: u16 = 6;
 /// Steps waiting for the carrying to be known, and recent placed steps kept.
 const DEFERRED_STEPS: usize = 32;
 pub const RECENT_STEPS: usize = 32;
 /// Span of a step whose duration is unknown (first of a bout) or implausibly long, s.
 const DEFAULT_STEP_S: f64 = 0.55;
 const MAX_STEP_S: f64 = 2.0;
+/// A step's vertical displacement above this is not a step's, m.
+const MAX_VERTICAL_M: f64 = 1.0;
 /// 68 % radius of a circular 2-D Gaussian is 1.515 σ per axis.
 const RADIUS68_TO_SIGMA: f64 = 1.0 / 1.515;
 /// Per-axis σ assumed for a fix without accuracy, m.
@@ -136,10 +142,11 @@ impl Default for NavigatorConfig {
         Self {
             ahrs: AhrsSettings::default(),
             detector: StepDetectorConfig::default(),
-            // Weinberg: the step's acceleration range follows the step length when
-            // the walker shortens steps at the same cadence (slowing down, turning,
-            // indoors), which the cadence-driven linear prior cannot.
-            step_length_model: StepLengthModel::Weinberg,
+            // The inverted pendulum: the phone's rise and fall over a step follows
+            // its length when the walker shortens steps at the same cadence (slowing
+            // down, turning, indoors), which the cadence-driven linear prior cannot,
+            // and more closely than Weinberg's acceleration range (docs/phone.md).
+            step_length_model: StepLengthModel::Pendulum,
             step_length: StepLengthConfig::default(),
         }
     }
@@ -182,6 +189,9 @@ pub struct NavStep {
     pub length_m: f64,
     /// Walking azimuth over the step, radians clockwise from north.
     pub azimuth_rad: f64,
+    /// Peak-to-peak vertical displacement of the phone over the step, m (what the
+    /// pendulum step length uses; NaN when it could not be measured).
+    pub vertical_displacement_m: f64,
 }
 
 /// A detected step waiting for the walking direction to be known.
@@ -190,6 +200,7 @@ struct PendingStep {
     t0_s: f64,
     t1_s: f64,
     length_m: f64,
+    vertical_displacement_m: f64,
 }
 
 /// Pedestrian dead reckoning with a phone.
@@ -200,6 +211,8 @@ pub struct PhoneNavigator {
     detector: StepDetector,
     lengths: StepLengthEstimator,
     direction: WalkingDirection,
+    /// The vertical specific force of recent samples (the pendulum step length).
+    vertical: VerticalHistory,
     frame: Option<LocalFrame>,
     east_m: f64,
     north_m: f64,
@@ -243,6 +256,7 @@ impl PhoneNavigator {
             lengths: StepLengthEstimator::new(config.step_length_model, config.step_length)?,
             config,
             direction: WalkingDirection::new(),
+            vertical: VerticalHistory::new(),
             frame: None,
             east_m: 0.0,
             north_m: 0.0,
@@ -385,6 +399,7 @@ impl PhoneNavigator {
         if let Some(q_enu) = q_enu {
             let remap = &self.config.ahrs.axis_remap;
             let force = q_enu * Vector3::from(remap.apply(s.accel_mps2));
+            self.vertical.push(s.t_s, force.z);
             let mag = s.mag_ut.map(|m| remap.apply(m));
             self.direction.push_sample(s.t_s, &q_enu, force.into(), mag);
         }
@@ -399,21 +414,31 @@ impl PhoneNavigator {
 
     fn on_step(&mut self, step: &StepEvent) -> Result<(), NavError> {
         let hz = step.frequency_hz();
-        let length = self.lengths.push_step(step)?;
-        self.direction
-            .push_step(if hz.is_finite() { hz } else { 1.8 });
-        self.steps = self.steps.saturating_add(1);
-        self.last_step_length_m = length;
-        self.distance_m += length;
         let span = if step.duration_s.is_finite() && step.duration_s <= MAX_STEP_S {
             step.duration_s
         } else {
             DEFAULT_STEP_S
         };
+        // The phone's rise and fall over the step (NaN when the history lacks it, or
+        // implausible: the estimator then uses its prior length).
+        let h = self
+            .vertical
+            .displacement_range_m(step.t_s - span, step.t_s);
+        let step = StepEvent {
+            vertical_displacement_m: if h <= MAX_VERTICAL_M { h } else { f64::NAN },
+            ..*step
+        };
+        let length = self.lengths.push_step(&step)?;
+        self.direction
+            .push_step(if hz.is_finite() { hz } else { 1.8 });
+        self.steps = self.steps.saturating_add(1);
+        self.last_step_length_m = length;
+        self.distance_m += length;
         let pending = PendingStep {
             t0_s: step.t_s - span,
             t1_s: step.t_s,
             length_m: length,
+            vertical_displacement_m: step.vertical_displacement_m,
         };
         if self.direction.forward_body().is_none() {
             // The carrying is not known yet (a walk's first stride): place the step
@@ -448,6 +473,7 @@ impl PhoneNavigator {
             north_m: self.north_m,
             length_m: length,
             azimuth_rad: az,
+            vertical_displacement_m: p.vertical_displacement_m,
         });
     }
 

@@ -15,6 +15,12 @@ pub struct StepEvent {
     pub accel_max_mps2: f64,
     /// Smallest acceleration magnitude over the step, m/s².
     pub accel_min_mps2: f64,
+    /// Peak-to-peak vertical displacement of the device over the step, metres, for
+    /// the inverted-pendulum step length (`StepLengthModel::Pendulum`). `NaN` when
+    /// unknown: the detector alone does not know the attitude, so its events carry
+    /// `NaN` and the phone navigator fills it in from its own attitude; an app with an
+    /// attitude of its own may fill it in (see [`crate::pdr::VerticalHistory`]).
+    pub vertical_displacement_m: f64,
 }
 
 impl StepEvent {

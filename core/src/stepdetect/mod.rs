@@ -159,6 +159,7 @@ impl Moments {
             accel_variance_m2ps4: var,
             accel_max_mps2: max,
             accel_min_mps2: min,
+            vertical_displacement_m: f64::NAN,
         }
     }
 
@@ -198,6 +199,7 @@ impl Moments {
 pub(crate) use crate::signal::ema_gain;
 
 pub(crate) fn write_event(w: &mut Writer, e: &StepEvent) {
+    // The detector's own events never know the vertical displacement (NaN): not kept.
     w.f64s(&[
         e.t_s,
         e.duration_s,
@@ -226,6 +228,7 @@ pub(crate) fn read_event(r: &mut Reader) -> Result<StepEvent, SnapshotError> {
         accel_variance_m2ps4: v[2],
         accel_max_mps2: v[3],
         accel_min_mps2: v[4],
+        vertical_displacement_m: f64::NAN,
     })
 }
 

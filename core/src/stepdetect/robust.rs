@@ -123,6 +123,7 @@ fn merge(a: &Pending, b: &Pending) -> Pending {
             accel_variance_m2ps4: big.event.accel_variance_m2ps4,
             accel_max_mps2: big.event.accel_max_mps2.max(small.event.accel_max_mps2),
             accel_min_mps2: big.event.accel_min_mps2.min(small.event.accel_min_mps2),
+            vertical_displacement_m: f64::NAN,
         },
         impact: big.impact.max(small.impact),
         amplitude_mps2: big.amplitude_mps2,
@@ -397,6 +398,7 @@ impl Default for StepEvent {
             accel_variance_m2ps4: 0.0,
             accel_max_mps2: 0.0,
             accel_min_mps2: 0.0,
+            vertical_displacement_m: f64::NAN,
         }
     }
 }

@@ -21,16 +21,25 @@ pub enum StepLengthModel {
     LinearFrequencyOnly,
     /// Weinberg: `L = K·(a_max − a_min)^¼`, K calibrated like the linear model.
     Weinberg,
+    /// Inverted pendulum (Zijlstra & Hof 2003): the body vaults over the stance leg,
+    /// so a step of length L raises and lowers it by h with L ≈ 2·√(2·l·h) for a leg
+    /// of length l; here `L = K·√h`, h the device's peak-to-peak vertical
+    /// displacement over the step ([`crate::stepdetect::StepEvent::vertical_displacement_m`],
+    /// filled in by the phone navigator from its attitude), K calibrated like the
+    /// linear model (prior: l = 0.9 m). A step whose h is unknown gets the prior step
+    /// length and does not calibrate.
+    Pendulum,
 }
 
 impl StepLengthModel {
     /// Every model, in report order.
-    pub const ALL: [StepLengthModel; 5] = [
+    pub const ALL: [StepLengthModel; 6] = [
         StepLengthModel::Constant,
         StepLengthModel::Linear,
         StepLengthModel::LinearAsPublished,
         StepLengthModel::LinearFrequencyOnly,
         StepLengthModel::Weinberg,
+        StepLengthModel::Pendulum,
     ];
 
     /// Short name for tables.
@@ -41,6 +50,7 @@ impl StepLengthModel {
             StepLengthModel::LinearAsPublished => "linear (as published)",
             StepLengthModel::LinearFrequencyOnly => "linear F only",
             StepLengthModel::Weinberg => "Weinberg",
+            StepLengthModel::Pendulum => "inverted pendulum",
         }
     }
 
@@ -51,6 +61,7 @@ impl StepLengthModel {
             StepLengthModel::LinearAsPublished => 2,
             StepLengthModel::LinearFrequencyOnly => 3,
             StepLengthModel::Weinberg => 4,
+            StepLengthModel::Pendulum => 5,
         }
     }
 
@@ -58,6 +69,12 @@ impl StepLengthModel {
         Self::ALL.iter().copied().find(|m| m.code() == c)
     }
 }
+
+/// Leg length behind the pendulum model's prior K, metres (an adult's, about 0.53 of
+/// a stature of 1.7 m).
+pub const PRIOR_LEG_LENGTH_M: f64 = 0.9;
+/// 2·√(2·l) for [`PRIOR_LEG_LENGTH_M`].
+pub const PRIOR_PENDULUM_K: f64 = 2.683_281_572_999_748;
 
 /// Tunables of [`super::StepLengthEstimator`]. The paper's block structure (5 steps
 /// per sample, 4 samples per fit) is fixed; these are the rest.
@@ -92,6 +109,10 @@ pub struct StepLengthConfig {
     pub prior_step_length_sigma_m: f64,
     pub prior_weinberg_k: f64,
     pub prior_weinberg_k_sigma: f64,
+    /// Prior K of the inverted-pendulum model `L = K·√h` (m^½), with 1-σ: 2·√(2·l)
+    /// for a leg length l of 0.9 m (a population value, not fitted to any data).
+    pub prior_pendulum_k: f64,
+    pub prior_pendulum_k_sigma: f64,
     /// 1-σ of one 5-step sample's step length (GNSS noise over a few seconds and
     /// gait variability), metres: weighs samples against the prior.
     pub sample_sigma_m: f64,
@@ -126,6 +147,8 @@ impl Default for StepLengthConfig {
             prior_step_length_sigma_m: 0.5,
             prior_weinberg_k: 0.4,
             prior_weinberg_k_sigma: 0.3,
+            prior_pendulum_k: PRIOR_PENDULUM_K,
+            prior_pendulum_k_sigma: 2.0,
             sample_sigma_m: 0.2,
             converged_rel_sigma: 0.01,
             min_fits: 10,
@@ -155,6 +178,8 @@ impl StepLengthConfig {
             ("prior_step_length_sigma_m", self.prior_step_length_sigma_m),
             ("prior_weinberg_k", self.prior_weinberg_k),
             ("prior_weinberg_k_sigma", self.prior_weinberg_k_sigma),
+            ("prior_pendulum_k", self.prior_pendulum_k),
+            ("prior_pendulum_k_sigma", self.prior_pendulum_k_sigma),
             ("sample_sigma_m", self.sample_sigma_m),
             ("converged_rel_sigma", self.converged_rel_sigma),
         ];

@@ -4,8 +4,9 @@
 //! [`StepLengthEstimator`] takes the detector's [`StepEvent`]s and GNSS fixes (in a
 //! local ENU frame) and returns a step length for every step. Models
 //! ([`StepLengthModel`]): constant, linear `L = A·F + B·SV + C` (robust and as
-//! published), linear on frequency only (cadence-only devices), and Weinberg
-//! `L = K·(a_max − a_min)^¼`.
+//! published), linear on frequency only (cadence-only devices), Weinberg
+//! `L = K·(a_max − a_min)^¼`, and the inverted pendulum `L = K·√h` (h the device's
+//! vertical displacement over the step, which the phone navigator measures).
 //!
 //! **Gait initiation** ([`BoutPosition`]): the models are of steady steps;
 //! the first two steps of a walk (the first step, or the first after a stop of
@@ -63,7 +64,7 @@ mod config;
 mod error;
 mod initiation;
 
-pub use config::{StepLengthConfig, StepLengthModel};
+pub use config::{StepLengthConfig, StepLengthModel, PRIOR_LEG_LENGTH_M, PRIOR_PENDULUM_K};
 pub use error::StepLengthError;
 pub use initiation::{BoutPosition, GAIT_INITIATION, STOP_S};
 
@@ -76,8 +77,8 @@ use crate::stepdetect::StepEvent;
 
 /// Snapshot engine kind byte of the step-length estimator.
 const SNAPSHOT_KIND: u8 = 4;
-/// Snapshot format version written by this build.
-const SNAPSHOT_VERSION: u16 = 2;
+/// Snapshot format version written by this build (3: the pendulum feature per step).
+const SNAPSHOT_VERSION: u16 = 3;
 /// Steps per calibration sample (paper: 5).
 pub const STEPS_PER_SAMPLE: usize = 5;
 /// Samples per fit (paper: 4, i.e. every 20 steps).
@@ -96,6 +97,11 @@ const MAX_STEP_DURATION_S: f64 = 5.0;
 const MAX_BLOCK_FREQUENCY_RATIO: f64 = 1.5;
 /// Largest plausible acceleration magnitude, m/s² (±16 g sensors).
 const MAX_ACCEL_MPS2: f64 = 400.0;
+/// Largest plausible vertical displacement over one step, m.
+const MAX_VERTICAL_M: f64 = 2.0;
+/// Vertical displacement assumed for the typical step before calibration, m (the
+/// prior K then gives 0.76 m).
+const DEFAULT_VERTICAL_M: f64 = 0.08;
 
 /// A GNSS fix in the local frame, with its "good" verdict.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -114,6 +120,8 @@ struct StepRec {
     f_hz: f64,
     sv: f64,
     w: f64,
+    /// √h of the pendulum model (NaN when unknown).
+    sqrt_h: f64,
     east_m: f64,
     north_m: f64,
 }
@@ -121,8 +129,10 @@ struct StepRec {
 /// Calibration status of an estimator.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Calibration {
-    /// Current parameters (A, B, C) of `L = θ·x` (x per model: constant (0, 0, 1), linear (F, SV, 1), F only (F, 0, 1), Weinberg ((a_max − a_min)^¼, 0, 0);
-    /// for Weinberg, K is the first; for the constant model, L is the third).
+    /// Current parameters (A, B, C) of `L = θ·x` (x per model: constant (0, 0, 1),
+    /// linear (F, SV, 1), F only (F, 0, 1), Weinberg ((a_max − a_min)^¼, 0, 0),
+    /// pendulum (√h, 0, 0); for Weinberg and the pendulum, K is the first; for the
+    /// constant model, L is the third).
     pub theta: [f64; 3],
     /// Accepted 5-step samples.
     pub samples: u64,
@@ -220,19 +230,27 @@ impl StepLengthEstimator {
     }
 
     /// The model's feature vector for a step.
-    fn features(&self, f_hz: f64, sv: f64, w: f64) -> [f64; 3] {
-        Self::model_features(self.model, f_hz, sv, w)
+    fn features(&self, f_hz: f64, sv: f64, w: f64, sqrt_h: f64) -> [f64; 3] {
+        Self::model_features(self.model, f_hz, sv, w, sqrt_h)
     }
 
     /// The feature vector x of `L = θ·x` for a step of frequency `f_hz`, magnitude
-    /// variance `sv` and Weinberg feature `w` = (a_max − a_min)^¼ (for calibration
-    /// done elsewhere, e.g. from surveyed walks).
-    pub fn model_features(model: StepLengthModel, f_hz: f64, sv: f64, w: f64) -> [f64; 3] {
+    /// variance `sv`, Weinberg feature `w` = (a_max − a_min)^¼ and pendulum feature
+    /// `sqrt_h` = √(vertical displacement, m) (for calibration done elsewhere, e.g.
+    /// from surveyed walks).
+    pub fn model_features(
+        model: StepLengthModel,
+        f_hz: f64,
+        sv: f64,
+        w: f64,
+        sqrt_h: f64,
+    ) -> [f64; 3] {
         match model {
             StepLengthModel::Constant => [0.0, 0.0, 1.0],
             StepLengthModel::Linear | StepLengthModel::LinearAsPublished => [f_hz, sv, 1.0],
             StepLengthModel::LinearFrequencyOnly => [f_hz, 0.0, 1.0],
             StepLengthModel::Weinberg => [w, 0.0, 0.0],
+            StepLengthModel::Pendulum => [sqrt_h, 0.0, 0.0],
         }
     }
 
@@ -258,7 +276,7 @@ impl StepLengthEstimator {
     fn mean_features(&self) -> [f64; 3] {
         if self.samples == 0 {
             let w = 9.81f64.powf(0.25);
-            return self.features(DEFAULT_FREQUENCY_HZ, 0.0, w);
+            return self.features(DEFAULT_FREQUENCY_HZ, 0.0, w, DEFAULT_VERTICAL_M.sqrt());
         }
         self.feature_sum.map(|s| s / self.samples as f64)
     }
@@ -307,6 +325,15 @@ impl StepLengthEstimator {
             MAX_ACCEL_MPS2,
             "accel_min_mps2..=400 m/s²",
         )?;
+        if !e.vertical_displacement_m.is_nan() {
+            in_range(
+                "vertical_displacement_m",
+                e.vertical_displacement_m,
+                0.0,
+                MAX_VERTICAL_M,
+                "0..=2 m or NaN",
+            )?;
+        }
         Ok(())
     }
 
@@ -321,6 +348,7 @@ impl StepLengthEstimator {
         };
         let w = (event.accel_max_mps2 - event.accel_min_mps2).powf(0.25);
         let sv = event.accel_variance_m2ps4;
+        let sqrt_h = event.vertical_displacement_m.sqrt();
         let f_for_model = if f_hz.is_finite() {
             f_hz
         } else if self.last_f_hz.is_finite() {
@@ -330,7 +358,9 @@ impl StepLengthEstimator {
         };
         // The model is of steady steps; the first steps from standing are shorter.
         let share = self.bout.next_step(event.t_s, self.last_step_t_s);
-        let length = share * self.predict(self.features(f_for_model, sv, w));
+        // A feature the model needs but the step lacks (NaN) gives the prior length.
+        let x = self.features(f_for_model, sv, w, sqrt_h);
+        let length = share * self.predict(x);
         self.last_step_t_s = Some(event.t_s);
         if f_hz.is_finite() {
             self.last_f_hz = f_hz;
@@ -338,15 +368,17 @@ impl StepLengthEstimator {
         if !self.frozen() {
             let rec = StepRec {
                 t_s: event.t_s,
-                // An initiation step only anchors the next calibration block (a NaN
-                // frequency does not continue one): the model learns steady steps.
-                f_hz: if self.bout.is_steady() {
+                // An initiation step, or one without the model's feature, only
+                // anchors the next calibration block (a NaN frequency does not
+                // continue one): the model learns steady, measured steps.
+                f_hz: if self.bout.is_steady() && x.iter().all(|v| v.is_finite()) {
                     f_hz
                 } else {
                     f64::NAN
                 },
                 sv,
                 w,
+                sqrt_h,
                 east_m: 0.0,
                 north_m: 0.0,
             };
@@ -486,7 +518,8 @@ impl StepLengthEstimator {
             let f = steps.iter().map(|s| s.f_hz).sum::<f64>() / n;
             let sv = steps.iter().map(|s| s.sv).sum::<f64>() / n;
             let w = steps.iter().map(|s| s.w).sum::<f64>() / n;
-            xs[j] = self.features(f, sv, w);
+            let sqrt_h = steps.iter().map(|s| s.sqrt_h).sum::<f64>() / n;
+            xs[j] = self.features(f, sv, w, sqrt_h);
         }
         let c = &self.config;
         let mean_len = ys.iter().sum::<f64>() / SAMPLES_PER_FIT as f64;
@@ -562,6 +595,10 @@ fn prior(model: StepLengthModel, c: &StepLengthConfig) -> Regression {
         StepLengthModel::Weinberg => Regression::new(
             [c.prior_weinberg_k, 0.0, 0.0],
             [c.prior_weinberg_k_sigma, 1.0, 1.0],
+        ),
+        StepLengthModel::Pendulum => Regression::new(
+            [c.prior_pendulum_k, 0.0, 0.0],
+            [c.prior_pendulum_k_sigma, 1.0, 1.0],
         ),
         _ => Regression::new(
             [c.prior_a, c.prior_b, c.prior_c],

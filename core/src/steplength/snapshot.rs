@@ -116,28 +116,30 @@ fn write_rec(w: &mut Writer, s: &StepRec) {
         f_hz,
         sv,
         w: weinberg,
+        sqrt_h,
         east_m,
         north_m,
     } = s;
-    w.f64s(&[*t_s, *f_hz, *sv, *weinberg, *east_m, *north_m]);
+    w.f64s(&[*t_s, *f_hz, *sv, *weinberg, *sqrt_h, *east_m, *north_m]);
 }
 
 fn read_rec(r: &mut Reader) -> Result<StepRec, SnapshotError> {
-    let mut v = [0.0; 6];
+    let mut v = [0.0; 7];
     v[0] = r.f64()?;
-    // Frequency and the acceleration features are NaN for a step without them.
-    for x in &mut v[1..4] {
+    // Frequency and the step's features are NaN for a step without them.
+    for x in &mut v[1..5] {
         *x = r.f64_or_nan()?;
     }
-    v[4] = r.f64()?;
     v[5] = r.f64()?;
+    v[6] = r.f64()?;
     Ok(StepRec {
         t_s: v[0],
         f_hz: v[1],
         sv: v[2],
         w: v[3],
-        east_m: v[4],
-        north_m: v[5],
+        sqrt_h: v[4],
+        east_m: v[5],
+        north_m: v[6],
     })
 }
 
@@ -161,6 +163,8 @@ fn write_config(w: &mut Writer, c: &StepLengthConfig) {
         prior_step_length_sigma_m,
         prior_weinberg_k,
         prior_weinberg_k_sigma,
+        prior_pendulum_k,
+        prior_pendulum_k_sigma,
         sample_sigma_m,
         converged_rel_sigma,
         min_fits,
@@ -184,6 +188,8 @@ fn write_config(w: &mut Writer, c: &StepLengthConfig) {
         *prior_step_length_sigma_m,
         *prior_weinberg_k,
         *prior_weinberg_k_sigma,
+        *prior_pendulum_k,
+        *prior_pendulum_k_sigma,
         *sample_sigma_m,
         *converged_rel_sigma,
     ]);
@@ -192,7 +198,7 @@ fn write_config(w: &mut Writer, c: &StepLengthConfig) {
 }
 
 fn read_config(r: &mut Reader) -> Result<StepLengthConfig, SnapshotError> {
-    let mut v = [0.0; 19];
+    let mut v = [0.0; 21];
     r.f64s(&mut v)?;
     let min_fits = r.len(u32::MAX as usize)? as u32;
     let freeze_when_converged = r.bool()?;
@@ -214,8 +220,10 @@ fn read_config(r: &mut Reader) -> Result<StepLengthConfig, SnapshotError> {
         prior_step_length_sigma_m: v[14],
         prior_weinberg_k: v[15],
         prior_weinberg_k_sigma: v[16],
-        sample_sigma_m: v[17],
-        converged_rel_sigma: v[18],
+        prior_pendulum_k: v[17],
+        prior_pendulum_k_sigma: v[18],
+        sample_sigma_m: v[19],
+        converged_rel_sigma: v[20],
         min_fits,
         freeze_when_converged,
     })

@@ -16,6 +16,7 @@ fn event(t_s: f64, duration_s: f64, sv: f64) -> StepEvent {
         accel_variance_m2ps4: sv,
         accel_max_mps2: 9.81 + sv.sqrt() * 1.5,
         accel_min_mps2: 9.81 - sv.sqrt(),
+        vertical_displacement_m: f64::NAN,
     }
 }
 
@@ -57,6 +58,7 @@ fn uncalibrated_gives_the_prior_and_bad_input_is_rejected_without_change() {
             StepEvent {
                 accel_max_mps2: 5.0,
                 accel_min_mps2: 6.0,
+                vertical_displacement_m: f64::NAN,
                 ..event(2.0, 0.5, 1.0)
             },
         ];

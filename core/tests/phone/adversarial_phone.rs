@@ -113,6 +113,7 @@ fn step_length_estimator_survives_garbage() {
                     accel_variance_m2ps4: pick(&mut rng, 4.0),
                     accel_max_mps2: pick(&mut rng, 14.0),
                     accel_min_mps2: pick(&mut rng, 6.0),
+                    vertical_displacement_m: pick(&mut rng, 0.07),
                 };
                 if let Ok(l) = est.push_step(&e) {
                     assert!(l.is_finite() && l >= 0.0, "{model:?}: {l}");

@@ -215,3 +215,51 @@ fn an_external_attitude_replaces_the_ahrs() {
         .is_err());
     assert_eq!(before, nav.snapshot());
 }
+
+/// The default step length is the inverted pendulum's: each placed step reports the
+/// phone's vertical displacement, and without GNSS (prior K only) a walker taking
+/// longer steps rises and falls more and is given longer steps, in proportion.
+#[test]
+fn longer_steps_lift_the_phone_more_and_are_read_longer() {
+    let mean_step = |speed_mps: f64| {
+        let sim = simulate_phone(&PhoneScenario {
+            gnss: false,
+            person_factor: Some(1.0),
+            ..PhoneScenario::walk(6, PhonePlacement::InHand, speed_mps, 60.0)
+        });
+        let mut nav = PhoneNavigator::new(NavigatorConfig::default()).unwrap();
+        let (mut h, mut len, mut seen, mut n) = (0.0, 0.0, 0, 0.0);
+        for s in &sim.samples {
+            nav.push_imu(&ImuSample {
+                t_s: s.t_s,
+                gyro_rads: s.gyro_radps,
+                accel_mps2: s.accel_mps2,
+                mag_ut: Some(s.mag_ut),
+            })
+            .unwrap();
+            let (recent, placed) = nav.recent_steps();
+            let all: Vec<_> = recent.collect();
+            for st in &all[all.len() - (placed - seen) as usize..] {
+                // Steady steps only (past the first seconds and the initiation shares).
+                if st.t_s > sim.samples[0].t_s + 10.0 {
+                    assert!((0.005..0.5).contains(&st.vertical_displacement_m), "{st:?}");
+                    h += st.vertical_displacement_m;
+                    len += st.length_m;
+                    n += 1.0;
+                }
+            }
+            seen = placed;
+        }
+        let true_len = sim.steps.iter().map(|s| s.length_m).sum::<f64>() / sim.steps.len() as f64;
+        (h / n, len / n, true_len)
+    };
+    let (h_slow, l_slow, true_slow) = mean_step(1.0);
+    let (h_fast, l_fast, true_fast) = mean_step(1.6);
+    assert!(h_fast > 1.2 * h_slow, "h {h_slow} → {h_fast}");
+    // The read length follows the true one's change (within a quarter of it).
+    let (read, truth) = (l_fast / l_slow, true_fast / true_slow);
+    assert!(
+        truth > 1.1 && (read - truth).abs() < 0.25 * (truth - 1.0),
+        "read ×{read}, true ×{truth}"
+    );
+}

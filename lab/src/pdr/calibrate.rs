@@ -6,7 +6,8 @@
 //! - **step length**: the step-length model's θ by least squares over walks, each
 //!   walk one equation: polyline length between its first and last waypoint =
 //!   θ · Σ x(step) over the steps the navigator's detector finds in that span (x the
-//!   model's features, e.g. (a_max − a_min)^¼ for Weinberg, times the step's
+//!   model's features, e.g. √h for the pendulum (h the step's vertical displacement
+//!   as the navigator measures it) or (a_max − a_min)^¼ for Weinberg, times the step's
 //!   gait-initiation share as the navigator applies it), each walk weighted by
 //!   1 / polyline (its error grows with its length), on top of the population prior;
 //!   the 1-σ written is the posterior's, floored at 1 % of θ;
@@ -68,9 +69,10 @@ pub fn model_from_arg(s: &str) -> Result<StepLengthModel, String> {
         "linear" => StepLengthModel::Linear,
         "linear-f" => StepLengthModel::LinearFrequencyOnly,
         "weinberg" => StepLengthModel::Weinberg,
+        "pendulum" => StepLengthModel::Pendulum,
         _ => {
             return Err(format!(
-                "unknown step-length model {s} (constant|linear|linear-f|weinberg)"
+                "unknown step-length model {s} (constant|linear|linear-f|weinberg|pendulum)"
             ))
         }
     })
@@ -94,52 +96,24 @@ pub fn run(a: &CalibrateArgs, command_line: &str) -> Result<String, String> {
     Ok(format!("wrote {}:\n{text}", a.out.display()))
 }
 
-/// Σ of the model's step features over the steps the navigator's detector finds
-/// between the walk's first and last waypoint.
-fn feature_sum(
+/// What one walk teaches: Σ of the model's step features over the steps the
+/// navigator's detector finds between the walk's first and last waypoint, and the
+/// navigator's carrying estimate at the end of the walk (body frame), if known.
+fn replay_walk(
     w: &Walk,
     config: &NavigatorConfig,
     model: StepLengthModel,
-) -> Result<[f64; 3], String> {
+) -> Result<([f64; 3], Option<[f64; 3]>), String> {
     let wp = &w.rec.truth;
     let (t0, t1) = (wp[0].0, wp[wp.len() - 1].0);
-    let mut d = StepDetector::new(config.detector).map_err(|e| e.to_string())?;
-    let mut sum = [0.0; 3];
-    let mut last_hz = DEFAULT_STEP_HZ;
-    // The navigator shortens the first steps of a walk (gait initiation): the same
-    // shares here, so that θ is the model of steady steps.
-    let mut walk = BoutPosition::STEADY;
-    let mut last_t: Option<f64> = None;
-    for s in &w.rec.samples {
-        let Ok(first) = d.push_accel(s.t_s, s.accel_mps2) else {
-            continue;
-        };
-        for e in first.into_iter().chain(std::iter::from_fn(|| d.pop_step())) {
-            let hz = e.frequency_hz();
-            let f = if hz.is_finite() && e.duration_s <= 5.0 {
-                last_hz = hz;
-                hz
-            } else {
-                last_hz
-            };
-            let share = walk.next_step(e.t_s, last_t);
-            last_t = Some(e.t_s);
-            if e.t_s < t0 || e.t_s > t1 {
-                continue;
-            }
-            let wf = (e.accel_max_mps2 - e.accel_min_mps2).max(0.0).powf(0.25);
-            let x = StepLengthEstimator::model_features(model, f, e.accel_variance_m2ps4, wf);
-            for i in 0..3 {
-                sum[i] += share * x[i];
-            }
-        }
-    }
-    Ok(sum)
-}
-
-/// The navigator's carrying estimate at the end of a walk (body frame), if known.
-fn carrying_of(w: &Walk, config: &NavigatorConfig) -> Result<Option<[f64; 3]>, String> {
+    // The navigator measures each step's vertical displacement (the pendulum
+    // model's feature); its detector is this one, so its steps have these times.
     let mut nav = PhoneNavigator::new(*config).map_err(|e| e.to_string())?;
+    let mut d = StepDetector::new(config.detector).map_err(|e| e.to_string())?;
+    let mut events = Vec::new();
+    // (time, vertical displacement) of every step the navigator placed, in order.
+    let mut vertical: Vec<(f64, f64)> = Vec::new();
+    let mut seen = 0u64;
     for s in &w.rec.samples {
         let _ = nav.push_imu(&ImuSample {
             t_s: s.t_s,
@@ -147,8 +121,49 @@ fn carrying_of(w: &Walk, config: &NavigatorConfig) -> Result<Option<[f64; 3]>, S
             accel_mps2: s.accel_mps2,
             mag_ut: s.mag_ut,
         });
+        let (recent, placed) = nav.recent_steps();
+        if placed > seen {
+            let new = usize::try_from(placed - seen).unwrap_or(usize::MAX);
+            let kept: Vec<_> = recent.map(|p| (p.t_s, p.vertical_displacement_m)).collect();
+            vertical.extend_from_slice(&kept[kept.len().saturating_sub(new)..]);
+            seen = placed;
+        }
+        let Ok(first) = d.push_accel(s.t_s, s.accel_mps2) else {
+            continue;
+        };
+        events.extend(first.into_iter().chain(std::iter::from_fn(|| d.pop_step())));
     }
-    Ok(nav.walking_direction().forward_body())
+    let mut sum = [0.0; 3];
+    let mut last_hz = DEFAULT_STEP_HZ;
+    // The navigator shortens the first steps of a walk (gait initiation): the same
+    // shares here, so that θ is the model of steady steps.
+    let mut walk = BoutPosition::STEADY;
+    let mut last_t: Option<f64> = None;
+    for e in &events {
+        let hz = e.frequency_hz();
+        let f = if hz.is_finite() && e.duration_s <= 5.0 {
+            last_hz = hz;
+            hz
+        } else {
+            last_hz
+        };
+        let share = walk.next_step(e.t_s, last_t);
+        last_t = Some(e.t_s);
+        if e.t_s < t0 || e.t_s > t1 {
+            continue;
+        }
+        let wf = (e.accel_max_mps2 - e.accel_min_mps2).max(0.0).powf(0.25);
+        let h = vertical
+            .binary_search_by(|(t, _)| t.total_cmp(&e.t_s))
+            .map_or(f64::NAN, |i| vertical[i].1);
+        let x = StepLengthEstimator::model_features(model, f, e.accel_variance_m2ps4, wf, h.sqrt());
+        if x.iter().all(|v| v.is_finite()) {
+            for i in 0..3 {
+                sum[i] += share * x[i];
+            }
+        }
+    }
+    Ok((sum, nav.walking_direction().forward_body()))
 }
 
 /// The way the phone is usually carried: the mean of the walks' carrying estimates,
@@ -189,7 +204,8 @@ pub fn learn(
         if poly < 2.0 {
             continue;
         }
-        let x = Vector3::from(feature_sum(w, config, model)?);
+        let (x, forward) = replay_walk(w, config, model)?;
+        let x = Vector3::from(x);
         if x.iter().all(|v| *v == 0.0) {
             continue;
         }
@@ -199,7 +215,7 @@ pub fn learn(
         eta += wgt * poly * x;
         used += 1;
         ratios.push((poly, x));
-        if let Some(f) = carrying_of(w, config)? {
+        if let Some(f) = forward {
             carrying.push(Vector3::from(f));
         }
     }

@@ -17,6 +17,7 @@ impl PhoneNavigator {
             detector,
             lengths,
             direction,
+            vertical,
             frame,
             east_m,
             north_m,
@@ -40,6 +41,7 @@ impl PhoneNavigator {
         w.bytes(&detector.snapshot());
         w.bytes(&lengths.snapshot());
         direction.write(&mut w);
+        vertical.write(&mut w);
         crate::geo::write_frame(&mut w, frame.as_ref());
         w.f64s(&[
             *east_m,
@@ -61,8 +63,9 @@ impl PhoneNavigator {
                 t0_s,
                 t1_s,
                 length_m,
+                vertical_displacement_m,
             } = p;
-            w.f64s(&[t0_s, t1_s, length_m]);
+            w.f64s(&[t0_s, t1_s, length_m, vertical_displacement_m]);
         }
         w.u64(recent.len() as u64);
         for p in recent.iter() {
@@ -72,8 +75,16 @@ impl PhoneNavigator {
                 north_m,
                 length_m,
                 azimuth_rad,
+                vertical_displacement_m,
             } = p;
-            w.f64s(&[t_s, east_m, north_m, length_m, azimuth_rad]);
+            w.f64s(&[
+                t_s,
+                east_m,
+                north_m,
+                length_m,
+                azimuth_rad,
+                vertical_displacement_m,
+            ]);
         }
         w.u64(*placed);
         match calibration {
@@ -94,6 +105,7 @@ impl PhoneNavigator {
         let detector = StepDetector::restore(r.bytes()?)?;
         let lengths = StepLengthEstimator::restore(r.bytes()?)?;
         let direction = WalkingDirection::read(&mut r)?;
+        let vertical = VerticalHistory::read(&mut r)?;
         let frame = crate::geo::read_frame(&mut r)?;
         let [east_m, north_m, pos_var_m2, distance_m] = [r.f64()?, r.f64()?, r.f64()?, r.f64()?];
         // NaN before the first step / the first input.
@@ -116,6 +128,7 @@ impl PhoneNavigator {
                 t0_s: v[0],
                 t1_s: v[1],
                 length_m: v[2],
+                vertical_displacement_m: read_vertical(&mut r)?,
             });
         }
         let mut recent = Ring::new();
@@ -128,6 +141,7 @@ impl PhoneNavigator {
                 north_m: v[2],
                 length_m: v[3],
                 azimuth_rad: v[4],
+                vertical_displacement_m: read_vertical(&mut r)?,
             });
         }
         let placed = r.u64()?;
@@ -174,6 +188,7 @@ impl PhoneNavigator {
             detector,
             lengths,
             direction,
+            vertical,
             frame,
             east_m,
             north_m,
@@ -192,5 +207,15 @@ impl PhoneNavigator {
             placed,
             calibration,
         })
+    }
+}
+
+/// A step's vertical displacement: NaN (not measured) or 0..=MAX_VERTICAL_M.
+fn read_vertical(r: &mut Reader) -> Result<f64, SnapshotError> {
+    let h = r.f64_or_nan()?;
+    if h.is_nan() || (0.0..=MAX_VERTICAL_M).contains(&h) {
+        Ok(h)
+    } else {
+        Err(SnapshotError::Invalid("vertical displacement"))
     }
 }

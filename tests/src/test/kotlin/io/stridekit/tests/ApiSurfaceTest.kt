@@ -116,9 +116,9 @@ class ApiSurfaceTest {
 
     @Test
     fun `a configured navigator walks from packed helper records`() {
-        val config = navigatorConfigDefault().copy(priorWeinbergK = 0.45)
+        val config = navigatorConfigDefault().copy(priorPendulumK = 2.5)
         assertEquals(StepDetectorMode.ROBUST, config.stepDetector)
-        assertEquals(StepLengthModel.WEINBERG, config.stepLengthModel)
+        assertEquals(StepLengthModel.PENDULUM, config.stepLengthModel)
         PhoneNavigator(config).use { nav ->
             assertNull(nav.estimate(), "null before the first sample")
             assertEquals(config, nav.config())

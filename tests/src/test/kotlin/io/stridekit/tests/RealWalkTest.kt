@@ -31,8 +31,8 @@ class RealWalkTest {
     /** A calibration as `stridekit calibrate pdr` writes it (values of an example user). */
     private val calibrationText = """
         stridekit-pdr-calibration 1
-        # example: Weinberg K for one user, phone held in front (top edge forward)
-        step_length weinberg 0.39 0 0 sigma 0.004 1 1
+        # example: pendulum K for one user, phone held in front (top edge forward)
+        step_length pendulum 2.8 0 0 sigma 0.028 1 1
         carrying 0.08 0.996 0.0
     """.trimIndent()
 
