@@ -126,7 +126,7 @@ class RealWalkTest {
         assertEquals(c, pdrCalibrationFromText(pdrCalibrationToText(c)))
         assertNotNull(c.carryingBody)
         assertFailsWith<NavException.InvalidCalibration> { pdrCalibrationFromText("stridekit-pdr-calibration 2\n") }
-        assertFailsWith<NavException.InvalidCalibration> { pdrCalibrationFromText(calibrationText.replace("0.39", "NaN")) }
+        assertFailsWith<NavException.InvalidCalibration> { pdrCalibrationFromText(calibrationText.replace("pendulum 2.8", "pendulum NaN")) }
         assertFailsWith<NavException.InvalidCalibration> { PhoneNavigator.withCalibration(c.copy(stepLengthTheta = listOf(1.0))) }
         PhoneNavigator.withDefaults().use { nav ->
             val before = nav.snapshot()
