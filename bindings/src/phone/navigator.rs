@@ -339,7 +339,7 @@ pub struct NavigatorConfig {
     pub prior_weinberg_k: f64,
     /// Prior K of the `PENDULUM` model (L = K·√h, h in m): 2·√(2·l) for a leg length
     /// l of 0.9 m.
-    #[uniffi(default = 2.683281572999748)]
+    #[uniffi(default = 2.6832815729997477)]
     pub prior_pendulum_k: f64,
     /// GNSS fixes reporting a worse horizontal accuracy (68 %) are not used to learn
     /// step length, metres.
@@ -574,7 +574,7 @@ mod tests {
                 s.prior_pendulum_k,
                 s.max_accuracy_m
             ),
-            (0.75, 0.4, 2.683281572999748, 10.0)
+            (0.75, 0.4, 2.6832815729997477, 10.0)
         );
         let nav = PhoneNavigator::new(d.clone()).unwrap();
         assert_eq!(nav.config(), d);

@@ -425,7 +425,11 @@ impl PhoneNavigator {
             .vertical
             .displacement_range_m(step.t_s - span, step.t_s);
         let step = StepEvent {
-            vertical_displacement_m: if h <= MAX_VERTICAL_M { h } else { f64::NAN },
+            vertical_displacement_m: if (0.0..=MAX_VERTICAL_M).contains(&h) {
+                h
+            } else {
+                f64::NAN
+            },
             ..*step
         };
         let length = self.lengths.push_step(&step)?;

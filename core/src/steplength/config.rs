@@ -74,7 +74,7 @@ impl StepLengthModel {
 /// a stature of 1.7 m).
 pub const PRIOR_LEG_LENGTH_M: f64 = 0.9;
 /// 2·√(2·l) for [`PRIOR_LEG_LENGTH_M`].
-pub const PRIOR_PENDULUM_K: f64 = 2.683_281_572_999_748;
+pub const PRIOR_PENDULUM_K: f64 = 2.683_281_572_999_747_7;
 
 /// Tunables of [`super::StepLengthEstimator`]. The paper's block structure (5 steps
 /// per sample, 4 samples per fit) is fixed; these are the rest.

@@ -414,3 +414,37 @@ fn the_first_steps_from_standing_are_short_and_a_short_gap_is_not_a_stop() {
     let l7 = restored.push_step(&event(12.5, 0.5, 10.0)).unwrap();
     assert_eq!(l7, lengths[7]);
 }
+
+/// The pendulum model: L = K·√h with the prior K = 2·√(2·l) of a 0.9 m leg; a step
+/// without h gets the prior step length, an impossible h is refused.
+#[test]
+fn the_pendulum_reads_the_vertical_displacement_and_needs_it() {
+    use stridekit_core::steplength::{PRIOR_LEG_LENGTH_M, PRIOR_PENDULUM_K};
+    assert_eq!(PRIOR_PENDULUM_K, 2.0 * (2.0 * PRIOR_LEG_LENGTH_M).sqrt());
+    let c = StepLengthConfig::default();
+    assert_eq!(c.prior_pendulum_k, PRIOR_PENDULUM_K);
+    let mut est = StepLengthEstimator::new(StepLengthModel::Pendulum, c).unwrap();
+    let with_h = |t: f64, h: f64| StepEvent {
+        vertical_displacement_m: h,
+        ..event(t, 0.55, 4.0)
+    };
+    // Past the gait initiation: steady steps.
+    for i in 0..3 {
+        est.push_step(&with_h(1.0 + 0.55 * f64::from(i), 0.07))
+            .unwrap();
+    }
+    let l = est.push_step(&with_h(2.65, 0.07)).unwrap();
+    assert!((l - PRIOR_PENDULUM_K * 0.07f64.sqrt()).abs() < 1e-12, "{l}");
+    let l4 = est.push_step(&with_h(3.2, 0.28)).unwrap();
+    assert!(
+        (l4 / l - 2.0).abs() < 1e-12,
+        "four times the rise, twice the step: {l4}"
+    );
+    let unknown = est.push_step(&with_h(3.75, f64::NAN)).unwrap();
+    assert_eq!(unknown, c.prior_step_length_m);
+    let before = est.snapshot();
+    for h in [-0.01, 2.5, f64::INFINITY] {
+        assert!(est.push_step(&with_h(4.3, h)).is_err(), "h = {h} accepted");
+    }
+    assert_eq!(est.snapshot(), before);
+}
