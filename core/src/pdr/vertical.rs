@@ -11,16 +11,19 @@
 //! whose mean is removed (a step ends at the vertical speed it started with),
 //! integrated again to a displacement whose straight-line trend is removed; h is its
 //! peak-to-peak. Everything is in time, not samples: irregular, jittered or dropped
-//! samples integrate over their own spacing. No allocation: four passes over the
-//! slots of the span.
+//! samples integrate over their own spacing. No allocation: the span's slots are
+//! copied to the stack and integrated in three passes.
 
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Width of one slot, s.
 pub const SLOT_S: f64 = 0.02;
+const SLOTS_PER_S: f64 = 50.0;
 /// Non-empty slots kept (8 s at one sample per slot or more).
 pub const SLOTS: usize = 400;
+/// Most slots one span may hold (2.56 s; the navigator's spans are at most 2 s).
+pub const MAX_SPAN_SLOTS: usize = 128;
 /// Fewest slots a step's span needs, and the share of the span they must cover.
 const MIN_SLOTS: usize = 4;
 const MIN_COVER: f64 = 0.5;
@@ -70,7 +73,7 @@ impl VerticalHistory {
         if !(t_s.is_finite() && up_mps2.is_finite() && up_mps2.abs() <= MAX_FORCE_MPS2) {
             return;
         }
-        let id = (t_s / SLOT_S).floor() as i64;
+        let id = (t_s * SLOTS_PER_S).floor() as i64;
         match self.slots.newest_mut() {
             Some(s) if s.id == id => {
                 s.sum_mps2 += up_mps2;
@@ -86,57 +89,63 @@ impl VerticalHistory {
     }
 
     /// Peak-to-peak vertical displacement over `t0_s..=t1_s`, m; NaN when the
-    /// history does not cover the span (fewer than 4 slots, or less than half of it).
+    /// history does not cover the span (fewer than 4 slots, or less than half of it)
+    /// or the span is longer than [`MAX_SPAN_SLOTS`] slots (2.56 s).
     pub fn displacement_range_m(&self, t0_s: f64, t1_s: f64) -> f64 {
         if t1_s.partial_cmp(&t0_s) != Some(std::cmp::Ordering::Greater) {
             return f64::NAN;
         }
-        // The slots of the span, as indices from the oldest: walk back from the newest.
-        let len = self.slots.len();
-        let (mut lo, mut hi) = (len, 0);
-        for i in (0..len).rev() {
-            let t = self.slot(i).t_s();
-            if t < t0_s {
+        // The span's slot times and mean forces, oldest first (walked back from the
+        // newest, filled from the end of the buffer).
+        let mut t = [0.0; MAX_SPAN_SLOTS];
+        let mut a = [0.0; MAX_SPAN_SLOTS];
+        let mut k = MAX_SPAN_SLOTS;
+        for s in self.slots.iter().rev() {
+            let ts = s.t_s();
+            if ts < t0_s {
                 break;
             }
-            if t <= t1_s {
-                lo = i;
-                hi = hi.max(i);
+            if ts <= t1_s {
+                if k == 0 {
+                    return f64::NAN;
+                }
+                k -= 1;
+                t[k] = ts;
+                a[k] = s.mean_mps2();
             }
         }
-        if lo > hi || hi - lo + 1 < MIN_SLOTS {
+        let (t, a) = (&t[k..], &mut a[k..]);
+        let len = t.len();
+        if len < MIN_SLOTS || t[len - 1] - t[0] < MIN_COVER * (t1_s - t0_s) {
             return f64::NAN;
         }
-        let (first, last) = (self.slot(lo).t_s(), self.slot(hi).t_s());
-        if last - first < MIN_COVER * (t1_s - t0_s) {
-            return f64::NAN;
-        }
-        let n = (hi - lo + 1) as f64;
-        let a_mean = (lo..=hi).map(|i| self.slot(i).mean_mps2()).sum::<f64>() / n;
-        // Velocity (mean removed), then displacement, by the rectangle rule over each
-        // slot's spacing from the previous one; calls `f(t − first, x)` per slot.
-        let integrate = |v_mean: f64, f: &mut dyn FnMut(f64, f64, f64)| {
-            let (mut v, mut x, mut t_prev) = (0.0, 0.0, first);
-            for i in lo..=hi {
-                let s = self.slot(i);
-                let dt = s.t_s() - t_prev;
-                t_prev = s.t_s();
-                v += (s.mean_mps2() - a_mean) * dt;
-                x += (v - v_mean) * dt;
-                f(s.t_s() - first, v, x);
-            }
-        };
+        let n = len as f64;
+        let first = t[0];
+        let a_mean = a.iter().sum::<f64>() / n;
+        // Velocity (mean removed), by the rectangle rule over each slot's spacing from
+        // the previous one; `a` is overwritten with it.
+        let mut v = 0.0;
         let mut v_sum = 0.0;
-        integrate(0.0, &mut |_, v, _| v_sum += v);
+        for i in 0..len {
+            let dt = t[i] - if i == 0 { first } else { t[i - 1] };
+            v += (a[i] - a_mean) * dt;
+            a[i] = v;
+            v_sum += v;
+        }
         let v_mean = v_sum / n;
-        // The displacement's least-squares line x ≈ α + β·τ.
-        let (mut st, mut sx, mut stt, mut stx) = (0.0, 0.0, 0.0, 0.0);
-        integrate(v_mean, &mut |tau, _, x| {
+        // Displacement (overwrites the velocity) and its least-squares line
+        // x ≈ α + β·τ, τ = t − first.
+        let (mut x, mut st, mut sx, mut stt, mut stx) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for i in 0..len {
+            let dt = t[i] - if i == 0 { first } else { t[i - 1] };
+            x += (a[i] - v_mean) * dt;
+            a[i] = x;
+            let tau = t[i] - first;
             st += tau;
             sx += x;
             stt += tau * tau;
             stx += tau * x;
-        });
+        }
         let den = n * stt - st * st;
         let beta = if den > 0.0 {
             (n * stx - st * sx) / den
@@ -145,16 +154,12 @@ impl VerticalHistory {
         };
         let alpha = (sx - beta * st) / n;
         let (mut lo_x, mut hi_x) = (f64::INFINITY, f64::NEG_INFINITY);
-        integrate(v_mean, &mut |tau, _, x| {
-            let r = x - alpha - beta * tau;
+        for i in 0..len {
+            let r = a[i] - alpha - beta * (t[i] - first);
             lo_x = lo_x.min(r);
             hi_x = hi_x.max(r);
-        });
+        }
         hi_x - lo_x
-    }
-
-    fn slot(&self, i: usize) -> Slot {
-        self.slots.get(i).unwrap_or_default()
     }
 
     pub(crate) fn write(&self, w: &mut Writer) {
