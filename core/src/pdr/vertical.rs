@@ -251,6 +251,9 @@ mod tests {
         // A third of the span is covered.
         assert!(v.displacement_range_m(101.0, 107.0).is_nan());
         assert!(v.displacement_range_m(101.0, 104.0).is_finite());
+        // Covered, but longer than a span may be (150 slots > 128).
+        assert!(v.displacement_range_m(100.0, 103.0).is_nan());
+        assert!(v.displacement_range_m(100.5, 103.0).is_finite());
     }
 
     #[test]
