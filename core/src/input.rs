@@ -48,6 +48,9 @@ pub mod limits {
     pub const MAX_GYRO_RADS: f64 = 200.0;
     /// Largest |magnetic field| per axis, µT (the Earth's is 25–65 µT).
     pub const MAX_MAG_UT: f64 = 5_000.0;
+    /// Largest vertical displacement of a device over one step, m (a walker's body
+    /// rises and falls by a few centimetres, a hand or a thigh by a few decimetres).
+    pub const MAX_STEP_VERTICAL_M: f64 = 2.0;
     /// Largest |t_s|, s (about 3 000 years): Unix time in seconds passes.
     pub const MAX_ABS_T_S: f64 = 1.0e11;
     /// Shortest interval between two samples of one stream, s (1 µs: no sensor samples

@@ -40,7 +40,7 @@
 //! A bout (consecutive walking/running segments) keeps its gait across segment
 //! changes; the last step of a bout is not completed (the person stops).
 
-use nalgebra::{Rotation3, Vector3};
+use nalgebra::{Quaternion, Rotation3, UnitQuaternion, Vector3};
 
 use super::rng::Rng;
 use stridekit_core::placement::Placement;
@@ -340,12 +340,8 @@ impl SimulatedPhone {
                 }
                 if let Some(tr) = self.truth.get(m) {
                     let [w, qx, qy, qz] = tr.attitude_wxyz;
-                    let a = x.accel_mps2;
-                    // The third row of the body → ENU rotation.
-                    let up = 2.0 * (qx * qz - w * qy) * a[0]
-                        + 2.0 * (qy * qz + w * qx) * a[1]
-                        + (1.0 - 2.0 * (qx * qx + qy * qy)) * a[2];
-                    vertical.push(x.t_s, up);
+                    let q = UnitQuaternion::new_unchecked(Quaternion::new(w, qx, qy, qz));
+                    vertical.push(x.t_s, (q * Vector3::from(x.accel_mps2)).z);
                 }
                 k += 1;
             }

@@ -408,14 +408,8 @@ pub(crate) fn collect_new_steps(
     placed: &mut u64,
     out: &mut Vec<NavStep>,
 ) {
-    let (recent, n) = nav.recent_steps();
-    if n > *placed {
-        let new = usize::try_from(n - *placed).unwrap_or(usize::MAX);
-        let kept: Vec<core::NavStep> = recent.collect();
-        let from = kept.len().saturating_sub(new);
-        out.extend(kept[from..].iter().map(|s| NavStep::from(*s)));
-        *placed = n;
-    }
+    out.extend(nav.steps_since(*placed).map(NavStep::from));
+    *placed = nav.recent_steps().1;
 }
 
 /// Pedestrian dead reckoning with a phone. Safe to call from several threads.

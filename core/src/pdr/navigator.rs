@@ -52,8 +52,6 @@ pub const RECENT_STEPS: usize = 32;
 /// Span of a step whose duration is unknown (first of a bout) or implausibly long, s.
 const DEFAULT_STEP_S: f64 = 0.55;
 const MAX_STEP_S: f64 = 2.0;
-/// A step's vertical displacement above this is not a step's, m.
-const MAX_VERTICAL_M: f64 = 1.0;
 /// 68 % radius of a circular 2-D Gaussian is 1.515 σ per axis.
 const RADIUS68_TO_SIGMA: f64 = 1.0 / 1.515;
 /// Per-axis σ assumed for a fix without accuracy, m.
@@ -425,7 +423,7 @@ impl PhoneNavigator {
             .vertical
             .displacement_range_m(step.t_s - span, step.t_s);
         let step = StepEvent {
-            vertical_displacement_m: if (0.0..=MAX_VERTICAL_M).contains(&h) {
+            vertical_displacement_m: if (0.0..=input::limits::MAX_STEP_VERTICAL_M).contains(&h) {
                 h
             } else {
                 f64::NAN
@@ -485,6 +483,16 @@ impl PhoneNavigator {
     /// steps were placed in all: a caller that remembers the count reads the new ones.
     pub fn recent_steps(&self) -> (impl DoubleEndedIterator<Item = NavStep> + '_, u64) {
         (self.recent.iter(), self.placed)
+    }
+
+    /// The steps placed after the first `placed` (a count [`recent_steps`](Self::recent_steps)
+    /// gave earlier), oldest first, as far as they are still kept (the newest
+    /// [`RECENT_STEPS`]): read them after each push and remember the new count.
+    pub fn steps_since(&self, placed: u64) -> impl Iterator<Item = NavStep> + '_ {
+        let new = usize::try_from(self.placed.saturating_sub(placed)).unwrap_or(usize::MAX);
+        self.recent
+            .iter()
+            .skip(self.recent.len().saturating_sub(new))
     }
 
     /// One GNSS fix: anchors the frame at the first one, then corrects the position,

@@ -97,8 +97,6 @@ const MAX_STEP_DURATION_S: f64 = 5.0;
 const MAX_BLOCK_FREQUENCY_RATIO: f64 = 1.5;
 /// Largest plausible acceleration magnitude, m/s² (±16 g sensors).
 const MAX_ACCEL_MPS2: f64 = 400.0;
-/// Largest plausible vertical displacement over one step, m.
-const MAX_VERTICAL_M: f64 = 2.0;
 /// Vertical displacement assumed for the typical step before calibration, m (the
 /// prior K then gives 0.76 m).
 const DEFAULT_VERTICAL_M: f64 = 0.08;
@@ -330,7 +328,7 @@ impl StepLengthEstimator {
                 "vertical_displacement_m",
                 e.vertical_displacement_m,
                 0.0,
-                MAX_VERTICAL_M,
+                input::limits::MAX_STEP_VERTICAL_M,
                 "0..=2 m or NaN",
             )?;
         }

@@ -5,8 +5,10 @@
 use stridekit_core::ahrs::ImuSample;
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::pace::GnssFix;
-use stridekit_core::pdr::{NavEstimate, NavigatorConfig, PhoneNavigator};
-use stridekit_sim::phone::{simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario};
+use stridekit_core::pdr::{NavEstimate, NavStep, NavigatorConfig, PhoneNavigator};
+use stridekit_sim::phone::{
+    simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario, SimulatedPhone,
+};
 
 enum Input {
     Imu(ImuSample),
@@ -32,6 +34,19 @@ fn inputs(seconds: f64) -> Vec<Input> {
             PhoneEvent::Fix(f) => Input::Fix(f),
         })
         .collect()
+}
+
+/// A simulated walk's IMU samples through a default navigator: the navigator and
+/// every step it placed, in order.
+fn replay_placed_steps(sim: &SimulatedPhone) -> (PhoneNavigator, Vec<NavStep>) {
+    let mut nav = PhoneNavigator::new(NavigatorConfig::default()).unwrap();
+    let mut steps = Vec::new();
+    for s in &sim.samples {
+        let placed = nav.recent_steps().1;
+        nav.push_imu(&ImuSample::from(s)).unwrap();
+        steps.extend(nav.steps_since(placed));
+    }
+    (nav, steps)
 }
 
 fn feed(nav: &mut PhoneNavigator, xs: &[Input]) -> Vec<NavEstimate> {
@@ -110,26 +125,14 @@ fn without_gnss_every_step_is_placed() {
         gnss: false,
         ..PhoneScenario::walk(4, PhonePlacement::InHand, 1.3, 40.0)
     });
-    let mut nav = PhoneNavigator::new(NavigatorConfig::default()).unwrap();
+    let (nav, steps) = replay_placed_steps(&sim);
     let mut path = 0.0;
     let mut last = (0.0, 0.0);
-    let mut seen = 0;
-    for s in &sim.samples {
-        nav.push_imu(&ImuSample {
-            t_s: s.t_s,
-            gyro_rads: s.gyro_radps,
-            accel_mps2: s.accel_mps2,
-            mag_ut: Some(s.mag_ut),
-        })
-        .unwrap();
-        let (recent, n) = nav.recent_steps();
-        let all: Vec<_> = recent.collect();
-        for st in &all[all.len() - (n - seen) as usize..] {
-            path += (st.east_m - last.0).hypot(st.north_m - last.1);
-            last = (st.east_m, st.north_m);
-        }
-        seen = n;
+    for st in &steps {
+        path += (st.east_m - last.0).hypot(st.north_m - last.1);
+        last = (st.east_m, st.north_m);
     }
+    let seen = nav.recent_steps().1;
     let e = nav.estimate().expect("an estimate after input");
     assert!(e.steps > 50 && e.lat_deg.is_none(), "{e:?}");
     assert_eq!(seen, e.steps, "every step placed");
@@ -227,28 +230,14 @@ fn longer_steps_lift_the_phone_more_and_are_read_longer() {
             person_factor: Some(1.0),
             ..PhoneScenario::walk(6, PhonePlacement::InHand, speed_mps, 60.0)
         });
-        let mut nav = PhoneNavigator::new(NavigatorConfig::default()).unwrap();
-        let (mut h, mut len, mut seen, mut n) = (0.0, 0.0, 0, 0.0);
-        for s in &sim.samples {
-            nav.push_imu(&ImuSample {
-                t_s: s.t_s,
-                gyro_rads: s.gyro_radps,
-                accel_mps2: s.accel_mps2,
-                mag_ut: Some(s.mag_ut),
-            })
-            .unwrap();
-            let (recent, placed) = nav.recent_steps();
-            let all: Vec<_> = recent.collect();
-            for st in &all[all.len() - (placed - seen) as usize..] {
-                // Steady steps only (past the first seconds and the initiation shares).
-                if st.t_s > sim.samples[0].t_s + 10.0 {
-                    assert!((0.005..0.5).contains(&st.vertical_displacement_m), "{st:?}");
-                    h += st.vertical_displacement_m;
-                    len += st.length_m;
-                    n += 1.0;
-                }
-            }
-            seen = placed;
+        let (_, steps) = replay_placed_steps(&sim);
+        let (mut h, mut len, mut n) = (0.0, 0.0, 0.0);
+        // Steady steps only (past the first seconds and the initiation shares).
+        for st in steps.iter().filter(|st| st.t_s > sim.samples[0].t_s + 10.0) {
+            assert!((0.005..0.5).contains(&st.vertical_displacement_m), "{st:?}");
+            h += st.vertical_displacement_m;
+            len += st.length_m;
+            n += 1.0;
         }
         let true_len = sim.steps.iter().map(|s| s.length_m).sum::<f64>() / sim.steps.len() as f64;
         (h / n, len / n, true_len)

@@ -121,13 +121,11 @@ fn replay_walk(
             accel_mps2: s.accel_mps2,
             mag_ut: s.mag_ut,
         });
-        let (recent, placed) = nav.recent_steps();
-        if placed > seen {
-            let new = usize::try_from(placed - seen).unwrap_or(usize::MAX);
-            let kept: Vec<_> = recent.map(|p| (p.t_s, p.vertical_displacement_m)).collect();
-            vertical.extend_from_slice(&kept[kept.len().saturating_sub(new)..]);
-            seen = placed;
-        }
+        vertical.extend(
+            nav.steps_since(seen)
+                .map(|p| (p.t_s, p.vertical_displacement_m)),
+        );
+        seen = nav.recent_steps().1;
         let Ok(first) = d.push_accel(s.t_s, s.accel_mps2) else {
             continue;
         };

@@ -180,36 +180,31 @@ pub fn replay(rec: &InertialRecording, o: &ReplayOptions) -> Result<Replay, Stri
             y_m: e.north_m,
             distance_m: e.distance_m,
         });
-        let (recent, n) = nav.recent_steps();
-        if n > placed {
-            let all: Vec<_> = recent.collect();
-            let new = ((n - placed) as usize).min(all.len());
-            for st in &all[all.len() - new..] {
-                let last = track[track.len() - 1];
-                if st.t_s - last.t_s > HOLD_AFTER_S {
-                    track.push(TrackPoint {
-                        t_s: st.t_s - STEP_SPAN_S,
-                        ..last
-                    });
-                }
-                let d = last.distance_m + st.length_m;
+        for st in nav.steps_since(placed) {
+            let last = track[track.len() - 1];
+            if st.t_s - last.t_s > HOLD_AFTER_S {
                 track.push(TrackPoint {
-                    t_s: st.t_s,
-                    x_m: st.east_m,
-                    y_m: st.north_m,
-                    distance_m: d,
-                });
-                steps.push(StepRow {
-                    t_s: st.t_s,
-                    east_m: st.east_m,
-                    north_m: st.north_m,
-                    length_m: st.length_m,
-                    azimuth_rad: st.azimuth_rad,
-                    distance_m: d,
+                    t_s: st.t_s - STEP_SPAN_S,
+                    ..last
                 });
             }
-            placed = n;
+            let d = last.distance_m + st.length_m;
+            track.push(TrackPoint {
+                t_s: st.t_s,
+                x_m: st.east_m,
+                y_m: st.north_m,
+                distance_m: d,
+            });
+            steps.push(StepRow {
+                t_s: st.t_s,
+                east_m: st.east_m,
+                north_m: st.north_m,
+                length_m: st.length_m,
+                azimuth_rad: st.azimuth_rad,
+                distance_m: d,
+            });
         }
+        placed = nav.recent_steps().1;
     }
     Ok(Replay {
         track,

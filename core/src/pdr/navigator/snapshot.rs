@@ -210,10 +210,10 @@ impl PhoneNavigator {
     }
 }
 
-/// A step's vertical displacement: NaN (not measured) or 0..=MAX_VERTICAL_M.
+/// A step's vertical displacement: NaN (not measured) or within the input limit.
 fn read_vertical(r: &mut Reader) -> Result<f64, SnapshotError> {
     let h = r.f64_or_nan()?;
-    if h.is_nan() || (0.0..=MAX_VERTICAL_M).contains(&h) {
+    if h.is_nan() || (0.0..=crate::input::limits::MAX_STEP_VERTICAL_M).contains(&h) {
         Ok(h)
     } else {
         Err(SnapshotError::Invalid("vertical displacement"))
