@@ -19,6 +19,9 @@
 //!    [`min_amplitude_mps2`, `max_amplitude_mps2`] and at least `relative_amplitude` ×
 //!    the typical recent step amplitude is a step *candidate* (vehicle vibration stays
 //!    below the floor; the secondary bump of a slow step stays below the relative bar).
+//!    The typical amplitude fades (τ = 8 s) once no candidate has been accepted for
+//!    `max_step_interval_s`: a gentler gait after a harder one (a walk after a run) is
+//!    not measured against steps that have stopped.
 //! 4. **Bouts.** Candidates are buffered until a bout is confirmed. The step period
 //!    comes from the signal, not from the candidates: a running autocorrelation of x
 //!    over the human stride range (0.5–2.2 s, [`super::gait`]) gives the stride, and
@@ -157,6 +160,9 @@ const SHORT_WALK_AMPLITUDE: f64 = 2.0;
 
 /// Weight of a new candidate in the typical step amplitude.
 const AMPLITUDE_GAIN: f64 = 0.2;
+/// Time constant with which the typical amplitude fades once no candidate has been
+/// accepted for longer than `max_step_interval_s`, s.
+const AMPLITUDE_MEMORY_S: f64 = 8.0;
 /// Input gaps longer than this restart the detector (app paused), s. Shorter ones
 /// (samples dropped by a busy phone) are bridged: the grid interpolates across them
 /// and a bout that resumes at its cadence after the gap gets the steps of the gap.
@@ -639,10 +645,23 @@ impl RobustDetector {
         if !(p.min_amplitude_mps2..=p.max_amplitude_mps2).contains(&amplitude) {
             return;
         }
-        if amplitude < p.relative_amplitude * self.amplitude_ref_mps2 {
+        // The typical amplitude is of the steps of *now*: after a silence longer than a
+        // step interval (no candidate accepted) it fades, so that a gentler gait after a
+        // harder one (a walk after a run, the phone then in a bag) is not measured
+        // against steps that have stopped.
+        // (Computed from the last accepted candidate's time: rejected ones change
+        // nothing.)
+        let silent = t_s - self.last_t_s - p.max_step_interval_s; // NaN without a previous
+        let reference = if silent > 0.0 {
+            self.amplitude_ref_mps2 * (-silent / AMPLITUDE_MEMORY_S).exp()
+        } else {
+            self.amplitude_ref_mps2
+        };
+        if amplitude < p.relative_amplitude * reference {
             // A secondary bump of the previous step (or of the swing).
             return;
         }
+        self.amplitude_ref_mps2 = reference;
         let interval = t_s - self.last_t_s; // NaN without a previous candidate
         if interval < p.min_step_interval_s {
             return;

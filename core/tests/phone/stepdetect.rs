@@ -666,10 +666,24 @@ fn steps_hidden_by_handling_within_a_walk_are_filled_but_not_a_pause() {
             ],
             seed,
         );
-        let n = count(DetectorMode::Default, &s);
+        let mut d = StepDetector::default();
+        let out = d.push_batch(&s);
+        let n = out.estimates.len();
         assert!(
-            n <= truth && n + 3 >= truth,
+            n.abs_diff(truth) <= 3,
             "seed {seed}: {n} steps, {truth} true (pause)"
+        );
+        // Nothing is filled in the pause (32–35 s; a step's time may lead its strike
+        // by the detector's latency correction).
+        let filled: Vec<f64> = out
+            .estimates
+            .iter()
+            .map(|e| e.t_s)
+            .filter(|&t| t > 32.2 && t < 34.8)
+            .collect();
+        assert!(
+            filled.is_empty(),
+            "seed {seed}: steps in the pause {filled:?}"
         );
     }
 }
@@ -705,6 +719,57 @@ fn a_few_steps_before_a_stop_are_counted_once_the_walk_goes_on() {
         assert!(
             n <= truth + 1 && n + 1 >= truth,
             "seed {seed}: {n} steps, {truth} true (handled before the stop)"
+        );
+    }
+}
+
+/// A run, then a walk whose steps are a fraction of the run's: the walk's steps all fall
+/// under the relative bar of a typical amplitude learned on the run, which must fade
+/// once no step has been accepted for a while (a runner slowing to a walk with the
+/// phone in a bag lost the whole walk before).
+#[test]
+fn a_gentle_walk_after_a_hard_run_is_counted() {
+    const GENTLE: Gait = Gait {
+        step_hz: 1.8,
+        swing_mps2: 2.0,
+        impact_mps2: 1.5,
+    };
+    let (run_s, walk_s) = (60.0, 60.0);
+    for seed in 1..=3 {
+        let mut rng = Rng(seed);
+        let mut strikes: Vec<(f64, Gait)> = Vec::new();
+        let mut t = 1.0;
+        while t < run_s + walk_s {
+            let g = if t < run_s { RUN } else { GENTLE };
+            strikes.push((t, g));
+            t += (1.0 + 0.03 * rng.sym()) / g.step_hz;
+        }
+        let mut samples = Vec::new();
+        let mut k = 0usize;
+        for t in times(100.0, 0.1, run_s + walk_s + 3.0, &mut rng) {
+            while k + 1 < strikes.len() && strikes[k + 1].0 <= t {
+                k += 1;
+            }
+            let mut m = G + 0.03 * rng.gauss();
+            let (t0, g) = strikes[k];
+            if t >= t0 && t < run_s + walk_s {
+                let w = std::f64::consts::TAU * (t - t0) * g.step_hz;
+                m += 0.5 * g.swing_mps2 * (w.cos() + 0.3 * (2.0 * w + 0.5).cos());
+                m += g.impact_mps2 * (-((t - t0) / 0.02).powi(2)).exp();
+            }
+            samples.push(AccelSample {
+                t_s: t,
+                accel_mps2: vector(t, m),
+            });
+        }
+        let mut d = StepDetector::default();
+        let out = d.push_batch(&samples);
+        let walked = strikes.iter().filter(|s| s.0 >= run_s).count();
+        let counted = out.estimates.iter().filter(|e| e.t_s >= run_s).count();
+        // A few seconds of the walk go by before the run's amplitude has faded.
+        assert!(
+            counted + 20 >= walked && counted <= walked + 1,
+            "seed {seed}: {counted} of {walked} walking steps"
         );
     }
 }
