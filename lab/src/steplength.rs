@@ -177,3 +177,77 @@ pub fn run_cases(seeds: u64, models: &[StepLengthModel], config: StepLengthConfi
     }
     out
 }
+
+/// The pace tracker through the same outage, fed the simulated phone's raw
+/// accelerometer ([`PaceTracker::push_accel`]: its own detector, and the feature step
+/// length of `stridekit_core::pace`'s accelerometer input) or only the steps that
+/// detector finds ([`StepSample::Event`], what a platform step detector gives): speed
+/// RMSE against the truth over the outage (one reading a second) and the distance
+/// error of the outage.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrackerOutage {
+    pub speed_rmse_mps: f64,
+    pub distance_error_pct: f64,
+}
+
+/// Run the pace tracker over a simulated mix with raw acceleration (`accel` true) or
+/// with the detected step events only.
+pub fn tracker_outage(sim: &SimulatedPhone, t_cal_s: f64, accel: bool) -> TrackerOutage {
+    use stridekit_core::geo::LocalFrame;
+    use stridekit_core::pace::{PaceConfig, PaceTracker, StepSample};
+    use stridekit_core::stepdetect::StepDetector;
+    use stridekit_sim::phone::PhoneEvent;
+
+    let nan = TrackerOutage {
+        speed_rmse_mps: f64::NAN,
+        distance_error_pct: f64::NAN,
+    };
+    let Ok(mut tracker) = PaceTracker::new(PaceConfig::default()) else {
+        return nan;
+    };
+    let mut detector = StepDetector::default();
+    let frame = LocalFrame::new(51.5, -0.1, 0.0);
+    let t_end = t_cal_s + OUTAGE_S;
+    let (mut next_read, mut se, mut n) = (t_cal_s, 0.0, 0usize);
+    let (mut d0, mut d1) = (f64::NAN, f64::NAN);
+    for ev in sim.timeline(&frame) {
+        match ev {
+            PhoneEvent::Fix(f) => {
+                let _ = tracker.push_fix(&f);
+            }
+            PhoneEvent::Imu(s) => {
+                if accel {
+                    let _ = tracker.push_accel(s.t_s, s.accel_mps2);
+                } else {
+                    if let Ok(Some(e)) = detector.push_accel(s.t_s, s.accel_mps2) {
+                        let _ = tracker.push_steps(&StepSample::Event { t_s: e.t_s });
+                    }
+                    while let Some(e) = detector.pop_step() {
+                        let _ = tracker.push_steps(&StepSample::Event { t_s: e.t_s });
+                    }
+                }
+                if s.t_s >= next_read && s.t_s < t_end {
+                    if let Some(est) = tracker.estimate() {
+                        if d0.is_nan() {
+                            d0 = est.distance_m;
+                        }
+                        let truth = sim.truth_at(s.t_s).speed_mps;
+                        se += (est.speed_mps - truth).powi(2);
+                        n += 1;
+                    }
+                    next_read += 1.0;
+                }
+                if s.t_s < t_end {
+                    if let Some(est) = tracker.estimate() {
+                        d1 = est.distance_m;
+                    }
+                }
+            }
+        }
+    }
+    let true_m = sim.truth_at(t_end).distance_m - sim.truth_at(t_cal_s).distance_m;
+    TrackerOutage {
+        speed_rmse_mps: (se / n.max(1) as f64).sqrt(),
+        distance_error_pct: 100.0 * ((d1 - d0) - true_m) / true_m,
+    }
+}

@@ -5,11 +5,11 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::steplength::{mixes, run_cases, Case, OUTAGE_S};
+use crate::steplength::{mixes, run_cases, scenario, tracker_outage, Case, OUTAGE_S};
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::stepdetect::StepEvent;
 use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
-use stridekit_sim::phone::PhonePlacement;
+use stridekit_sim::phone::{simulate_phone, PhonePlacement};
 
 /// Seeds per simulator mix.
 const SEEDS: u64 = 7;
@@ -95,6 +95,54 @@ pub fn simulator_tables() -> String {
         let cs: Vec<&Case> = cases.iter().filter(|c| c.placement == p).collect();
         row(&mut out, &format!("{p:?}"), &cs);
     }
+    out
+}
+
+/// The pace tracker through the same outages: step events only (a platform step
+/// detector) against raw acceleration (its feature step length).
+pub fn tracker_table() -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "Pace tracker (`PaceTracker`, default configuration) through the same simulated outages, fed either the steps its detector finds as step events (what a platform step detector gives: the outage is paced by cadence × the learned step-length line) or the raw accelerometer (`push_accel`: the same detector, and the step length of each step from its features, calibrated by the fixes before the outage). Speed RMSE against the truth over the outage (one reading a second), m/s; distance error of the outage, mean |error| / worst |error|.\n"
+    );
+    let _ = writeln!(
+        out,
+        "| mix | speed RMSE, step events | speed RMSE, raw acceleration | distance, step events | distance, raw acceleration |"
+    );
+    let _ = writeln!(out, "|---|---|---|---|---|");
+    let mut all: Vec<[f64; 4]> = Vec::new();
+    let row = |out: &mut String, label: &str, rs: &[[f64; 4]]| {
+        let n = rs.len().max(1) as f64;
+        let rmse = |k: usize| (rs.iter().map(|r| r[k] * r[k]).sum::<f64>() / n).sqrt();
+        let (m2, x2, _, _) = mean_max(rs.iter().map(|r| r[2]));
+        let (m3, x3, _, _) = mean_max(rs.iter().map(|r| r[3]));
+        let _ = writeln!(
+            out,
+            "| {label} | {:.3} | {:.3} | {m2:.2} / {x2:.2} % | {m3:.2} / {x3:.2} % |",
+            rmse(0),
+            rmse(1)
+        );
+    };
+    for (mi, mix) in mixes().iter().enumerate() {
+        let t_cal: f64 = mix.calibration.iter().map(|s| s.duration_s).sum();
+        let mut rs = Vec::new();
+        for seed in 1..=SEEDS {
+            let placement = PhonePlacement::ALL[(seed as usize + mi) % PhonePlacement::ALL.len()];
+            let sim = simulate_phone(&scenario(mix, seed, placement));
+            let ev = tracker_outage(&sim, t_cal, false);
+            let ac = tracker_outage(&sim, t_cal, true);
+            rs.push([
+                ev.speed_rmse_mps,
+                ac.speed_rmse_mps,
+                ev.distance_error_pct,
+                ac.distance_error_pct,
+            ]);
+        }
+        row(&mut out, mix.name, &rs);
+        all.extend(rs);
+    }
+    row(&mut out, "**all**", &all);
     out
 }
 
@@ -400,6 +448,8 @@ pub fn real_table(dir: &Path) -> Result<String, String> {
 pub fn report(data_dir: Option<&Path>) -> Result<String, String> {
     let mut out = String::from("## Step length: distance error in a 5-minute GNSS outage\n\n");
     out.push_str(&simulator_tables());
+    out.push('\n');
+    out.push_str(&tracker_table());
     out.push('\n');
     let dir = data_dir
         .map(Path::to_path_buf)

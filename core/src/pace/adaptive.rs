@@ -825,7 +825,19 @@ impl AdaptiveFilter {
             .unwrap_or(c);
         self.track_cadence_ref(c_slow, dt.min(10.0));
         let walking = self.walking_gait;
-        let (l, c_read, w) = self.gait_step_length(c, c_slow);
+        let (mut l, c_read, mut w) = self.gait_step_length(c, c_slow);
+        // GNSS cannot teach the step length now (an outage, a disturbed stretch): with
+        // raw acceleration, the calibrated model of these steps' features follows a
+        // pace change at the same cadence that the line cannot (see `super::accel`).
+        let from_features = if learn {
+            None
+        } else {
+            ctx.accel.and_then(|a| a.step_length_m(t))
+        };
+        if let Some(lf) = from_features {
+            l = lf;
+            w = 1.0; // not a state: the line neither enters nor learns
+        }
         self.ped_speed = c * l;
         let mut s = self.speed();
         if s < 0.3 {
@@ -857,7 +869,9 @@ impl AdaptiveFilter {
         let mut r = (rel * v_ped).powi(2) + (c_sigma * l).powi(2);
         // The walking line is not a state: its uncertainty is measurement noise here;
         // the running line enters with its weight and learns nothing from a walk.
-        r += (c * w * WALK_STEP_SIGMA_M).powi(2);
+        if from_features.is_none() {
+            r += (c * w * WALK_STEP_SIGMA_M).powi(2);
+        }
         h[(0, LA)] = -c * (1.0 - w);
         h[(0, LB)] = -c * (1.0 - w) * (c_read - self.cadence_ref);
         let teach = if walking {
@@ -921,7 +935,16 @@ impl AdaptiveFilter {
             self.out.gnss_weight
         };
         let learned = self.step_length_learned();
+        // The step length the pedometer speed uses when GNSS cannot teach it and raw
+        // acceleration gives one (see `pedometer_update`).
+        let from_features = match cadence {
+            Some(c) if c > 0.0 && !self.gnss_trusted_at(t_out) => {
+                ctx.accel.and_then(|a| a.step_length_m(t_out))
+            }
+            _ => None,
+        };
         let step_length = match (slow, cadence) {
+            _ if from_features.is_some() => from_features,
             // Walking or near it (the walking line has a population value from the
             // start): the same blend the pedometer speed uses.
             (_, Some(c)) if walk_w > 0.0 && (learned || walk_w >= 1.0) => Some(

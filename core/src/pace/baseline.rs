@@ -66,6 +66,7 @@ impl Baseline {
                 let ctx = Context {
                     config: &self.config,
                     steps: &self.no_steps,
+                    accel: None,
                 };
                 let e = self.ema.on_fix(&local, &ctx);
                 prev.map(|_| e.speed_mps)

@@ -9,6 +9,7 @@
 //!
 //! A rejected sample returns a [`PaceError`] and leaves the state exactly as it was.
 
+mod accel;
 mod adaptive;
 mod baseline;
 mod cadence;
@@ -29,7 +30,8 @@ use crate::batch::{self, Batch};
 use crate::geo::LocalFrame;
 use crate::input::{self, Stream as InputStream, TimeGuard};
 use crate::snapshot::{Reader, SnapshotError, Writer};
-use crate::stepdetect::{AccelSample, StepDetector, StepDetectorConfig, StepEvent};
+use crate::stepdetect::{AccelSample, StepEvent};
+use accel::AccelSteps;
 use steps::StepStream;
 
 /// Without any sample for longer than this, no distance is added for the gap, seconds
@@ -40,8 +42,8 @@ pub const MAX_INTEGRATION_GAP_S: f64 = 30.0;
 const SNAPSHOT_KIND: u8 = 1;
 /// Snapshot format version written by this build.
 /// Version 3: the input layer's time state per stream, the pedometer speed and the
-/// session's calibration sums.
-const SNAPSHOT_VERSION: u16 = 4;
+/// session's calibration sums. Version 5: the raw-accelerometer step-length model.
+const SNAPSHOT_VERSION: u16 = 5;
 
 /// A GNSS fix after validation, in the local frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -59,6 +61,8 @@ pub struct LocalFix {
 pub struct Context<'a> {
     pub config: &'a PaceConfig,
     pub steps: &'a StepStream,
+    /// Raw accelerometer input's steps, when the app pushes it.
+    pub accel: Option<&'a AccelSteps>,
 }
 
 /// The fusion filter behind a tracker. Both variants live inline (no heap), so the
@@ -80,8 +84,9 @@ pub struct PaceTracker {
     fix_time: TimeGuard,
     steps: StepStream,
     filter: Filter,
-    /// Step detector for raw accelerometer input, created on the first sample.
-    detector: Option<StepDetector>,
+    /// Step detector and feature step length for raw accelerometer input, created on
+    /// the first sample (see `accel`).
+    accel: Option<AccelSteps>,
 }
 
 /// A sample a batch push rejected, with its index in the batch.
@@ -97,7 +102,7 @@ impl PaceTracker {
             frame: None,
             fix_time: TimeGuard::new(InputStream::Gnss),
             steps: StepStream::new(),
-            detector: None,
+            accel: None,
         })
     }
 
@@ -119,7 +124,13 @@ impl PaceTracker {
 
     /// Steps detected from raw accelerometer input so far.
     pub fn detected_steps(&self) -> u64 {
-        self.detector.as_ref().map_or(0, |d| d.step_count())
+        self.accel.as_ref().map_or(0, |a| a.detector().step_count())
+    }
+
+    /// Calibration of the feature step-length model of raw accelerometer input
+    /// (`None` without such input).
+    pub fn accel_step_length_calibration(&self) -> Option<crate::steplength::Calibration> {
+        self.accel.as_ref().map(|a| a.calibration())
     }
 
     /// The step-length line learned so far, to carry to the next session (see
@@ -176,9 +187,13 @@ impl PaceTracker {
             speed: fix.speed_mps.zip(fix.speed_accuracy_mps),
         };
         self.fix_time.accept(fix.t_s);
+        if let Some(a) = &mut self.accel {
+            a.on_fix(local.t_s, local.east_m, local.north_m, local.accuracy_m);
+        }
         let ctx = Context {
             config: &self.config,
             steps: &self.steps,
+            accel: self.accel.as_ref(),
         };
         Ok(match &mut self.filter {
             Filter::Published(f) => f.on_fix(&local, &ctx),
@@ -193,6 +208,7 @@ impl PaceTracker {
         let ctx = Context {
             config: &self.config,
             steps: &self.steps,
+            accel: self.accel.as_ref(),
         };
         let t = sample.t_s();
         match &mut self.filter {
@@ -207,19 +223,23 @@ impl PaceTracker {
     /// the step stream. An alternative to platform step counts: use one step source
     /// per tracker (a detected step earlier than a pushed count is ignored).
     pub fn push_accel(&mut self, t_s: f64, accel_mps2: [f64; 3]) -> Result<(), PaceError> {
-        let first = match &mut self.detector {
-            Some(d) => d.push_accel(t_s, accel_mps2)?,
+        let first = match &mut self.accel {
+            Some(a) => a.detector_mut().push_accel(t_s, accel_mps2)?,
             None => {
-                let mut d = StepDetector::new(StepDetectorConfig::default())?;
-                let first = d.push_accel(t_s, accel_mps2)?;
-                self.detector = Some(d);
+                let mut a = AccelSteps::new();
+                let first = a.detector_mut().push_accel(t_s, accel_mps2)?;
+                self.accel = Some(a);
                 first
             }
         };
         if let Some(e) = first {
             self.on_detected_step(&e);
         }
-        while let Some(e) = self.detector.as_mut().and_then(|d| d.pop_step()) {
+        while let Some(e) = self
+            .accel
+            .as_mut()
+            .and_then(|a| a.detector_mut().pop_step())
+        {
             self.on_detected_step(&e);
         }
         Ok(())
@@ -238,6 +258,9 @@ impl PaceTracker {
     }
 
     fn on_detected_step(&mut self, e: &StepEvent) {
+        if let Some(a) = &mut self.accel {
+            a.on_step(e);
+        }
         let sample = StepSample::Event { t_s: e.t_s };
         if self.steps.check(&sample).is_err() {
             log::debug!(
@@ -250,6 +273,7 @@ impl PaceTracker {
         let ctx = Context {
             config: &self.config,
             steps: &self.steps,
+            accel: self.accel.as_ref(),
         };
         match &mut self.filter {
             Filter::Published(f) => f.on_steps(e.t_s, &ctx),
@@ -278,9 +302,9 @@ impl PaceTracker {
         let started = self.fix_time.last_t_s().is_some()
             || self.steps.has_data()
             || self
-                .detector
+                .accel
                 .as_ref()
-                .is_some_and(|d| d.last_t_s().is_some());
+                .is_some_and(|a| a.detector().last_t_s().is_some());
         started.then(|| self.current())
     }
 
@@ -288,6 +312,7 @@ impl PaceTracker {
         let ctx = Context {
             config: &self.config,
             steps: &self.steps,
+            accel: self.accel.as_ref(),
         };
         match &self.filter {
             Filter::Published(f) => f.estimate(&ctx),

@@ -1,5 +1,5 @@
 //! Snapshot and restore of the [`PaceTracker`]: the configuration, the frame, the
-//! input streams' state, the filter and the step detector, versioned and
+//! input streams' state, the filter and the raw-accelerometer steps (detector and step-length model), versioned and
 //! checksummed. The tracker and its configuration are destructured exhaustively and
 //! `restore` builds them field by field, so a field that is not serialised is a
 //! compile error.
@@ -17,7 +17,7 @@ impl PaceTracker {
             fix_time,
             steps,
             filter,
-            detector,
+            accel,
         } = self;
         let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
         write_config(&mut w, config);
@@ -28,10 +28,10 @@ impl PaceTracker {
             Filter::Published(f) => f.write(&mut w),
             Filter::Adaptive(f) => f.write(&mut w),
         }
-        match detector {
-            Some(d) => {
+        match accel {
+            Some(a) => {
                 w.bool(true);
-                w.bytes(&d.snapshot());
+                a.write(&mut w);
             }
             None => w.bool(false),
         }
@@ -57,8 +57,8 @@ impl PaceTracker {
                 Filter::Adaptive(adaptive::AdaptiveFilter::read(&mut r, &config)?)
             }
         };
-        let detector = if r.bool()? {
-            Some(StepDetector::restore(r.bytes()?)?)
+        let accel = if r.bool()? {
+            Some(AccelSteps::read(&mut r)?)
         } else {
             None
         };
@@ -69,7 +69,7 @@ impl PaceTracker {
             fix_time,
             steps,
             filter,
-            detector,
+            accel,
         })
     }
 }

@@ -309,3 +309,50 @@ fn counting_allocator_sees_allocations() {
     drop(v);
     assert!(crate::common::total_allocations() >= 1);
 }
+
+/// Raw accelerometer input (the tracker's own detector and feature step length) and
+/// fixes, calibrated and then through an outage: no allocation per sample once the
+/// tracker has seen its first accelerometer sample.
+#[test]
+fn accelerometer_path_does_not_allocate() {
+    use stridekit_core::geo::LocalFrame;
+    use stridekit_sim::phone::{simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario};
+    let sim = simulate_phone(&PhoneScenario {
+        gnss_outages: vec![(400.0, 500.0)],
+        ..PhoneScenario::walk(11, PhonePlacement::InHand, 1.4, 500.0)
+    });
+    let events = sim.timeline(&LocalFrame::new(LAT0, LON0, 0.0));
+    let mut tracker = PaceTracker::new(PaceConfig::default()).unwrap();
+    // The first sample builds the accelerometer input (detector and model).
+    let split = events
+        .iter()
+        .position(|e| matches!(e, PhoneEvent::Imu(_)))
+        .unwrap()
+        + 1;
+    for e in &events[..split] {
+        match e {
+            PhoneEvent::Imu(s) => tracker.push_accel(s.t_s, s.accel_mps2).unwrap(),
+            PhoneEvent::Fix(f) => {
+                tracker.push_fix(f).unwrap();
+            }
+        }
+    }
+    let (allocs, pushed) = allocations_in(|| {
+        let mut pushed = 0usize;
+        for e in &events[split..] {
+            match e {
+                PhoneEvent::Imu(s) => tracker.push_accel(s.t_s, s.accel_mps2).unwrap(),
+                PhoneEvent::Fix(f) => {
+                    black_box(tracker.push_fix(f).unwrap());
+                }
+            }
+            black_box(tracker.estimate());
+            pushed += 1;
+        }
+        pushed
+    });
+    assert!(pushed > 50_000, "{pushed}");
+    let cal = tracker.accel_step_length_calibration().unwrap();
+    assert!(cal.fits >= 10, "the feature model was calibrated: {cal:?}");
+    assert_eq!(allocs, 0, "{allocs} allocations over {pushed} samples");
+}

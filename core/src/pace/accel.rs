@@ -1,0 +1,165 @@
+//! Raw accelerometer input of the pace tracker: steps detected from it, and a step
+//! length that follows the acceleration of each step.
+//!
+//! With platform step counts or a watch's cadence the tracker knows only how often
+//! the feet land; through a GNSS outage it can only read its learned step-length line
+//! at the cadence, so a runner who speeds up or slows down at the same cadence (longer
+//! or shorter steps, the usual way runners change pace) is paced wrong. Raw
+//! acceleration says more: a longer step at the same cadence lands harder and swings
+//! the body more. When the app pushes raw acceleration
+//! ([`super::PaceTracker::push_accel`]), every detected step also goes to a
+//! [`StepLengthEstimator`] (the robust linear model `L = A·F + B·SV + C` of step
+//! frequency and acceleration variance, method 3 of docs/architecture.md) that the
+//! tracker's GNSS fixes calibrate while they are good. Once that calibration has
+//! converged, the pedometer measurement uses the mean modelled length of the steps of
+//! the last [`WINDOW_S`] whenever GNSS cannot teach the step length (an outage, a
+//! disturbed stretch): speed = cadence × the step length of *these* steps, not the
+//! line's value at the cadence. With good GNSS the filter's own line is used as
+//! before; without raw acceleration nothing changes.
+
+use crate::signal::Ring;
+use crate::snapshot::{Reader, SnapshotError, Writer};
+use crate::stepdetect::{StepDetector, StepEvent};
+use crate::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
+
+/// Steps whose modelled lengths are averaged, looking back this far from the
+/// measurement time, seconds (the cadence window of the pedometer update).
+pub const WINDOW_S: f64 = 4.0;
+/// Fewest steps in the window for a feature step length.
+const MIN_STEPS: usize = 3;
+/// Recent step lengths kept (≥ 4 s of steps at 4 steps/s).
+const RECENT: usize = 24;
+/// The step-length model fed from the detected steps.
+pub const MODEL: StepLengthModel = StepLengthModel::Linear;
+
+/// One modelled step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Modelled {
+    t_s: f64,
+    length_m: f64,
+}
+
+/// Step detector and feature step length for raw accelerometer input.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AccelSteps {
+    detector: StepDetector,
+    length: StepLengthEstimator,
+    recent: Ring<Modelled, RECENT>,
+}
+
+/// The estimator's settings here: the defaults, learning on after convergence (a
+/// run's pace keeps changing; the tracker keeps following it while GNSS is good).
+fn length_config() -> StepLengthConfig {
+    StepLengthConfig {
+        freeze_when_converged: false,
+        ..StepLengthConfig::default()
+    }
+}
+
+impl AccelSteps {
+    pub fn new() -> Self {
+        Self {
+            detector: StepDetector::default(),
+            length: StepLengthEstimator::new(MODEL, length_config())
+                .expect("the default step-length configuration is valid"),
+            recent: Ring::new(),
+        }
+    }
+
+    pub fn detector(&self) -> &StepDetector {
+        &self.detector
+    }
+
+    pub fn detector_mut(&mut self) -> &mut StepDetector {
+        &mut self.detector
+    }
+
+    /// A detected step: modelled (and queued for calibration by the next fixes).
+    pub fn on_step(&mut self, e: &StepEvent) {
+        // Detected steps come in time order with checked features; a step the
+        // estimator refuses all the same is left out of the window.
+        if let Ok(length_m) = self.length.push_step(e) {
+            if length_m.is_finite() {
+                self.recent.push(Modelled {
+                    t_s: e.t_s,
+                    length_m,
+                });
+            }
+        }
+    }
+
+    /// A fix in the tracker's local frame (calibrates while GNSS is good).
+    pub fn on_fix(&mut self, t_s: f64, east_m: f64, north_m: f64, accuracy_m: Option<f64>) {
+        // Fixes were checked at the tracker's door and come in time order.
+        let _ = self.length.push_gnss_fix(t_s, east_m, north_m, accuracy_m);
+    }
+
+    /// Whether GNSS has calibrated the step-length model: converged, or at least
+    /// the estimator's `min_fits` 20-step fits (200 steps of good GNSS; its
+    /// convergence test, 1 % of the step length, is for freezing the calibration).
+    pub fn calibrated(&self) -> bool {
+        let c = self.length.calibration();
+        c.converged || c.fits >= self.length.config().min_fits
+    }
+
+    /// The step-length model's calibration state.
+    pub fn calibration(&self) -> crate::steplength::Calibration {
+        self.length.calibration()
+    }
+
+    /// Mean modelled length of the steps in `(t_s − WINDOW_S, t_s]`, metres, once
+    /// calibrated and with at least [`MIN_STEPS`] of them.
+    pub fn step_length_m(&self, t_s: f64) -> Option<f64> {
+        if !self.calibrated() {
+            return None;
+        }
+        let (mut sum, mut n) = (0.0, 0usize);
+        for s in self.recent.iter().rev() {
+            if s.t_s <= t_s - WINDOW_S {
+                break;
+            }
+            if s.t_s <= t_s {
+                sum += s.length_m;
+                n += 1;
+            }
+        }
+        (n >= MIN_STEPS).then(|| sum / n as f64)
+    }
+
+    pub fn write(&self, w: &mut Writer) {
+        w.bytes(&self.detector.snapshot());
+        w.bytes(&self.length.snapshot());
+        w.u64(self.recent.len() as u64);
+        for s in self.recent.iter() {
+            w.f64s(&[s.t_s, s.length_m]);
+        }
+    }
+
+    pub fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
+        let detector = StepDetector::restore(r.bytes()?)
+            .map_err(|_| SnapshotError::Invalid("accelerometer step detector"))?;
+        let length = StepLengthEstimator::restore(r.bytes()?)
+            .map_err(|_| SnapshotError::Invalid("accelerometer step length"))?;
+        if length.model() != MODEL || *length.config() != length_config() {
+            return Err(SnapshotError::Invalid("accelerometer step length"));
+        }
+        let n = r.len(RECENT)?;
+        let mut recent = Ring::new();
+        let mut prev = f64::NEG_INFINITY;
+        for _ in 0..n {
+            let mut v = [0.0; 2];
+            r.f64s(&mut v)?;
+            let [t_s, length_m] = v;
+            if !(t_s.is_finite() && t_s >= prev && length_m.is_finite() && length_m > 0.0) {
+                return Err(SnapshotError::Invalid("accelerometer step lengths"));
+            }
+            prev = t_s;
+            recent.push(Modelled { t_s, length_m });
+        }
+        Ok(Self {
+            detector,
+            length,
+            recent,
+        })
+    }
+}
