@@ -192,5 +192,67 @@ fn bench_estimate(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_push_fix, bench_push_steps, bench_estimate);
+/// Samples pushed per timed call of the accelerometer benchmark.
+const ACCEL_BLOCK: usize = 1_000;
+
+/// Raw accelerometer input (the tracker's own step detector and, once GNSS has
+/// calibrated it, the feature step length; `core/src/pace/accel.rs`): blocks of
+/// [`ACCEL_BLOCK`] samples of a simulated 100 Hz walk with 1 Hz fixes, pushed into a
+/// clone of the tracker as it was before the block, after 6 minutes of calibration;
+/// the GNSS of the last minute is cut (an outage, where the feature step length is
+/// used). Reported per block: divide by 1 000 for the cost per sample (fixes
+/// included, one per 100 samples).
+fn bench_push_accel(c: &mut Criterion) {
+    use stridekit_sim::phone::{simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario};
+    let sim = simulate_phone(&PhoneScenario {
+        gnss_outages: vec![(360.0, 421.0)],
+        ..PhoneScenario::walk(7, PhonePlacement::FrontPocket, 1.4, 420.0)
+    });
+    let events = sim.timeline(&LocalFrame::new(48.2, 16.4, 0.0));
+    let mut tracker = PaceTracker::new(PaceConfig::default()).expect("valid config");
+    let push = |t: &mut PaceTracker, e: &PhoneEvent<'_>| match e {
+        PhoneEvent::Imu(s) => t.push_accel(s.t_s, s.accel_mps2).expect("valid sample"),
+        PhoneEvent::Fix(f) => {
+            t.push_fix(f).expect("valid fix");
+        }
+    };
+    // Blocks from 5 minutes in (calibrated) to the end: half with GNSS, half without.
+    let first = events
+        .iter()
+        .position(|e| matches!(e, PhoneEvent::Imu(s) if s.t_s >= 300.0))
+        .expect("a long enough walk");
+    for e in &events[..first] {
+        push(&mut tracker, e);
+    }
+    let mut states = Vec::new();
+    let mut i = first;
+    while i + ACCEL_BLOCK <= events.len() && states.len() < CHECKPOINTS {
+        states.push((tracker.clone(), i));
+        for e in &events[i..i + ACCEL_BLOCK] {
+            push(&mut tracker, e);
+        }
+        i += ACCEL_BLOCK;
+    }
+    let mut group = c.benchmark_group("push_accel_block_1000");
+    group.bench_function("adaptive", |b| {
+        b.iter_batched_ref(
+            cycling(&states),
+            |(t, start)| {
+                for e in &events[*start..*start + ACCEL_BLOCK] {
+                    push(t, black_box(e));
+                }
+            },
+            BatchSize::NumIterations(4),
+        )
+    });
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    bench_push_fix,
+    bench_push_steps,
+    bench_estimate,
+    bench_push_accel
+);
 criterion_main!(benches);
