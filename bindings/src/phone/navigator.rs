@@ -168,8 +168,9 @@ pub struct NavStep {
     /// Walking azimuth over the step, radians clockwise from north.
     pub azimuth_rad: f64,
     /// Peak-to-peak vertical displacement of the phone over the step, metres (what
-    /// the `PENDULUM` step length uses; NaN when it could not be measured).
-    pub vertical_displacement_m: f64,
+    /// the `PENDULUM` step length uses); null when it could not be measured (no
+    /// attitude yet, or the step's span not covered by samples).
+    pub vertical_displacement_m: Option<f64>,
 }
 
 impl From<core::NavStep> for NavStep {
@@ -180,7 +181,7 @@ impl From<core::NavStep> for NavStep {
             north_m: s.north_m,
             length_m: s.length_m,
             azimuth_rad: s.azimuth_rad,
-            vertical_displacement_m: s.vertical_displacement_m,
+            vertical_displacement_m: Some(s.vertical_displacement_m).filter(|h| h.is_finite()),
         }
     }
 }
