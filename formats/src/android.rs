@@ -28,8 +28,14 @@
 //! | `TYPE_ROTATION_VECTOR` | x y z [w or accuracy] | unit quaternion's vector part; device → ENU |
 //! | `TYPE_WAYPOINT` | x y | metres in the map's frame (the ground truth) |
 //!
-//! Other types (WiFi, Bluetooth, `TYPE_ACCELEROMETER_UNCALIBRATED`, …) are skipped
-//! and counted by type; so are lines whose values do not parse (counted as
+//! | `TYPE_ACCELEROMETER_UNCALIBRATED` | x y z bx by bz [accuracy] | m/s², with the bias estimate |
+//!
+//! The calibrated streams are used when the log has them. A log without any
+//! `TYPE_ACCELEROMETER`, `TYPE_GYROSCOPE` or `TYPE_MAGNETIC_FIELD` event (some apps
+//! and devices log only the uncalibrated sensors) gets that stream from its
+//! `…_UNCALIBRATED` events with Android's own bias estimate removed (raw − bias), the
+//! same quantity Android reports as calibrated; the two are never mixed within a log.
+//! Other types (WiFi, Bluetooth, …) are skipped and counted by type; so are lines whose values do not parse (counted as
 //! `malformed TYPE_…`). Nothing is dropped for being odd in time: samples out of
 //! order or with a repeated timestamp are passed on as they are, for the engine to
 //! reject and the replay to count.
@@ -193,6 +199,7 @@ pub fn parse_android_log(name: &str, text: &str) -> Result<InertialRecording, Fo
     let mut truth = Vec::new();
     let mut orientation = Vec::new();
     let mut uncalibrated = Vec::new();
+    let mut accel_uncalibrated: Vec<Timed> = Vec::new();
     for line in text.lines() {
         let line = line.trim();
         if line.is_empty() {
@@ -233,6 +240,8 @@ pub fn parse_android_log(name: &str, text: &str) -> Result<InertialRecording, Fo
                     })
                 })
             }
+            "TYPE_ACCELEROMETER_UNCALIBRATED" => numbers::<6>(values)
+                .map(|v| accel_uncalibrated.push((t_s, [v[0] - v[3], v[1] - v[4], v[2] - v[5]]))),
             "TYPE_ROTATION_VECTOR" => numbers::<3>(values).map(|[x, y, z]| {
                 let w4 = values.get(3).and_then(|s| s.parse::<f64>().ok());
                 let w = match w4 {
@@ -256,6 +265,26 @@ pub fn parse_android_log(name: &str, text: &str) -> Result<InertialRecording, Fo
         if ok.is_none() {
             *skipped.entry(format!("malformed {kind}")).or_default() += 1;
         }
+    }
+    // Streams the log has only uncalibrated: raw − Android's bias estimate.
+    if accel.is_empty() {
+        accel = accel_uncalibrated;
+    }
+    let corrected = |magnetometer: bool| -> Vec<Timed> {
+        uncalibrated
+            .iter()
+            .filter(|u| u.magnetometer == magnetometer)
+            .map(|u| {
+                let c = [0, 1, 2].map(|i| u.raw[i] - u.bias[i]);
+                (u.t_s, c)
+            })
+            .collect()
+    };
+    if gyro.is_empty() {
+        gyro = corrected(false);
+    }
+    if mag.is_empty() {
+        mag = corrected(true);
     }
     if accel.is_empty() {
         return Err(FormatError::Empty);
@@ -366,6 +395,28 @@ mod tests {
         assert_eq!(r.samples[0].t_s, r.samples[1].t_s);
         assert_eq!(r.orientation[0].1, [0.8, 0.0, 0.0, 0.6]);
         assert!(r.samples[0].mag_ut.is_none());
+    }
+
+    #[test]
+    fn uncalibrated_streams_stand_in_for_missing_calibrated_ones() {
+        // No calibrated accelerometer, gyroscope or magnetometer: raw − bias.
+        let text = "1000\tTYPE_ACCELEROMETER_UNCALIBRATED\t0.5\t0.2\t10.0\t0.5\t0.0\t0.2\t3\n\
+1000\tTYPE_GYROSCOPE_UNCALIBRATED\t0.11\t0.02\t0.03\t0.1\t0.0\t0.0\t3\n\
+1000\tTYPE_MAGNETIC_FIELD_UNCALIBRATED\t40\t20\t-30\t30\t0\t0\t3\n\
+1020\tTYPE_ACCELEROMETER_UNCALIBRATED\t0.5\t0.2\t10.0\t0.5\t0.0\t0.2\n\
+1020\tTYPE_GYROSCOPE_UNCALIBRATED\t0.11\t0.02\t0.03\t0.1\t0.0\t0.0\n";
+        let r = parse_android_log("x", text).unwrap();
+        assert_eq!(r.samples.len(), 2);
+        let s = &r.samples[0];
+        assert!(s.accel_mps2[0].abs() < 1e-12 && (s.accel_mps2[2] - 9.8).abs() < 1e-12);
+        assert!((s.gyro_rads[0] - 0.01).abs() < 1e-12);
+        assert_eq!(s.mag_ut, Some([10.0, 20.0, -30.0]));
+        // With calibrated streams present, the uncalibrated ones do not mix in.
+        let both =
+            format!("{text}1000\tTYPE_GYROSCOPE\t0.5\t0\t0\n1030\tTYPE_GYROSCOPE\t0.5\t0\t0\n");
+        let r = parse_android_log("x", &both).unwrap();
+        assert_eq!(r.samples[0].gyro_rads, [0.5, 0.0, 0.0]);
+        assert_eq!(r.samples[1].gyro_rads, [0.5, 0.0, 0.0]);
     }
 
     #[test]
