@@ -6,7 +6,6 @@ mod foot;
 mod orientation;
 mod output;
 mod pdr;
-mod rejected;
 mod replay;
 mod steps;
 

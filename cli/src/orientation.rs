@@ -3,14 +3,17 @@
 //! one CSV row per accepted sample: `t_s,qw,qx,qy,qz` (body → East-North-Up) and the
 //! filter's flags (0/1). Samples the filter rejects are skipped and counted by
 //! reason; one bad sample never aborts the replay. With optical truth in the file
-//! (BROAD), the benchmark's errors are printed too.
+//! (BROAD), the benchmark's errors are printed too. An Android sensor log (`*.txt`,
+//! `*.txt.gz`, see `stridekit pdr`) is read as well; when it holds Android's own
+//! rotation vector, the RMS difference to it is printed as a second opinion (Android's
+//! fusion is not truth; the first few seconds, while both settle, are not scored).
 
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use stridekit_core::ahrs::{Ahrs, AhrsError, AhrsFlags, AhrsSettings};
-use stridekit_formats::read_broad;
+use stridekit_formats::{is_android_log, read_android_log, read_broad};
 
 use stridekit_lab::orientation::metric::ErrorSums;
 
@@ -26,13 +29,71 @@ pub struct OrientationArgs {
 /// A short name for why a sample was rejected (the replay's counters).
 pub fn reason(e: &AhrsError) -> String {
     match e {
-        AhrsError::Input(i) => crate::rejected::input_reason(i),
+        AhrsError::Input(i) => stridekit_lab::rejected::input_reason(i),
         other => other.to_string(),
     }
 }
 
+/// Seconds of an Android log not compared with the rotation vector while both settle.
+const ANDROID_SETTLE_S: f64 = 5.0;
+/// How far the rotation vector's event may be from a sample to be compared with it.
+const ANDROID_MATCH_S: f64 = 0.05;
+
+/// One replayable sample and what it is compared with.
+struct Row {
+    t_s: f64,
+    gyro_rads: [f64; 3],
+    accel_mps2: [f64; 3],
+    mag_ut: Option<[f64; 3]>,
+    /// Truth or reference quaternion, body → earth, when this sample is scored.
+    reference: Option<[f64; 4]>,
+}
+
 pub fn run(args: &OrientationArgs) -> Result<(), String> {
-    let rec = read_broad(&args.file).map_err(|e| format!("{}: {e}", args.file.display()))?;
+    let what = |e: &dyn std::fmt::Display| format!("{}: {e}", args.file.display());
+    let android = is_android_log(&args.file);
+    let rows: Vec<Row> = if android {
+        let rec = read_android_log(&args.file).map_err(|e| what(&e))?;
+        let t0 = rec.samples.first().map_or(0.0, |s| s.t_s);
+        let rv = &rec.orientation;
+        let mut k = 0;
+        rec.samples
+            .iter()
+            .map(|s| {
+                while k + 1 < rv.len() && rv[k + 1].0 <= s.t_s {
+                    k += 1;
+                }
+                let near = [k, k + 1]
+                    .into_iter()
+                    .filter_map(|i| rv.get(i))
+                    .filter(|(t, _)| (t - s.t_s).abs() <= ANDROID_MATCH_S)
+                    .min_by(|a, b| (a.0 - s.t_s).abs().total_cmp(&(b.0 - s.t_s).abs()));
+                Row {
+                    t_s: s.t_s,
+                    gyro_rads: s.gyro_rads,
+                    accel_mps2: s.accel_mps2,
+                    mag_ut: s.mag_ut,
+                    reference: near
+                        .filter(|_| s.t_s - t0 >= ANDROID_SETTLE_S)
+                        .map(|(_, q)| *q),
+                }
+            })
+            .collect()
+    } else {
+        let rec = read_broad(&args.file).map_err(|e| what(&e))?;
+        rec.samples
+            .iter()
+            .zip(&rec.truth)
+            .zip(&rec.movement)
+            .map(|((s, truth), &moving)| Row {
+                t_s: s.t_s,
+                gyro_rads: s.gyro_rads,
+                accel_mps2: s.accel_mps2,
+                mag_ut: s.mag_ut,
+                reference: truth.filter(|_| moving),
+            })
+            .collect()
+    };
     let mut ahrs = Ahrs::new(AhrsSettings::default()).map_err(|e| e.to_string())?;
     let file =
         std::fs::File::create(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
@@ -46,7 +107,7 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
     let mut rejected: BTreeMap<String, usize> = BTreeMap::new();
     let mut sums = ErrorSums::default();
     let mut accepted = 0usize;
-    for ((s, truth), &moving) in rec.samples.iter().zip(&rec.truth).zip(&rec.movement) {
+    for s in &rows {
         let mag = if args.imu_only { None } else { s.mag_ut };
         match ahrs.update(s.t_s, s.gyro_rads, s.accel_mps2, mag) {
             Ok(flags) => {
@@ -62,7 +123,7 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
                     write!(w, ",{}", f as u8).map_err(io)?;
                 }
                 writeln!(w).map_err(io)?;
-                if let (true, Some(t)) = (moving, truth) {
+                if let Some(t) = &s.reference {
                     sums.add(&q, t);
                 }
             }
@@ -73,7 +134,7 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
     println!(
         "{}: {} samples, {accepted} accepted, written to {}",
         display_name(&args.file),
-        rec.len(),
+        rows.len(),
         args.out.display()
     );
     for (why, n) in &rejected {
@@ -81,17 +142,27 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
     }
     if sums.n > 0 {
         let r = sums.rmse();
+        let against = if android {
+            format!(
+                "against Android's rotation vector (its own fusion, a second opinion, not truth; \
+                 {} samples after the first {ANDROID_SETTLE_S} s)",
+                sums.n
+            )
+        } else {
+            format!(
+                "against the optical truth (BROAD metric, {} scored samples)",
+                sums.n
+            )
+        };
         if args.imu_only {
             println!(
-                "against the optical truth (BROAD metric, {} scored samples): inclination RMSE {:.2}° \
-                 (IMU only: the heading is relative to the start)",
-                sums.n, r.inclination_deg
+                "{against}: inclination RMSE {:.2}° (IMU only: the heading is relative to the start)",
+                r.inclination_deg
             );
         } else {
             println!(
-                "against the optical truth (BROAD metric, {} scored samples): RMSE total {:.2}°, \
-                 heading {:.2}°, inclination {:.2}°",
-                sums.n, r.total_deg, r.heading_deg, r.inclination_deg
+                "{against}: RMSE total {:.2}°, heading {:.2}°, inclination {:.2}°",
+                r.total_deg, r.heading_deg, r.inclination_deg
             );
         }
     }

@@ -8,8 +8,8 @@ use std::path::Path;
 
 use stridekit_core::{PaceConfig, PaceSample, PaceTracker};
 
-use crate::rejected::Rejected;
 use stridekit_lab::activity::prepare;
+use stridekit_lab::rejected::Rejected;
 
 pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
     let activity =

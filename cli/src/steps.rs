@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 use stridekit_core::stepdetect::{StepDetector, StepDetectorConfig, StepEvent};
 
-use crate::rejected::Rejected;
+use stridekit_lab::rejected::Rejected;
 
 /// Options of `stridekit steps`.
 pub struct StepsArgs {

@@ -42,6 +42,8 @@ fn write_log(path: &Path) {
         let _ = writeln!(s, "{ms}\tTYPE_ACCELEROMETER\t0.1\t{ay:.5}\t{az:.5}\t3");
         let _ = writeln!(s, "{ms}\tTYPE_GYROSCOPE\t0\t0\t0.02\t3");
         let _ = writeln!(s, "{ms}\tTYPE_MAGNETIC_FIELD\t0\t20\t-40\t3");
+        // Android's own fusion: flat, top edge north (what the magnetometer says).
+        let _ = writeln!(s, "{ms}\tTYPE_ROTATION_VECTOR\t0\t0\t0\t1\t3");
         if i == 700 {
             // Repeated timestamp: rejected by the navigator, counted.
             let _ = writeln!(s, "{ms}\tTYPE_ACCELEROMETER\t0.1\t{ay:.5}\t{az:.5}\t3");
@@ -72,7 +74,10 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert!(stdout.contains("rejected samples: 1 ×"), "{stdout}");
+    assert!(
+        stdout.contains("rejected samples: 1 × IMU stream: duplicate timestamp"),
+        "{stdout}"
+    );
     assert!(
         stdout.contains("skipped by the reader: 1 × malformed TYPE_ACCELEROMETER"),
         "{stdout}"
@@ -149,6 +154,53 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
     assert!(
         (1000.0..1040.0).contains(&t0),
         "t_s {t0} is not on the file's clock"
+    );
+
+    // The same log through the orientation filter and the learned odometry: the
+    // repeated sample skipped and counted the same way, Android's rotation vector as
+    // the orientation's second opinion.
+    let out = stridekit()
+        .arg("orientation")
+        .arg(&log)
+        .arg("--out")
+        .arg(dir.join("q.csv"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(
+        stdout.contains("skipped 1: IMU stream: duplicate timestamp"),
+        "{stdout}"
+    );
+    let inclination: f64 = stdout
+        .split("inclination ")
+        .nth(1)
+        .and_then(|r| r.split('°').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no comparison with the rotation vector: {stdout}"));
+    assert!(
+        stdout.contains("against Android's rotation vector"),
+        "{stdout}"
+    );
+    assert!(inclination < 10.0, "{stdout}");
+    let rows = std::fs::read_to_string(dir.join("q.csv")).unwrap();
+    assert_eq!(
+        rows.lines().count(),
+        2001,
+        "header + one row per accepted sample"
+    );
+    let out = stridekit()
+        .arg("odometry")
+        .arg(&log)
+        .arg("--out")
+        .arg(dir.join("odo.svg"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(
+        stdout.contains("skipped 1: IMU stream: duplicate timestamp"),
+        "{stdout}"
     );
 
     // Typed refusals: unknown flag, bad calibration file.

@@ -15,6 +15,7 @@ pub mod placement;
 pub mod placement_eval;
 pub mod placement_mlp;
 pub mod progress;
+pub mod rejected;
 pub mod report;
 pub mod soak;
 pub mod stats;

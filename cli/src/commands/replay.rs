@@ -156,7 +156,9 @@ pub fn pdr(a: PdrArgs) -> Result<(), String> {
 /// Replay a recording with IMU and magnetometer samples (the BROAD CSV, .csv or
 /// .csv.gz, or an Android sensor log) through the default orientation filter; write
 /// one row per accepted sample, t_s,qw,qx,qy,qz (body → East-North-Up) and the
-/// filter's flags. With optical truth in the file, prints the BROAD errors.
+/// filter's flags. With optical truth in the file, prints the BROAD errors; with
+/// Android's rotation vector in a sensor log, the RMS difference to it (a second
+/// opinion, not truth).
 #[derive(Debug, Args)]
 pub struct OrientationArgs {
     /// The recording.

@@ -359,6 +359,7 @@ fn heading_alignment_undoes_a_frame_rotation() {
     let mut tracks = Tracks {
         truth: truth.clone(),
         methods: [turned.clone(), turned.clone(), turned.clone(), turned],
+        ..Default::default()
     };
     assert!(tracks.scores()[0].0 > 5.0);
     tracks.align_heading(20.0);

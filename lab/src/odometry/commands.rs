@@ -497,6 +497,12 @@ pub fn replay(file: &str, model: Option<&Path>, svg: &Path) -> Result<String, St
         tracks.truth.len()
     );
     out.push_str(&note);
+    if tracks.rejected.total() == 0 {
+        out.push_str("rejected samples: none\n");
+    } else {
+        let _ = writeln!(out, "rejected samples: {}", tracks.rejected.total());
+        out.push_str(&tracks.rejected.report());
+    }
     for (k, (a, r)) in tracks.scores().iter().enumerate() {
         let _ = writeln!(out, "{:<30} ATE {a:8.2} m  RTE {r:8.2} m", METHODS[k]);
     }

@@ -21,6 +21,8 @@ pub const METHODS: [&str; 4] = [
 pub struct Tracks {
     pub truth: Vec<Point>,
     pub methods: [Vec<Point>; 4],
+    /// Samples the learned odometry refused (skipped, by reason).
+    pub rejected: crate::rejected::Rejected,
 }
 
 /// (ATE, RTE over 60 s) of each method, metres.
@@ -90,9 +92,12 @@ pub fn run_methods(
     // Baseline positions per accepted sample.
     let mut base: Vec<(f64, [f64; 2], [f64; 2])> = Vec::with_capacity(samples.len());
     let mut est = [Vec::new(), Vec::new()];
+    let mut rejected = crate::rejected::Rejected::default();
     for s in samples {
-        if let Ok(Some(e)) = learned.push(s) {
-            est[0].push((e.t_s, e.position_m[0], e.position_m[1]));
+        match learned.push(s) {
+            Ok(Some(e)) => est[0].push((e.t_s, e.position_m[0], e.position_m[1])),
+            Ok(None) => {}
+            Err(e) => rejected.odometry(&e),
         }
         if let Ok(Some(e)) = nobias.push(s) {
             est[1].push((e.t_s, e.position_m[0], e.position_m[1]));
@@ -133,5 +138,6 @@ pub fn run_methods(
     Tracks {
         methods: [l0, l1, shift(f), shift(a)],
         truth: truth_pts,
+        rejected,
     }
 }

@@ -89,15 +89,6 @@ pub struct Replay {
     pub rejected: BTreeMap<String, u64>,
 }
 
-/// The reason of a rejection without its numbers (so that counts group).
-pub fn reason_kind(e: &impl std::fmt::Display) -> String {
-    let s = e.to_string();
-    let cut = s
-        .find(|c: char| c.is_ascii_digit() || c == '-')
-        .unwrap_or(s.len());
-    s[..cut].trim_end_matches([' ', '=', '(', ':']).to_string()
-}
-
 /// How a walk is replayed.
 #[derive(Clone, Debug)]
 pub struct ReplayOptions {
@@ -170,7 +161,7 @@ pub fn replay(rec: &InertialRecording, o: &ReplayOptions) -> Result<Replay, Stri
             nav.push_imu(&imu)
         };
         if let Err(e) = pushed {
-            *rejected.entry(reason_kind(&e)).or_default() += 1;
+            *rejected.entry(crate::rejected::nav_reason(&e)).or_default() += 1;
             continue;
         }
         let Some(e) = nav.estimate() else { continue };

@@ -5,11 +5,13 @@
 use std::collections::BTreeMap;
 
 use stridekit_core::input::InputError;
+use stridekit_core::odometry::OdometryError;
+use stridekit_core::pdr::NavError;
 use stridekit_core::stepdetect::StepDetectError;
 use stridekit_core::PaceError;
 
 /// Rejected samples by reason.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Rejected {
     by_reason: BTreeMap<String, u64>,
 }
@@ -45,12 +47,21 @@ pub fn input_reason(e: &InputError) -> String {
     }
 }
 
+/// The reason the phone navigator refused a sample (see [`input_reason`]).
+pub fn nav_reason(e: &NavError) -> String {
+    match e {
+        NavError::Input(i) => input_reason(i),
+        other => other.to_string(),
+    }
+}
+
 impl Rejected {
     pub fn total(&self) -> u64 {
         self.by_reason.values().sum()
     }
 
-    fn add(&mut self, reason: String) {
+    /// A sample skipped for a reason of the replay's own (e.g. no rotation vector).
+    pub fn add(&mut self, reason: String) {
         *self.by_reason.entry(reason).or_insert(0) += 1;
     }
 
@@ -71,6 +82,18 @@ impl Rejected {
             StepDetectError::Input(i) => self.input(i),
             other => self.add(other.to_string()),
         }
+    }
+
+    pub fn odometry(&mut self, e: &OdometryError) {
+        match e {
+            OdometryError::Input(i) => self.input(i),
+            other => self.add(other.to_string()),
+        }
+    }
+
+    /// The counts by reason.
+    pub fn counts(&self) -> &BTreeMap<String, u64> {
+        &self.by_reason
     }
 
     /// One line per reason, e.g. `  skipped 205: duplicate timestamp (...)`.
