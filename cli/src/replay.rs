@@ -1,7 +1,8 @@
 //! `stridekit pace FILE`: replay a real activity file and print one CSV line per
 //! GNSS epoch (and per pedometer-only update during outages). Samples the tracker
 //! rejects (duplicate or reversed timestamps, NaN, out of range) are skipped and
-//! counted by reason; the counts go to stderr with the summary.
+//! counted by reason; the counts go to stderr with the summary, with what the file
+//! reader cleaned up before (records merged, sorted, values dropped).
 
 use std::io::Write as _;
 use std::path::Path;
@@ -78,6 +79,9 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
         if p.has_steps { "yes" } else { "no" }
     );
     eprint!("{}", rejected.report());
+    for (why, n) in activity.cleanup.reasons() {
+        eprintln!("  reader: {n} × {why}");
+    }
     Ok(())
 }
 

@@ -75,6 +75,13 @@ fn pace_replays_a_user_csv() {
     for i in 0..600 {
         let lon = 3.0 * i as f64 / m_per_deg;
         text.push_str(&format!("{i},0.0,{lon:.9},170\n"));
+        // What real files hold: a repeated row, rows out of order, a bad position.
+        match i {
+            100 => text.push_str(&format!("{i},0.0,{lon:.9},170\n")),
+            200 => text.push_str(&format!("{},0.0,{lon:.9},170\n", i - 50)),
+            300 => text.push_str(&format!("{}.5,95.0,{lon:.9},170\n", i)),
+            _ => {}
+        }
     }
     std::fs::write(&csv, text).unwrap();
     let out = stridekit().arg("pace").arg(&csv).output().unwrap();
@@ -101,7 +108,21 @@ fn pace_replays_a_user_csv() {
         "{}",
         lines.last().unwrap()
     );
-    assert!(String::from_utf8_lossy(&out.stderr).contains("average pace"));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("average pace"), "{stderr}");
+    // The reader's clean-up is reported, not silent.
+    assert!(
+        stderr.contains("reader: 2 × record with the same timestamp as another, merged"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("reader: 1 × record out of time order, sorted"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("reader: 1 × position missing half, not finite or out of range"),
+        "{stderr}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -1,6 +1,6 @@
 //! CSV reader: the reference layout of the shared data set and a minimal layout for users.
 
-use crate::record::{finish, Record};
+use crate::record::{finish_counted, Cleanup, Record};
 use crate::FormatError;
 
 const FORMAT: &str = "CSV";
@@ -55,6 +55,11 @@ impl Columns {
 /// commas without quoting rules (surrounding double quotes are stripped); blank lines and
 /// lines starting with `#` are skipped.
 pub fn read_csv(text: &str) -> Result<Vec<Record>, FormatError> {
+    read_csv_counted(text).map(|(r, _)| r)
+}
+
+/// [`read_csv`], also saying what the clean-up changed.
+pub fn read_csv_counted(text: &str) -> Result<(Vec<Record>, Cleanup), FormatError> {
     let mut lines = text
         .trim_start_matches('\u{feff}')
         .lines()
@@ -116,7 +121,7 @@ pub fn read_csv(text: &str) -> Result<Vec<Record>, FormatError> {
             step_count: cell(columns.steps)?,
         });
     }
-    finish(records)
+    finish_counted(records)
 }
 
 fn split(line: &str) -> Vec<&str> {

@@ -4,7 +4,7 @@ use fitparser::de::{DecodeOption, FitObject, FitStreamProcessor};
 use fitparser::profile::MesgNum;
 use fitparser::{ErrorKind, FitDataRecord, Value};
 
-use crate::record::{finish, Record};
+use crate::record::{finish_counted, Cleanup, Record};
 use crate::FormatError;
 
 const FORMAT: &str = "FIT";
@@ -28,6 +28,11 @@ const DEG_PER_SEMICIRCLE: f64 = 180.0 / 2_147_483_648.0;
 /// every profile, as release builds are, where the same input returns an error; and a
 /// panic inside the decoder is caught here and returned as a parse error.
 pub fn read_fit(bytes: &[u8]) -> Result<Vec<Record>, FormatError> {
+    read_fit_counted(bytes).map(|(r, _)| r)
+}
+
+/// [`read_fit`], also saying what the clean-up changed.
+pub fn read_fit_counted(bytes: &[u8]) -> Result<(Vec<Record>, Cleanup), FormatError> {
     std::panic::catch_unwind(|| decode(bytes)).unwrap_or_else(|payload| {
         let what = payload
             .downcast_ref::<&str>()
@@ -41,7 +46,7 @@ pub fn read_fit(bytes: &[u8]) -> Result<Vec<Record>, FormatError> {
     })
 }
 
-fn decode(bytes: &[u8]) -> Result<Vec<Record>, FormatError> {
+fn decode(bytes: &[u8]) -> Result<(Vec<Record>, Cleanup), FormatError> {
     let fit_error = |e: fitparser::Error| FormatError::parse(FORMAT, e.to_string());
     if bytes.is_empty() {
         return Err(FormatError::parse(FORMAT, "empty file"));
@@ -77,7 +82,7 @@ fn decode(bytes: &[u8]) -> Result<Vec<Record>, FormatError> {
         }
         rest = next;
     }
-    finish(records)
+    finish_counted(records)
 }
 
 /// Distance carried in the 3-byte `compressed_speed_distance` field of foot pods: the

@@ -2,7 +2,7 @@
 
 use roxmltree::Node;
 
-use crate::record::{finish, Record};
+use crate::record::{finish_counted, Cleanup, Record};
 use crate::xml;
 use crate::FormatError;
 
@@ -15,6 +15,11 @@ const FORMAT: &str = "GPX";
 /// `heartrate`, `cad` / `cadence` / `RunCadence` (strides per minute, doubled into
 /// `steps_per_min`), `speed` and `distance`.
 pub fn read_gpx(text: &str) -> Result<Vec<Record>, FormatError> {
+    read_gpx_counted(text).map(|(r, _)| r)
+}
+
+/// [`read_gpx`], also saying what the clean-up changed.
+pub fn read_gpx_counted(text: &str) -> Result<(Vec<Record>, Cleanup), FormatError> {
     let doc = xml::parse(text, FORMAT)?;
     xml::expect_root(&doc, "gpx", FORMAT)?;
     let mut records = Vec::new();
@@ -23,7 +28,7 @@ pub fn read_gpx(text: &str) -> Result<Vec<Record>, FormatError> {
             records.push(record);
         }
     }
-    finish(records)
+    finish_counted(records)
 }
 
 fn track_point(point: Node) -> Result<Option<Record>, FormatError> {

@@ -29,12 +29,12 @@ use std::path::Path;
 
 pub use crate::android::{is_android_log, list_android_logs, parse_android_log, read_android_log};
 pub use crate::broad::{list_broad_trials, parse_broad, read_broad, OrientationRecording};
-pub use crate::csv::read_csv;
+pub use crate::csv::{read_csv, read_csv_counted};
 pub use crate::data::{data_dir, DATA_ENV_VAR};
 pub use crate::error::FormatError;
-pub use crate::fit::read_fit;
+pub use crate::fit::{read_fit, read_fit_counted};
 pub use crate::foot::{list_foot_trials, parse_foot_csv, read_foot_csv, FootFormat, FootRecording};
-pub use crate::gpx::read_gpx;
+pub use crate::gpx::{read_gpx, read_gpx_counted};
 pub use crate::inertial::{
     read_inertial, read_inertial_dir, InertialRecording, InertialSample, Uncalibrated,
 };
@@ -42,10 +42,10 @@ pub use crate::oxford::{
     list_oxford_traces, read_oxford_accel_raw, read_oxford_trace, OxfordAccel, OxfordPosition,
     OxfordTrace,
 };
-pub use crate::record::{Activity, Record};
+pub use crate::record::{Activity, Cleanup, Record};
 pub use crate::ridi::{parse_ridi_csv, ridi_placement};
 pub use crate::ronin::parse_ronin_csv;
-pub use crate::tcx::read_tcx;
+pub use crate::tcx::{read_tcx, read_tcx_counted};
 
 /// Reads an activity file, choosing the reader from the file extension (case-insensitive):
 /// `fit`, `tcx`, `gpx` or `csv`. The activity name is the file stem.
@@ -54,18 +54,22 @@ pub fn read_activity(path: &Path) -> Result<Activity, FormatError> {
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
-    let records = match extension.as_str() {
-        "fit" => read_fit(&std::fs::read(path)?)?,
-        "tcx" => read_tcx(&read_text(path)?)?,
-        "gpx" => read_gpx(&read_text(path)?)?,
-        "csv" => read_csv(&read_text(path)?)?,
+    let (records, cleanup) = match extension.as_str() {
+        "fit" => read_fit_counted(&std::fs::read(path)?)?,
+        "tcx" => read_tcx_counted(&read_text(path)?)?,
+        "gpx" => read_gpx_counted(&read_text(path)?)?,
+        "csv" => read_csv_counted(&read_text(path)?)?,
         _ => return Err(FormatError::UnknownExtension(extension)),
     };
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    Ok(Activity { name, records })
+    Ok(Activity {
+        name,
+        records,
+        cleanup,
+    })
 }
 
 /// Reads a text file; bytes that are not UTF-8 (seen in names and notes of some exports)

@@ -55,11 +55,16 @@ impl Record {
         ]
     }
 
-    /// Drops non-finite values and incomplete or out-of-range positions.
-    fn sanitize(&mut self) {
-        for field in self.fields_mut() {
+    /// Drops non-finite values and incomplete or out-of-range positions. Returns how
+    /// many non-position values were dropped and whether a position was.
+    fn sanitize(&mut self) -> (u64, bool) {
+        let had_position = self.lat_deg.is_some() || self.lon_deg.is_some();
+        let mut dropped = 0;
+        // Latitude and longitude are checked as a pair below (NaN fails the range).
+        for field in self.fields_mut().into_iter().skip(2) {
             if field.is_some_and(|v| !v.is_finite()) {
                 *field = None;
+                dropped += 1;
             }
         }
         let position_ok = matches!(
@@ -70,6 +75,7 @@ impl Record {
             self.lat_deg = None;
             self.lon_deg = None;
         }
+        (dropped, had_position && !position_ok)
     }
 
     /// Fills the fields this record lacks from `other` (a record with the same time).
@@ -101,29 +107,86 @@ pub struct Activity {
     pub name: String,
     /// Records sorted by time, one per timestamp.
     pub records: Vec<Record>,
+    /// What the reader's clean-up changed (dropped, sorted, merged), by kind.
+    pub cleanup: Cleanup,
 }
 
 /// Records closer in time than this are the same sample (seconds).
 const SAME_TIME_S: f64 = 1e-3;
 
-/// Sorts by time, merges records sharing a timestamp, drops non-finite values.
-/// Fails with [`FormatError::Empty`] when nothing timed is left.
-pub(crate) fn finish(mut records: Vec<Record>) -> Result<Vec<Record>, FormatError> {
+/// What the clean-up every reader applies changed in a file, by kind (counts).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Cleanup {
+    /// Records dropped because their time is missing or not a finite number.
+    pub untimed_records: u64,
+    /// Values (speed, cadence, …) dropped because they are NaN or infinite.
+    pub non_finite_values: u64,
+    /// Positions dropped: latitude or longitude missing, not finite or out of range.
+    pub invalid_positions: u64,
+    /// Records that came earlier in time than the record before them in the file
+    /// (sorted into place).
+    pub out_of_order_records: u64,
+    /// Records merged into another with the same timestamp (within 1 ms).
+    pub merged_records: u64,
+}
+
+impl Cleanup {
+    /// `(reason, count)` for every non-zero count, in a fixed order.
+    pub fn reasons(&self) -> Vec<(&'static str, u64)> {
+        [
+            ("record without a valid time, dropped", self.untimed_records),
+            ("NaN or infinite value, dropped", self.non_finite_values),
+            (
+                "position missing half, not finite or out of range, dropped",
+                self.invalid_positions,
+            ),
+            (
+                "record out of time order, sorted",
+                self.out_of_order_records,
+            ),
+            (
+                "record with the same timestamp as another, merged",
+                self.merged_records,
+            ),
+        ]
+        .into_iter()
+        .filter(|(_, n)| *n > 0)
+        .collect()
+    }
+}
+
+/// Sorts by time, merges records sharing a timestamp, drops non-finite values, and
+/// says what it changed. Fails with [`FormatError::Empty`] when nothing timed is left.
+pub(crate) fn finish_counted(
+    mut records: Vec<Record>,
+) -> Result<(Vec<Record>, Cleanup), FormatError> {
+    let mut cleanup = Cleanup::default();
+    let before = records.len();
     records.retain(|r| r.t_s.is_finite());
-    records.iter_mut().for_each(Record::sanitize);
+    cleanup.untimed_records = (before - records.len()) as u64;
+    for r in records.iter_mut() {
+        let (values, position) = r.sanitize();
+        cleanup.non_finite_values += values;
+        cleanup.invalid_positions += u64::from(position);
+    }
+    cleanup.out_of_order_records =
+        records.windows(2).filter(|w| w[1].t_s < w[0].t_s).count() as u64;
     // Stable sort: among equal times the first record in the file stays first.
     records.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
     let mut merged: Vec<Record> = Vec::with_capacity(records.len());
     for record in records {
         match merged.last_mut() {
-            Some(last) if record.t_s - last.t_s < SAME_TIME_S => last.fill_from(&record),
+            Some(last) if record.t_s - last.t_s < SAME_TIME_S => {
+                last.fill_from(&record);
+                cleanup.merged_records += 1;
+            }
             _ => merged.push(record),
         }
     }
     if merged.is_empty() {
         return Err(FormatError::Empty);
     }
-    Ok(merged)
+    Ok((merged, cleanup))
 }
 
 #[cfg(test)]
@@ -144,7 +207,7 @@ mod tests {
         c.lat_deg = Some(1.0);
         c.lon_deg = Some(2.0);
         let nan_time = Record::at(f64::NAN);
-        let out = finish(vec![a, b, c, nan_time]).unwrap();
+        let out = finish_counted(vec![a, b, c, nan_time]).unwrap().0;
         assert_eq!(out.len(), 2);
         assert_eq!(out[0].t_s, 1.0);
         assert_eq!(
@@ -161,19 +224,53 @@ mod tests {
     }
 
     #[test]
+    fn the_clean_up_is_counted() {
+        let mut bad_pos = Record::at(3.0);
+        bad_pos.lat_deg = Some(f64::NAN);
+        bad_pos.lon_deg = Some(1.0);
+        let mut half = Record::at(4.0);
+        half.lat_deg = Some(1.0);
+        let mut nan_speed = Record::at(1.0);
+        nan_speed.device_speed_mps = Some(f64::NAN);
+        let records = vec![
+            Record::at(2.0),
+            nan_speed,
+            bad_pos,
+            half,
+            Record::at(4.0005),
+            Record::at(f64::NAN),
+        ];
+        let (out, c) = finish_counted(records).unwrap();
+        assert_eq!(out.len(), 4);
+        assert_eq!(
+            c,
+            Cleanup {
+                untimed_records: 1,
+                non_finite_values: 1,
+                invalid_positions: 2,
+                out_of_order_records: 1,
+                merged_records: 1,
+            }
+        );
+        assert_eq!(c.reasons().len(), 5);
+        let (_, clean) = finish_counted(vec![Record::at(1.0), Record::at(2.0)]).unwrap();
+        assert!(clean.reasons().is_empty());
+    }
+
+    #[test]
     fn out_of_range_position_dropped() {
         let mut r = Record::at(0.0);
         r.lat_deg = Some(91.0);
         r.lon_deg = Some(0.0);
-        let out = finish(vec![r]).unwrap();
+        let out = finish_counted(vec![r]).unwrap().0;
         assert_eq!((out[0].lat_deg, out[0].lon_deg), (None, None));
     }
 
     #[test]
     fn nothing_left_is_empty() {
-        assert!(matches!(finish(vec![]), Err(FormatError::Empty)));
+        assert!(matches!(finish_counted(vec![]), Err(FormatError::Empty)));
         assert!(matches!(
-            finish(vec![Record::at(f64::NAN)]),
+            finish_counted(vec![Record::at(f64::NAN)]),
             Err(FormatError::Empty)
         ));
     }

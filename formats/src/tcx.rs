@@ -2,7 +2,7 @@
 
 use roxmltree::Node;
 
-use crate::record::{finish, Record};
+use crate::record::{finish_counted, Cleanup, Record};
 use crate::xml;
 use crate::FormatError;
 
@@ -14,6 +14,11 @@ const FORMAT: &str = "TCX";
 /// extension, else the core `Cadence` element; both are strides per minute and are doubled
 /// into `steps_per_min`.
 pub fn read_tcx(text: &str) -> Result<Vec<Record>, FormatError> {
+    read_tcx_counted(text).map(|(r, _)| r)
+}
+
+/// [`read_tcx`], also saying what the clean-up changed.
+pub fn read_tcx_counted(text: &str) -> Result<(Vec<Record>, Cleanup), FormatError> {
     let doc = xml::parse(text, FORMAT)?;
     xml::expect_root(&doc, "TrainingCenterDatabase", FORMAT)?;
     let mut records = Vec::new();
@@ -22,7 +27,7 @@ pub fn read_tcx(text: &str) -> Result<Vec<Record>, FormatError> {
             records.push(record);
         }
     }
-    finish(records)
+    finish_counted(records)
 }
 
 fn trackpoint(point: Node) -> Result<Option<Record>, FormatError> {
