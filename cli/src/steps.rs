@@ -32,6 +32,8 @@ pub struct AccelRecording {
     pub samples: Vec<(f64, [f64; 3])>,
     /// Reference step times on the same clock, when the recording has them.
     pub reference_steps: Option<Vec<f64>>,
+    /// What the reader skipped (unreadable rows, …), with counts.
+    pub reader_skipped: Vec<(String, u64)>,
 }
 
 /// Reads any supported accelerometer recording.
@@ -47,11 +49,15 @@ pub fn read_recording(path: &Path) -> Result<AccelRecording, String> {
         .is_some_and(|n| n == "accelerometer.csv")
         && oxford_csv.is_file();
     if is_oxford {
-        let samples = stridekit_formats::read_oxford_accel_raw(&oxford_csv)
-            .map_err(err)?
-            .into_iter()
-            .map(|a| (a.t_s, a.accel_mps2))
-            .collect();
+        let rows = stridekit_formats::read_oxford_accel_raw(&oxford_csv).map_err(err)?;
+        let samples = rows.samples.iter().map(|a| (a.t_s, a.accel_mps2)).collect();
+        let reader_skipped = match rows.first_unreadable_line {
+            Some(line) => vec![(
+                format!("unreadable row (first at line {line})"),
+                rows.unreadable_rows,
+            )],
+            None => Vec::new(),
+        };
         let dir = oxford_csv.parent().unwrap_or(Path::new("."));
         let reference = if dir.join("stepcounter.csv").is_file() {
             stridekit_formats::read_oxford_trace(dir)
@@ -68,6 +74,7 @@ pub fn read_recording(path: &Path) -> Result<AccelRecording, String> {
             },
             samples,
             reference_steps: reference,
+            reader_skipped,
         });
     }
     if stridekit_formats::is_android_log(path) {
@@ -81,6 +88,7 @@ pub fn read_recording(path: &Path) -> Result<AccelRecording, String> {
             format: "Android sensor log",
             samples: rec.samples.iter().map(|s| (s.t_s, s.accel_mps2)).collect(),
             reference_steps: None,
+            reader_skipped: rec.skipped.clone(),
         });
     }
     Err(format!(
@@ -150,6 +158,9 @@ pub fn run(args: &StepsArgs) -> Result<(), String> {
         out_path.display()
     );
     eprint!("{}", rejected.report());
+    for (why, n) in &rec.reader_skipped {
+        eprintln!("  skipped by the reader {n}: {why}");
+    }
     if let Some(r) = &rec.reference_steps {
         let n = r.len() as f64;
         eprintln!(
@@ -191,8 +202,19 @@ mod tests {
                 text.push_str(&format!("{},3,0.0,0.0,{m}\n", ns - 50_000_000));
                 text.push_str(&format!("{},3,NaN,0.0,{m}\n", ns + 1));
             }
+            if i == 3000 {
+                text.push_str("garbage\n");
+            }
         }
+        // A truncated last line, as a logger killed mid-write leaves it.
+        text.push_str("41000000000,3,0.1");
         std::fs::write(&csv, text).unwrap();
+        let rec = read_recording(&dir).unwrap();
+        assert_eq!(rec.samples.len(), 4003);
+        assert_eq!(
+            rec.reader_skipped,
+            vec![("unreadable row (first at line 3005)".to_string(), 2)]
+        );
         let out = dir.join("steps.csv");
         run(&StepsArgs {
             file: dir.clone(),

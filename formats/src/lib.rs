@@ -39,8 +39,8 @@ pub use crate::inertial::{
     read_inertial, read_inertial_dir, InertialRecording, InertialSample, Uncalibrated,
 };
 pub use crate::oxford::{
-    list_oxford_traces, read_oxford_accel_raw, read_oxford_trace, OxfordAccel, OxfordPosition,
-    OxfordTrace,
+    list_oxford_traces, read_oxford_accel_raw, read_oxford_trace, OxfordAccel, OxfordAccelRows,
+    OxfordPosition, OxfordTrace,
 };
 pub use crate::record::{Activity, Cleanup, Record};
 pub use crate::ridi::{parse_ridi_csv, ridi_placement};

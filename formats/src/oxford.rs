@@ -221,31 +221,57 @@ pub fn read_oxford_trace(dir: &Path) -> Result<OxfordTrace, FormatError> {
     })
 }
 
+/// The rows of an Oxford-format `accelerometer.csv` as recorded
+/// ([`read_oxford_accel_raw`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OxfordAccelRows {
+    /// Samples in file order.
+    pub samples: Vec<OxfordAccel>,
+    /// Rows that are not a timestamp, an accuracy flag and three numbers (a header, a
+    /// truncated last line, garbage), skipped.
+    pub unreadable_rows: u64,
+    /// 1-based line number of the first unreadable row.
+    pub first_unreadable_line: Option<usize>,
+}
+
 /// Every row of an Oxford-format `accelerometer.csv` (no header: timestamp ns, accuracy
 /// flag, ax, ay, az in m/s²) in file order, as recorded: unlike [`read_oxford_trace`],
 /// rows with non-finite values or timestamps that repeat or go backwards are kept, so
-/// a replay can skip and count them. A row that is not five numbers is an error.
-pub fn read_oxford_accel_raw(path: &Path) -> Result<Vec<OxfordAccel>, FormatError> {
+/// a replay can skip and count them. A row that is not five numbers is skipped and
+/// counted; a file with no readable row is [`FormatError::Empty`].
+pub fn read_oxford_accel_raw(path: &Path) -> Result<OxfordAccelRows, FormatError> {
     let text = std::fs::read_to_string(path)?;
     let file = "accelerometer.csv";
-    let mut out = Vec::with_capacity(text.len() / 40);
+    let mut out = OxfordAccelRows {
+        samples: Vec::with_capacity(text.len() / 40),
+        ..Default::default()
+    };
     for (i, line) in text.lines().enumerate() {
         if line.trim().is_empty() {
             continue;
         }
-        let mut it = line.split(',');
-        let t_ns: i64 = number(field(&mut it, file, i + 1)?, file, i + 1)?;
-        let _accuracy = field(&mut it, file, i + 1)?;
-        let mut a = [0.0f64; 3];
-        for v in &mut a {
-            *v = number(field(&mut it, file, i + 1)?, file, i + 1)?;
+        let row = || -> Result<OxfordAccel, FormatError> {
+            let mut it = line.split(',');
+            let t_ns: i64 = number(field(&mut it, file, i + 1)?, file, i + 1)?;
+            let _accuracy = field(&mut it, file, i + 1)?;
+            let mut a = [0.0f64; 3];
+            for v in &mut a {
+                *v = number(field(&mut it, file, i + 1)?, file, i + 1)?;
+            }
+            Ok(OxfordAccel {
+                t_s: t_ns as f64 * 1e-9,
+                accel_mps2: a,
+            })
+        };
+        match row() {
+            Ok(a) => out.samples.push(a),
+            Err(_) => {
+                out.unreadable_rows += 1;
+                out.first_unreadable_line.get_or_insert(i + 1);
+            }
         }
-        out.push(OxfordAccel {
-            t_s: t_ns as f64 * 1e-9,
-            accel_mps2: a,
-        });
     }
-    if out.is_empty() {
+    if out.samples.is_empty() {
         return Err(FormatError::Empty);
     }
     Ok(out)
