@@ -52,8 +52,10 @@ struct Row {
 pub fn run(args: &OrientationArgs) -> Result<(), String> {
     let what = |e: &dyn std::fmt::Display| format!("{}: {e}", args.file.display());
     let android = is_android_log(&args.file);
+    let mut reader_skipped: Vec<(String, u64)> = Vec::new();
     let rows: Vec<Row> = if android {
         let rec = read_android_log(&args.file).map_err(|e| what(&e))?;
+        reader_skipped.clone_from(&rec.skipped);
         let t0 = rec.samples.first().map_or(0.0, |s| s.t_s);
         let rv = &rec.orientation;
         let mut k = 0;
@@ -81,6 +83,12 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
             .collect()
     } else {
         let rec = read_broad(&args.file).map_err(|e| what(&e))?;
+        if let Some(line) = rec.first_unreadable_line {
+            reader_skipped.push((
+                format!("unreadable row (first at line {line})"),
+                rec.unreadable_rows,
+            ));
+        }
         rec.samples
             .iter()
             .zip(&rec.truth)
@@ -139,6 +147,9 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
     );
     for (why, n) in &rejected {
         println!("  skipped {n}: {why}");
+    }
+    for (why, n) in &reader_skipped {
+        println!("  skipped by the reader {n}: {why}");
     }
     if sums.n > 0 {
         let r = sums.rmse();

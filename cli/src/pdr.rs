@@ -64,12 +64,14 @@ pub fn run(a: &PdrArgs) -> Result<String, String> {
     if r.rejected.is_empty() {
         summary += "rejected samples: none\n";
     } else {
+        let total: u64 = r.rejected.values().sum();
+        summary += &format!("rejected samples: {total}\n");
         for (why, n) in &r.rejected {
-            summary += &format!("rejected samples: {n} × {why}\n");
+            summary += &format!("  skipped {n}: {why}\n");
         }
     }
     for (why, n) in &walk.rec.skipped {
-        summary += &format!("skipped by the reader: {n} × {why}\n");
+        summary += &format!("  skipped by the reader {n}: {why}\n");
     }
     let wp = &walk.rec.truth;
     let track: Vec<(f64, f64)> = r.track.iter().map(|p| (p.x_m, p.y_m)).collect();

@@ -80,7 +80,7 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
     );
     eprint!("{}", rejected.report());
     for (why, n) in activity.cleanup.reasons() {
-        eprintln!("  reader: {n} × {why}");
+        eprintln!("  reader {n}: {why}");
     }
     Ok(())
 }

@@ -112,15 +112,15 @@ fn pace_replays_a_user_csv() {
     assert!(stderr.contains("average pace"), "{stderr}");
     // The reader's clean-up is reported, not silent.
     assert!(
-        stderr.contains("reader: 2 × record with the same timestamp as another, merged"),
+        stderr.contains("reader 2: record with the same timestamp as another, merged"),
         "{stderr}"
     );
     assert!(
-        stderr.contains("reader: 1 × record out of time order, sorted"),
+        stderr.contains("reader 1: record out of time order, sorted"),
         "{stderr}"
     );
     assert!(
-        stderr.contains("reader: 1 × position missing half, not finite or out of range"),
+        stderr.contains("reader 1: position missing half, not finite or out of range"),
         "{stderr}"
     );
     let _ = std::fs::remove_dir_all(&dir);

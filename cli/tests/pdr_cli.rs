@@ -75,15 +75,15 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(
-        stdout.contains("rejected samples: 1 × IMU stream: duplicate timestamp"),
+        stdout.contains("rejected samples: 1\n  skipped 1: IMU stream: duplicate timestamp"),
         "{stdout}"
     );
     assert!(
-        stdout.contains("skipped by the reader: 1 × malformed TYPE_ACCELEROMETER"),
+        stdout.contains("skipped by the reader 1: malformed TYPE_ACCELEROMETER"),
         "{stdout}"
     );
     assert!(
-        stdout.contains("skipped by the reader: 1 × TYPE_WIFI"),
+        stdout.contains("skipped by the reader 1: TYPE_WIFI"),
         "{stdout}"
     );
     assert!(stdout.contains("against 5 waypoints"), "{stdout}");

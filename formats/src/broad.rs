@@ -10,8 +10,9 @@
 //!
 //! A `.gz` file is decompressed on the fly. An empty sensor cell reads as NaN (the
 //! engine then rejects that one sample and a replay counts it); empty truth cells
-//! give `None`. Text that is not a number, or a row with too few cells, is a typed
-//! [`FormatError::Parse`] naming the line.
+//! give `None`. A row with text that is not a number, too few cells or no time is
+//! skipped and counted (`unreadable_rows`, `first_unreadable_line`); a file with no
+//! readable row is the first row's typed [`FormatError::Parse`] naming the line.
 
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
@@ -34,6 +35,11 @@ pub struct OrientationRecording {
     pub truth: Vec<Option<[f64; 4]>>,
     /// Per sample: inside a scored movement phase (all `true` without the column).
     pub movement: Vec<bool>,
+    /// Rows that could not be read (too few cells, text where a number belongs, no
+    /// time), skipped.
+    pub unreadable_rows: u64,
+    /// 1-based line of the first unreadable row.
+    pub first_unreadable_line: Option<usize>,
 }
 
 impl OrientationRecording {
@@ -98,63 +104,83 @@ pub fn parse_broad(input: impl BufRead) -> Result<OrientationRecording, FormatEr
     let movement = c.opt("movement");
     let width = c.0.len();
     let mut rec = OrientationRecording::default();
+    let mut first_error = None;
     for (n, line) in lines.enumerate() {
         let line = line?;
         if line.trim().is_empty() {
             continue;
         }
         let line_no = n + 2;
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        if fields.len() < width {
-            return Err(FormatError::parse(
-                FORMAT,
-                format!("line {line_no}: {} cells, header has {width}", fields.len()),
-            ));
-        }
-        // Empty cell → None; text that is not a number → error.
-        let cell = |i: usize| -> Result<Option<f64>, FormatError> {
-            let s = fields[i];
-            if s.is_empty() {
-                return Ok(None);
-            }
-            s.parse::<f64>().map(Some).map_err(|_| {
-                FormatError::parse(
+        let row = || -> Result<(InertialSample, Option<[f64; 4]>, bool), FormatError> {
+            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+            if fields.len() < width {
+                return Err(FormatError::parse(
                     FORMAT,
-                    format!("line {line_no}: column {} is not a number: {s:?}", i + 1),
-                )
-            })
-        };
-        let sensor = |cols: [usize; 3]| -> Result<[f64; 3], FormatError> {
-            let v = |i| cell(i).map(|x| x.unwrap_or(f64::NAN));
-            Ok([v(cols[0])?, v(cols[1])?, v(cols[2])?])
-        };
-        let t_s = cell(t)?
-            .ok_or_else(|| FormatError::parse(FORMAT, format!("line {line_no}: empty t_s")))?;
-        rec.samples.push(InertialSample {
-            t_s,
-            gyro_rads: sensor(gyr)?,
-            accel_mps2: sensor(acc)?,
-            mag_ut: mag.map(sensor).transpose()?,
-        });
-        let truth = match opt {
-            Some(q) => {
-                let q = [cell(q[0])?, cell(q[1])?, cell(q[2])?, cell(q[3])?];
-                match q {
-                    [Some(w), Some(x), Some(y), Some(z)]
-                        if [w, x, y, z].iter().all(|v| v.is_finite()) =>
-                    {
-                        Some([w, x, y, z])
-                    }
-                    _ => None,
-                }
+                    format!("line {line_no}: {} cells, header has {width}", fields.len()),
+                ));
             }
-            None => None,
+            // Empty cell → None; text that is not a number → error.
+            let cell = |i: usize| -> Result<Option<f64>, FormatError> {
+                let s = fields[i];
+                if s.is_empty() {
+                    return Ok(None);
+                }
+                s.parse::<f64>().map(Some).map_err(|_| {
+                    FormatError::parse(
+                        FORMAT,
+                        format!("line {line_no}: column {} is not a number: {s:?}", i + 1),
+                    )
+                })
+            };
+            let sensor = |cols: [usize; 3]| -> Result<[f64; 3], FormatError> {
+                let v = |i| cell(i).map(|x| x.unwrap_or(f64::NAN));
+                Ok([v(cols[0])?, v(cols[1])?, v(cols[2])?])
+            };
+            let t_s = cell(t)?
+                .ok_or_else(|| FormatError::parse(FORMAT, format!("line {line_no}: empty t_s")))?;
+            let sample = InertialSample {
+                t_s,
+                gyro_rads: sensor(gyr)?,
+                accel_mps2: sensor(acc)?,
+                mag_ut: mag.map(sensor).transpose()?,
+            };
+            let truth = match opt {
+                Some(q) => {
+                    let q = [cell(q[0])?, cell(q[1])?, cell(q[2])?, cell(q[3])?];
+                    match q {
+                        [Some(w), Some(x), Some(y), Some(z)]
+                            if [w, x, y, z].iter().all(|v| v.is_finite()) =>
+                        {
+                            Some([w, x, y, z])
+                        }
+                        _ => None,
+                    }
+                }
+                None => None,
+            };
+            let moving = match movement {
+                Some(i) => cell(i)?.is_some_and(|v| v > 0.5),
+                None => true,
+            };
+            Ok((sample, truth, moving))
         };
-        rec.truth.push(truth);
-        rec.movement.push(match movement {
-            Some(i) => cell(i)?.is_some_and(|v| v > 0.5),
-            None => true,
-        });
+        // A row that cannot be read (too few cells, text, no time: a truncated last
+        // line) is skipped and counted, not fatal.
+        match row() {
+            Ok((sample, truth, moving)) => {
+                rec.samples.push(sample);
+                rec.truth.push(truth);
+                rec.movement.push(moving);
+            }
+            Err(e) => {
+                rec.unreadable_rows += 1;
+                rec.first_unreadable_line.get_or_insert(line_no);
+                first_error.get_or_insert(e);
+            }
+        }
+    }
+    if let (true, Some(e)) = (rec.samples.is_empty(), first_error) {
+        return Err(e);
     }
     if rec.samples.is_empty() {
         return Err(FormatError::Empty);
@@ -258,6 +284,15 @@ t_s,gyr_x_rads,gyr_y_rads,gyr_z_rads,acc_x_mps2,acc_y_mps2,acc_z_mps2,mag_x_ut,m
             parse_broad(short.as_bytes()),
             Err(FormatError::Parse { .. })
         ));
+        // With readable rows, the unreadable ones are skipped and counted.
+        let good = TEXT.lines().nth(1).unwrap();
+        let mixed = format!("{header}\n{good}\n0,1,2\n{good}\n0,1,2,x,0,0,9.8,1,2,3,1,0,0,0,1\n");
+        let rec = parse_broad(mixed.as_bytes()).unwrap();
+        assert_eq!(rec.len(), 2);
+        assert_eq!(
+            (rec.unreadable_rows, rec.first_unreadable_line),
+            (2, Some(3))
+        );
         // Without magnetometer, truth and movement columns: IMU only, unscored truth.
         let imu = "t_s,gyr_x_rads,gyr_y_rads,gyr_z_rads,acc_x_mps2,acc_y_mps2,acc_z_mps2\n\
                    0,0,0,0,0,0,9.8\n";

@@ -72,56 +72,78 @@ pub fn read_csv_counted(text: &str) -> Result<(Vec<Record>, Cleanup), FormatErro
     let header = split(header);
     let columns = Columns::from_header(&header)?;
     let mut records = Vec::new();
+    let mut unreadable: Option<(u64, usize, FormatError)> = None;
     for (line_no, line) in lines {
-        let cells = split(line);
-        if cells.len() != header.len() {
-            return Err(FormatError::parse(
-                FORMAT,
-                format!(
-                    "line {line_no}: {} fields, the header has {}",
-                    cells.len(),
-                    header.len()
-                ),
-            ));
-        }
-        let cell = |index: Option<usize>| -> Result<Option<f64>, FormatError> {
-            let Some(index) = index else {
-                return Ok(None);
-            };
-            let text = cells[index];
-            if text.is_empty() {
-                return Ok(None);
-            }
-            text.parse::<f64>().map(Some).map_err(|_| {
-                FormatError::parse(
+        let row = || -> Result<Record, FormatError> {
+            let cells = split(line);
+            if cells.len() != header.len() {
+                return Err(FormatError::parse(
                     FORMAT,
                     format!(
-                        "line {line_no}, column {:?}: {text:?} is not a number",
-                        header[index]
+                        "line {line_no}: {} fields, the header has {}",
+                        cells.len(),
+                        header.len()
                     ),
-                )
+                ));
+            }
+            let cell = |index: Option<usize>| -> Result<Option<f64>, FormatError> {
+                let Some(index) = index else {
+                    return Ok(None);
+                };
+                let text = cells[index];
+                if text.is_empty() {
+                    return Ok(None);
+                }
+                text.parse::<f64>().map(Some).map_err(|_| {
+                    FormatError::parse(
+                        FORMAT,
+                        format!(
+                            "line {line_no}, column {:?}: {text:?} is not a number",
+                            header[index]
+                        ),
+                    )
+                })
+            };
+            let t_s = cell(Some(columns.time))?
+                .ok_or_else(|| FormatError::parse(FORMAT, format!("line {line_no}: empty time")))?;
+            let strides_per_min = cell(columns.strides_per_min)?;
+            Ok(Record {
+                t_s,
+                lat_deg: cell(Some(columns.lat))?,
+                lon_deg: cell(Some(columns.lon))?,
+                alt_m: cell(columns.alt)?,
+                device_distance_m: cell(columns.distance)?,
+                device_speed_mps: cell(columns.speed)?,
+                steps_per_min: match columns.steps_per_min {
+                    Some(_) => cell(columns.steps_per_min)?,
+                    None => strides_per_min.map(|c| 2.0 * c),
+                },
+                heart_rate_bpm: cell(columns.heart_rate)?,
+                horizontal_accuracy_m: cell(columns.accuracy)?,
+                step_count: cell(columns.steps)?,
             })
         };
-        let t_s = cell(Some(columns.time))?
-            .ok_or_else(|| FormatError::parse(FORMAT, format!("line {line_no}: empty time")))?;
-        let strides_per_min = cell(columns.strides_per_min)?;
-        records.push(Record {
-            t_s,
-            lat_deg: cell(Some(columns.lat))?,
-            lon_deg: cell(Some(columns.lon))?,
-            alt_m: cell(columns.alt)?,
-            device_distance_m: cell(columns.distance)?,
-            device_speed_mps: cell(columns.speed)?,
-            steps_per_min: match columns.steps_per_min {
-                Some(_) => cell(columns.steps_per_min)?,
-                None => strides_per_min.map(|c| 2.0 * c),
+        // A row that cannot be read (wrong field count, not a number, no time: a
+        // truncated last line, a stray note) is skipped and counted, not fatal.
+        match row() {
+            Ok(r) => records.push(r),
+            Err(e) => match unreadable.as_mut() {
+                Some((n, _, _)) => *n += 1,
+                None => unreadable = Some((1, line_no, e)),
             },
-            heart_rate_bpm: cell(columns.heart_rate)?,
-            horizontal_accuracy_m: cell(columns.accuracy)?,
-            step_count: cell(columns.steps)?,
-        });
+        }
     }
-    finish_counted(records)
+    if records.is_empty() {
+        if let Some((_, _, e)) = unreadable {
+            return Err(e);
+        }
+    }
+    let (records, mut cleanup) = finish_counted(records)?;
+    if let Some((n, line, _)) = unreadable {
+        cleanup.unreadable_rows = n;
+        cleanup.first_unreadable_line = Some(line);
+    }
+    Ok((records, cleanup))
 }
 
 fn split(line: &str) -> Vec<&str> {
@@ -206,7 +228,15 @@ stance_time_ms,gps_cum_distance_m\n\
             other => panic!("expected a parse error, got {other:?}"),
         };
         assert!(message("t_s,lat_deg,lon_deg\n1,2\n").contains("line 2"));
-        assert!(message("t_s,lat_deg,lon_deg\n1,2,3\n2,north,3\n").contains("line 3"));
+        assert!(message("t_s,lat_deg,lon_deg\nnorth,2,3\n").contains("line 2"));
+        // With readable rows, the unreadable ones are skipped and counted.
+        let (records, cleanup) =
+            read_csv_counted("t_s,lat_deg,lon_deg\n1,2,3\n2,north,3\n3,2,3\n4,2\n").unwrap();
+        assert_eq!(records.len(), 2);
+        assert_eq!(
+            (cleanup.unreadable_rows, cleanup.first_unreadable_line),
+            (2, Some(3))
+        );
         assert!(message("t_s,lat_deg,lon_deg\n,2,3\n").contains("empty time"));
         assert!(matches!(
             read_csv("t_s,lat_deg,lon_deg\n"),

@@ -128,24 +128,40 @@ pub struct Cleanup {
     pub out_of_order_records: u64,
     /// Records merged into another with the same timestamp (within 1 ms).
     pub merged_records: u64,
+    /// Rows a text reader could not read (CSV: wrong field count, not a number, no
+    /// time), skipped.
+    pub unreadable_rows: u64,
+    /// 1-based line of the first unreadable row.
+    pub first_unreadable_line: Option<usize>,
 }
 
 impl Cleanup {
     /// `(reason, count)` for every non-zero count, in a fixed order.
-    pub fn reasons(&self) -> Vec<(&'static str, u64)> {
+    pub fn reasons(&self) -> Vec<(String, u64)> {
+        let unreadable = match self.first_unreadable_line {
+            Some(line) => format!("unreadable row (first at line {line}), skipped"),
+            None => "unreadable row, skipped".to_string(),
+        };
         [
-            ("record without a valid time, dropped", self.untimed_records),
-            ("NaN or infinite value, dropped", self.non_finite_values),
+            (unreadable, self.unreadable_rows),
             (
-                "position missing half, not finite or out of range, dropped",
+                "record without a valid time, dropped".into(),
+                self.untimed_records,
+            ),
+            (
+                "NaN or infinite value, dropped".into(),
+                self.non_finite_values,
+            ),
+            (
+                "position missing half, not finite or out of range, dropped".into(),
                 self.invalid_positions,
             ),
             (
-                "record out of time order, sorted",
+                "record out of time order, sorted".into(),
                 self.out_of_order_records,
             ),
             (
-                "record with the same timestamp as another, merged",
+                "record with the same timestamp as another, merged".into(),
                 self.merged_records,
             ),
         ]
@@ -250,6 +266,7 @@ mod tests {
                 invalid_positions: 2,
                 out_of_order_records: 1,
                 merged_records: 1,
+                ..Default::default()
             }
         );
         assert_eq!(c.reasons().len(), 5);
