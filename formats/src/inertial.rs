@@ -95,7 +95,12 @@ impl Columns<'_> {
 }
 
 /// Samples and truth `(t_s, east_m, north_m)` of a parsed recording.
-type Rows = (Vec<InertialSample>, Vec<(f64, f64, f64)>);
+/// Samples, truth, and what was skipped (reason, count).
+type Rows = (
+    Vec<InertialSample>,
+    Vec<(f64, f64, f64)>,
+    Vec<(String, u64)>,
+);
 
 /// Parse a CSV body of the RIDI column layout (`acce_*`, `gyro_*`, optional
 /// `magnet_*`, `pos_x`, `pos_y`; the readers differ only in the time column and its
@@ -124,6 +129,9 @@ pub(crate) fn parse_rows(
     let pos = [c.get("pos_x")?, c.get("pos_y")?];
     let mut samples = Vec::new();
     let mut truth = Vec::new();
+    // Unreadable rows (a truncated last line, text in a number column): skipped and
+    // counted; (count, first line, first error).
+    let mut unreadable: Option<(u64, usize, FormatError)> = None;
     for (n, line) in lines.enumerate() {
         if line.trim().is_empty() {
             continue;
@@ -134,22 +142,39 @@ pub(crate) fn parse_rows(
                 .and_then(|s| s.trim().parse::<f64>().ok())
                 .ok_or_else(|| FormatError::parse(format, format!("line {}: column {i}", n + 2)))
         };
-        let t_s = num(t)? * time_scale;
         let v3 = |c: [usize; 3]| -> Result<[f64; 3], FormatError> {
             Ok([num(c[0])?, num(c[1])?, num(c[2])?])
         };
-        samples.push(InertialSample {
-            t_s,
-            accel_mps2: v3(acc)?,
-            gyro_rads: v3(gyr)?,
-            mag_ut: mag.map(v3).transpose()?,
-        });
-        truth.push((t_s, num(pos[0])?, num(pos[1])?));
+        let row = || -> Result<(InertialSample, (f64, f64, f64)), FormatError> {
+            let t_s = num(t)? * time_scale;
+            Ok((
+                InertialSample {
+                    t_s,
+                    accel_mps2: v3(acc)?,
+                    gyro_rads: v3(gyr)?,
+                    mag_ut: mag.map(v3).transpose()?,
+                },
+                (t_s, num(pos[0])?, num(pos[1])?),
+            ))
+        };
+        match row() {
+            Ok((sample, position)) => {
+                samples.push(sample);
+                truth.push(position);
+            }
+            Err(e) => match unreadable.as_mut() {
+                Some((count, _, _)) => *count += 1,
+                None => unreadable = Some((1, n + 2, e)),
+            },
+        }
     }
     if samples.is_empty() {
-        return Err(FormatError::Empty);
+        return Err(unreadable.map_or(FormatError::Empty, |(_, _, e)| e));
     }
-    Ok((samples, truth))
+    let skipped = unreadable
+        .map(|(count, line, _)| vec![(format!("unreadable row (first at line {line})"), count)])
+        .unwrap_or_default();
+    Ok((samples, truth, skipped))
 }
 
 /// Reads a RIDI or RoNIN-export recording or an Android sensor log: a `.txt` or

@@ -32,12 +32,13 @@ pub fn ridi_placement(name: &str) -> Option<String> {
 
 /// Parse the text of a `processed/data.csv`.
 pub fn parse_ridi_csv(name: &str, text: &str) -> Result<InertialRecording, FormatError> {
-    let (samples, truth) = parse_rows(FORMAT, text, "time", 1e-9)?;
+    let (samples, truth, skipped) = parse_rows(FORMAT, text, "time", 1e-9)?;
     Ok(InertialRecording {
         name: name.to_string(),
         placement: ridi_placement(name),
         samples,
         truth,
+        skipped,
         ..Default::default()
     })
 }

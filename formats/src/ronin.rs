@@ -21,12 +21,13 @@ const FORMAT: &str = "RoNIN CSV export";
 
 /// Parse the text of a RoNIN CSV export.
 pub fn parse_ronin_csv(name: &str, text: &str) -> Result<InertialRecording, FormatError> {
-    let (samples, truth) = parse_rows(FORMAT, text, "time_s", 1.0)?;
+    let (samples, truth, skipped) = parse_rows(FORMAT, text, "time_s", 1.0)?;
     Ok(InertialRecording {
         name: name.to_string(),
         placement: None,
         samples,
         truth,
+        skipped,
         ..Default::default()
     })
 }
@@ -45,5 +46,15 @@ mod tests {
         assert_eq!(r.samples[0].mag_ut, Some([10.0, 20.0, -40.0]));
         assert_eq!(r.truth[1], (0.005, 0.01, 0.0));
         assert!(parse_ronin_csv("x", "time_s\n").is_err());
+        // A truncated last row is skipped and counted; a file of only bad rows is an error.
+        let cut = format!("{text}0.010,0,0,0,0,0,9.8,10,20");
+        let r = parse_ronin_csv("a000_1", &cut).unwrap();
+        assert_eq!(r.samples.len(), 2);
+        assert_eq!(
+            r.skipped,
+            vec![("unreadable row (first at line 4)".to_string(), 1)]
+        );
+        let header = text.lines().next().unwrap();
+        assert!(parse_ronin_csv("x", &format!("{header}\n0.0,0,0\n")).is_err());
     }
 }

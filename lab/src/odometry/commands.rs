@@ -503,6 +503,9 @@ pub fn replay(file: &str, model: Option<&Path>, svg: &Path) -> Result<String, St
         let _ = writeln!(out, "rejected samples: {}", tracks.rejected.total());
         out.push_str(&tracks.rejected.report());
     }
+    for (why, n) in &rec.skipped {
+        let _ = writeln!(out, "  skipped by the reader {n}: {why}");
+    }
     for (k, (a, r)) in tracks.scores().iter().enumerate() {
         let _ = writeln!(out, "{:<30} ATE {a:8.2} m  RTE {r:8.2} m", METHODS[k]);
     }
