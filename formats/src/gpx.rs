@@ -20,7 +20,20 @@ pub fn read_gpx(text: &str) -> Result<Vec<Record>, FormatError> {
 
 /// [`read_gpx`], also saying what the clean-up changed.
 pub fn read_gpx_counted(text: &str) -> Result<(Vec<Record>, Cleanup), FormatError> {
-    let doc = xml::parse(text, FORMAT)?;
+    // A file cut off mid-write is read up to its last complete trkpt.
+    let repaired;
+    let mut truncated = false;
+    let doc = match xml::parse(text, FORMAT) {
+        Ok(doc) => doc,
+        Err(e) => match xml::close_after_last(text, "trkpt") {
+            Some(t) => {
+                repaired = t;
+                truncated = true;
+                xml::parse(&repaired, FORMAT).map_err(|_| e)?
+            }
+            None => return Err(e),
+        },
+    };
     xml::expect_root(&doc, "gpx", FORMAT)?;
     let mut records = Vec::new();
     for point in xml::elements(doc.root_element(), "trkpt") {
@@ -28,7 +41,9 @@ pub fn read_gpx_counted(text: &str) -> Result<(Vec<Record>, Cleanup), FormatErro
             records.push(record);
         }
     }
-    finish_counted(records)
+    let (records, mut cleanup) = finish_counted(records)?;
+    cleanup.truncated = truncated;
+    Ok((records, cleanup))
 }
 
 fn track_point(point: Node) -> Result<Option<Record>, FormatError> {
@@ -100,6 +115,20 @@ mod tests {
         assert_eq!(r.heart_rate_bpm, Some(174.0));
         assert_eq!(r.steps_per_min, Some(168.0), "gpxtpx:cad is strides/min");
         assert_eq!(r.device_distance_m, None);
+    }
+
+    #[test]
+    fn a_file_cut_off_mid_write_is_read_up_to_its_last_complete_point() {
+        let marker = "<trkpt lat=\"1\" lon=";
+        let cut = &GPX[..GPX.find(marker).unwrap() + marker.len()];
+        let (records, cleanup) = read_gpx_counted(cut).unwrap();
+        assert_eq!(records.len(), 2);
+        assert!(cleanup.truncated);
+        // A '>' inside a quoted attribute value does not end the tag.
+        let quoted = "<gpx creator=\"a>b\"><trk><trkseg><trkpt lat=\"1\" lon=\"2\">\
+                      <time>2021-01-10T08:54:28Z</time></trkpt><trkpt lat=\"1\"";
+        let (records, cleanup) = read_gpx_counted(quoted).unwrap();
+        assert_eq!((records.len(), cleanup.truncated), (1, true));
     }
 
     #[test]

@@ -133,6 +133,9 @@ pub struct Cleanup {
     pub unreadable_rows: u64,
     /// 1-based line of the first unreadable row.
     pub first_unreadable_line: Option<usize>,
+    /// The file was cut off (XML not closed) and was read up to its last complete
+    /// trackpoint.
+    pub truncated: bool,
 }
 
 impl Cleanup {
@@ -143,6 +146,10 @@ impl Cleanup {
             None => "unreadable row, skipped".to_string(),
         };
         [
+            (
+                "file cut off mid-write, read up to its last complete trackpoint".into(),
+                u64::from(self.truncated),
+            ),
             (unreadable, self.unreadable_rows),
             (
                 "record without a valid time, dropped".into(),

@@ -19,7 +19,20 @@ pub fn read_tcx(text: &str) -> Result<Vec<Record>, FormatError> {
 
 /// [`read_tcx`], also saying what the clean-up changed.
 pub fn read_tcx_counted(text: &str) -> Result<(Vec<Record>, Cleanup), FormatError> {
-    let doc = xml::parse(text, FORMAT)?;
+    // A file cut off mid-write is read up to its last complete Trackpoint.
+    let repaired;
+    let mut truncated = false;
+    let doc = match xml::parse(text, FORMAT) {
+        Ok(doc) => doc,
+        Err(e) => match xml::close_after_last(text, "Trackpoint") {
+            Some(t) => {
+                repaired = t;
+                truncated = true;
+                xml::parse(&repaired, FORMAT).map_err(|_| e)?
+            }
+            None => return Err(e),
+        },
+    };
     xml::expect_root(&doc, "TrainingCenterDatabase", FORMAT)?;
     let mut records = Vec::new();
     for point in xml::elements(doc.root_element(), "Trackpoint") {
@@ -27,7 +40,9 @@ pub fn read_tcx_counted(text: &str) -> Result<(Vec<Record>, Cleanup), FormatErro
             records.push(record);
         }
     }
-    finish_counted(records)
+    let (records, mut cleanup) = finish_counted(records)?;
+    cleanup.truncated = truncated;
+    Ok((records, cleanup))
 }
 
 fn trackpoint(point: Node) -> Result<Option<Record>, FormatError> {
@@ -112,6 +127,24 @@ mod tests {
         assert_eq!(second.heart_rate_bpm, Some(150.0));
         assert_eq!(second.horizontal_accuracy_m, None);
         assert_eq!(second.step_count, None);
+    }
+
+    #[test]
+    fn a_file_cut_off_mid_write_is_read_up_to_its_last_complete_trackpoint() {
+        // Cut inside the second trackpoint's extension, and inside a tag.
+        for marker in ["<Speed>0.0", "<Cadence"] {
+            let cut = &TCX[..TCX.find(marker).unwrap() + marker.len() - 2];
+            let (records, cleanup) = read_tcx_counted(cut).unwrap();
+            assert_eq!(records.len(), 1);
+            assert_eq!(records[0].t_s, 1_610_268_872.0);
+            assert_eq!(records[0].device_speed_mps, Some(2.5));
+            assert!(cleanup.truncated);
+            assert!(cleanup.reasons()[0].0.contains("cut off"));
+        }
+        let (_, whole) = read_tcx_counted(TCX).unwrap();
+        assert!(!whole.truncated);
+        // Tags that do not nest are not repaired.
+        assert!(read_tcx("<TrainingCenterDatabase><Trackpoint><Time>2021-01-10T08:54:28Z</Time></Trackpoint></Lap><Trackpoint>").is_err());
     }
 
     #[test]

@@ -13,6 +13,92 @@ pub(crate) fn parse<'a>(text: &'a str, format: &'static str) -> Result<Document<
     Document::parse(text).map_err(|e| FormatError::parse(format, e.to_string()))
 }
 
+/// A document cut off mid-write (a watch or app that stopped while saving): the text up
+/// to the end of the last complete `<tag>` element (local name, any prefix), with the
+/// elements still open there closed, so it parses. `None` when there is no complete
+/// `<tag>` or the tags before it do not nest. Comments, CDATA, processing instructions
+/// and declarations are skipped; quoted attribute values may hold `>`.
+pub(crate) fn close_after_last(text: &str, tag: &str) -> Option<String> {
+    // Two linear passes: where the last complete `tag` ends, then which elements are
+    // open there (no copy of the open-element stack per element).
+    let (cut, _) = scan_tags(text, tag)?;
+    let cut = cut?;
+    let (_, open) = scan_tags(&text[..cut], tag)?;
+    let mut out = String::with_capacity(cut + 16 * open.len());
+    out.push_str(&text[..cut]);
+    for name in open.iter().rev() {
+        out.push_str("</");
+        out.push_str(name);
+        out.push('>');
+    }
+    Some(out)
+}
+
+/// Tokenises the tags of `text`: the end of the last `</…tag>` (local name) and the
+/// elements open at the end of the text. `None` when end tags do not nest.
+fn scan_tags<'t>(text: &'t str, tag: &str) -> Option<(Option<usize>, Vec<&'t str>)> {
+    let bytes = text.as_bytes();
+    let mut stack: Vec<&str> = Vec::new();
+    let mut last_end = None;
+    let mut i = 0;
+    while let Some(off) = text[i..].find('<') {
+        let start = i + off;
+        let rest = &text[start..];
+        let skip_to = |end: &str| rest.find(end).map(|k| start + k + end.len());
+        let special = if rest.starts_with("<?") {
+            Some("?>")
+        } else if rest.starts_with("<!--") {
+            Some("-->")
+        } else if rest.starts_with("<![CDATA[") {
+            Some("]]>")
+        } else if rest.starts_with("<!") {
+            Some(">")
+        } else {
+            None
+        };
+        if let Some(end) = special {
+            match skip_to(end) {
+                Some(k) => i = k,
+                None => break, // the text ends inside it
+            }
+            continue;
+        }
+        // A start or end tag: its '>' outside quotes.
+        let mut k = start + 1;
+        let mut quote = None;
+        while k < bytes.len() {
+            match (quote, bytes[k]) {
+                (None, b'"' | b'\'') => quote = Some(bytes[k]),
+                (Some(q), c) if c == q => quote = None,
+                (None, b'>') => break,
+                _ => {}
+            }
+            k += 1;
+        }
+        if k >= bytes.len() {
+            break; // the text ends inside this tag
+        }
+        let inner = &text[start + 1..k];
+        i = k + 1;
+        if let Some(name) = inner.strip_prefix('/') {
+            let name = name.trim();
+            if stack.pop() != Some(name) {
+                return None;
+            }
+            if name.rsplit(':').next() == Some(tag) {
+                last_end = Some(i);
+            }
+        } else if !inner.ends_with('/') {
+            let name = inner.split(char::is_whitespace).next().unwrap_or("");
+            if name.is_empty() {
+                return None;
+            }
+            stack.push(name);
+        }
+    }
+    Some((last_end, stack))
+}
+
 /// Checks the local name of the root element.
 pub(crate) fn expect_root(
     doc: &Document,
