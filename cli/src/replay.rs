@@ -11,14 +11,27 @@ use stridekit_core::{PaceConfig, PaceSample, PaceTracker};
 
 use stridekit_lab::activity::prepare;
 use stridekit_lab::rejected::Rejected;
+use stridekit_lab::report::{line_chart, Band, Chart, Series, Style, YFormat};
 
-pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
+/// A gap between fixes longer than this is drawn as a band on the speed chart, s.
+const NO_FIX_S: f64 = 5.0;
+
+/// Replays `path`; the CSV goes to `csv_out` (and a speed chart beside it, same name
+/// with `.svg`) or, without it, to stdout.
+pub fn run(path: &Path, config: PaceConfig, csv_out: Option<&Path>) -> Result<(), String> {
     let activity =
         stridekit_formats::read_activity(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let p = prepare(&activity);
     let mut tracker = PaceTracker::new(config).map_err(|e| e.to_string())?;
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
+    let sink: Box<dyn std::io::Write> = match csv_out {
+        Some(f) => Box::new(
+            std::fs::File::create(f).map_err(|e| format!("cannot write {}: {e}", f.display()))?,
+        ),
+        None => Box::new(std::io::stdout().lock()),
+    };
+    let mut out = std::io::BufWriter::new(sink);
+    // (minutes, speed m/s) of the rows written.
+    let mut speed_series: Vec<(f64, f64)> = Vec::new();
     let w = |out: &mut dyn std::io::Write, s: String| {
         out.write_all(s.as_bytes()).map_err(|e| e.to_string())
     };
@@ -38,6 +51,7 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
             matches!(s, PaceSample::Fix(_)) || (e.t_s > last_t + 0.5 && e.gnss_weight == 0.0);
         if emit && e.t_s > last_t {
             last_t = e.t_s;
+            speed_series.push((e.t_s / 60.0, e.speed_mps));
             w(
                 &mut out,
                 format!(
@@ -58,6 +72,59 @@ pub fn run(path: &Path, config: PaceConfig) -> Result<(), String> {
         }
     }
     out.flush().map_err(|e| e.to_string())?;
+    drop(out);
+    if let Some(csv) = csv_out {
+        let svg = csv.with_extension("svg");
+        let device: Vec<(f64, f64)> = activity
+            .records
+            .iter()
+            .filter_map(|r| Some(((r.t_s - p.t0_unix_s) / 60.0, r.device_speed_mps?)))
+            .collect();
+        let mut series = vec![Series {
+            name: "stridekit".into(),
+            points: speed_series,
+            color: Some((220, 30, 60)),
+            style: Style::Line,
+        }];
+        if !device.is_empty() {
+            series.insert(
+                0,
+                Series {
+                    name: "the device's own speed (as recorded)".into(),
+                    points: device,
+                    color: Some((150, 150, 150)),
+                    style: Style::Line,
+                },
+            );
+        }
+        // Where the file has no position for longer than NO_FIX_S: the steps alone
+        // carry the speed there.
+        let bands: Vec<Band> = p
+            .track
+            .windows(2)
+            .filter(|w| w[1].0 - w[0].0 > NO_FIX_S)
+            .map(|w| Band {
+                start: w[0].0 / 60.0,
+                end: w[1].0 / 60.0,
+                label: format!("no GNSS fix for more than {NO_FIX_S} s"),
+                color: (250, 200, 90),
+            })
+            .collect();
+        line_chart(
+            &svg,
+            &Chart {
+                title: &format!("Speed: {}", p.name),
+                x_label: "time (min)",
+                y_label: "speed (m/s)",
+                series: &series,
+                bands: &bands,
+                y_range: None,
+                y_format: YFormat::Number,
+            },
+        )
+        .map_err(|e| format!("cannot write {}: {e}", svg.display()))?;
+        eprintln!("speed chart: {}", svg.display());
+    }
     let distance_m = tracker.estimate().map_or(0.0, |e| e.distance_m);
     let moving_s = p.samples.last().map(|s| s.t_s()).unwrap_or(0.0)
         - p.samples.first().map(|s| s.t_s()).unwrap_or(0.0);

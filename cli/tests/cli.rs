@@ -123,6 +123,23 @@ fn pace_replays_a_user_csv() {
         stderr.contains("reader 1: position missing half, not finite or out of range"),
         "{stderr}"
     );
+    // --out: the same CSV in a file, the speed chart beside it.
+    let out = stridekit()
+        .arg("pace")
+        .arg(&csv)
+        .arg("--out")
+        .arg(dir.join("out/run"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert!(
+        out.stdout.is_empty(),
+        "the CSV goes to the file, not stdout"
+    );
+    let written = std::fs::read_to_string(dir.join("out/run.csv")).unwrap();
+    assert_eq!(written, stdout, "same rows as on stdout");
+    let svg = std::fs::read_to_string(dir.join("out/run.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("stridekit"));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

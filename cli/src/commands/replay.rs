@@ -13,11 +13,16 @@ use crate::output::OutFile;
 ///
 /// Replay a real activity file (.fit, .tcx, .gpx or .csv) through the pace tracker;
 /// print one CSV row per GNSS epoch on stdout (pace as seconds per km and as min:s per
-/// km); rejected samples and a summary go to stderr.
+/// km), or with --out write it to a file and a speed chart (SVG) beside it; rejected
+/// samples and a summary go to stderr.
 #[derive(Debug, Args)]
 pub struct PaceArgs {
     /// The activity file.
     pub file: PathBuf,
+    /// Write the CSV here (and FILE.svg, the speed over time, beside it) instead of
+    /// printing it.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
     /// The filter: the robust default or the method as published.
     #[arg(long, value_enum, default_value_t = PaceMode::Default)]
     pub mode: PaceMode,
@@ -34,7 +39,16 @@ pub fn pace(a: PaceArgs) -> Result<(), String> {
         PaceMode::Default => PaceConfig::default(),
         PaceMode::Published => PaceConfig::as_published(),
     };
-    crate::replay::run(&a.file, config)
+    let out = a
+        .out
+        .as_deref()
+        .map(|p| OutFile::prepare(p, "csv"))
+        .transpose()?;
+    crate::replay::run(&a.file, config, out.as_ref().map(|o| o.path.as_path()))?;
+    if let Some(o) = out {
+        eprintln!("{}", o.wrote());
+    }
+    Ok(())
 }
 
 /// Replay a phone accelerometer recording through the step detector.
