@@ -97,14 +97,69 @@ pub fn read_recording(path: &Path) -> Result<AccelRecording, String> {
     ))
 }
 
+/// Cadence over time (one point per step with a cadence), the reference's beside it
+/// when the recording has one, as SVG.
+fn cadence_chart(
+    svg: &Path,
+    input: &Path,
+    steps: &[StepEvent],
+    reference: Option<&[f64]>,
+) -> Result<(), String> {
+    use stridekit_lab::report::{line_chart, Chart, Series, Style, YFormat};
+    let t0 = steps
+        .first()
+        .map(|e| e.t_s)
+        .into_iter()
+        .chain(reference.and_then(|r| r.first().copied()))
+        .fold(f64::INFINITY, f64::min);
+    let points = |times: &[f64]| -> Vec<(f64, f64)> {
+        (0..times.len())
+            .filter_map(|i| Some((times[i] - t0, cadence_spm(times, i)?)))
+            .collect()
+    };
+    let mut series = Vec::new();
+    if let Some(r) = reference {
+        series.push(Series {
+            name: "reference (stepcounter.csv)".into(),
+            points: points(r),
+            color: Some((150, 150, 150)),
+            style: Style::Line,
+        });
+    }
+    let detected: Vec<f64> = steps.iter().map(|e| e.t_s).collect();
+    series.push(Series {
+        name: format!("stridekit ({} steps)", steps.len()),
+        points: points(&detected),
+        color: Some((220, 30, 60)),
+        style: Style::Line,
+    });
+    let name = input
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    line_chart(
+        svg,
+        &Chart {
+            title: &format!("Cadence: {name}"),
+            x_label: "time from the first step (s)",
+            y_label: "cadence (steps/min)",
+            series: &series,
+            bands: &[],
+            y_range: None,
+            y_format: YFormat::Number,
+        },
+    )
+    .map_err(|e| format!("cannot write {}: {e}", svg.display()))
+}
+
 /// Cadence at a step, steps/min: over the last up to 4 intervals of the same bout
-/// (intervals under 2.5 s), `None` for the first step of a bout.
-fn cadence_spm(steps: &[StepEvent], i: usize) -> Option<f64> {
+/// (intervals under 2.5 s), `None` for the first step of a bout. `t_s`: step times.
+fn cadence_spm(t_s: &[f64], i: usize) -> Option<f64> {
     let mut k = 0;
-    while k < 4 && i > k && steps[i - k].t_s - steps[i - k - 1].t_s < 2.5 {
+    while k < 4 && i > k && t_s[i - k] - t_s[i - k - 1] < 2.5 {
         k += 1;
     }
-    (k > 0).then(|| 60.0 * k as f64 / (steps[i].t_s - steps[i - k].t_s))
+    (k > 0).then(|| 60.0 * k as f64 / (t_s[i] - t_s[i - k]))
 }
 
 pub fn run(args: &StepsArgs) -> Result<(), String> {
@@ -131,8 +186,9 @@ pub fn run(args: &StepsArgs) -> Result<(), String> {
     let mut w = std::io::BufWriter::new(file);
     let io = |e: std::io::Error| e.to_string();
     writeln!(w, "t_s,step,cadence_spm,interval_s").map_err(io)?;
+    let times: Vec<f64> = steps.iter().map(|e| e.t_s).collect();
     for (i, e) in steps.iter().enumerate() {
-        let cad = cadence_spm(&steps, i)
+        let cad = cadence_spm(&times, i)
             .map(|c| format!("{c:.1}"))
             .unwrap_or_default();
         let iv = if e.duration_s.is_finite() {
@@ -143,6 +199,9 @@ pub fn run(args: &StepsArgs) -> Result<(), String> {
         writeln!(w, "{:.3},{},{cad},{iv}", e.t_s, i + 1).map_err(io)?;
     }
     w.flush().map_err(io)?;
+    drop(w);
+    let svg = out_path.with_extension("svg");
+    cadence_chart(&svg, &args.file, &steps, rec.reference_steps.as_deref())?;
     let span = match (rec.samples.first(), rec.samples.last()) {
         (Some(a), Some(b)) => b.0 - a.0,
         _ => 0.0,
@@ -226,6 +285,11 @@ mod tests {
         // 37 s of walking at 1.8 steps/s ≈ 66 steps.
         assert!((60..=70).contains(&n), "{n} steps");
         assert!(rows.starts_with("t_s,step,cadence_spm,interval_s\n"));
+        let svg = std::fs::read_to_string(dir.join("steps.svg")).unwrap();
+        assert!(
+            svg.contains("Cadence") && svg.contains("stridekit ("),
+            "the chart"
+        );
         let last: Vec<&str> = rows.lines().last().unwrap().split(',').collect();
         let cadence: f64 = last[2].parse().unwrap();
         assert!((cadence - 108.0).abs() < 5.0, "{cadence}");

@@ -55,7 +55,8 @@ pub fn pace(a: PaceArgs) -> Result<(), String> {
 ///
 /// Replay a phone accelerometer recording (an Oxford Step Counter trace folder or its
 /// accelerometer.csv, or an Android sensor log .txt / .txt.gz) through the step detector; write one row per step (t_s on the
-/// recording's clock, step number, cadence in steps/min, interval).
+/// recording's clock, step number, cadence in steps/min, interval) and a cadence chart
+/// (SVG, beside the CSV; with the trace's reference steps when it has them).
 #[derive(Debug, Args)]
 pub struct StepsArgs {
     /// The trace folder, accelerometer.csv or Android sensor log.
