@@ -15,7 +15,8 @@ use std::path::{Path, PathBuf};
 use stridekit_core::ahrs::{Ahrs, AhrsError, AhrsFlags, AhrsSettings};
 use stridekit_formats::{is_android_log, read_android_log, read_broad};
 
-use stridekit_lab::orientation::metric::ErrorSums;
+use stridekit_lab::orientation::metric::{error_angles, ErrorSums};
+use stridekit_lab::report::{line_chart, Chart, Series, Style, YFormat};
 
 /// Options of `stridekit orientation`.
 #[derive(Clone, Debug)]
@@ -115,6 +116,12 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
     let mut rejected: BTreeMap<String, usize> = BTreeMap::new();
     let mut sums = ErrorSums::default();
     let mut accepted = 0usize;
+    // Chart points, thinned to about CHART_POINTS_HZ: (t, azimuth, tilt) of the
+    // estimate and, when scored, (t, heading error, inclination error) in degrees.
+    let t_first = rows.first().map_or(0.0, |r| r.t_s);
+    let mut next_point_t = f64::NEG_INFINITY;
+    let mut attitude: [Vec<(f64, f64)>; 2] = Default::default();
+    let mut errors: [Vec<(f64, f64)>; 2] = Default::default();
     for s in &rows {
         let mag = if args.imu_only { None } else { s.mag_ut };
         match ahrs.update(s.t_s, s.gyro_rads, s.accel_mps2, mag) {
@@ -134,11 +141,86 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
                 if let Some(t) = &s.reference {
                     sums.add(&q, t);
                 }
+                if s.t_s >= next_point_t {
+                    next_point_t = s.t_s + 1.0 / CHART_POINTS_HZ;
+                    let x = s.t_s - t_first;
+                    let (azimuth, tilt) = azimuth_tilt_deg(&q);
+                    // A wrap through north breaks the line instead of crossing the chart.
+                    if attitude[0]
+                        .last()
+                        .is_some_and(|p| (p.1 - azimuth).abs() > 180.0)
+                    {
+                        attitude[0].push((x, f64::NAN));
+                    }
+                    attitude[0].push((x, azimuth));
+                    attitude[1].push((x, tilt));
+                    if let Some(t) = &s.reference {
+                        let (_, h, i) = error_angles(&q, t);
+                        errors[0].push((x, h.to_degrees()));
+                        errors[1].push((x, i.to_degrees()));
+                    }
+                }
             }
             Err(e) => *rejected.entry(reason(&e)).or_default() += 1,
         }
     }
     w.flush().map_err(io)?;
+    let svg = args.out.with_extension("svg");
+    let reference_name = if android {
+        "Android's rotation vector"
+    } else {
+        "the optical truth"
+    };
+    let chart = |series: Vec<Series>, title: String, y_label: &str| {
+        line_chart(
+            &svg,
+            &Chart {
+                title: &title,
+                x_label: "time (s)",
+                y_label,
+                series: &series,
+                bands: &[],
+                y_range: None,
+                y_format: YFormat::Number,
+            },
+        )
+        .map_err(|e| format!("cannot write {}: {e}", svg.display()))
+    };
+    let named = |name: &str, points: Vec<(f64, f64)>, color| Series {
+        name: name.into(),
+        points,
+        color: Some(color),
+        style: Style::Line,
+    };
+    let [heading_err, inclination_err] = errors;
+    if heading_err.is_empty() {
+        let [azimuth, tilt] = attitude;
+        chart(
+            vec![
+                named(
+                    "azimuth of the +y axis (° from north, clockwise)",
+                    azimuth,
+                    (31, 119, 180),
+                ),
+                named("tilt of the +z axis from up (°)", tilt, (255, 127, 14)),
+            ],
+            format!("Orientation: {}", display_name(&args.file)),
+            "degrees",
+        )?;
+    } else {
+        let mut series = vec![named("inclination", inclination_err, (255, 127, 14))];
+        if !args.imu_only {
+            series.insert(0, named("heading", heading_err, (31, 119, 180)));
+        }
+        chart(
+            series,
+            format!(
+                "Difference to {reference_name}: {}",
+                display_name(&args.file)
+            ),
+            "error angle (°)",
+        )?;
+    }
     println!(
         "{}: {} samples, {accepted} accepted, written to {}",
         display_name(&args.file),
@@ -178,6 +260,24 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// Chart points per second of recording.
+const CHART_POINTS_HZ: f64 = 10.0;
+
+/// Azimuth of the body's +y axis (degrees from north, clockwise, 0..360) and the tilt of
+/// its +z axis from up (degrees), for a body → ENU quaternion `[w, x, y, z]`.
+fn azimuth_tilt_deg(q: &[f64; 4]) -> (f64, f64) {
+    let [w, x, y, z] = *q;
+    // Columns of the rotation matrix: the body's y and z axes in ENU.
+    let y_axis = [
+        2.0 * (x * y - w * z),
+        1.0 - 2.0 * (x * x + z * z),
+        2.0 * (y * z + w * x),
+    ];
+    let z_up = 1.0 - 2.0 * (x * x + y * y);
+    let azimuth = y_axis[0].atan2(y_axis[1]).to_degrees().rem_euclid(360.0);
+    (azimuth, z_up.clamp(-1.0, 1.0).acos().to_degrees())
 }
 
 fn display_name(p: &Path) -> String {

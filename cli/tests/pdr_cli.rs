@@ -183,6 +183,11 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
         "{stdout}"
     );
     assert!(inclination < 10.0, "{stdout}");
+    let svg = std::fs::read_to_string(dir.join("q.svg")).unwrap();
+    assert!(
+        svg.contains("Difference to Android"),
+        "the chart beside the CSV"
+    );
     let rows = std::fs::read_to_string(dir.join("q.csv")).unwrap();
     assert_eq!(
         rows.lines().count(),

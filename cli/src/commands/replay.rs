@@ -171,7 +171,7 @@ pub fn pdr(a: PdrArgs) -> Result<(), String> {
 /// Replay a recording with IMU and magnetometer samples (the BROAD CSV, .csv or
 /// .csv.gz, or an Android sensor log) through the default orientation filter; write
 /// one row per accepted sample, t_s,qw,qx,qy,qz (body → East-North-Up) and the
-/// filter's flags. With optical truth in the file, prints the BROAD errors; with
+/// filter's flags, and a chart (SVG) beside it. With optical truth in the file, prints the BROAD errors; with
 /// Android's rotation vector in a sensor log, the RMS difference to it (a second
 /// opinion, not truth).
 #[derive(Debug, Args)]
