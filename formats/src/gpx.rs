@@ -2,7 +2,7 @@
 
 use roxmltree::Node;
 
-use crate::record::{finish_counted, Cleanup, Record};
+use crate::record::{Cleanup, Record};
 use crate::xml;
 use crate::FormatError;
 
@@ -20,30 +20,7 @@ pub fn read_gpx(text: &str) -> Result<Vec<Record>, FormatError> {
 
 /// [`read_gpx`], also saying what the clean-up changed.
 pub fn read_gpx_counted(text: &str) -> Result<(Vec<Record>, Cleanup), FormatError> {
-    // A file cut off mid-write is read up to its last complete trkpt.
-    let repaired;
-    let mut truncated = false;
-    let doc = match xml::parse(text, FORMAT) {
-        Ok(doc) => doc,
-        Err(e) => match xml::close_after_last(text, "trkpt") {
-            Some(t) => {
-                repaired = t;
-                truncated = true;
-                xml::parse(&repaired, FORMAT).map_err(|_| e)?
-            }
-            None => return Err(e),
-        },
-    };
-    xml::expect_root(&doc, "gpx", FORMAT)?;
-    let mut records = Vec::new();
-    for point in xml::elements(doc.root_element(), "trkpt") {
-        if let Some(record) = track_point(point)? {
-            records.push(record);
-        }
-    }
-    let (records, mut cleanup) = finish_counted(records)?;
-    cleanup.truncated = truncated;
-    Ok((records, cleanup))
+    xml::read_track_points(text, FORMAT, "gpx", "trkpt", track_point)
 }
 
 fn track_point(point: Node) -> Result<Option<Record>, FormatError> {

@@ -4,6 +4,7 @@
 use chrono::{DateTime, NaiveDateTime};
 use roxmltree::{Document, Node};
 
+use crate::record::{finish_counted, Cleanup, Record};
 use crate::FormatError;
 
 /// Parses an XML document. A byte-order mark or whitespace before the XML declaration (a
@@ -97,6 +98,42 @@ fn scan_tags<'t>(text: &'t str, tag: &str) -> Option<(Option<usize>, Vec<&'t str
         }
     }
     Some((last_end, stack))
+}
+
+/// The records of a track document (TCX, GPX): every `point` element (local name)
+/// under a root named `root`, each read by `read` (`None`: skipped), then the clean-up
+/// every reader applies. A document cut off mid-write is read up to its last complete
+/// `point` ([`close_after_last`]) and says so in [`Cleanup::truncated`].
+pub(crate) fn read_track_points(
+    text: &str,
+    format: &'static str,
+    root: &str,
+    point: &'static str,
+    read: impl Fn(Node) -> Result<Option<Record>, FormatError>,
+) -> Result<(Vec<Record>, Cleanup), FormatError> {
+    let repaired;
+    let mut truncated = false;
+    let doc = match parse(text, format) {
+        Ok(doc) => doc,
+        Err(e) => match close_after_last(text, point) {
+            Some(t) => {
+                repaired = t;
+                truncated = true;
+                parse(&repaired, format).map_err(|_| e)?
+            }
+            None => return Err(e),
+        },
+    };
+    expect_root(&doc, root, format)?;
+    let mut records = Vec::new();
+    for node in elements(doc.root_element(), point) {
+        if let Some(record) = read(node)? {
+            records.push(record);
+        }
+    }
+    let (records, mut cleanup) = finish_counted(records)?;
+    cleanup.truncated = truncated;
+    Ok((records, cleanup))
 }
 
 /// Checks the local name of the root element.
