@@ -84,12 +84,7 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
             .collect()
     } else {
         let rec = read_broad(&args.file).map_err(|e| what(&e))?;
-        if let Some(line) = rec.first_unreadable_line {
-            reader_skipped.push((
-                format!("unreadable row (first at line {line})"),
-                rec.unreadable_rows,
-            ));
-        }
+        reader_skipped.extend(rec.unreadable.reason());
         rec.samples
             .iter()
             .zip(&rec.truth)

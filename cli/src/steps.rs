@@ -51,13 +51,7 @@ pub fn read_recording(path: &Path) -> Result<AccelRecording, String> {
     if is_oxford {
         let rows = stridekit_formats::read_oxford_accel_raw(&oxford_csv).map_err(err)?;
         let samples = rows.samples.iter().map(|a| (a.t_s, a.accel_mps2)).collect();
-        let reader_skipped = match rows.first_unreadable_line {
-            Some(line) => vec![(
-                format!("unreadable row (first at line {line})"),
-                rows.unreadable_rows,
-            )],
-            None => Vec::new(),
-        };
+        let reader_skipped = rows.unreadable.reason().into_iter().collect();
         let dir = oxford_csv.parent().unwrap_or(Path::new("."));
         let reference = if dir.join("stepcounter.csv").is_file() {
             stridekit_formats::read_oxford_trace(dir)

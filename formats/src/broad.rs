@@ -11,13 +11,13 @@
 //! A `.gz` file is decompressed on the fly. An empty sensor cell reads as NaN (the
 //! engine then rejects that one sample and a replay counts it); empty truth cells
 //! give `None`. A row with text that is not a number, too few cells or no time is
-//! skipped and counted (`unreadable_rows`, `first_unreadable_line`); a file with no
+//! skipped and counted (`unreadable`); a file with no
 //! readable row is the first row's typed [`FormatError::Parse`] naming the line.
 
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 
-use crate::error::FormatError;
+use crate::error::{FormatError, Unreadable};
 use crate::inertial::{Columns, InertialSample};
 
 const FORMAT: &str = "BROAD CSV";
@@ -37,9 +37,7 @@ pub struct OrientationRecording {
     pub movement: Vec<bool>,
     /// Rows that could not be read (too few cells, text where a number belongs, no
     /// time), skipped.
-    pub unreadable_rows: u64,
-    /// 1-based line of the first unreadable row.
-    pub first_unreadable_line: Option<usize>,
+    pub unreadable: Unreadable,
 }
 
 impl OrientationRecording {
@@ -173,8 +171,7 @@ pub fn parse_broad(input: impl BufRead) -> Result<OrientationRecording, FormatEr
                 rec.movement.push(moving);
             }
             Err(e) => {
-                rec.unreadable_rows += 1;
-                rec.first_unreadable_line.get_or_insert(line_no);
+                rec.unreadable.add(line_no);
                 first_error.get_or_insert(e);
             }
         }
@@ -290,7 +287,7 @@ t_s,gyr_x_rads,gyr_y_rads,gyr_z_rads,acc_x_mps2,acc_y_mps2,acc_z_mps2,mag_x_ut,m
         let rec = parse_broad(mixed.as_bytes()).unwrap();
         assert_eq!(rec.len(), 2);
         assert_eq!(
-            (rec.unreadable_rows, rec.first_unreadable_line),
+            (rec.unreadable.rows, rec.unreadable.first_line),
             (2, Some(3))
         );
         // Without magnetometer, truth and movement columns: IMU only, unscored truth.

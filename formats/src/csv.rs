@@ -1,7 +1,7 @@
 //! CSV reader: the reference layout of the shared data set and a minimal layout for users.
 
 use crate::record::{finish_counted, Cleanup, Record};
-use crate::FormatError;
+use crate::{FormatError, Unreadable};
 
 const FORMAT: &str = "CSV";
 
@@ -72,7 +72,8 @@ pub fn read_csv_counted(text: &str) -> Result<(Vec<Record>, Cleanup), FormatErro
     let header = split(header);
     let columns = Columns::from_header(&header)?;
     let mut records = Vec::new();
-    let mut unreadable: Option<(u64, usize, FormatError)> = None;
+    let mut unreadable = Unreadable::default();
+    let mut first_error = None;
     for (line_no, line) in lines {
         let row = || -> Result<Record, FormatError> {
             let cells = split(line);
@@ -127,22 +128,17 @@ pub fn read_csv_counted(text: &str) -> Result<(Vec<Record>, Cleanup), FormatErro
         // truncated last line, a stray note) is skipped and counted, not fatal.
         match row() {
             Ok(r) => records.push(r),
-            Err(e) => match unreadable.as_mut() {
-                Some((n, _, _)) => *n += 1,
-                None => unreadable = Some((1, line_no, e)),
-            },
+            Err(e) => {
+                unreadable.add(line_no);
+                first_error.get_or_insert(e);
+            }
         }
     }
-    if records.is_empty() {
-        if let Some((_, _, e)) = unreadable {
-            return Err(e);
-        }
+    if let (true, Some(e)) = (records.is_empty(), first_error) {
+        return Err(e);
     }
     let (records, mut cleanup) = finish_counted(records)?;
-    if let Some((n, line, _)) = unreadable {
-        cleanup.unreadable_rows = n;
-        cleanup.first_unreadable_line = Some(line);
-    }
+    cleanup.unreadable = unreadable;
     Ok((records, cleanup))
 }
 
@@ -234,7 +230,7 @@ stance_time_ms,gps_cum_distance_m\n\
             read_csv_counted("t_s,lat_deg,lon_deg\n1,2,3\n2,north,3\n3,2,3\n4,2\n").unwrap();
         assert_eq!(records.len(), 2);
         assert_eq!(
-            (cleanup.unreadable_rows, cleanup.first_unreadable_line),
+            (cleanup.unreadable.rows, cleanup.unreadable.first_line),
             (2, Some(3))
         );
         assert!(message("t_s,lat_deg,lon_deg\n,2,3\n").contains("empty time"));

@@ -33,3 +33,26 @@ impl FormatError {
         }
     }
 }
+
+/// Rows of a text file that a reader could not read (a header, garbage, a truncated
+/// last line) and skipped.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Unreadable {
+    /// How many.
+    pub rows: u64,
+    /// 1-based line of the first.
+    pub first_line: Option<usize>,
+}
+
+impl Unreadable {
+    pub(crate) fn add(&mut self, line: usize) {
+        self.rows += 1;
+        self.first_line.get_or_insert(line);
+    }
+
+    /// `("unreadable row (first at line L)", rows)`, when there were any.
+    pub fn reason(&self) -> Option<(String, u64)> {
+        self.first_line
+            .map(|line| (format!("unreadable row (first at line {line})"), self.rows))
+    }
+}

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use crate::error::FormatError;
+use crate::error::{FormatError, Unreadable};
 
 /// One IMU sample, device frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -130,8 +130,9 @@ pub(crate) fn parse_rows(
     let mut samples = Vec::new();
     let mut truth = Vec::new();
     // Unreadable rows (a truncated last line, text in a number column): skipped and
-    // counted; (count, first line, first error).
-    let mut unreadable: Option<(u64, usize, FormatError)> = None;
+    // counted.
+    let mut unreadable = Unreadable::default();
+    let mut first_error = None;
     for (n, line) in lines.enumerate() {
         if line.trim().is_empty() {
             continue;
@@ -162,18 +163,16 @@ pub(crate) fn parse_rows(
                 samples.push(sample);
                 truth.push(position);
             }
-            Err(e) => match unreadable.as_mut() {
-                Some((count, _, _)) => *count += 1,
-                None => unreadable = Some((1, n + 2, e)),
-            },
+            Err(e) => {
+                unreadable.add(n + 2);
+                first_error.get_or_insert(e);
+            }
         }
     }
     if samples.is_empty() {
-        return Err(unreadable.map_or(FormatError::Empty, |(_, _, e)| e));
+        return Err(first_error.unwrap_or(FormatError::Empty));
     }
-    let skipped = unreadable
-        .map(|(count, line, _)| vec![(format!("unreadable row (first at line {line})"), count)])
-        .unwrap_or_default();
+    let skipped = unreadable.reason().into_iter().collect();
     Ok((samples, truth, skipped))
 }
 

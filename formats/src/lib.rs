@@ -31,7 +31,7 @@ pub use crate::android::{is_android_log, list_android_logs, parse_android_log, r
 pub use crate::broad::{list_broad_trials, parse_broad, read_broad, OrientationRecording};
 pub use crate::csv::{read_csv, read_csv_counted};
 pub use crate::data::{data_dir, DATA_ENV_VAR};
-pub use crate::error::FormatError;
+pub use crate::error::{FormatError, Unreadable};
 pub use crate::fit::{read_fit, read_fit_counted};
 pub use crate::foot::{list_foot_trials, parse_foot_csv, read_foot_csv, FootFormat, FootRecording};
 pub use crate::gpx::{read_gpx, read_gpx_counted};

@@ -8,7 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::error::FormatError;
+use crate::error::{FormatError, Unreadable};
 
 const FORMAT: &str = "Oxford";
 
@@ -229,9 +229,7 @@ pub struct OxfordAccelRows {
     pub samples: Vec<OxfordAccel>,
     /// Rows that are not a timestamp, an accuracy flag and three numbers (a header, a
     /// truncated last line, garbage), skipped.
-    pub unreadable_rows: u64,
-    /// 1-based line number of the first unreadable row.
-    pub first_unreadable_line: Option<usize>,
+    pub unreadable: Unreadable,
 }
 
 /// Every row of an Oxford-format `accelerometer.csv` (no header: timestamp ns, accuracy
@@ -265,10 +263,7 @@ pub fn read_oxford_accel_raw(path: &Path) -> Result<OxfordAccelRows, FormatError
         };
         match row() {
             Ok(a) => out.samples.push(a),
-            Err(_) => {
-                out.unreadable_rows += 1;
-                out.first_unreadable_line.get_or_insert(i + 1);
-            }
+            Err(_) => out.unreadable.add(i + 1),
         }
     }
     if out.samples.is_empty() {

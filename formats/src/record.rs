@@ -1,6 +1,6 @@
 //! The common record type and the clean-up every reader applies before returning.
 
-use crate::FormatError;
+use crate::{FormatError, Unreadable};
 
 /// One timed sample of an activity. Fields a file does not provide are `None`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -130,9 +130,7 @@ pub struct Cleanup {
     pub merged_records: u64,
     /// Rows a text reader could not read (CSV: wrong field count, not a number, no
     /// time), skipped.
-    pub unreadable_rows: u64,
-    /// 1-based line of the first unreadable row.
-    pub first_unreadable_line: Option<usize>,
+    pub unreadable: Unreadable,
     /// The file was cut off (XML not closed) and was read up to its last complete
     /// trackpoint.
     pub truncated: bool,
@@ -141,16 +139,17 @@ pub struct Cleanup {
 impl Cleanup {
     /// `(reason, count)` for every non-zero count, in a fixed order.
     pub fn reasons(&self) -> Vec<(String, u64)> {
-        let unreadable = match self.first_unreadable_line {
-            Some(line) => format!("unreadable row (first at line {line}), skipped"),
-            None => "unreadable row, skipped".to_string(),
-        };
         [
             (
                 "file cut off mid-write, read up to its last complete trackpoint".into(),
                 u64::from(self.truncated),
             ),
-            (unreadable, self.unreadable_rows),
+            (
+                self.unreadable
+                    .reason()
+                    .map_or_else(String::new, |(why, _)| format!("{why}, skipped")),
+                self.unreadable.rows,
+            ),
             (
                 "record without a valid time, dropped".into(),
                 self.untimed_records,
