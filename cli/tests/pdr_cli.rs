@@ -159,19 +159,23 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
     // The same log through the orientation filter and the learned odometry: the
     // repeated sample skipped and counted the same way, Android's rotation vector as
     // the orientation's second opinion.
-    let out = stridekit()
-        .arg("orientation")
-        .arg(&log)
-        .arg("--out")
-        .arg(dir.join("q.csv"))
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout}");
-    assert!(
-        stdout.contains("skipped 1: IMU stream: duplicate timestamp"),
-        "{stdout}"
-    );
+    let replay = |command: &str, out: &Path| -> String {
+        let o = stridekit()
+            .arg(command)
+            .arg(&log)
+            .arg("--out")
+            .arg(out)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+        assert!(o.status.success(), "{command}: {stdout}");
+        assert!(
+            stdout.contains("skipped 1: IMU stream: duplicate timestamp"),
+            "{command}: {stdout}"
+        );
+        stdout
+    };
+    let stdout = replay("orientation", &dir.join("q.csv"));
     let inclination: f64 = stdout
         .split("inclination ")
         .nth(1)
@@ -194,19 +198,7 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
         2001,
         "header + one row per accepted sample"
     );
-    let out = stridekit()
-        .arg("odometry")
-        .arg(&log)
-        .arg("--out")
-        .arg(dir.join("odo.svg"))
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout}");
-    assert!(
-        stdout.contains("skipped 1: IMU stream: duplicate timestamp"),
-        "{stdout}"
-    );
+    replay("odometry", &dir.join("odo.svg"));
 
     // Typed refusals: unknown flag, bad calibration file.
     let out = stridekit()
