@@ -8,14 +8,14 @@
 //! rotation vector, the RMS difference to it is printed as a second opinion (Android's
 //! fusion is not truth; the first few seconds, while both settle, are not scored).
 
-use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use stridekit_core::ahrs::{Ahrs, AhrsError, AhrsFlags, AhrsSettings};
+use stridekit_core::ahrs::{Ahrs, AhrsFlags, AhrsSettings};
 use stridekit_formats::{is_android_log, read_android_log, read_broad};
 
 use stridekit_lab::orientation::metric::{error_angles, ErrorSums};
+use stridekit_lab::rejected::Rejected;
 use stridekit_lab::report::{line_chart, Chart, Series, Style, YFormat};
 
 /// Options of `stridekit orientation`.
@@ -25,14 +25,6 @@ pub struct OrientationArgs {
     pub out: PathBuf,
     /// Ignore the magnetometer (heading relative to the start).
     pub imu_only: bool,
-}
-
-/// A short name for why a sample was rejected (the replay's counters).
-pub fn reason(e: &AhrsError) -> String {
-    match e {
-        AhrsError::Input(i) => stridekit_lab::rejected::input_reason(i),
-        other => other.to_string(),
-    }
 }
 
 /// Seconds of an Android log not compared with the rotation vector while both settle.
@@ -108,7 +100,7 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
         write!(w, ",{name}").map_err(io)?;
     }
     writeln!(w).map_err(io)?;
-    let mut rejected: BTreeMap<String, usize> = BTreeMap::new();
+    let mut rejected = Rejected::default();
     let mut sums = ErrorSums::default();
     let mut accepted = 0usize;
     // Chart points, thinned to about CHART_POINTS_HZ: (t, azimuth, tilt) of the
@@ -156,7 +148,7 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
                     }
                 }
             }
-            Err(e) => *rejected.entry(reason(&e)).or_default() += 1,
+            Err(e) => rejected.ahrs(&e),
         }
     }
     w.flush().map_err(io)?;
@@ -222,9 +214,7 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
         rows.len(),
         args.out.display()
     );
-    for (why, n) in &rejected {
-        println!("  skipped {n}: {why}");
-    }
+    print!("{}", rejected.report());
     for (why, n) in &reader_skipped {
         println!("  skipped by the reader {n}: {why}");
     }

@@ -4,6 +4,7 @@
 
 use std::collections::BTreeMap;
 
+use stridekit_core::ahrs::AhrsError;
 use stridekit_core::input::InputError;
 use stridekit_core::odometry::OdometryError;
 use stridekit_core::pdr::NavError;
@@ -80,6 +81,13 @@ impl Rejected {
     pub fn steps(&mut self, e: &StepDetectError) {
         match e {
             StepDetectError::Input(i) => self.input(i),
+            other => self.add(other.to_string()),
+        }
+    }
+
+    pub fn ahrs(&mut self, e: &AhrsError) {
+        match e {
+            AhrsError::Input(i) => self.input(i),
             other => self.add(other.to_string()),
         }
     }
