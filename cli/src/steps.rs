@@ -96,13 +96,13 @@ pub fn read_recording(path: &Path) -> Result<AccelRecording, String> {
 fn cadence_chart(
     svg: &Path,
     input: &Path,
-    steps: &[StepEvent],
+    detected: &[f64],
     reference: Option<&[f64]>,
 ) -> Result<(), String> {
     use stridekit_lab::report::{line_chart, Chart, Series, Style, YFormat};
-    let t0 = steps
+    let t0 = detected
         .first()
-        .map(|e| e.t_s)
+        .copied()
         .into_iter()
         .chain(reference.and_then(|r| r.first().copied()))
         .fold(f64::INFINITY, f64::min);
@@ -120,10 +120,9 @@ fn cadence_chart(
             style: Style::Line,
         });
     }
-    let detected: Vec<f64> = steps.iter().map(|e| e.t_s).collect();
     series.push(Series {
-        name: format!("stridekit ({} steps)", steps.len()),
-        points: points(&detected),
+        name: format!("stridekit ({} steps)", detected.len()),
+        points: points(detected),
         color: Some((220, 30, 60)),
         style: Style::Line,
     });
@@ -195,7 +194,7 @@ pub fn run(args: &StepsArgs) -> Result<(), String> {
     w.flush().map_err(io)?;
     drop(w);
     let svg = out_path.with_extension("svg");
-    cadence_chart(&svg, &args.file, &steps, rec.reference_steps.as_deref())?;
+    cadence_chart(&svg, &args.file, &times, rec.reference_steps.as_deref())?;
     let span = match (rec.samples.first(), rec.samples.last()) {
         (Some(a), Some(b)) => b.0 - a.0,
         _ => 0.0,
