@@ -6,6 +6,6 @@ pub mod types;
 
 pub use tracker::{BatchResult, PaceTracker, RejectedSample};
 pub use types::{
-    default_pace_config, AccelSample, GnssFix, PaceCalibration, PaceConfig, PaceEstimate, PaceMode,
-    PaceSample, PaceSource, StepSample,
+    default_pace_config, AccelSample, AccelStepModel, GnssFix, PaceCalibration, PaceConfig,
+    PaceEstimate, PaceMode, PaceSample, PaceSource, StepSample,
 };

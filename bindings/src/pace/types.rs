@@ -290,6 +290,57 @@ pub struct PaceCalibration {
     pub slope_m_per_spm: f64,
     /// 1-σ of `step_length_m` when exported, metres.
     pub step_length_std_m: f64,
+    /// The step-length model of raw accelerometer input (`pushAccel`), learned with
+    /// good GNSS; null when the app did not push raw acceleration. Imported, a session
+    /// without GNSS is paced by each step's own acceleration from the first steps.
+    #[uniffi(default = None)]
+    pub accel_model: Option<AccelStepModel>,
+}
+
+/// The feature step-length model of raw accelerometer input: `L = A·F + B·SV + C`,
+/// F the step frequency (steps/s), SV the variance of the acceleration magnitude over
+/// the step ((m/s²)²). Store it as it was exported; the 1-σ values are its
+/// uncertainty, the prior that GNSS refines in the next session.
+#[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
+pub struct AccelStepModel {
+    /// A, metres per step/s (m·s), within ±2.
+    pub a_m_s: f64,
+    /// B, metres per (m/s²)², within ±0.1.
+    pub b_m_per_m2ps4: f64,
+    /// C, metres, within ±5.
+    pub c_m: f64,
+    /// 1-σ of A, m·s, in (0, 10].
+    pub a_std_m_s: f64,
+    /// 1-σ of B, metres per (m/s²)², in (0, 10].
+    pub b_std_m_per_m2ps4: f64,
+    /// 1-σ of C, metres, in (0, 10].
+    pub c_std_m: f64,
+}
+
+impl From<AccelStepModel> for core::AccelStepModel {
+    fn from(m: AccelStepModel) -> Self {
+        Self {
+            a_m_s: m.a_m_s,
+            b_m_per_m2ps4: m.b_m_per_m2ps4,
+            c_m: m.c_m,
+            a_std_m_s: m.a_std_m_s,
+            b_std_m_per_m2ps4: m.b_std_m_per_m2ps4,
+            c_std_m: m.c_std_m,
+        }
+    }
+}
+
+impl From<core::AccelStepModel> for AccelStepModel {
+    fn from(m: core::AccelStepModel) -> Self {
+        Self {
+            a_m_s: m.a_m_s,
+            b_m_per_m2ps4: m.b_m_per_m2ps4,
+            c_m: m.c_m,
+            a_std_m_s: m.a_std_m_s,
+            b_std_m_per_m2ps4: m.b_std_m_per_m2ps4,
+            c_std_m: m.c_std_m,
+        }
+    }
 }
 
 impl From<PaceCalibration> for core::PaceCalibration {
@@ -299,6 +350,7 @@ impl From<PaceCalibration> for core::PaceCalibration {
             cadence_spm: c.cadence_spm,
             slope_m_per_spm: c.slope_m_per_spm,
             step_length_std_m: c.step_length_std_m,
+            accel_model: c.accel_model.map(Into::into),
         }
     }
 }
@@ -310,6 +362,7 @@ impl From<core::PaceCalibration> for PaceCalibration {
             cadence_spm: c.cadence_spm,
             slope_m_per_spm: c.slope_m_per_spm,
             step_length_std_m: c.step_length_std_m,
+            accel_model: c.accel_model.map(Into::into),
         }
     }
 }

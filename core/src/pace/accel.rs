@@ -16,11 +16,18 @@
 //! disturbed stretch): speed = cadence × the step length of *these* steps, not the
 //! line's value at the cadence. With good GNSS the filter's own line is used as
 //! before; without raw acceleration nothing changes.
+//!
+//! The calibrated model is carried between sessions in
+//! [`super::PaceCalibration::accel_model`]: imported, it counts as calibrated from the
+//! first step (a treadmill run with raw acceleration is paced by its steps' features
+//! from the start), and good GNSS keeps refining it.
 
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 use crate::stepdetect::{StepDetector, StepEvent};
 use crate::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
+
+use super::AccelStepModel;
 
 /// Steps whose modelled lengths are averaged, looking back this far from the
 /// measurement time, seconds (the cadence window of the pedometer update).
@@ -45,6 +52,9 @@ pub struct AccelSteps {
     detector: StepDetector,
     length: StepLengthEstimator,
     recent: Ring<Modelled, RECENT>,
+    /// The model came from an imported calibration (calibrated from the start). Not
+    /// in the snapshot: it follows from the configuration, which is.
+    imported: bool,
 }
 
 /// The estimator's settings here: the defaults, learning on after convergence (a
@@ -57,12 +67,22 @@ fn length_config() -> StepLengthConfig {
 }
 
 impl AccelSteps {
-    pub fn new() -> Self {
+    /// Raw-accelerometer steps, starting from an imported model (validated with the
+    /// configuration) or from the population prior.
+    pub fn new(imported: Option<&AccelStepModel>) -> Self {
+        let prior = || {
+            StepLengthEstimator::new(MODEL, length_config())
+                .expect("the default step-length configuration is valid")
+        };
+        let length = imported.map_or_else(prior, |m| {
+            StepLengthEstimator::calibrated(MODEL, length_config(), m.theta(), m.sigma())
+                .unwrap_or_else(|_| prior())
+        });
         Self {
             detector: StepDetector::default(),
-            length: StepLengthEstimator::new(MODEL, length_config())
-                .expect("the default step-length configuration is valid"),
+            length,
             recent: Ring::new(),
+            imported: imported.is_some(),
         }
     }
 
@@ -99,7 +119,18 @@ impl AccelSteps {
     /// convergence test, 1 % of the step length, is for freezing the calibration).
     pub fn calibrated(&self) -> bool {
         let c = self.length.calibration();
-        c.converged || c.fits >= self.length.config().min_fits
+        self.imported || c.converged || c.fits >= self.length.config().min_fits
+    }
+
+    /// The model to carry to the next session, once calibrated (imported, or learned
+    /// from GNSS); `None` before.
+    pub fn export(&self) -> Option<AccelStepModel> {
+        if !self.calibrated() {
+            return None;
+        }
+        let m =
+            AccelStepModel::from_theta(self.length.calibration().theta, self.length.theta_sigma());
+        m.validate().is_ok().then_some(m)
     }
 
     /// The step-length model's calibration state.
@@ -135,7 +166,8 @@ impl AccelSteps {
         }
     }
 
-    pub fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
+    /// Read what [`Self::write`] wrote; `imported` from the restored configuration.
+    pub fn read(r: &mut Reader, imported: bool) -> Result<Self, SnapshotError> {
         let detector = StepDetector::restore(r.bytes()?)
             .map_err(|_| SnapshotError::Invalid("accelerometer step detector"))?;
         let length = StepLengthEstimator::restore(r.bytes()?)
@@ -160,6 +192,7 @@ impl AccelSteps {
             detector,
             length,
             recent,
+            imported,
         })
     }
 }

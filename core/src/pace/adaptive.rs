@@ -1088,7 +1088,9 @@ impl AdaptiveFilter {
     }
 
     /// Before any GNSS fix: speed is cadence × step length (the calibrated, configured
-    /// or prior line read at the cadence), at most once a second; distance grows.
+    /// or prior line read at the cadence, or with raw acceleration and an imported
+    /// model the mean modelled length of the last steps), at most once a second;
+    /// distance grows.
     fn pedometer_only(&mut self, t: f64, ctx: &Context) {
         if t - self.last_ped_t_s < PED_UPDATE_INTERVAL_S || t <= self.out.t_s {
             return;
@@ -1108,7 +1110,13 @@ impl AdaptiveFilter {
                 .filter(|&v| v > 0.0)
                 .unwrap_or(c);
             self.track_cadence_ref(c_slow, dt.min(10.0));
-            self.ped_speed = c * self.gait_step_length(c, c_slow).0;
+            // An imported accelerometer model paces these steps by their own
+            // features, as in an outage (see `pedometer_update`).
+            let l = ctx
+                .accel
+                .and_then(|a| a.step_length_m(t))
+                .unwrap_or_else(|| self.gait_step_length(c, c_slow).0);
+            self.ped_speed = c * l;
         }
         self.publish(ctx, t);
     }
@@ -1145,11 +1153,28 @@ impl AdaptiveFilter {
         } else {
             (self.x[LA], self.cadence_ref)
         };
+        self.line_at(level, cadence)
+    }
+
+    /// The filter's running line as it stands, learned or not (the prior's, moved to
+    /// the first cadence, with its wide 1-σ), once a cadence was seen: what a
+    /// calibration holds when only the accelerometer model was learned (a walk).
+    pub fn current_line(&self) -> Option<super::PaceCalibration> {
+        if !self.cadence_ref.is_finite() {
+            return None;
+        }
+        self.line_at(self.x[LA], self.cadence_ref)
+    }
+
+    /// The line with level `level` at `cadence` (steps/s), the filter's slope and σ.
+    fn line_at(&self, level: f64, cadence: f64) -> Option<super::PaceCalibration> {
         let c = super::PaceCalibration {
             step_length_m: level.clamp(0.2, 3.0),
             cadence_spm: (cadence * 60.0).clamp(30.0, 300.0),
             slope_m_per_spm: (self.x[LB] / 60.0).clamp(-0.05, 0.05),
             step_length_std_m: self.p[(LA, LA)].max(0.0).sqrt().min(1.0),
+            // Added by the tracker, which holds the accelerometer input.
+            accel_model: None,
         };
         c.validate().is_ok().then_some(c)
     }

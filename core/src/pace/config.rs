@@ -98,6 +98,105 @@ pub struct PaceCalibration {
     pub slope_m_per_spm: f64,
     /// 1-σ of `step_length_m` when it was exported, metres.
     pub step_length_std_m: f64,
+    /// The step-length model of raw accelerometer input, learned when the app pushed
+    /// raw acceleration ([`PaceTracker::push_accel`](super::PaceTracker::push_accel))
+    /// during good GNSS; `None` when it was not. Imported, it gives the pedometer speed
+    /// of a session without GNSS (and of an outage before GNSS has refined it) from
+    /// each step's own acceleration, not only from the line at the cadence.
+    pub accel_model: Option<AccelStepModel>,
+}
+
+/// The feature step-length model of raw accelerometer input, carried between
+/// sessions inside a [`PaceCalibration`]: `L = A·F + B·SV + C`, with F the step
+/// frequency (steps/s, Hz) and SV the variance of the acceleration magnitude over the
+/// step ((m/s²)²), as the tracker's step detector measures them (method 3 of
+/// docs/architecture.md). The 1-σ values are the marginal uncertainties when it was
+/// exported; on import they are the prior GNSS refines (taken as independent, so an
+/// imported model is a little less certain than the one exported).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AccelStepModel {
+    /// A, metres per step/s (m·s).
+    pub a_m_s: f64,
+    /// B, metres per (m/s²)².
+    pub b_m_per_m2ps4: f64,
+    /// C, metres.
+    pub c_m: f64,
+    /// 1-σ of A, m·s.
+    pub a_std_m_s: f64,
+    /// 1-σ of B, metres per (m/s²)².
+    pub b_std_m_per_m2ps4: f64,
+    /// 1-σ of C, metres.
+    pub c_std_m: f64,
+}
+
+/// Largest |A| of an imported accelerometer model, m·s (A·F at 4 steps/s: 8 m).
+pub const MAX_ACCEL_MODEL_A_M_S: f64 = 2.0;
+/// Largest |B| of an imported accelerometer model, metres per (m/s²)².
+pub const MAX_ACCEL_MODEL_B_M_PER_M2PS4: f64 = 0.1;
+/// Largest |C| of an imported accelerometer model, metres.
+pub const MAX_ACCEL_MODEL_C_M: f64 = 5.0;
+/// Largest 1-σ of an imported accelerometer model's parameters (in their units).
+pub const MAX_ACCEL_MODEL_STD: f64 = 10.0;
+
+impl AccelStepModel {
+    /// θ = (A, B, C).
+    pub fn theta(&self) -> [f64; 3] {
+        [self.a_m_s, self.b_m_per_m2ps4, self.c_m]
+    }
+
+    /// 1-σ of (A, B, C).
+    pub fn sigma(&self) -> [f64; 3] {
+        [self.a_std_m_s, self.b_std_m_per_m2ps4, self.c_std_m]
+    }
+
+    /// The model from θ and its 1-σ.
+    pub fn from_theta(theta: [f64; 3], sigma: [f64; 3]) -> Self {
+        Self {
+            a_m_s: theta[0],
+            b_m_per_m2ps4: theta[1],
+            c_m: theta[2],
+            a_std_m_s: sigma[0],
+            b_std_m_per_m2ps4: sigma[1],
+            c_std_m: sigma[2],
+        }
+    }
+
+    /// Check the fields (finite, within physical bounds, positive 1-σ).
+    pub fn validate(&self) -> Result<(), PaceError> {
+        let limits = [
+            ("a_m_s", self.a_m_s, MAX_ACCEL_MODEL_A_M_S),
+            (
+                "b_m_per_m2ps4",
+                self.b_m_per_m2ps4,
+                MAX_ACCEL_MODEL_B_M_PER_M2PS4,
+            ),
+            ("c_m", self.c_m, MAX_ACCEL_MODEL_C_M),
+        ];
+        for (name, v, max) in limits {
+            if !(v.is_finite() && v.abs() <= max) {
+                return Err(PaceError::InvalidConfig {
+                    reason: format!(
+                        "calibration: accel_model.{name} must be within ±{max}, got {v}"
+                    ),
+                });
+            }
+        }
+        let sigmas = [
+            ("a_std_m_s", self.a_std_m_s),
+            ("b_std_m_per_m2ps4", self.b_std_m_per_m2ps4),
+            ("c_std_m", self.c_std_m),
+        ];
+        for (name, v) in sigmas {
+            if !(v.is_finite() && v > 0.0 && v <= MAX_ACCEL_MODEL_STD) {
+                return Err(PaceError::InvalidConfig {
+                    reason: format!(
+                        "calibration: accel_model.{name} must be in (0, {MAX_ACCEL_MODEL_STD}], got {v}"
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
 }
 
 impl PaceCalibration {
@@ -126,6 +225,9 @@ impl PaceCalibration {
         }
         if !(self.step_length_std_m.is_finite() && (0.0..=1.0).contains(&self.step_length_std_m)) {
             return bad("step_length_std_m must be in 0..=1 m");
+        }
+        if let Some(m) = &self.accel_model {
+            m.validate()?;
         }
         Ok(())
     }

@@ -22,7 +22,9 @@ mod walking;
 
 /// GNSS-only speed baselines the evaluation compares the fusion filters against.
 pub use baseline::{Baseline, BaselineKind};
-pub use config::{AdaptiveParams, PaceCalibration, PaceConfig, PaceMode, PublishedParams};
+pub use config::{
+    AccelStepModel, AdaptiveParams, PaceCalibration, PaceConfig, PaceMode, PublishedParams,
+};
 pub use error::{PaceError, Stream};
 pub use types::{GnssFix, PaceEstimate, PaceSample, PaceSource, StepSample, MIN_PACE_SPEED_MPS};
 
@@ -43,7 +45,8 @@ const SNAPSHOT_KIND: u8 = 1;
 /// Snapshot format version written by this build.
 /// Version 3: the input layer's time state per stream, the pedometer speed and the
 /// session's calibration sums. Version 5: the raw-accelerometer step-length model.
-const SNAPSHOT_VERSION: u16 = 5;
+/// Version 6: the calibration's accelerometer model.
+const SNAPSHOT_VERSION: u16 = 6;
 
 /// A GNSS fix after validation, in the local frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -136,11 +139,27 @@ impl PaceTracker {
     /// The step-length line learned so far, to carry to the next session (see
     /// [`PaceCalibration`]); `None` until the step length is learned from good GNSS
     /// (or given), and always `None` in [`PaceMode::AsPublished`].
+    ///
+    /// With raw accelerometer input, the export also holds the feature step-length
+    /// model ([`PaceCalibration::accel_model`]) once GNSS has calibrated it (or it was
+    /// imported); otherwise the imported one, if any, is carried on unchanged. When
+    /// only that model was learned (a walk with good GNSS teaches the running line
+    /// nothing), the export holds it with the running line as it stands, unlearned:
+    /// its `step_length_std_m` stays wide (the prior's, over 8 cm).
     pub fn calibration(&self) -> Option<PaceCalibration> {
-        match &self.filter {
-            Filter::Published(_) => None,
-            Filter::Adaptive(f) => f.calibration(self.config.calibration),
-        }
+        let Filter::Adaptive(f) = &self.filter else {
+            return None;
+        };
+        let imported = self.config.calibration.and_then(|c| c.accel_model);
+        let accel_model = self
+            .accel
+            .as_ref()
+            .and_then(AccelSteps::export)
+            .or(imported);
+        let line = f
+            .calibration(self.config.calibration)
+            .or_else(|| accel_model.and_then(|_| f.current_line()));
+        line.map(|c| PaceCalibration { accel_model, ..c })
     }
 
     /// The fused position, metres east and north of the first fix (the origin of
@@ -226,7 +245,8 @@ impl PaceTracker {
         let first = match &mut self.accel {
             Some(a) => a.detector_mut().push_accel(t_s, accel_mps2)?,
             None => {
-                let mut a = AccelSteps::new();
+                let mut a =
+                    AccelSteps::new(self.config.calibration.and_then(|c| c.accel_model).as_ref());
                 let first = a.detector_mut().push_accel(t_s, accel_mps2)?;
                 self.accel = Some(a);
                 first

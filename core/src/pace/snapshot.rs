@@ -58,7 +58,8 @@ impl PaceTracker {
             }
         };
         let accel = if r.bool()? {
-            Some(AccelSteps::read(&mut r)?)
+            let imported = config.calibration.is_some_and(|c| c.accel_model.is_some());
+            Some(AccelSteps::read(&mut r, imported)?)
         } else {
             None
         };
@@ -96,6 +97,7 @@ fn write_config(w: &mut Writer, c: &PaceConfig) {
             cadence_spm,
             slope_m_per_spm,
             step_length_std_m,
+            accel_model,
         }) => {
             w.bool(true);
             w.f64s(&[
@@ -104,6 +106,14 @@ fn write_config(w: &mut Writer, c: &PaceConfig) {
                 *slope_m_per_spm,
                 *step_length_std_m,
             ]);
+            match accel_model {
+                Some(m) => {
+                    w.bool(true);
+                    w.f64s(&m.theta());
+                    w.f64s(&m.sigma());
+                }
+                None => w.bool(false),
+            }
         }
         None => w.bool(false),
     }
@@ -152,11 +162,20 @@ fn read_config(r: &mut Reader) -> Result<PaceConfig, SnapshotError> {
     let calibration = if r.bool()? {
         let mut k = [0.0; 4];
         r.f64s(&mut k)?;
+        let accel_model = if r.bool()? {
+            let (mut theta, mut sigma) = ([0.0; 3], [0.0; 3]);
+            r.f64s(&mut theta)?;
+            r.f64s(&mut sigma)?;
+            Some(AccelStepModel::from_theta(theta, sigma))
+        } else {
+            None
+        };
         Some(PaceCalibration {
             step_length_m: k[0],
             cadence_spm: k[1],
             slope_m_per_spm: k[2],
             step_length_std_m: k[3],
+            accel_model,
         })
     } else {
         None

@@ -101,6 +101,15 @@ impl Regression {
         }
     }
 
+    /// Marginal 1-σ of each parameter (√ of the diagonal of Λ⁻¹; the prior's σ if Λ
+    /// could not be inverted, which the prior prevents).
+    pub fn sigma(&self) -> [f64; 3] {
+        match self.matrix().try_inverse() {
+            Some(inv) => [0, 1, 2].map(|i| inv[(i, i)].max(0.0).sqrt()),
+            None => [0, 4, 8].map(|i| 1.0 / self.info[i].sqrt()),
+        }
+    }
+
     /// 1-σ of the prediction θ·x.
     pub fn prediction_sigma(&self, x: [f64; 3]) -> f64 {
         match self.matrix().try_inverse() {

@@ -279,6 +279,12 @@ impl StepLengthEstimator {
         self.feature_sum.map(|s| s / self.samples as f64)
     }
 
+    /// Marginal 1-σ of θ (robust calibration; the prior's before any sample), for
+    /// carrying a calibration to [`Self::calibrated`] in a later session.
+    pub fn theta_sigma(&self) -> [f64; 3] {
+        self.reg.sigma()
+    }
+
     /// Calibration status.
     pub fn calibration(&self) -> Calibration {
         Calibration {

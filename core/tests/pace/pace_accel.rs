@@ -2,7 +2,7 @@
 
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::input::InputError;
-use stridekit_core::pace::{GnssFix, PaceConfig, PaceError, PaceTracker};
+use stridekit_core::pace::{GnssFix, PaceCalibration, PaceConfig, PaceError, PaceTracker};
 use stridekit_sim::phone::{simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario};
 
 /// Accelerometer samples and fixes of a simulated walk, in time order.
@@ -191,4 +191,97 @@ fn restore_mid_outage_keeps_the_feature_step_length() {
     assert!(cal.fits >= 10, "{cal:?}");
     let mut b = PaceTracker::restore(&a.snapshot()).unwrap();
     assert!(feed(&mut b, &xs[split..]) == reference[split..]);
+}
+
+/// Session 2 of a carried calibration: a new tracker with `cal` gets only the raw
+/// acceleration of `[t0, t1]` (no fix: a treadmill, an indoor track). Returns the
+/// tracker and the distance error over `[t0 + 10 s, t1]` against the truth, percent
+/// (the first seconds, before the detector confirms a bout, are the same either way).
+fn carried_session(
+    sim: &stridekit_sim::phone::SimulatedPhone,
+    t0: f64,
+    t1: f64,
+    cal: stridekit_core::PaceCalibration,
+) -> (PaceTracker, f64) {
+    let mut tr = PaceTracker::new(PaceConfig {
+        calibration: Some(cal),
+        ..PaceConfig::default()
+    })
+    .unwrap();
+    let t_start = t0 + 10.0;
+    let (mut d0, mut d1) = (None, 0.0);
+    for e in sim.timeline(&LocalFrame::new(45.0, 7.0, 0.0)) {
+        if let PhoneEvent::Imu(s) = e {
+            if s.t_s < t0 || s.t_s > t1 {
+                continue;
+            }
+            tr.push_accel(s.t_s, s.accel_mps2).unwrap();
+            if s.t_s >= t_start {
+                let d = tr.estimate().unwrap().distance_m;
+                d0.get_or_insert(d);
+                d1 = d;
+            }
+        }
+    }
+    let truth = sim.truth_at(t1).distance_m - sim.truth_at(t_start).distance_m;
+    (tr, 100.0 * ((d1 - d0.unwrap()) - truth) / truth)
+}
+
+#[test]
+fn the_accelerometer_model_carries_to_a_session_without_gnss() {
+    // Session 1: the walk at 1.2 m/s with GNSS and raw acceleration.
+    let (sim, t0, t1) = brisk_outage();
+    let mut first = PaceTracker::new(PaceConfig::default()).unwrap();
+    for e in sim.timeline(&LocalFrame::new(45.0, 7.0, 0.0)) {
+        match e {
+            PhoneEvent::Fix(f) if f.t_s < t0 => {
+                first.push_fix(&f).unwrap();
+            }
+            PhoneEvent::Imu(s) if s.t_s < t0 => first.push_accel(s.t_s, s.accel_mps2).unwrap(),
+            _ => {}
+        }
+    }
+    let cal = first
+        .calibration()
+        .expect("the accelerometer model was learned");
+    let model = cal.accel_model.expect("raw acceleration with good GNSS");
+    model.validate().unwrap();
+    // A walk teaches the running line nothing: exported as it stands, uncertain.
+    assert!(cal.step_length_std_m > 0.08, "{cal:?}");
+
+    // Session 2: the brisker walk with no fix at all, the calibration imported.
+    let (tr, with_model) = carried_session(&sim, t0, t1, cal);
+    let line_only = PaceCalibration {
+        accel_model: None,
+        ..cal
+    };
+    let (_, without) = carried_session(&sim, t0, t1, line_only);
+    // (Measured: −1.2 % with the model against −11.0 % with the line alone, read
+    // through the population's walking line.)
+    assert!(with_model.abs() < 4.0, "with the model: {with_model:+.2} %");
+    assert!(
+        2.0 * with_model.abs() < without.abs(),
+        "with the model {with_model:+.2} % vs the line alone {without:+.2} %"
+    );
+    let e = tr.estimate().unwrap();
+    assert_eq!(e.source, stridekit_core::PaceSource::Pedometer);
+    let l = e.step_length_m.expect("the steps' modelled length");
+    assert!((0.5..1.3).contains(&l), "{l}");
+    // Nothing refined it without GNSS: exported again as imported.
+    let again = tr.calibration().unwrap().accel_model.unwrap();
+    for (a, b) in again
+        .theta()
+        .iter()
+        .chain(&again.sigma())
+        .zip(model.theta().iter().chain(&model.sigma()))
+    {
+        assert!(
+            (a - b).abs() <= 1e-9 * b.abs().max(1e-3),
+            "{again:?} vs {model:?}"
+        );
+    }
+    // Kept in the snapshot, and the restored tracker goes on the same way.
+    let restored = PaceTracker::restore(&tr.snapshot()).unwrap();
+    assert_eq!(restored.config().calibration, Some(cal));
+    assert_eq!(restored.calibration(), tr.calibration());
 }

@@ -3,7 +3,8 @@
 //! hand-over to GNSS when it appears.
 
 use stridekit_core::{
-    PaceCalibration, PaceConfig, PaceError, PaceSample, PaceSource, PaceTracker, StepSample,
+    AccelStepModel, PaceCalibration, PaceConfig, PaceError, PaceSample, PaceSource, PaceTracker,
+    StepSample,
 };
 use stridekit_sim::{simulate_run, RunScenario};
 
@@ -144,8 +145,34 @@ fn invalid_calibrations_are_rejected() {
         cadence_spm: 170.0,
         slope_m_per_spm: 0.008,
         step_length_std_m: 0.03,
+        accel_model: None,
+    };
+    let model = AccelStepModel {
+        a_m_s: 0.4,
+        b_m_per_m2ps4: 0.0,
+        c_m: -0.1,
+        a_std_m_s: 0.05,
+        b_std_m_per_m2ps4: 0.001,
+        c_std_m: 0.1,
+    };
+    let with_model = |m: AccelStepModel| PaceCalibration {
+        accel_model: Some(m),
+        ..good
     };
     for bad in [
+        with_model(AccelStepModel {
+            a_m_s: f64::NAN,
+            ..model
+        }),
+        with_model(AccelStepModel { c_m: 50.0, ..model }),
+        with_model(AccelStepModel {
+            b_std_m_per_m2ps4: 0.0,
+            ..model
+        }),
+        with_model(AccelStepModel {
+            a_std_m_s: f64::INFINITY,
+            ..model
+        }),
         PaceCalibration {
             step_length_m: f64::NAN,
             ..good
@@ -173,6 +200,11 @@ fn invalid_calibrations_are_rejected() {
         });
         assert!(matches!(r, Err(PaceError::InvalidConfig { .. })), "{bad:?}");
     }
+    assert!(PaceTracker::new(PaceConfig {
+        calibration: Some(with_model(model)),
+        ..PaceConfig::default()
+    })
+    .is_ok());
 }
 
 #[test]

@@ -1,6 +1,9 @@
 package io.stridekit.tests
 
+import io.stridekit.AccelSample
+import io.stridekit.AccelStepModel
 import io.stridekit.PaceCalibration
+import io.stridekit.PaceException
 import io.stridekit.PaceConfig
 import io.stridekit.PaceMode
 import io.stridekit.PaceSource
@@ -8,6 +11,7 @@ import io.stridekit.PaceTracker
 import io.stridekit.StepSample
 import org.junit.jupiter.api.Test
 import kotlin.test.assertEquals
+import kotlin.test.assertFailsWith
 import kotlin.test.assertNotNull
 import kotlin.test.assertNull
 import kotlin.test.assertTrue
@@ -53,5 +57,38 @@ class PedometerOnlyTest {
             assertNotNull(t.calibration())
             restored.close()
         }
+    }
+
+    @Test
+    fun `a carried accelerometer model paces raw acceleration without GNSS`() {
+        val model = AccelStepModel(
+            aMS = 0.38, bMPerM2ps4 = 0.0, cM = 0.1,
+            aStdMS = 0.14, bStdMPerM2ps4 = 0.002, cStdM = 0.24,
+        )
+        val cal = PaceCalibration(
+            stepLengthM = 0.42, cadenceSpm = 98.0, slopeMPerSpm = 0.0083, stepLengthStdM = 0.4,
+            accelModel = model,
+        )
+        PaceTracker(PaceConfig(mode = PaceMode.ADAPTIVE, calibration = cal)).use { t ->
+            // 30 s of a walk at 1.8 steps/s (100 Hz; a bounce of ±3 m/s² per step).
+            val f = 1.8
+            val samples = (0 until 3000).map { i ->
+                val ts = i / 100.0
+                AccelSample(tS = ts, xMps2 = 0.3, yMps2 = 0.2, zMps2 = 9.81 + 3.0 * Math.sin(2 * Math.PI * f * ts))
+            }
+            assertTrue(t.pushAccelSamples(samples).rejected.isEmpty())
+            val e = assertNotNull(t.estimate())
+            assertEquals(PaceSource.PEDOMETER, e.source)
+            // L = A·F + B·SV + C at these steps' features (B ≈ 0): ≈ 0.78 m.
+            val l = assertNotNull(e.stepLengthM)
+            assertTrue(Math.abs(l - (0.38 * f + 0.1)) < 0.05, "step length $l")
+            assertEquals(model, t.calibration()?.accelModel, "carried on unchanged without GNSS")
+            val restored = PaceTracker.restore(t.snapshot())
+            assertEquals(cal, restored.config().calibration)
+            assertEquals(t.estimate(), restored.estimate())
+            restored.close()
+        }
+        val bad = cal.copy(accelModel = model.copy(cStdM = 0.0))
+        assertFailsWith<PaceException.InvalidConfig> { PaceTracker(PaceConfig(mode = PaceMode.ADAPTIVE, calibration = bad)) }
     }
 }
