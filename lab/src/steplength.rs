@@ -11,7 +11,8 @@
 
 use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
 use stridekit_sim::phone::{
-    simulate_phone, PhoneActivity, PhonePlacement, PhoneScenario, PhoneSegment, SimulatedPhone,
+    simulate_phone, PhoneActivity, PhoneEvent, PhonePlacement, PhoneScenario, PhoneSegment,
+    SimulatedPhone,
 };
 
 /// Length of the simulated GNSS outage, seconds.
@@ -193,24 +194,15 @@ pub struct TrackerOutage {
 /// Run the pace tracker over a simulated mix with raw acceleration (`accel` true) or
 /// with the detected step events only.
 pub fn tracker_outage(sim: &SimulatedPhone, t_cal_s: f64, accel: bool) -> TrackerOutage {
-    use stridekit_core::geo::LocalFrame;
     use stridekit_core::pace::{PaceConfig, PaceTracker, StepSample};
     use stridekit_core::stepdetect::StepDetector;
-    use stridekit_sim::phone::PhoneEvent;
 
-    let nan = TrackerOutage {
-        speed_rmse_mps: f64::NAN,
-        distance_error_pct: f64::NAN,
-    };
     let Ok(mut tracker) = PaceTracker::new(PaceConfig::default()) else {
-        return nan;
+        return TrackerOutage::NAN;
     };
     let mut detector = StepDetector::default();
-    let frame = LocalFrame::new(51.5, -0.1, 0.0);
-    let t_end = t_cal_s + OUTAGE_S;
-    let (mut next_read, mut se, mut n) = (t_cal_s, 0.0, 0usize);
-    let (mut d0, mut d1) = (f64::NAN, f64::NAN);
-    for ev in sim.timeline(&frame) {
+    let mut scored = OutageScore::new(t_cal_s);
+    for ev in sim.timeline(&sim_frame()) {
         match ev {
             PhoneEvent::Fix(f) => {
                 let _ = tracker.push_fix(&f);
@@ -226,28 +218,144 @@ pub fn tracker_outage(sim: &SimulatedPhone, t_cal_s: f64, accel: bool) -> Tracke
                         let _ = tracker.push_steps(&StepSample::Event { t_s: e.t_s });
                     }
                 }
-                if s.t_s >= next_read && s.t_s < t_end {
-                    if let Some(est) = tracker.estimate() {
-                        if d0.is_nan() {
-                            d0 = est.distance_m;
-                        }
-                        let truth = sim.truth_at(s.t_s).speed_mps;
-                        se += (est.speed_mps - truth).powi(2);
-                        n += 1;
-                    }
-                    next_read += 1.0;
-                }
-                if s.t_s < t_end {
-                    if let Some(est) = tracker.estimate() {
-                        d1 = est.distance_m;
-                    }
-                }
+                scored.read(sim, s.t_s, &tracker);
             }
         }
     }
-    let true_m = sim.truth_at(t_end).distance_m - sim.truth_at(t_cal_s).distance_m;
-    TrackerOutage {
-        speed_rmse_mps: (se / n.max(1) as f64).sqrt(),
-        distance_error_pct: 100.0 * ((d1 - d0) - true_m) / true_m,
+    scored.finish(sim)
+}
+
+/// The first seconds of a session carried over are not scored: its step detector
+/// confirms the first bout after a few steps (speed 0 until then, the same with or
+/// without the accelerometer model), s.
+pub const CARRIED_WARM_UP_S: f64 = 10.0;
+
+/// A calibration carried to a session without GNSS: the tracker of session 1 gets
+/// the fixes and the raw acceleration of the calibration period and exports its
+/// [`PaceCalibration`](stridekit_core::PaceCalibration); a new tracker, configured
+/// with it, gets only the raw acceleration of the outage (the same simulated person
+/// and phone the next day on a treadmill or an indoor track: no fix at all). With
+/// `accel_model` false the export's accelerometer model is removed, so session 2 is
+/// paced by the line at the cadence (what the calibration held before the model was
+/// carried). `None` if session 1 learned nothing.
+pub fn carried_outage(
+    sim: &SimulatedPhone,
+    t_cal_s: f64,
+    accel_model: bool,
+) -> Option<TrackerOutage> {
+    use stridekit_core::pace::{PaceConfig, PaceTracker};
+
+    let mut first = PaceTracker::new(PaceConfig::default()).ok()?;
+    let mut second: Option<PaceTracker> = None;
+    let mut scored = OutageScore::starting(t_cal_s, CARRIED_WARM_UP_S);
+    for ev in sim.timeline(&sim_frame()) {
+        match (ev, &mut second) {
+            (PhoneEvent::Fix(f), None) => {
+                let _ = first.push_fix(&f);
+            }
+            (PhoneEvent::Imu(s), None) if s.t_s < t_cal_s => {
+                let _ = first.push_accel(s.t_s, s.accel_mps2);
+            }
+            (PhoneEvent::Imu(s), slot) => {
+                let tracker = match slot {
+                    Some(t) => t,
+                    None => {
+                        let mut cal = first.calibration()?;
+                        if !accel_model {
+                            cal.accel_model = None;
+                        }
+                        slot.insert(
+                            PaceTracker::new(PaceConfig {
+                                calibration: Some(cal),
+                                ..PaceConfig::default()
+                            })
+                            .ok()?,
+                        )
+                    }
+                };
+                let _ = tracker.push_accel(s.t_s, s.accel_mps2);
+                scored.read(sim, s.t_s, tracker);
+            }
+            (PhoneEvent::Fix(_), Some(_)) => {}
+        }
+    }
+    Some(scored.finish(sim))
+}
+
+fn sim_frame() -> stridekit_core::geo::LocalFrame {
+    stridekit_core::geo::LocalFrame::new(51.5, -0.1, 0.0)
+}
+
+impl TrackerOutage {
+    const NAN: Self = Self {
+        speed_rmse_mps: f64::NAN,
+        distance_error_pct: f64::NAN,
+    };
+}
+
+/// Speed error once a second and the distance over `[t_cal_s, t_cal_s + OUTAGE_S)`.
+struct OutageScore {
+    /// Start of the scored stretch, s.
+    t_cal_s: f64,
+    /// End of the outage, s.
+    end_s: f64,
+    next_read: f64,
+    se: f64,
+    n: usize,
+    d0: f64,
+    d1: f64,
+}
+
+impl OutageScore {
+    fn new(t_cal_s: f64) -> Self {
+        Self {
+            t_cal_s,
+            end_s: t_cal_s + OUTAGE_S,
+            next_read: t_cal_s,
+            se: 0.0,
+            n: 0,
+            d0: f64::NAN,
+            d1: f64::NAN,
+        }
+    }
+
+    /// The same outage end when the start of the scored stretch moved.
+    fn starting(t_cal_s: f64, skip_s: f64) -> Self {
+        let mut s = Self::new(t_cal_s + skip_s);
+        s.end_s = t_cal_s + OUTAGE_S;
+        s
+    }
+
+    fn t_end(&self) -> f64 {
+        self.end_s
+    }
+
+    /// After a sample at `t_s`.
+    fn read(&mut self, sim: &SimulatedPhone, t_s: f64, tracker: &stridekit_core::PaceTracker) {
+        if t_s < self.t_cal_s || t_s >= self.t_end() {
+            return;
+        }
+        let Some(est) = tracker.estimate() else {
+            return;
+        };
+        if t_s >= self.next_read {
+            if self.d0.is_nan() {
+                self.d0 = est.distance_m;
+            }
+            let truth = sim.truth_at(t_s).speed_mps;
+            self.se += (est.speed_mps - truth).powi(2);
+            self.n += 1;
+            self.next_read += 1.0;
+        }
+        self.d1 = est.distance_m;
+    }
+
+    fn finish(&self, sim: &SimulatedPhone) -> TrackerOutage {
+        let t_end = self.t_end();
+        let true_m = sim.truth_at(t_end).distance_m - sim.truth_at(self.t_cal_s).distance_m;
+        TrackerOutage {
+            speed_rmse_mps: (self.se / self.n.max(1) as f64).sqrt(),
+            distance_error_pct: 100.0 * ((self.d1 - self.d0) - true_m) / true_m,
+        }
     }
 }

@@ -5,7 +5,9 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::steplength::{mixes, run_cases, scenario, tracker_outage, Case, OUTAGE_S};
+use crate::steplength::{
+    carried_outage, mixes, run_cases, scenario, tracker_outage, Case, CARRIED_WARM_UP_S, OUTAGE_S,
+};
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::stepdetect::StepEvent;
 use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
@@ -99,20 +101,27 @@ pub fn simulator_tables() -> String {
 }
 
 /// The pace tracker through the same outages: step events only (a platform step
-/// detector) against raw acceleration (its feature step length).
+/// detector) against raw acceleration (its feature step length); then the
+/// calibration of the period before carried to a session of the outage alone.
 pub fn tracker_table() -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
         "Pace tracker (`PaceTracker`, default configuration) through the same simulated outages, fed either the steps its detector finds as step events (what a platform step detector gives: the outage is paced by cadence × the learned step-length line) or the raw accelerometer (`push_accel`: the same detector, and the step length of each step from its features, calibrated by the fixes before the outage). Speed RMSE against the truth over the outage (one reading a second), m/s; distance error of the outage, mean |error| / worst |error|.\n"
     );
-    let _ = writeln!(
-        out,
-        "| mix | speed RMSE, step events | speed RMSE, raw acceleration | distance, step events | distance, raw acceleration |"
-    );
-    let _ = writeln!(out, "|---|---|---|---|---|");
-    let mut all: Vec<[f64; 4]> = Vec::new();
+    let header = |out: &mut String, a: &str, b: &str| {
+        let _ = writeln!(
+            out,
+            "| mix | speed RMSE, {a} | speed RMSE, {b} | distance, {a} | distance, {b} |"
+        );
+        let _ = writeln!(out, "|---|---|---|---|---|");
+    };
+    header(&mut out, "step events", "raw acceleration");
     let row = |out: &mut String, label: &str, rs: &[[f64; 4]]| {
+        let rs: Vec<&[f64; 4]> = rs
+            .iter()
+            .filter(|r| r.iter().all(|v| v.is_finite()))
+            .collect();
         let n = rs.len().max(1) as f64;
         let rmse = |k: usize| (rs.iter().map(|r| r[k] * r[k]).sum::<f64>() / n).sqrt();
         let (m2, x2, _, _) = mean_max(rs.iter().map(|r| r[2]));
@@ -124,9 +133,11 @@ pub fn tracker_table() -> String {
             rmse(1)
         );
     };
+    let (mut all, mut all_carried): (Vec<[f64; 4]>, Vec<[f64; 4]>) = (Vec::new(), Vec::new());
+    let mut carried_rows: Vec<(&str, Vec<[f64; 4]>)> = Vec::new();
     for (mi, mix) in mixes().iter().enumerate() {
         let t_cal: f64 = mix.calibration.iter().map(|s| s.duration_s).sum();
-        let mut rs = Vec::new();
+        let (mut rs, mut cs) = (Vec::new(), Vec::new());
         for seed in 1..=SEEDS {
             let placement = PhonePlacement::ALL[(seed as usize + mi) % PhonePlacement::ALL.len()];
             let sim = simulate_phone(&scenario(mix, seed, placement));
@@ -138,11 +149,36 @@ pub fn tracker_table() -> String {
                 ev.distance_error_pct,
                 ac.distance_error_pct,
             ]);
+            let line = carried_outage(&sim, t_cal, false);
+            let model = carried_outage(&sim, t_cal, true);
+            if let (Some(l), Some(m)) = (line, model) {
+                cs.push([
+                    l.speed_rmse_mps,
+                    m.speed_rmse_mps,
+                    l.distance_error_pct,
+                    m.distance_error_pct,
+                ]);
+            }
         }
         row(&mut out, mix.name, &rs);
         all.extend(rs);
+        all_carried.extend(cs.iter().copied());
+        carried_rows.push((mix.name, cs));
     }
     row(&mut out, "**all**", &all);
+    let _ = writeln!(
+        out,
+        "\nThe calibration carried to a session without GNSS: a tracker fed the fixes and the raw acceleration of the calibration period exports `PaceTracker::calibration()`; a new tracker configured with it gets only the raw acceleration of the outage stretch (the same simulated person and phone, no fix at all: a treadmill, an indoor track). Either the calibration's line alone (its accelerometer model removed: paced by the line at the cadence) or with its accelerometer model (`PaceCalibration::accel_model`: each step's length from its features). Same cells as above, scored from {CARRIED_WARM_UP_S:.0} s after the new session's start (its detector confirms the first bout after a few steps, the same either way); seeds whose first session exported nothing are left out (n per row in brackets).\n"
+    );
+    header(&mut out, "line only", "line + accelerometer model");
+    for (name, cs) in &carried_rows {
+        row(&mut out, &format!("{name} ({})", cs.len()), cs);
+    }
+    row(
+        &mut out,
+        &format!("**all** ({})", all_carried.len()),
+        &all_carried,
+    );
     out
 }
 
