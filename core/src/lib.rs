@@ -10,6 +10,7 @@
 
 pub mod ahrs;
 pub mod batch;
+pub mod calibration;
 pub mod foot;
 pub mod geo;
 pub mod input;

@@ -21,42 +21,22 @@
 //! `step_length MODEL θ0 θ1 θ2 sigma σ0 σ1 σ2` is required (MODEL: `constant`,
 //! `linear`, `linear_as_published`, `linear_frequency_only`, `weinberg`); `carrying X
 //! Y Z` (a body-frame direction, normalised on reading) is optional. Files over
-//! [`MAX_CALIBRATION_BYTES`] or with more than [`MAX_CALIBRATION_LINES`] lines, a
+//! [`crate::calibration::MAX_CALIBRATION_BYTES`] or with more than
+//! [`crate::calibration::MAX_CALIBRATION_LINES`] lines, a
 //! wrong first line, unknown or repeated records, wrong counts, non-numbers,
 //! non-finite values or σ ≤ 0 are typed [`CalibrationError`]s. Writing then reading
 //! is exact (shortest round-trip floats).
 
 use std::fmt::Write as _;
 
+pub use crate::calibration::CalibrationError;
+use crate::calibration::{self as text, records};
 use crate::steplength::StepLengthModel;
 
 /// First line of a calibration file (without the version).
 pub const CALIBRATION_MAGIC: &str = "stridekit-pdr-calibration";
 /// The format version this build reads and writes.
 pub const CALIBRATION_VERSION: u32 = 1;
-/// Largest calibration text accepted, bytes.
-pub const MAX_CALIBRATION_BYTES: usize = 64 * 1024;
-/// Most lines accepted (comments included).
-pub const MAX_CALIBRATION_LINES: usize = 1000;
-
-/// Why a calibration text or record was refused.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum CalibrationError {
-    #[error("calibration text is {bytes} bytes, more than the {max} accepted")]
-    TooLarge { bytes: usize, max: usize },
-    #[error("calibration text has more than {max} lines")]
-    TooManyLines { max: usize },
-    #[error("not a stridekit PDR calibration (first line {found:?})")]
-    NotCalibration { found: String },
-    #[error("calibration format version {found} is not supported (this build reads {supported})")]
-    Version { found: String, supported: u32 },
-    #[error("calibration line {line}: {reason}")]
-    Line { line: usize, reason: String },
-    #[error("calibration has no {0} record")]
-    Missing(&'static str),
-    #[error("calibration value {field} is not valid: {reason}")]
-    Invalid { field: &'static str, reason: String },
-}
 
 /// What is personal in PDR (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -118,12 +98,7 @@ impl PdrCalibration {
 
     /// The calibration as text (format version 1); `comments` become `#` lines.
     pub fn to_text(&self, comments: &[String]) -> String {
-        let mut s = format!("{CALIBRATION_MAGIC} {CALIBRATION_VERSION}\n");
-        for c in comments {
-            for line in c.lines() {
-                let _ = writeln!(s, "# {line}");
-            }
-        }
+        let mut s = text::header(CALIBRATION_MAGIC, CALIBRATION_VERSION, comments);
         let [t0, t1, t2] = self.step_length_theta;
         let [s0, s1, s2] = self.step_length_sigma;
         let _ = writeln!(
@@ -139,76 +114,38 @@ impl PdrCalibration {
 
     /// Parse a calibration text (see the module docs).
     pub fn parse(text: &str) -> Result<Self, CalibrationError> {
-        if text.len() > MAX_CALIBRATION_BYTES {
-            return Err(CalibrationError::TooLarge {
-                bytes: text.len(),
-                max: MAX_CALIBRATION_BYTES,
-            });
-        }
-        let mut lines = text.lines().enumerate();
-        let first = lines.next().map(|(_, l)| l.trim()).unwrap_or("");
-        let mut head = first.split_whitespace();
-        if head.next() != Some(CALIBRATION_MAGIC) {
-            return Err(CalibrationError::NotCalibration {
-                found: first.chars().take(60).collect(),
-            });
-        }
-        let version = head.next().unwrap_or("");
-        if version != CALIBRATION_VERSION.to_string() || head.next().is_some() {
-            return Err(CalibrationError::Version {
-                found: version.chars().take(20).collect(),
-                supported: CALIBRATION_VERSION,
-            });
-        }
         let mut step: Option<(StepLengthModel, [f64; 3], [f64; 3])> = None;
         let mut carrying: Option<[f64; 3]> = None;
-        for (i, raw) in lines {
-            let line = i + 1;
-            if line > MAX_CALIBRATION_LINES {
-                return Err(CalibrationError::TooManyLines {
-                    max: MAX_CALIBRATION_LINES,
-                });
-            }
-            let l = raw.trim();
-            if l.is_empty() || l.starts_with('#') {
-                continue;
-            }
-            let err = |reason: String| CalibrationError::Line { line, reason };
-            let f: Vec<&str> = l.split_whitespace().collect();
-            let num = |s: &str| -> Result<f64, CalibrationError> {
-                match s.parse::<f64>() {
-                    Ok(v) if v.is_finite() => Ok(v),
-                    _ => Err(err(format!("{:?} is not a finite number", truncate(s)))),
-                }
-            };
-            match f[0] {
+        for r in records(text, CALIBRATION_MAGIC, CALIBRATION_VERSION)? {
+            match r.name() {
                 "step_length" => {
                     if step.is_some() {
-                        return Err(err("a second step_length record".into()));
+                        return Err(r.error("a second step_length record"));
                     }
-                    if f.len() != 9 || f[5] != "sigma" {
-                        return Err(err(
-                            "expected: step_length MODEL θ0 θ1 θ2 sigma σ0 σ1 σ2".into()
-                        ));
+                    let layout = "step_length MODEL θ0 θ1 θ2 sigma σ0 σ1 σ2";
+                    r.expect_fields(9, layout)?;
+                    if r.fields[5] != "sigma" {
+                        return Err(r.error(format!("expected: {layout}")));
                     }
-                    let model = model_from_name(f[1]).ok_or_else(|| {
-                        err(format!("unknown step-length model {:?}", truncate(f[1])))
+                    let model = model_from_name(r.fields[1]).ok_or_else(|| {
+                        r.error(format!(
+                            "unknown step-length model {:?}",
+                            text::truncate(r.fields[1])
+                        ))
                     })?;
-                    let theta = [num(f[2])?, num(f[3])?, num(f[4])?];
-                    let sigma = [num(f[6])?, num(f[7])?, num(f[8])?];
+                    let theta = [r.number(2)?, r.number(3)?, r.number(4)?];
+                    let sigma = [r.number(6)?, r.number(7)?, r.number(8)?];
                     step = Some((model, theta, sigma));
                 }
                 "carrying" => {
                     if carrying.is_some() {
-                        return Err(err("a second carrying record".into()));
+                        return Err(r.error("a second carrying record"));
                     }
-                    if f.len() != 4 {
-                        return Err(err("expected: carrying X Y Z".into()));
-                    }
-                    let v = [num(f[1])?, num(f[2])?, num(f[3])?];
+                    r.expect_fields(4, "carrying X Y Z")?;
+                    let v = [r.number(1)?, r.number(2)?, r.number(3)?];
                     let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
                     if n.is_nan() || n <= 1e-6 {
-                        return Err(err("carrying direction is zero".into()));
+                        return Err(r.error("carrying direction is zero"));
                     }
                     // Normalised once: a unit vector (as written) is kept bit for bit.
                     carrying = Some(if (n - 1.0).abs() < 1e-9 {
@@ -217,7 +154,7 @@ impl PdrCalibration {
                         v.map(|x| x / n)
                     });
                 }
-                other => return Err(err(format!("unknown record {:?}", truncate(other)))),
+                other => return Err(r.error(format!("unknown record {:?}", text::truncate(other)))),
             }
         }
         let (step_length_model, step_length_theta, step_length_sigma) =
@@ -231,10 +168,6 @@ impl PdrCalibration {
         c.validate()?;
         Ok(c)
     }
-}
-
-fn truncate(s: &str) -> String {
-    s.chars().take(40).collect()
 }
 
 #[cfg(test)]
