@@ -16,12 +16,26 @@ use stridekit_lab::report::{line_chart, Band, Chart, Series, Style, YFormat};
 /// A gap between fixes longer than this is drawn as a band on the speed chart, s.
 const NO_FIX_S: f64 = 5.0;
 
-/// Replays `path`; the CSV goes to `csv_out` (and a speed chart beside it, same name
-/// with `.svg`) or, without it, to stdout.
-pub fn run(path: &Path, config: PaceConfig, csv_out: Option<&Path>) -> Result<(), String> {
+/// How a file is replayed.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Options<'a> {
+    /// Write the CSV here (and a speed chart beside it, same name with `.svg`);
+    /// `None`: stdout.
+    pub csv_out: Option<&'a Path>,
+    /// Leave out every GNSS fix (a treadmill replay).
+    pub no_gnss: bool,
+}
+
+/// Replays `path`; returns the tracker as the replay left it.
+pub fn run(path: &Path, config: PaceConfig, options: &Options) -> Result<PaceTracker, String> {
+    let csv_out = options.csv_out;
     let activity =
         stridekit_formats::read_activity(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let p = prepare(&activity);
+    let mut p = prepare(&activity);
+    if options.no_gnss {
+        p.samples.retain(|s| !matches!(s, PaceSample::Fix(_)));
+        p.track.clear();
+    }
     let mut tracker = PaceTracker::new(config).map_err(|e| e.to_string())?;
     let sink: Box<dyn std::io::Write> = match csv_out {
         Some(f) => Box::new(
@@ -99,7 +113,7 @@ pub fn run(path: &Path, config: PaceConfig, csv_out: Option<&Path>) -> Result<()
         }
         // Where the file has no position for longer than NO_FIX_S: the steps alone
         // carry the speed there.
-        let bands: Vec<Band> = p
+        let mut bands: Vec<Band> = p
             .track
             .windows(2)
             .filter(|w| w[1].0 - w[0].0 > NO_FIX_S)
@@ -110,6 +124,16 @@ pub fn run(path: &Path, config: PaceConfig, csv_out: Option<&Path>) -> Result<()
                 color: (250, 200, 90),
             })
             .collect();
+        if let (true, Some(first), Some(last)) =
+            (options.no_gnss, p.samples.first(), p.samples.last())
+        {
+            bands.push(Band {
+                start: first.t_s() / 60.0,
+                end: last.t_s() / 60.0,
+                label: "GNSS left out (--no-gnss): steps only".into(),
+                color: (250, 200, 90),
+            });
+        }
         line_chart(
             &svg,
             &Chart {
@@ -149,7 +173,7 @@ pub fn run(path: &Path, config: PaceConfig, csv_out: Option<&Path>) -> Result<()
     for (why, n) in activity.cleanup.reasons() {
         eprintln!("  reader {n}: {why}");
     }
-    Ok(())
+    Ok(tracker)
 }
 
 /// Pace as a runner reads it: seconds per km as `m:ss` (330.7 → "5:31").

@@ -8,6 +8,17 @@ fn stridekit() -> Command {
     Command::new(env!("CARGO_BIN_EXE_stridekit"))
 }
 
+/// Run `cmd`; its output, after checking it succeeded (its stderr otherwise).
+fn succeed(cmd: &mut Command) -> std::process::Output {
+    let out = cmd.output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("stridekit-cli-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
@@ -18,16 +29,7 @@ fn temp_dir(name: &str) -> PathBuf {
 #[test]
 fn demo_prints_a_summary_and_writes_the_report() {
     let out_dir = temp_dir("demo");
-    let out = stridekit()
-        .args(["demo", "--out"])
-        .arg(&out_dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = succeed(stridekit().args(["demo", "--out"]).arg(&out_dir));
     let stdout = String::from_utf8_lossy(&out.stdout);
     for needle in ["| default |", "| AsPublished |", "Report written to"] {
         assert!(stdout.contains(needle), "missing {needle:?} in:\n{stdout}");
@@ -84,12 +86,7 @@ fn pace_replays_a_user_csv() {
         }
     }
     std::fs::write(&csv, text).unwrap();
-    let out = stridekit().arg("pace").arg(&csv).output().unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = succeed(stridekit().arg("pace").arg(&csv));
     let stdout = String::from_utf8_lossy(&out.stdout);
     let lines: Vec<&str> = stdout.lines().collect();
     assert!(lines[0].starts_with("t_s,t_unix_s,speed_mps"));
@@ -140,6 +137,94 @@ fn pace_replays_a_user_csv() {
     assert_eq!(written, stdout, "same rows as on stdout");
     let svg = std::fs::read_to_string(dir.join("out/run.svg")).unwrap();
     assert!(svg.contains("<svg") && svg.contains("stridekit"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The last row's value of `name` in a `stridekit pace` CSV.
+fn last_value(csv: &str, name: &str) -> String {
+    let lines: Vec<&str> = csv.lines().collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let col = header.iter().position(|h| *h == name).expect(name);
+    lines
+        .last()
+        .unwrap()
+        .split(',')
+        .nth(col)
+        .unwrap()
+        .to_string()
+}
+
+#[test]
+fn pace_saves_a_calibration_and_replays_steps_only_with_it() {
+    let dir = temp_dir("calibration");
+    let csv = dir.join("run.csv");
+    // 10 minutes east at 3 m/s, 1 Hz fixes, 170 steps/min: steps of 1.06 m, longer
+    // than the population prior's 1.0 m at 168 steps/min.
+    let mut text = String::from("t_s,lat_deg,lon_deg,steps_per_min\n");
+    for i in 0..600 {
+        let lon = 3.0 * i as f64 / 111_319.49;
+        text.push_str(&format!("{i},0.0,{lon:.9},170\n"));
+    }
+    std::fs::write(&csv, text).unwrap();
+    let cal = dir.join("me.txt");
+    succeed(
+        stridekit()
+            .arg("pace")
+            .arg(&csv)
+            .arg("--save-calibration")
+            .arg(&cal),
+    );
+    let saved = std::fs::read_to_string(&cal).unwrap();
+    let c = stridekit_core::PaceCalibration::parse(&saved).unwrap();
+    assert!(
+        (c.step_length_at(170.0) - 3.0 / (170.0 / 60.0)).abs() < 0.03,
+        "{c:?}"
+    );
+    // The same run as a treadmill would give it: steps only, with and without it.
+    let replay = |with: bool| {
+        let mut cmd = stridekit();
+        cmd.arg("pace").arg(&csv).arg("--no-gnss");
+        if with {
+            cmd.arg("--calibration").arg(&cal);
+        }
+        String::from_utf8(succeed(&mut cmd).stdout).unwrap()
+    };
+    let calibrated = replay(true);
+    assert_eq!(last_value(&calibrated, "source"), "Pedometer");
+    assert_eq!(last_value(&calibrated, "gnss_weight"), "0.000");
+    let speed: f64 = last_value(&calibrated, "speed_mps").parse().unwrap();
+    assert!((speed - 3.0).abs() < 0.06, "calibrated: {speed} m/s");
+    let prior: f64 = last_value(&replay(false), "speed_mps").parse().unwrap();
+    assert!(
+        (prior - 3.0).abs() > (speed - 3.0).abs() + 0.05,
+        "prior {prior} vs calibrated {speed} m/s"
+    );
+    // Nothing to learn without GNSS: a clear failure, not an empty file.
+    let out = stridekit()
+        .arg("pace")
+        .arg(&csv)
+        .arg("--no-gnss")
+        .arg("--save-calibration")
+        .arg(dir.join("none.txt"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no calibration to save"));
+    assert!(!dir.join("none.txt").exists());
+    // A file that is not a calibration is refused before the replay.
+    let out = stridekit()
+        .arg("pace")
+        .arg(&csv)
+        .arg("--calibration")
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("not a stridekit-pace-calibration file"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

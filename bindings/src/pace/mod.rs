@@ -6,6 +6,7 @@ pub mod types;
 
 pub use tracker::{BatchResult, PaceTracker, RejectedSample};
 pub use types::{
-    default_pace_config, AccelSample, AccelStepModel, GnssFix, PaceCalibration, PaceConfig,
-    PaceEstimate, PaceMode, PaceSample, PaceSource, StepSample,
+    default_pace_config, pace_calibration_from_text, pace_calibration_to_text, AccelSample,
+    AccelStepModel, GnssFix, PaceCalibration, PaceConfig, PaceEstimate, PaceMode, PaceSample,
+    PaceSource, StepSample,
 };

@@ -3,6 +3,7 @@
 //! Field names keep the core's SI-unit suffixes; uniffi turns them into camelCase
 //! (`t_s` → Kotlin `tS`, `lat_deg` → `latDeg`).
 
+use crate::PaceError;
 use stridekit_core::pace as core;
 
 /// One GNSS position fix (WGS84). Time is the app's monotonic clock in seconds
@@ -425,4 +426,29 @@ impl From<core::PaceConfig> for PaceConfig {
 #[uniffi::export]
 pub fn default_pace_config() -> PaceConfig {
     PaceConfig::default()
+}
+
+/// Parse a stored pace calibration (text format version 1, as
+/// `pace_calibration_to_text` writes it and `stridekit pace --save-calibration`;
+/// `InvalidConfig` when it is refused, with the reason).
+#[uniffi::export]
+pub fn pace_calibration_from_text(text: String) -> Result<PaceCalibration, PaceError> {
+    crate::error::guard(|| {
+        core::PaceCalibration::parse(&text)
+            .map(Into::into)
+            .map_err(|e| PaceError::InvalidConfig {
+                reason: e.to_string(),
+            })
+    })
+}
+
+/// A pace calibration as text to store with the user's profile (exact: reading it
+/// back gives the same record); `InvalidConfig` for a record the tracker would refuse.
+#[uniffi::export]
+pub fn pace_calibration_to_text(calibration: PaceCalibration) -> Result<String, PaceError> {
+    crate::error::guard(|| {
+        let c: core::PaceCalibration = calibration.into();
+        c.validate()?;
+        Ok(c.to_text(&[]))
+    })
 }

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use stridekit_core::PaceConfig;
+use stridekit_core::{PaceCalibration, PaceConfig};
 
 use crate::output::OutFile;
 
@@ -26,6 +26,19 @@ pub struct PaceArgs {
     /// The filter: the robust default or the method as published.
     #[arg(long, value_enum, default_value_t = PaceMode::Default)]
     pub mode: PaceMode,
+    /// Start from a runner's calibration (a file written by --save-calibration):
+    /// calibrated pedometer speed from the first steps.
+    #[arg(long, value_name = "FILE")]
+    pub calibration: Option<PathBuf>,
+    /// After the replay, write what the tracker learned (the step-length line, and the
+    /// accelerometer model when the file has raw acceleration) to FILE, for
+    /// --calibration next time; fails when nothing was learned (no good GNSS).
+    #[arg(long, value_name = "FILE")]
+    pub save_calibration: Option<PathBuf>,
+    /// Leave out every GNSS fix: replay the run as a treadmill or an indoor track
+    /// would give it (steps only), e.g. to try a calibration learned on another run.
+    #[arg(long)]
+    pub no_gnss: bool,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -35,18 +48,39 @@ pub enum PaceMode {
 }
 
 pub fn pace(a: PaceArgs) -> Result<(), String> {
-    let config = match a.mode {
+    let mut config = match a.mode {
         PaceMode::Default => PaceConfig::default(),
         PaceMode::Published => PaceConfig::as_published(),
     };
+    if let Some(f) = &a.calibration {
+        let text = std::fs::read_to_string(f)
+            .map_err(|e| format!("cannot read the calibration {}: {e}", f.display()))?;
+        config.calibration =
+            Some(PaceCalibration::parse(&text).map_err(|e| format!("{}: {e}", f.display()))?);
+    }
     let out = a
         .out
         .as_deref()
         .map(|p| OutFile::prepare(p, "csv"))
         .transpose()?;
-    crate::replay::run(&a.file, config, out.as_ref().map(|o| o.path.as_path()))?;
+    let options = crate::replay::Options {
+        csv_out: out.as_ref().map(|o| o.path.as_path()),
+        no_gnss: a.no_gnss,
+    };
+    let tracker = crate::replay::run(&a.file, config, &options)?;
     if let Some(o) = out {
         eprintln!("{}", o.wrote());
+    }
+    if let Some(f) = &a.save_calibration {
+        let c = tracker.calibration().ok_or_else(|| {
+            format!(
+                "no calibration to save: the step length is learned from good GNSS with step data (this replay: {})",
+                if a.no_gnss { "--no-gnss" } else { "not enough of it" }
+            )
+        })?;
+        let text = c.to_text(&[format!("learned by: stridekit pace {}", a.file.display())]);
+        std::fs::write(f, text).map_err(|e| format!("cannot write {}: {e}", f.display()))?;
+        eprintln!("calibration: {}", f.display());
     }
     Ok(())
 }

@@ -13,6 +13,7 @@ mod accel;
 mod adaptive;
 mod baseline;
 mod cadence;
+mod calibration;
 mod config;
 mod error;
 mod published;
@@ -22,9 +23,10 @@ mod walking;
 
 /// GNSS-only speed baselines the evaluation compares the fusion filters against.
 pub use baseline::{Baseline, BaselineKind};
-pub use config::{
-    AccelStepModel, AdaptiveParams, PaceCalibration, PaceConfig, PaceMode, PublishedParams,
+pub use calibration::{
+    AccelStepModel, PaceCalibration, PACE_CALIBRATION_MAGIC, PACE_CALIBRATION_VERSION,
 };
+pub use config::{AdaptiveParams, PaceConfig, PaceMode, PublishedParams};
 pub use error::{PaceError, Stream};
 pub use types::{GnssFix, PaceEstimate, PaceSample, PaceSource, StepSample, MIN_PACE_SPEED_MPS};
 

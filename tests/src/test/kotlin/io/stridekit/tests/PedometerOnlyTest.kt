@@ -9,6 +9,8 @@ import io.stridekit.PaceMode
 import io.stridekit.PaceSource
 import io.stridekit.PaceTracker
 import io.stridekit.StepSample
+import io.stridekit.paceCalibrationFromText
+import io.stridekit.paceCalibrationToText
 import org.junit.jupiter.api.Test
 import kotlin.test.assertEquals
 import kotlin.test.assertFailsWith
@@ -90,5 +92,15 @@ class PedometerOnlyTest {
         }
         val bad = cal.copy(accelModel = model.copy(cStdM = 0.0))
         assertFailsWith<PaceException.InvalidConfig> { PaceTracker(PaceConfig(mode = PaceMode.ADAPTIVE, calibration = bad)) }
+
+        // Stored as text with the user's profile, read back exactly.
+        val text = paceCalibrationToText(cal)
+        assertTrue(text.startsWith("stridekit-pace-calibration 1\n"), text)
+        assertEquals(cal, paceCalibrationFromText(text))
+        val lineOnly = cal.copy(accelModel = null)
+        assertEquals(lineOnly, paceCalibrationFromText(paceCalibrationToText(lineOnly)))
+        assertFailsWith<PaceException.InvalidConfig> { paceCalibrationToText(bad) }
+        assertFailsWith<PaceException.InvalidConfig> { paceCalibrationFromText("stridekit-pace-calibration 2\n") }
+        assertFailsWith<PaceException.InvalidConfig> { paceCalibrationFromText(text.replace("line 0.42", "line NaN")) }
     }
 }
