@@ -46,6 +46,7 @@ targets! {
     "model_placement" => models::placement,
     "model_odometry" => models::odometry,
     "model_pdr_calibration" => models::pdr_calibration,
+    "model_pace_calibration" => models::pace_calibration,
     // Every engine's restore, raw and behind a valid header + CRC.
     "restore_pace" => restore::<Pace>,
     "restore_pace_sealed" => restore_sealed::<Pace>,
@@ -126,6 +127,7 @@ pub fn seeds(name: &str) -> Vec<Vec<u8>> {
             }
             vec![s]
         }
+        "model_pace_calibration" => vec![b"stridekit-pace-calibration 1\n# seed\nline 0.95 176.9 0.0083 0.025\naccel_model 0.378 -4.6e-5 0.0986 sigma 0.141 0.00199 0.236\n".to_vec()],
         _ => Vec::new(),
     }
 }

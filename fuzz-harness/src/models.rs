@@ -4,6 +4,7 @@
 
 use stridekit_core::foot::SvmModel;
 use stridekit_core::odometry::OdometryModel;
+use stridekit_core::pace::PaceCalibration;
 use stridekit_core::pdr::PdrCalibration;
 use stridekit_core::placement::PlacementModel;
 
@@ -37,6 +38,14 @@ pub fn pdr_calibration(data: &[u8]) {
     fixed_point!(
         PdrCalibration::parse,
         |c: &PdrCalibration| c.to_text(&[]),
+        data
+    );
+}
+
+pub fn pace_calibration(data: &[u8]) {
+    fixed_point!(
+        PaceCalibration::parse,
+        |c: &PaceCalibration| c.to_text(&[]),
         data
     );
 }
