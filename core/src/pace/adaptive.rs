@@ -129,6 +129,11 @@ const CONTRADICTIONS_TO_DISTRUST: u32 = 5;
 /// Smallest 1-σ of an imported step length, metres, and its relative change between
 /// sessions (added in quadrature).
 const CALIBRATION_MIN_SIGMA_M: f64 = 0.01;
+/// An imported line at least this uncertain, metres, holds nothing learned (the
+/// population prior's is 0.4 m; a line learned from GNSS is within a few cm): it is
+/// not imported, so it does not override `initial_step_length_m` or the prior's
+/// slope. A calibration exported for its accelerometer model alone (a walk) has one.
+const UNLEARNED_LINE_SIGMA_M: f64 = 0.2;
 const CALIBRATION_DRIFT: f64 = 0.02;
 /// 1-σ of an imported slope, m per (step/s).
 const CALIBRATED_SLOPE_SIGMA: f64 = 0.15;
@@ -285,7 +290,10 @@ impl AdaptiveFilter {
         f.x[LB] = SLOPE_PRIOR;
         f.p[(LA, LA)] = sl * sl;
         f.p[(LB, LB)] = SLOPE_PRIOR_SIGMA * SLOPE_PRIOR_SIGMA;
-        if let Some(c) = config.calibration {
+        let learned = config
+            .calibration
+            .filter(|c| c.step_length_std_m < UNLEARNED_LINE_SIGMA_M);
+        if let Some(c) = learned {
             // The line of an earlier session, read at its own cadence; a little less
             // certain than when exported (shoes, terrain, fatigue change between runs).
             f.x[LA] = c.step_length_m;

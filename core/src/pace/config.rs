@@ -93,7 +93,9 @@ pub struct PaceConfig {
     /// Without a step for this long while step data flows, the runner is stationary, seconds.
     pub stationary_after_s: f64,
     /// A step-length line learned in an earlier session (takes precedence over
-    /// `initial_step_length_m`); `None`: learn from GNSS, starting at the prior.
+    /// `initial_step_length_m`, unless its `step_length_std_m` is 0.2 m or more: such
+    /// a line holds nothing learned and only its accelerometer model is used);
+    /// `None`: learn from GNSS, starting at the prior.
     pub calibration: Option<PaceCalibration>,
     pub published: PublishedParams,
     pub adaptive: AdaptiveParams,

@@ -147,7 +147,8 @@ impl PaceTracker {
     /// imported); otherwise the imported one, if any, is carried on unchanged. When
     /// only that model was learned (a walk with good GNSS teaches the running line
     /// nothing), the export holds it with the running line as it stands, unlearned:
-    /// its `step_length_std_m` stays wide (the prior's, over 8 cm).
+    /// its `step_length_std_m` stays wide (the prior's, ≈ 0.4 m), and such a line is
+    /// not imported (see [`PaceConfig::calibration`]).
     pub fn calibration(&self) -> Option<PaceCalibration> {
         let Filter::Adaptive(f) = &self.filter else {
             return None;

@@ -280,6 +280,24 @@ fn the_accelerometer_model_carries_to_a_session_without_gnss() {
             "{again:?} vs {model:?}"
         );
     }
+    // Its line holds nothing learned: it does not override a configured step length.
+    let mut counts = PaceTracker::new(PaceConfig {
+        calibration: Some(cal),
+        initial_step_length_m: Some(1.3),
+        ..PaceConfig::default()
+    })
+    .unwrap();
+    for i in 1..=20 {
+        counts
+            .push_steps(&stridekit_core::StepSample::Cadence {
+                t_s: i as f64,
+                steps_per_min: 170.0,
+            })
+            .unwrap();
+    }
+    let e = counts.estimate().unwrap();
+    let want = 170.0 / 60.0 * 1.3;
+    assert!((e.speed_mps - want).abs() < 0.05 * want, "{e:?}");
     // Kept in the snapshot, and the restored tracker goes on the same way.
     let restored = PaceTracker::restore(&tr.snapshot()).unwrap();
     assert_eq!(restored.config().calibration, Some(cal));
