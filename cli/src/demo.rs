@@ -113,6 +113,12 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             "\nStep length over the last minute (median): {l:.2} m (true {t:.2} m)."
         );
     }
+    // The next session without GNSS (a treadmill): this run's steps alone, with the
+    // calibration this run exported and with the population prior.
+    let treadmill = Treadmill::measure(&run, &samples);
+    if let Some(tm) = &treadmill {
+        let _ = writeln!(summary, "\n{}", tm.sentence());
+    }
     print!("{summary}");
     let mean_pace = if truth_dist > 0.0 {
         crate::replay::min_s(1000.0 * scenario.duration_s / truth_dist)
@@ -126,7 +132,7 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
          GNSS and {} stops.</p>\
          <table><tr><th>method</th><th>speed RMSE where GNSS is good (m/s)</th>\
          <th>in disturbed GNSS</th><th>without GNSS</th><th>distance (m, error)</th></tr>{rows_html}</table>\
-         <p>True distance {truth_dist:.0} m.{}</p>{METHODS_HTML}",
+         <p>True distance {truth_dist:.0} m.{}</p>{}{METHODS_HTML}",
         scenario.duration_s / 60.0,
         truth_dist / 1000.0,
         run.fixes.len(),
@@ -137,6 +143,10 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             .map(|(l, t)| format!(
                 " Step length over the last minute (median): {l:.2} m (true {t:.2} m)."
             ))
+            .unwrap_or_default(),
+        treadmill
+            .as_ref()
+            .map(|tm| format!("<p>{}</p>", tm.sentence().replace("**", "")))
             .unwrap_or_default()
     );
 
@@ -356,23 +366,118 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             &track,
         ),
     )?;
+    if let Some(tm) = &treadmill {
+        let g: Vec<f64> = tm.t_s.iter().map(|&v| min(v)).collect();
+        let lines = [
+            series("truth", &g, &tm.truth, (0, 0, 0), Style::Line),
+            series(
+                "steps only, population prior",
+                &g,
+                &tm.prior,
+                (150, 150, 150),
+                Style::Line,
+            ),
+            series(
+                "steps only, this run's calibration",
+                &g,
+                &tm.calibrated,
+                (220, 30, 60),
+                Style::Line,
+            ),
+        ];
+        write(
+            "treadmill.svg",
+            line_chart(
+                &out_dir.join("treadmill.svg"),
+                &Chart {
+                    title: "Next session without GNSS: the same steps, calibrated or not",
+                    x_label: "time (min)",
+                    y_label: "speed (m/s)",
+                    series: &lines,
+                    bands: &[],
+                    y_range: Some((0.0, (1.6 * top).max(1.0))),
+                    y_format: YFormat::Number,
+                },
+            ),
+        )?;
+    }
     let mut md = summary.clone();
     md.push_str(&format!("\n{METHODS_EXPLAINED}\n"));
-    for (f, caption) in FIGURES {
+    for (f, caption) in figures(treadmill.is_some()) {
         md.push_str(&format!("\n![{f}]({f})\n\n{caption}\n"));
     }
     std::fs::write(out_dir.join("summary.md"), md).map_err(|e| e.to_string())?;
-    std::fs::write(out_dir.join("index.html"), html(&summary_html)).map_err(|e| e.to_string())?;
+    let shown = figures(treadmill.is_some());
+    std::fs::write(out_dir.join("index.html"), html(&summary_html, &shown))
+        .map_err(|e| e.to_string())?;
     println!(
         "\nReport written to {}/ (index.html, summary.md, {})",
         out_dir.display(),
-        FIGURES
-            .iter()
-            .map(|(f, _)| *f)
-            .collect::<Vec<_>>()
-            .join(", ")
+        shown.iter().map(|(f, _)| *f).collect::<Vec<_>>().join(", ")
     );
     Ok(())
+}
+
+/// The run's steps replayed alone (a treadmill the next day), with the calibration
+/// the GNSS session exported and with the population prior.
+struct Treadmill {
+    t_s: Vec<f64>,
+    truth: Vec<f64>,
+    calibrated: Vec<f64>,
+    prior: Vec<f64>,
+}
+
+impl Treadmill {
+    /// `None` when the GNSS session exported no calibration.
+    fn measure(
+        run: &stridekit_sim::SimulatedRun,
+        samples: &[stridekit_core::PaceSample],
+    ) -> Option<Self> {
+        use stridekit_lab::pace_device::steps_only;
+        let mut gnss = stridekit_core::PaceTracker::new(PaceConfig::default()).ok()?;
+        for s in samples {
+            let _ = gnss.push(s);
+        }
+        let calibration = gnss.calibration()?;
+        let (t_s, calibrated) = steps_only(
+            samples,
+            PaceConfig {
+                calibration: Some(calibration),
+                ..PaceConfig::default()
+            },
+        );
+        let (_, prior) = steps_only(samples, PaceConfig::default());
+        let truth = t_s.iter().map(|&t| run.truth_at(t).speed_mps).collect();
+        Some(Self {
+            t_s,
+            truth,
+            calibrated,
+            prior,
+        })
+    }
+
+    /// Speed RMSE against the truth, m/s, and the distance error, %.
+    fn score(&self, speed: &[f64]) -> (f64, f64) {
+        let n = self.t_s.len().max(1) as f64;
+        let se: f64 = speed
+            .iter()
+            .zip(&self.truth)
+            .map(|(v, t)| (v - t).powi(2))
+            .sum();
+        let (d, dt): (f64, f64) = (speed.iter().sum(), self.truth.iter().sum());
+        ((se / n).sqrt(), 100.0 * (d - dt) / dt)
+    }
+
+    fn sentence(&self) -> String {
+        let (rc, dc) = self.score(&self.calibrated);
+        let (rp, dp) = self.score(&self.prior);
+        format!(
+            "**Next session without GNSS** (a treadmill: this run's steps alone, every fix left out): \
+             with the calibration this run exported (`PaceTracker::calibration()`, imported through \
+             `PaceConfig::calibration`) speed RMSE {rc:.3} m/s, distance {dc:+.1} %; with the \
+             population prior {rp:.3} m/s, {dp:+.1} %."
+        )
+    }
 }
 
 /// What the methods in the tables and plots are.
@@ -389,7 +494,18 @@ const METHODS_HTML: &str = "<dl>\
 <dt>stridekit (default)</dt><dd>the SDK's filter: GNSS, cadence and a step length learned from GNSS in one Kalman filter, GNSS outliers rejected; in outages the speed comes from the steps.</dd>\
 </dl>";
 
-/// The figures of the report, with the sentence under each.
+/// The figures of the report, with the sentence under each (the treadmill one when
+/// the run exported a calibration).
+fn figures(treadmill: bool) -> Vec<(&'static str, &'static str)> {
+    let mut f = FIGURES.to_vec();
+    if treadmill {
+        f.push(TREADMILL_FIGURE);
+    }
+    f
+}
+
+const TREADMILL_FIGURE: (&str, &str) = ("treadmill.svg", "The next session without any GNSS (a treadmill, an indoor track): the same run's steps alone, paced with the step length this run learned from GNSS (exported as a calibration, imported next time) or with the population prior. The calibrated speed is near the truth from the first steps, where the prior is off by this runner's difference from the population; the fast intervals are read short by both (the line's slope, learned at the run's usual paces, extrapolates). Walks use the population walking line either way.");
+
 const FIGURES: [(&str, &str); 5] = [
     ("pace.svg", "Pace as a watch shows it: the truth, the raw GNSS pace (grey dots: the spikes a naive app shows) and stridekit's. Shaded: disturbed GNSS (yellow), no GNSS (grey), the runner stopped (blue). Below 1.5 m/s (walking, stopped) pace is not drawn."),
     ("speed.svg", "The same run in m/s with every method, for engineers: GNSS EMA lags and follows GNSS errors; AsPublished follows GNSS closely; stridekit stays on the truth through disturbances and outages."),
@@ -399,8 +515,8 @@ const FIGURES: [(&str, &str); 5] = [
 ];
 
 /// The report page: the summary as HTML and every figure with its caption.
-fn html(summary: &str) -> String {
-    let figures: String = FIGURES
+fn html(summary: &str, figures: &[(&str, &str)]) -> String {
+    let figures: String = figures
         .iter()
         .map(|(f, caption)| {
             format!(

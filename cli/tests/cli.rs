@@ -31,7 +31,12 @@ fn demo_prints_a_summary_and_writes_the_report() {
     let out_dir = temp_dir("demo");
     let out = succeed(stridekit().args(["demo", "--out"]).arg(&out_dir));
     let stdout = String::from_utf8_lossy(&out.stdout);
-    for needle in ["| default |", "| AsPublished |", "Report written to"] {
+    for needle in [
+        "| default |",
+        "| AsPublished |",
+        "Next session without GNSS",
+        "Report written to",
+    ] {
         assert!(stdout.contains(needle), "missing {needle:?} in:\n{stdout}");
     }
     for file in [
@@ -42,6 +47,7 @@ fn demo_prints_a_summary_and_writes_the_report() {
         "gnss_weight.svg",
         "step_length.svg",
         "track.svg",
+        "treadmill.svg",
     ] {
         let p = out_dir.join(file);
         let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));

@@ -116,7 +116,10 @@ pub fn outage_table(files: &[PathBuf], default: PaceConfig) -> String {
 
 /// Steps only (all fixes removed) through a tracker built from `config`; speed on a
 /// 1 s grid.
-fn steps_only(samples: &[PaceSample], config: PaceConfig) -> (Vec<f64>, Vec<f64>) {
+/// The samples' steps alone (every fix left out: a treadmill, an indoor track)
+/// through a tracker with `config`: the output speed once a second from the first
+/// step sample, m/s (grid times, speeds).
+pub fn steps_only(samples: &[PaceSample], config: PaceConfig) -> (Vec<f64>, Vec<f64>) {
     let mut tr = PaceTracker::new(config).expect("valid config");
     let steps: Vec<PaceSample> = samples
         .iter()
