@@ -74,8 +74,12 @@ pub fn pace(a: PaceArgs) -> Result<(), String> {
     if let Some(f) = &a.save_calibration {
         let c = tracker.calibration().ok_or_else(|| {
             format!(
-                "no calibration to save: the step length is learned from good GNSS with step data (this replay: {})",
-                if a.no_gnss { "--no-gnss" } else { "not enough of it" }
+                "no calibration to save: the step length is learned from good GNSS with step data ({})",
+                if a.no_gnss {
+                    "--no-gnss left every fix out"
+                } else {
+                    "this file has too little of it: the line needs a few minutes of running with both"
+                }
             )
         })?;
         let text = c.to_text(&[format!("learned by: stridekit pace {}", a.file.display())]);

@@ -74,15 +74,16 @@ impl AccelSteps {
             StepLengthEstimator::new(MODEL, length_config())
                 .expect("the default step-length configuration is valid")
         };
-        let length = imported.map_or_else(prior, |m| {
-            StepLengthEstimator::calibrated(MODEL, length_config(), m.theta(), m.sigma())
-                .unwrap_or_else(|_| prior())
+        // A validated model is always accepted; were it refused, the prior is not
+        // taken for a calibration.
+        let calibrated = imported.and_then(|m| {
+            StepLengthEstimator::calibrated(MODEL, length_config(), m.theta(), m.sigma()).ok()
         });
         Self {
             detector: StepDetector::default(),
-            length,
+            imported: calibrated.is_some(),
+            length: calibrated.unwrap_or_else(prior),
             recent: Ring::new(),
-            imported: imported.is_some(),
         }
     }
 
