@@ -61,8 +61,11 @@ pub struct PaceCalibration {
 /// frequency (steps/s, Hz) and SV the variance of the acceleration magnitude over the
 /// step ((m/s²)²), as the tracker's step detector measures them (method 3 of
 /// docs/architecture.md). The 1-σ values are the marginal uncertainties when it was
-/// exported; on import they are the prior GNSS refines (taken as independent, so an
-/// imported model is a little less certain than the one exported).
+/// exported; on import they are the prior GNSS refines. They are taken as
+/// independent, and A and C are strongly correlated (a walker's step frequencies span
+/// a narrow range), so the imported model's predictions are the exported ones but its
+/// uncertainty is much wider than the exported model's: GNSS in the next session
+/// re-fits it quickly rather than refining it gently.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AccelStepModel {
     /// A, metres per step/s (m·s).
