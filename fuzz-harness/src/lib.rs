@@ -127,7 +127,7 @@ pub fn seeds(name: &str) -> Vec<Vec<u8>> {
             }
             vec![s]
         }
-        "model_pace_calibration" => vec![b"stridekit-pace-calibration 1\n# seed\nline 0.95 176.9 0.0083 0.025\naccel_model 0.378 -4.6e-5 0.0986 sigma 0.141 0.00199 0.236\n".to_vec()],
+        "model_pace_calibration" => vec![b"stridekit-pace-calibration 1\n# seed\nline 0.95 176.9 0.0083 0.025\naccel_model 0.378 -4.6e-5 0.0986 at 1.66 6.63 sigma 0.141 0.00199 0.016\n".to_vec()],
         _ => Vec::new(),
     }
 }

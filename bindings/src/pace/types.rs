@@ -300,8 +300,9 @@ pub struct PaceCalibration {
 
 /// The feature step-length model of raw accelerometer input: `L = A·F + B·SV + C`,
 /// F the step frequency (steps/s), SV the variance of the acceleration magnitude over
-/// the step ((m/s²)²). Store it as it was exported; the 1-σ values are its
-/// uncertainty, the prior that GNSS refines in the next session.
+/// the step ((m/s²)²); its uncertainty centred at the user's typical features (F₀,
+/// SV₀). Store it as it was exported; the 1-σ values are the prior that GNSS refines in
+/// the next session.
 #[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
 pub struct AccelStepModel {
     /// A, metres per step/s (m·s), within ±2.
@@ -310,12 +311,16 @@ pub struct AccelStepModel {
     pub b_m_per_m2ps4: f64,
     /// C, metres, within ±5.
     pub c_m: f64,
+    /// F₀, the typical step frequency of the calibration, Hz, 0.5..=5.
+    pub ref_frequency_hz: f64,
+    /// SV₀, the typical acceleration variance of the calibration, (m/s²)², 0..=10⁴.
+    pub ref_variance_m2ps4: f64,
     /// 1-σ of A, m·s, in (0, 10].
     pub a_std_m_s: f64,
     /// 1-σ of B, metres per (m/s²)², in (0, 10].
     pub b_std_m_per_m2ps4: f64,
-    /// 1-σ of C, metres, in (0, 10].
-    pub c_std_m: f64,
+    /// 1-σ of the modelled step length at (F₀, SV₀), metres, in (0, 10].
+    pub length_std_m: f64,
 }
 
 impl From<AccelStepModel> for core::AccelStepModel {
@@ -324,9 +329,11 @@ impl From<AccelStepModel> for core::AccelStepModel {
             a_m_s: m.a_m_s,
             b_m_per_m2ps4: m.b_m_per_m2ps4,
             c_m: m.c_m,
+            ref_frequency_hz: m.ref_frequency_hz,
+            ref_variance_m2ps4: m.ref_variance_m2ps4,
             a_std_m_s: m.a_std_m_s,
             b_std_m_per_m2ps4: m.b_std_m_per_m2ps4,
-            c_std_m: m.c_std_m,
+            length_std_m: m.length_std_m,
         }
     }
 }
@@ -337,9 +344,11 @@ impl From<core::AccelStepModel> for AccelStepModel {
             a_m_s: m.a_m_s,
             b_m_per_m2ps4: m.b_m_per_m2ps4,
             c_m: m.c_m,
+            ref_frequency_hz: m.ref_frequency_hz,
+            ref_variance_m2ps4: m.ref_variance_m2ps4,
             a_std_m_s: m.a_std_m_s,
             b_std_m_per_m2ps4: m.b_std_m_per_m2ps4,
-            c_std_m: m.c_std_m,
+            length_std_m: m.length_std_m,
         }
     }
 }

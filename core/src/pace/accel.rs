@@ -52,9 +52,9 @@ pub struct AccelSteps {
     detector: StepDetector,
     length: StepLengthEstimator,
     recent: Ring<Modelled, RECENT>,
-    /// The model came from an imported calibration (calibrated from the start). Not
-    /// in the snapshot: it follows from the configuration, which is.
-    imported: bool,
+    /// The imported model (calibrated from the start), `None` without one. Not in the
+    /// snapshot: it follows from the configuration, which is.
+    imported: Option<AccelStepModel>,
 }
 
 /// The estimator's settings here: the defaults, learning on after convergence (a
@@ -77,12 +77,21 @@ impl AccelSteps {
         // A validated model is always accepted; were it refused, the prior is not
         // taken for a calibration.
         let calibrated = imported.and_then(|m| {
-            StepLengthEstimator::calibrated(MODEL, length_config(), m.theta(), m.sigma()).ok()
+            StepLengthEstimator::calibrated_at(
+                MODEL,
+                length_config(),
+                m.theta(),
+                m.reference(),
+                [m.a_std_m_s, m.b_std_m_per_m2ps4],
+                m.length_std_m,
+            )
+            .ok()
+            .map(|e| (e, *m))
         });
         Self {
             detector: StepDetector::default(),
-            imported: calibrated.is_some(),
-            length: calibrated.unwrap_or_else(prior),
+            imported: calibrated.as_ref().map(|(_, m)| *m),
+            length: calibrated.map_or_else(prior, |(e, _)| e),
             recent: Ring::new(),
         }
     }
@@ -120,7 +129,7 @@ impl AccelSteps {
     /// convergence test, 1 % of the step length, is for freezing the calibration).
     pub fn calibrated(&self) -> bool {
         let c = self.length.calibration();
-        self.imported || c.converged || c.fits >= self.length.config().min_fits
+        self.imported.is_some() || c.converged || c.fits >= self.length.config().min_fits
     }
 
     /// The model to carry to the next session, once calibrated (imported, or learned
@@ -129,8 +138,23 @@ impl AccelSteps {
         if !self.calibrated() {
             return None;
         }
-        let m =
-            AccelStepModel::from_theta(self.length.calibration().theta, self.length.theta_sigma());
+        // Until GNSS has taught it something, an imported model goes out as it came;
+        // then centred at the features of its calibration samples.
+        let Some(x0) = self.length.typical_features() else {
+            return self.imported;
+        };
+        let [a, b, c] = self.length.calibration().theta;
+        let sigma = self.length.theta_sigma();
+        let m = AccelStepModel {
+            a_m_s: a,
+            b_m_per_m2ps4: b,
+            c_m: c,
+            ref_frequency_hz: x0[0],
+            ref_variance_m2ps4: x0[1],
+            a_std_m_s: sigma[0],
+            b_std_m_per_m2ps4: sigma[1],
+            length_std_m: self.length.prediction_sigma(x0),
+        };
         m.validate().is_ok().then_some(m)
     }
 
@@ -168,7 +192,8 @@ impl AccelSteps {
     }
 
     /// Read what [`Self::write`] wrote; `imported` from the restored configuration.
-    pub fn read(r: &mut Reader, imported: bool) -> Result<Self, SnapshotError> {
+    pub fn read(r: &mut Reader, imported: Option<&AccelStepModel>) -> Result<Self, SnapshotError> {
+        let imported = imported.copied();
         let detector = StepDetector::restore(r.bytes()?)
             .map_err(|_| SnapshotError::Invalid("accelerometer step detector"))?;
         let length = StepLengthEstimator::restore(r.bytes()?)

@@ -12,11 +12,12 @@
 //! stridekit-pace-calibration 1
 //! # learned by: stridekit pace run.fit
 //! line 1.02 170.0 0.008 0.021
-//! accel_model 0.38 0.0 0.1 sigma 0.14 0.002 0.24
+//! accel_model 0.378 -4.6e-5 0.0986 at 1.83 12.5 sigma 0.05 0.0015 0.012
 //! ```
 //!
 //! `line STEP_LENGTH_M CADENCE_SPM SLOPE_M_PER_SPM STEP_LENGTH_STD_M` is required;
-//! `accel_model A B C sigma σA σB σC` is optional. Unknown or repeated records, wrong
+//! `accel_model A B C at F0 SV0 sigma σA σB σL` is optional (σL: the step length's
+//! 1-σ at the reference features F0, SV0; see [`AccelStepModel`]). Unknown or repeated records, wrong
 //! counts, non-numbers and values [`PaceCalibration::validate`] refuses are typed
 //! [`CalibrationError`]s.
 
@@ -60,12 +61,12 @@ pub struct PaceCalibration {
 /// sessions inside a [`PaceCalibration`]: `L = A·F + B·SV + C`, with F the step
 /// frequency (steps/s, Hz) and SV the variance of the acceleration magnitude over the
 /// step ((m/s²)²), as the tracker's step detector measures them (method 3 of
-/// docs/architecture.md). The 1-σ values are the marginal uncertainties when it was
-/// exported; on import they are the prior GNSS refines. They are taken as
-/// independent, and A and C are strongly correlated (a walker's step frequencies span
-/// a narrow range), so the imported model's predictions are the exported ones but its
-/// uncertainty is much wider than the exported model's: GNSS in the next session
-/// re-fits it quickly rather than refining it gently.
+/// docs/architecture.md). Its uncertainty is carried centred at the user's typical
+/// features (F₀, SV₀), where the model was calibrated: the 1-σ of the slopes A and B
+/// and of the step length at (F₀, SV₀). Centred like this the three are nearly
+/// independent (A and C themselves are not: a user's step frequencies span a narrow
+/// range), so an imported model is about as certain as it was when exported, and GNSS
+/// in the next session refines it rather than re-fitting it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AccelStepModel {
     /// A, metres per step/s (m·s).
@@ -74,12 +75,16 @@ pub struct AccelStepModel {
     pub b_m_per_m2ps4: f64,
     /// C, metres.
     pub c_m: f64,
+    /// F₀: the typical step frequency of the calibration, steps/s (Hz).
+    pub ref_frequency_hz: f64,
+    /// SV₀: the typical acceleration variance of the calibration, (m/s²)².
+    pub ref_variance_m2ps4: f64,
     /// 1-σ of A, m·s.
     pub a_std_m_s: f64,
     /// 1-σ of B, metres per (m/s²)².
     pub b_std_m_per_m2ps4: f64,
-    /// 1-σ of C, metres.
-    pub c_std_m: f64,
+    /// 1-σ of the modelled step length at (F₀, SV₀), metres.
+    pub length_std_m: f64,
 }
 
 /// Largest |A| of an imported accelerometer model, m·s (A·F at 4 steps/s: 8 m).
@@ -88,7 +93,11 @@ pub const MAX_ACCEL_MODEL_A_M_S: f64 = 2.0;
 pub const MAX_ACCEL_MODEL_B_M_PER_M2PS4: f64 = 0.1;
 /// Largest |C| of an imported accelerometer model, metres.
 pub const MAX_ACCEL_MODEL_C_M: f64 = 5.0;
-/// Largest 1-σ of an imported accelerometer model's parameters (in their units).
+/// Range of the reference step frequency, Hz (steps of 0.2–2 s).
+pub const ACCEL_MODEL_REF_FREQUENCY_HZ: (f64, f64) = (0.5, 5.0);
+/// Largest reference acceleration variance, (m/s²)².
+pub const MAX_ACCEL_MODEL_REF_VARIANCE_M2PS4: f64 = 1e4;
+/// Largest 1-σ of an imported accelerometer model's parts (in their units).
 pub const MAX_ACCEL_MODEL_STD: f64 = 10.0;
 
 impl AccelStepModel {
@@ -97,25 +106,24 @@ impl AccelStepModel {
         [self.a_m_s, self.b_m_per_m2ps4, self.c_m]
     }
 
-    /// 1-σ of (A, B, C).
-    pub fn sigma(&self) -> [f64; 3] {
-        [self.a_std_m_s, self.b_std_m_per_m2ps4, self.c_std_m]
+    /// The reference feature vector x₀ = (F₀, SV₀, 1) of `L = θ·x`.
+    pub fn reference(&self) -> [f64; 3] {
+        [self.ref_frequency_hz, self.ref_variance_m2ps4, 1.0]
     }
 
-    /// The model from θ and its 1-σ.
-    pub fn from_theta(theta: [f64; 3], sigma: [f64; 3]) -> Self {
-        Self {
-            a_m_s: theta[0],
-            b_m_per_m2ps4: theta[1],
-            c_m: theta[2],
-            a_std_m_s: sigma[0],
-            b_std_m_per_m2ps4: sigma[1],
-            c_std_m: sigma[2],
-        }
+    /// The modelled step length at the reference features, metres.
+    pub fn reference_length_m(&self) -> f64 {
+        let [a, b, c] = self.theta();
+        a * self.ref_frequency_hz + b * self.ref_variance_m2ps4 + c
     }
 
     /// Check the fields (finite, within physical bounds, positive 1-σ).
     pub fn validate(&self) -> Result<(), PaceError> {
+        let bad = |name: &str, expected: String, v: f64| {
+            Err(PaceError::InvalidConfig {
+                reason: format!("calibration: accel_model.{name} must be {expected}, got {v}"),
+            })
+        };
         let limits = [
             ("a_m_s", self.a_m_s, MAX_ACCEL_MODEL_A_M_S),
             (
@@ -127,25 +135,30 @@ impl AccelStepModel {
         ];
         for (name, v, max) in limits {
             if !(v.is_finite() && v.abs() <= max) {
-                return Err(PaceError::InvalidConfig {
-                    reason: format!(
-                        "calibration: accel_model.{name} must be within ±{max}, got {v}"
-                    ),
-                });
+                return bad(name, format!("within ±{max}"), v);
             }
+        }
+        let (f_lo, f_hi) = ACCEL_MODEL_REF_FREQUENCY_HZ;
+        let f = self.ref_frequency_hz;
+        if !(f.is_finite() && (f_lo..=f_hi).contains(&f)) {
+            return bad("ref_frequency_hz", format!("in {f_lo}..={f_hi} Hz"), f);
+        }
+        let sv = self.ref_variance_m2ps4;
+        if !(sv.is_finite() && (0.0..=MAX_ACCEL_MODEL_REF_VARIANCE_M2PS4).contains(&sv)) {
+            return bad(
+                "ref_variance_m2ps4",
+                format!("in 0..={MAX_ACCEL_MODEL_REF_VARIANCE_M2PS4}"),
+                sv,
+            );
         }
         let sigmas = [
             ("a_std_m_s", self.a_std_m_s),
             ("b_std_m_per_m2ps4", self.b_std_m_per_m2ps4),
-            ("c_std_m", self.c_std_m),
+            ("length_std_m", self.length_std_m),
         ];
         for (name, v) in sigmas {
             if !(v.is_finite() && v > 0.0 && v <= MAX_ACCEL_MODEL_STD) {
-                return Err(PaceError::InvalidConfig {
-                    reason: format!(
-                        "calibration: accel_model.{name} must be in (0, {MAX_ACCEL_MODEL_STD}], got {v}"
-                    ),
-                });
+                return bad(name, format!("in (0, {MAX_ACCEL_MODEL_STD}]"), v);
             }
         }
         Ok(())
@@ -197,10 +210,11 @@ impl PaceCalibration {
         );
         if let Some(m) = &self.accel_model {
             let [a, b, c] = m.theta();
-            let [sa, sb, sc] = m.sigma();
+            let (f0, sv0) = (m.ref_frequency_hz, m.ref_variance_m2ps4);
+            let (sa, sb, sl) = (m.a_std_m_s, m.b_std_m_per_m2ps4, m.length_std_m);
             let _ = writeln!(
                 s,
-                "accel_model {a:?} {b:?} {c:?} sigma {sa:?} {sb:?} {sc:?}"
+                "accel_model {a:?} {b:?} {c:?} at {f0:?} {sv0:?} sigma {sa:?} {sb:?} {sl:?}"
             );
         }
         s
@@ -226,15 +240,21 @@ impl PaceCalibration {
                     if accel_model.is_some() {
                         return Err(r.error("a second accel_model record"));
                     }
-                    let layout = "accel_model A B C sigma σA σB σC";
-                    r.expect_fields(8, layout)?;
-                    if r.fields[4] != "sigma" {
+                    let layout = "accel_model A B C at F0 SV0 sigma σA σB σL";
+                    r.expect_fields(11, layout)?;
+                    if r.fields[4] != "at" || r.fields[7] != "sigma" {
                         return Err(r.error(format!("expected: {layout}")));
                     }
-                    accel_model = Some(AccelStepModel::from_theta(
-                        [r.number(1)?, r.number(2)?, r.number(3)?],
-                        [r.number(5)?, r.number(6)?, r.number(7)?],
-                    ));
+                    accel_model = Some(AccelStepModel {
+                        a_m_s: r.number(1)?,
+                        b_m_per_m2ps4: r.number(2)?,
+                        c_m: r.number(3)?,
+                        ref_frequency_hz: r.number(5)?,
+                        ref_variance_m2ps4: r.number(6)?,
+                        a_std_m_s: r.number(8)?,
+                        b_std_m_per_m2ps4: r.number(9)?,
+                        length_std_m: r.number(10)?,
+                    });
                 }
                 other => return Err(r.error(format!("unknown record {:?}", text::truncate(other)))),
             }
@@ -273,9 +293,11 @@ mod tests {
                 a_m_s: 0.3781117891718111,
                 b_m_per_m2ps4: -4.5812025378060006e-5,
                 c_m: 0.09856747153190781,
+                ref_frequency_hz: 1.8312345678901234,
+                ref_variance_m2ps4: 12.512345678901234,
                 a_std_m_s: 0.14132184735020203,
                 b_std_m_per_m2ps4: 0.0019937188916670907,
-                c_std_m: 0.2355772882651439,
+                length_std_m: 0.0123456789,
             }),
         }
     }
@@ -319,6 +341,7 @@ mod tests {
             (ok.replace("line 1.0234567890123", "line x"), "text"),
             (ok.replace(" 0.021\n", "\n"), "count"),
             (ok.replace(" sigma ", " sigmas "), "layout"),
+            (ok.replace(" at ", " @ "), "layout at"),
             (format!("{ok}{line}\n"), "repeat"),
             (format!("{ok}walking_line 0.7 112\n"), "unknown"),
         ] {

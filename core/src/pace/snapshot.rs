@@ -58,8 +58,8 @@ impl PaceTracker {
             }
         };
         let accel = if r.bool()? {
-            let imported = config.calibration.is_some_and(|c| c.accel_model.is_some());
-            Some(AccelSteps::read(&mut r, imported)?)
+            let imported = config.calibration.and_then(|c| c.accel_model);
+            Some(AccelSteps::read(&mut r, imported.as_ref())?)
         } else {
             None
         };
@@ -107,10 +107,27 @@ fn write_config(w: &mut Writer, c: &PaceConfig) {
                 *step_length_std_m,
             ]);
             match accel_model {
-                Some(m) => {
+                Some(AccelStepModel {
+                    a_m_s,
+                    b_m_per_m2ps4,
+                    c_m,
+                    ref_frequency_hz,
+                    ref_variance_m2ps4,
+                    a_std_m_s,
+                    b_std_m_per_m2ps4,
+                    length_std_m,
+                }) => {
                     w.bool(true);
-                    w.f64s(&m.theta());
-                    w.f64s(&m.sigma());
+                    w.f64s(&[
+                        *a_m_s,
+                        *b_m_per_m2ps4,
+                        *c_m,
+                        *ref_frequency_hz,
+                        *ref_variance_m2ps4,
+                        *a_std_m_s,
+                        *b_std_m_per_m2ps4,
+                        *length_std_m,
+                    ]);
                 }
                 None => w.bool(false),
             }
@@ -163,10 +180,18 @@ fn read_config(r: &mut Reader) -> Result<PaceConfig, SnapshotError> {
         let mut k = [0.0; 4];
         r.f64s(&mut k)?;
         let accel_model = if r.bool()? {
-            let (mut theta, mut sigma) = ([0.0; 3], [0.0; 3]);
-            r.f64s(&mut theta)?;
-            r.f64s(&mut sigma)?;
-            Some(AccelStepModel::from_theta(theta, sigma))
+            let mut v = [0.0; 8];
+            r.f64s(&mut v)?;
+            Some(AccelStepModel {
+                a_m_s: v[0],
+                b_m_per_m2ps4: v[1],
+                c_m: v[2],
+                ref_frequency_hz: v[3],
+                ref_variance_m2ps4: v[4],
+                a_std_m_s: v[5],
+                b_std_m_per_m2ps4: v[6],
+                length_std_m: v[7],
+            })
         } else {
             None
         };

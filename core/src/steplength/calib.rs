@@ -70,6 +70,25 @@ impl Regression {
         }
     }
 
+    /// Start from a prior with means `mean` and covariance `cov` (row-major 3×3,
+    /// symmetric positive definite); `None` if it cannot be inverted.
+    pub fn from_covariance(mean: [f64; 3], cov: [f64; 9]) -> Option<Self> {
+        let inv = Matrix3::from_row_slice(&cov).try_inverse()?;
+        let eta = inv * Vector3::from_column_slice(&mean);
+        let mut info = [0.0; 9];
+        for i in 0..3 {
+            for j in 0..3 {
+                // Symmetrised: the inverse of a symmetric matrix, up to rounding.
+                info[3 * i + j] = 0.5 * (inv[(i, j)] + inv[(j, i)]);
+            }
+        }
+        (info.iter().chain(eta.iter()).all(|v| v.is_finite())).then_some(Self {
+            info,
+            eta: [eta[0], eta[1], eta[2]],
+            theta: mean,
+        })
+    }
+
     /// One diagonal entry of Λ (index into the row-major 3×3).
     pub fn info_diagonal(&self, i: usize) -> f64 {
         self.info[i]

@@ -214,6 +214,65 @@ impl StepLengthEstimator {
         Ok(s)
     }
 
+    /// An estimator starting from a personal calibration given as θ, the features x₀
+    /// it was calibrated at, the 1-σ of the first two parameters (the slopes of the
+    /// linear models) and the 1-σ of the step length at x₀. Centred like this the
+    /// parts are nearly independent, where θ's own components are not (a user's
+    /// features span a narrow range, so A and C move together); the prior's
+    /// covariance is built from them. GNSS still refines it.
+    pub fn calibrated_at(
+        model: StepLengthModel,
+        config: StepLengthConfig,
+        theta: [f64; 3],
+        x0: [f64; 3],
+        slope_sigma: [f64; 2],
+        level_sigma: f64,
+    ) -> Result<Self, StepLengthError> {
+        let mut s = Self::new(model, config)?;
+        let bad = || StepLengthError::InvalidConfig {
+            reason: "calibration θ, x₀ must be finite and σ positive".into(),
+        };
+        let finite = theta.iter().chain(&x0).all(|v| v.is_finite());
+        let positive = slope_sigma
+            .iter()
+            .chain([&level_sigma])
+            .all(|v| v.is_finite() && *v > 0.0);
+        if !(finite && positive && x0[2] != 0.0) {
+            return Err(bad());
+        }
+        // (A, B, L₀) independent with L₀ = θ·x₀, so θ₂ = (L₀ − A·x₀₀ − B·x₀₁) / x₀₂:
+        // cov(θ) = J diag(σA², σB², σL²) Jᵀ.
+        let d = [
+            slope_sigma[0] * slope_sigma[0],
+            slope_sigma[1] * slope_sigma[1],
+            level_sigma * level_sigma,
+        ];
+        let j = [
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [-x0[0] / x0[2], -x0[1] / x0[2], 1.0 / x0[2]],
+        ];
+        let mut cov = [0.0; 9];
+        for r in 0..3 {
+            for c in 0..3 {
+                cov[3 * r + c] = (0..3).map(|k| j[r][k] * d[k] * j[c][k]).sum();
+            }
+        }
+        s.reg = Regression::from_covariance(theta, cov).ok_or_else(bad)?;
+        Ok(s)
+    }
+
+    /// Mean features of the calibration samples so far (`None` before any).
+    pub fn typical_features(&self) -> Option<[f64; 3]> {
+        (self.samples > 0).then(|| self.mean_features())
+    }
+
+    /// 1-σ of the modelled step length at features `x` (the calibration's
+    /// uncertainty), metres.
+    pub fn prediction_sigma(&self, x: [f64; 3]) -> f64 {
+        self.reg.prediction_sigma(x)
+    }
+
     pub fn model(&self) -> StepLengthModel {
         self.model
     }

@@ -151,9 +151,11 @@ fn invalid_calibrations_are_rejected() {
         a_m_s: 0.4,
         b_m_per_m2ps4: 0.0,
         c_m: -0.1,
+        ref_frequency_hz: 1.8,
+        ref_variance_m2ps4: 10.0,
         a_std_m_s: 0.05,
         b_std_m_per_m2ps4: 0.001,
-        c_std_m: 0.1,
+        length_std_m: 0.02,
     };
     let with_model = |m: AccelStepModel| PaceCalibration {
         accel_model: Some(m),
@@ -171,6 +173,14 @@ fn invalid_calibrations_are_rejected() {
         }),
         with_model(AccelStepModel {
             a_std_m_s: f64::INFINITY,
+            ..model
+        }),
+        with_model(AccelStepModel {
+            ref_frequency_hz: 0.0,
+            ..model
+        }),
+        with_model(AccelStepModel {
+            ref_variance_m2ps4: -1.0,
             ..model
         }),
         PaceCalibration {

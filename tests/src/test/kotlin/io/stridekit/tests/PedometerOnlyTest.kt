@@ -65,7 +65,8 @@ class PedometerOnlyTest {
     fun `a carried accelerometer model paces raw acceleration without GNSS`() {
         val model = AccelStepModel(
             aMS = 0.38, bMPerM2ps4 = 0.0, cM = 0.1,
-            aStdMS = 0.14, bStdMPerM2ps4 = 0.002, cStdM = 0.24,
+            refFrequencyHz = 1.66, refVarianceM2ps4 = 6.6,
+            aStdMS = 0.14, bStdMPerM2ps4 = 0.002, lengthStdM = 0.016,
         )
         val cal = PaceCalibration(
             stepLengthM = 0.42, cadenceSpm = 98.0, slopeMPerSpm = 0.0083, stepLengthStdM = 0.4,
@@ -90,7 +91,7 @@ class PedometerOnlyTest {
             assertEquals(t.estimate(), restored.estimate())
             restored.close()
         }
-        val bad = cal.copy(accelModel = model.copy(cStdM = 0.0))
+        val bad = cal.copy(accelModel = model.copy(lengthStdM = 0.0))
         assertFailsWith<PaceException.InvalidConfig> { PaceTracker(PaceConfig(mode = PaceMode.ADAPTIVE, calibration = bad)) }
 
         // Stored as text with the user's profile, read back exactly.
