@@ -158,6 +158,22 @@ impl AccelSteps {
         m.validate().is_ok().then_some(m)
     }
 
+    /// Relative 1-σ of the modelled step length at the user's typical features (the
+    /// calibration's uncertainty, not a step's scatter), once calibrated.
+    pub fn rel_sigma(&self) -> Option<f64> {
+        if !self.calibrated() {
+            return None;
+        }
+        let (x0, l) = match self.length.typical_features() {
+            Some(x) => (x, self.length.calibration().typical_step_length_m),
+            None => {
+                let m = self.imported?;
+                (m.reference(), m.reference_length_m())
+            }
+        };
+        (l > 0.0).then(|| self.length.prediction_sigma(x0) / l)
+    }
+
     /// The step-length model's calibration state.
     pub fn calibration(&self) -> crate::steplength::Calibration {
         self.length.calibration()

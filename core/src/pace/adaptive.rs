@@ -903,13 +903,24 @@ impl AdaptiveFilter {
                 .cadence_at(t_out, SLOW_CADENCE_WINDOW_S, ctx.config.stationary_after_s);
         // The walking line's share of the step length now (0 when not moving).
         let walk_w = cadence.map_or(0.0, walk_weight);
+        // The step length the pedometer speed uses when GNSS cannot teach it and raw
+        // acceleration gives one (see `pedometer_update`).
+        let from_features = match cadence {
+            Some(c) if c > 0.0 && !self.gnss_trusted_at(t_out) => {
+                ctx.accel.and_then(|a| a.step_length_m(t_out))
+            }
+            _ => None,
+        };
         let (raw, sd) = if ped_only {
-            // σ of cadence × step length: the step length's and the gait's.
+            // σ of cadence × step length: the step length's (the accelerometer
+            // model's when it sets it, else the lines') and the gait's.
             let l_run = self.x[LA].max(0.2);
             let s_run = self.p[(LA, LA)].max(0.0).sqrt() / l_run;
             let s_walk = cadence.map_or(0.0, |c| WALK_STEP_SIGMA_M / walking_step_m(c));
-            let rel =
-                (walk_w * s_walk + (1.0 - walk_w) * s_run).hypot(self.params.pedometer_rel_sigma);
+            let s_len = from_features
+                .and(ctx.accel.and_then(|a| a.rel_sigma()))
+                .unwrap_or(walk_w * s_walk + (1.0 - walk_w) * s_run);
+            let rel = s_len.hypot(self.params.pedometer_rel_sigma);
             (self.ped_speed, rel * self.ped_speed)
         } else {
             (self.speed(), self.speed_var().sqrt())
@@ -943,14 +954,6 @@ impl AdaptiveFilter {
             self.out.gnss_weight
         };
         let learned = self.step_length_learned();
-        // The step length the pedometer speed uses when GNSS cannot teach it and raw
-        // acceleration gives one (see `pedometer_update`).
-        let from_features = match cadence {
-            Some(c) if c > 0.0 && !self.gnss_trusted_at(t_out) => {
-                ctx.accel.and_then(|a| a.step_length_m(t_out))
-            }
-            _ => None,
-        };
         let step_length = match (slow, cadence) {
             _ if from_features.is_some() => from_features,
             // Walking or near it (the walking line has a population value from the

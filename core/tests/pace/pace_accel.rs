@@ -269,6 +269,10 @@ fn the_accelerometer_model_carries_to_a_session_without_gnss() {
     assert_eq!(e.source, stridekit_core::PaceSource::Pedometer);
     let l = e.step_length_m.expect("the steps' modelled length");
     assert!((0.5..1.3).contains(&l), "{l}");
+    // Its uncertainty is the model's (about 2 % of the step length) with the
+    // pedometer's 3 %, not the population walking line's 16 %.
+    let rel = e.speed_std_mps.unwrap() / e.speed_mps;
+    assert!((0.03..0.06).contains(&rel), "{rel}");
     // Nothing refined it without GNSS: exported again as imported (its uncertainty
     // too: carried centred at the user's features, it survives the round trip).
     let again = tr.calibration().unwrap().accel_model.unwrap();
