@@ -115,7 +115,9 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
     }
     // The next session without GNSS (a treadmill): this run's steps alone, with the
     // calibration this run exported and with the population prior.
-    let treadmill = Treadmill::measure(&run, &samples);
+    let treadmill = r
+        .calibration
+        .and_then(|c| Treadmill::measure(&run, &samples, c));
     if let Some(tm) = &treadmill {
         let _ = writeln!(summary, "\n{}", tm.sentence());
     }
@@ -428,17 +430,14 @@ struct Treadmill {
 }
 
 impl Treadmill {
-    /// `None` when the GNSS session exported no calibration.
+    /// The steps of `samples` with `calibration` (what the GNSS session exported) and
+    /// with the prior; `None` without any step.
     fn measure(
         run: &stridekit_sim::SimulatedRun,
         samples: &[stridekit_core::PaceSample],
+        calibration: stridekit_core::PaceCalibration,
     ) -> Option<Self> {
         use stridekit_lab::pace_device::steps_only;
-        let mut gnss = stridekit_core::PaceTracker::new(PaceConfig::default()).ok()?;
-        for s in samples {
-            let _ = gnss.push(s);
-        }
-        let calibration = gnss.calibration()?;
         let (t_s, calibrated) = steps_only(
             samples,
             PaceConfig {
@@ -446,6 +445,9 @@ impl Treadmill {
                 ..PaceConfig::default()
             },
         );
+        if t_s.is_empty() {
+            return None;
+        }
         let (_, prior) = steps_only(samples, PaceConfig::default());
         let truth = t_s.iter().map(|&t| run.truth_at(t).speed_mps).collect();
         Some(Self {

@@ -34,6 +34,9 @@ pub struct Replay {
     pub position_enu_m: Vec<(f64, f64)>,
     /// Cumulative distance of the raw GNSS track (sum of fix-to-fix distances), metres.
     pub gnss_track_distance_m: f64,
+    /// What the default tracker learned, to carry to a next session
+    /// (`PaceTracker::calibration()` after the replay).
+    pub calibration: Option<stridekit_core::PaceCalibration>,
 }
 
 /// Replay samples (time-ordered) through all methods. Rejected samples are skipped.
@@ -101,6 +104,7 @@ pub fn replay(samples: &[PaceSample], published: PaceConfig, default: PaceConfig
         grid_t += 1.0;
     }
     out.gnss_track_distance_m = raw_track;
+    out.calibration = trackers[1].calibration();
     out
 }
 

@@ -201,7 +201,7 @@ pub fn tracker_outage(sim: &SimulatedPhone, t_cal_s: f64, accel: bool) -> Tracke
         return TrackerOutage::NAN;
     };
     let mut detector = StepDetector::default();
-    let mut scored = OutageScore::new(t_cal_s);
+    let mut scored = OutageScore::new(t_cal_s, 0.0);
     for ev in sim.timeline(&sim_frame()) {
         match ev {
             PhoneEvent::Fix(f) => {
@@ -247,7 +247,7 @@ pub fn carried_outage(
 
     let mut first = PaceTracker::new(PaceConfig::default()).ok()?;
     let mut second: Option<PaceTracker> = None;
-    let mut scored = OutageScore::starting(t_cal_s, CARRIED_WARM_UP_S);
+    let mut scored = OutageScore::new(t_cal_s, CARRIED_WARM_UP_S);
     for ev in sim.timeline(&sim_frame()) {
         match (ev, &mut second) {
             (PhoneEvent::Fix(f), None) => {
@@ -293,11 +293,9 @@ impl TrackerOutage {
     };
 }
 
-/// Speed error once a second and the distance over `[t_cal_s, t_cal_s + OUTAGE_S)`.
+/// Speed error once a second and the distance over `[start_s, end_s)`.
 struct OutageScore {
-    /// Start of the scored stretch, s.
-    t_cal_s: f64,
-    /// End of the outage, s.
+    start_s: f64,
     end_s: f64,
     next_read: f64,
     se: f64,
@@ -307,11 +305,12 @@ struct OutageScore {
 }
 
 impl OutageScore {
-    fn new(t_cal_s: f64) -> Self {
+    /// The outage that starts at `t_cal_s`, scored from `skip_s` after its start.
+    fn new(t_cal_s: f64, skip_s: f64) -> Self {
         Self {
-            t_cal_s,
+            start_s: t_cal_s + skip_s,
             end_s: t_cal_s + OUTAGE_S,
-            next_read: t_cal_s,
+            next_read: t_cal_s + skip_s,
             se: 0.0,
             n: 0,
             d0: f64::NAN,
@@ -319,20 +318,9 @@ impl OutageScore {
         }
     }
 
-    /// The same outage end when the start of the scored stretch moved.
-    fn starting(t_cal_s: f64, skip_s: f64) -> Self {
-        let mut s = Self::new(t_cal_s + skip_s);
-        s.end_s = t_cal_s + OUTAGE_S;
-        s
-    }
-
-    fn t_end(&self) -> f64 {
-        self.end_s
-    }
-
     /// After a sample at `t_s`.
     fn read(&mut self, sim: &SimulatedPhone, t_s: f64, tracker: &stridekit_core::PaceTracker) {
-        if t_s < self.t_cal_s || t_s >= self.t_end() {
+        if t_s < self.start_s || t_s >= self.end_s {
             return;
         }
         let Some(est) = tracker.estimate() else {
@@ -351,8 +339,7 @@ impl OutageScore {
     }
 
     fn finish(&self, sim: &SimulatedPhone) -> TrackerOutage {
-        let t_end = self.t_end();
-        let true_m = sim.truth_at(t_end).distance_m - sim.truth_at(self.t_cal_s).distance_m;
+        let true_m = sim.truth_at(self.end_s).distance_m - sim.truth_at(self.start_s).distance_m;
         TrackerOutage {
             speed_rmse_mps: (self.se / self.n.max(1) as f64).sqrt(),
             distance_error_pct: 100.0 * ((self.d1 - self.d0) - true_m) / true_m,
