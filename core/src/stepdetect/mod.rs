@@ -38,10 +38,12 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 /// Snapshot engine kind byte for the step detector.
 const SNAPSHOT_KIND: u8 = 3;
 /// Snapshot format version written by this build.
-/// Version 5: the default detector's short walk before a stop. Version 4: the time
+/// Version 6: how the phone is held (the default detector's low-passed acceleration,
+/// and its direction at each buffered candidate). Version 5: the default detector's
+/// short walk before a stop. Version 4: the time
 /// state of the input layer ([`TimeGuard`]) replaces the last time (version 3 added
 /// the autocorrelation state of the default detector).
-const SNAPSHOT_VERSION: u16 = 5;
+const SNAPSHOT_VERSION: u16 = 6;
 /// Steps waiting to be popped.
 const QUEUE: usize = 32;
 
@@ -348,7 +350,7 @@ impl StepDetector {
                     queue: &mut self.queue,
                     released: &mut self.step_count,
                 };
-                d.push(t_s, mag, &mut sink);
+                d.push(t_s, accel_mps2, mag, &mut sink);
             }
         }
         Ok(self.queue.pop_front())

@@ -130,6 +130,7 @@ fn merge(a: &Pending, b: &Pending) -> Pending {
         },
         impact: big.impact.max(small.impact),
         amplitude_mps2: big.amplitude_mps2,
+        carry: big.carry,
     }
 }
 
@@ -157,6 +158,29 @@ const SHORT_WALK_MAX_GAP_S: f64 = 6.0;
 /// period, and its median amplitude within this factor of the bout's.
 const SHORT_WALK_CADENCE: f64 = 0.3;
 const SHORT_WALK_AMPLITUDE: f64 = 2.0;
+
+/// How the phone is held: the direction of the acceleration low-passed with this time
+/// constant (about one stride, so the swing of a stride averages out), s.
+const CARRY_TAU_S: f64 = 1.0;
+/// A candidate buffered before a bout chains back to it only if the phone was held
+/// within 45° of how it is held in the bout (cosine): the irregular peaks of putting
+/// the phone into a pocket or bag turn it further than that, the swing of a walk in a
+/// pocket, a bag or a hand does not (a stride's ±30° thigh or arm swing is averaged
+/// over the stride).
+const CARRY_MIN_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+fn unit(v: [f64; 3]) -> [f64; 3] {
+    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if n > 0.0 {
+        [v[0] / n, v[1] / n, v[2] / n]
+    } else {
+        [0.0; 3]
+    }
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
 
 /// Weight of a new candidate in the typical step amplitude.
 const AMPLITUDE_GAIN: f64 = 0.2;
@@ -394,6 +418,9 @@ struct Pending {
     impact: f64,
     /// Peak-to-valley amplitude, m/s².
     amplitude_mps2: f64,
+    /// How the phone was held at the candidate: the direction of the slowly
+    /// low-passed acceleration (gravity) in the sensor frame, unit vector.
+    carry: [f64; 3],
 }
 
 impl Default for StepEvent {
@@ -424,6 +451,8 @@ pub(crate) struct RobustDetector {
     prev_t_s: f64,
     prev_y: f64,
     next_grid_t_s: f64,
+    /// Acceleration low-passed with [`CARRY_TAU_S`], sensor frame, m/s².
+    carry: [f64; 3],
     // Grid stage.
     mean: f64,
     ms: f64,
@@ -472,6 +501,7 @@ impl RobustDetector {
             prev_t_s: 0.0,
             prev_y: 0.0,
             next_grid_t_s: 0.0,
+            carry: [0.0; 3],
             mean: 0.0,
             ms: 0.0,
             xs: History::new(),
@@ -497,7 +527,7 @@ impl RobustDetector {
     }
 
     /// Process one validated sample; released steps are appended to `out`.
-    pub(crate) fn push(&mut self, t_s: f64, mag: f64, out: &mut Sink<'_>) {
+    pub(crate) fn push(&mut self, t_s: f64, accel_mps2: [f64; 3], mag: f64, out: &mut Sink<'_>) {
         let dt = t_s - self.prev_t_s;
         if self.started && !(dt > 0.0 && dt <= MAX_INPUT_GAP_S) {
             // Paused: nothing is known about the gap; start over (steps already
@@ -509,6 +539,7 @@ impl RobustDetector {
         self.moments.add(mag);
         if !self.started {
             self.started = true;
+            self.carry = accel_mps2;
             self.lp1 = mag;
             self.lp2 = mag;
             self.hp[0] = mag;
@@ -522,6 +553,10 @@ impl RobustDetector {
         }
         if dt > DATA_GAP_S {
             self.data_gap_end_t_s = t_s;
+        }
+        let c = super::ema_gain(dt / CARRY_TAU_S);
+        for (s, v) in self.carry.iter_mut().zip(accel_mps2) {
+            *s += c * (v - *s);
         }
         let a = super::ema_gain(dt / self.tau_lp_s);
         self.lp1 += a * (mag - self.lp1);
@@ -757,6 +792,7 @@ impl RobustDetector {
             event: ev,
             impact,
             amplitude_mps2: amplitude,
+            carry: unit(self.carry),
         });
         self.amplitude_ref_mps2 = if self.amplitude_ref_mps2 > 0.0 {
             self.amplitude_ref_mps2 + AMPLITUDE_GAIN * (amplitude - self.amplitude_ref_mps2)
@@ -870,6 +906,16 @@ impl RobustDetector {
         if imp[k / 2] < p.min_impact_ratio {
             return;
         }
+        // How the phone is held while walking: as at the newest candidate. Every
+        // checked candidate must have it held the same way (within 45°); otherwise the
+        // phone was handled or put away in between.
+        let bout_carry = kept.newest().map_or([0.0; 3], |c| c.carry);
+        if (0..k).any(|j| {
+            kept.back(j)
+                .is_some_and(|c| dot(c.carry, bout_carry) < CARRY_MIN_COS)
+        }) {
+            return;
+        }
         self.pending = kept;
         self.in_bout = true;
         self.period_s = period;
@@ -887,6 +933,10 @@ impl RobustDetector {
             let iv = newer.event.t_s - older.event.t_s;
             // A step (±50 % of the period) or a step and a missed one (< 2.4 periods).
             if !((1.0 - ASYMMETRY) * period..2.4 * period).contains(&iv) {
+                break;
+            }
+            // Held another way than while walking: the phone was being put away.
+            if dot(older.carry, bout_carry) < CARRY_MIN_COS {
                 break;
             }
             keep += 1;
@@ -1012,6 +1062,7 @@ impl RobustDetector {
             self.mean,
             self.ms,
         ]);
+        w.f64s(&self.carry);
         w.u64(self.xs.len as u64);
         for &v in self.xs.last(self.xs.len) {
             w.f64(v);
@@ -1025,6 +1076,7 @@ impl RobustDetector {
                 super::write_event(w, &c.event);
                 w.f64(c.impact);
                 w.f64(c.amplitude_mps2);
+                w.f64s(&c.carry);
             }
         }
         w.bool(self.in_bout);
@@ -1068,6 +1120,9 @@ impl RobustDetector {
         {
             return Err(SnapshotError::Invalid("step detector grid time"));
         }
+        for v in &mut d.carry {
+            *v = r.f64_in(-A, A, "step detector carrying")?;
+        }
         let n = r.len(HISTORY)?;
         for _ in 0..n {
             d.xs.push(r.f64_in(-A, A, "step detector history")?);
@@ -1090,8 +1145,12 @@ impl RobustDetector {
                 let event = super::read_event(r)?;
                 let impact = r.f64_or_nan()?;
                 let amplitude_mps2 = r.f64_or_nan()?;
+                let mut carry = [0.0; 3];
+                r.f64s(&mut carry)?;
+                // A unit vector (or zero, when the acceleration averaged to nothing).
                 if impact < 0.0
                     || !(amplitude_mps2.is_nan() || (0.0..=2.0 * A).contains(&amplitude_mps2))
+                    || dot(carry, carry) > 1.0 + 1e-9
                 {
                     return Err(SnapshotError::Invalid("step candidate"));
                 }
@@ -1099,6 +1158,7 @@ impl RobustDetector {
                     event,
                     impact,
                     amplitude_mps2,
+                    carry,
                 });
             }
         }

@@ -723,6 +723,66 @@ fn a_few_steps_before_a_stop_are_counted_once_the_walk_goes_on() {
     }
 }
 
+/// Handling the phone, then putting it into a pocket and walking off at once: the
+/// hand's bumps come at step-like intervals, and they would chain back to the walk's
+/// first confirmed steps. How the phone is held (the stride-averaged
+/// direction of gravity in the sensor frame) tells them apart: the walk's steps all
+/// come with the phone held one way; the bumps with it held another.
+#[test]
+fn bumps_while_the_phone_is_put_away_are_not_steps() {
+    let put_away_s = 2.5;
+    for seed in 1..=5 {
+        let mut rng = Rng(seed);
+        // Bumps as strong as steps, too irregular to be a walk on their own but each
+        // a step-like interval from the next (0.3–0.85 s); then the walk at once.
+        let mut bumps = Vec::new();
+        let mut b = 0.3;
+        while b < put_away_s - 0.5 {
+            bumps.push(b);
+            b += 0.3 + 0.55 * rng.next();
+        }
+        let mut strikes = Vec::new();
+        let mut t = put_away_s + 0.5 / WALK.step_hz;
+        while t < put_away_s + 30.0 {
+            strikes.push(t);
+            t += (1.0 + 0.03 * rng.sym()) / WALK.step_hz;
+        }
+        let total = put_away_s + 33.0;
+        let mut out = Vec::new();
+        for t in times(100.0, 0.1, total, &mut rng) {
+            let mut m = G + 0.03 * rng.gauss();
+            let last = |v: &[f64]| v.iter().rev().find(|&&x| x <= t).copied();
+            let bump = last(&bumps).filter(|&t0| t < put_away_s && t - t0 < 0.3);
+            if let Some(t0) = bump.or(last(&strikes).filter(|&t0| t - t0 < 0.6)) {
+                let w = std::f64::consts::TAU * (t - t0) * WALK.step_hz;
+                m += 0.5 * WALK.swing_mps2 * (w.cos() + 0.3 * (2.0 * w + 0.5).cos());
+                m += WALK.impact_mps2 * (-((t - t0) / 0.02).powi(2)).exp();
+            }
+            // Screen up (z) in the hand, then turned top edge down (−y) into the
+            // pocket over the last 0.8 s before walking.
+            let turn = std::f64::consts::FRAC_PI_2 * ((t - put_away_s + 0.8) / 0.8).clamp(0.0, 1.0);
+            out.push(AccelSample {
+                t_s: t,
+                accel_mps2: [0.0, -m * turn.sin(), m * turn.cos()],
+            });
+        }
+        let mut d = StepDetector::default();
+        let steps = d.push_batch(&out).estimates;
+        // (4 of them passed for seed 1 before the phone's pose was checked.)
+        let early = steps.iter().filter(|e| e.t_s < put_away_s - 0.1).count();
+        assert_eq!(
+            early, 0,
+            "seed {seed}: {early} steps while handling the phone"
+        );
+        assert!(
+            steps.len().abs_diff(strikes.len()) <= 1,
+            "seed {seed}: {} steps, {} true",
+            steps.len(),
+            strikes.len()
+        );
+    }
+}
+
 /// A run, then a walk whose steps are a fraction of the run's: the walk's steps all fall
 /// under the relative bar of a typical amplitude learned on the run, which must fade
 /// once no step has been accepted for a while (a runner slowing to a walk with the
