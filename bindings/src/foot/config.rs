@@ -431,6 +431,12 @@ pub struct FootConfig {
     /// Standard deviation of the zero-velocity pseudo-measurement, m/s.
     #[uniffi(default = 0.01)]
     pub zupt_noise_mps: f64,
+    /// Largest normalised innovation squared (3 degrees of freedom) at which a
+    /// zero-velocity update is taken at face value; beyond it the update is inflated
+    /// to meet it and pulls part of the way (a stance called in a swing cannot yank
+    /// the track). Null: every update at face value (the paper). Default 100.
+    #[uniffi(default = Some(100.0))]
+    pub zupt_gate_nis: Option<f64>,
     /// Initial 1-σ of the accelerometer bias, m/s².
     #[uniffi(default = 0.1)]
     pub initial_accel_bias_std_mps2: f64,
@@ -469,6 +475,7 @@ impl From<core::FootConfig> for FootConfig {
             accel_bias_walk: c.accel_bias_walk,
             gyro_bias_walk: c.gyro_bias_walk,
             zupt_noise_mps: c.zupt_noise_mps,
+            zupt_gate_nis: c.zupt_gate_nis,
             initial_accel_bias_std_mps2: c.initial_accel_bias_std_mps2,
             initial_gyro_bias_std_rads: c.initial_gyro_bias_std_rads,
             accel_range_mps2: c.accel_range_mps2,
@@ -498,6 +505,7 @@ impl TryFrom<FootConfig> for core::FootConfig {
             accel_bias_walk: c.accel_bias_walk,
             gyro_bias_walk: c.gyro_bias_walk,
             zupt_noise_mps: c.zupt_noise_mps,
+            zupt_gate_nis: c.zupt_gate_nis,
             initial_accel_bias_std_mps2: c.initial_accel_bias_std_mps2,
             initial_gyro_bias_std_rads: c.initial_gyro_bias_std_rads,
             accel_range_mps2: c.accel_range_mps2,

@@ -40,6 +40,12 @@ pub enum GyroTiming {
 /// Largest supported detector window, samples.
 pub const MAX_DETECTOR_WINDOW: usize = 31;
 
+/// Default of [`FootConfig::zupt_gate_nis`]: ≈ 10 σ for three degrees of freedom,
+/// only gross disagreement is bounded. Chosen on the training split of the UofT
+/// VICON trials among 30, 50, 100, 200, 300 (`stridekit eval foot
+/// --tune-adaptive-shoe` run with each; docs/foot.md): a flat optimum at 50–200.
+pub const ZUPT_GATE_NIS: f64 = 100.0;
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct FootConfig {
     /// Sensor → body axes. Body: x forward along the foot, y left, z up when the
@@ -77,6 +83,15 @@ pub struct FootConfig {
     pub gyro_bias_walk: f64,
     /// Standard deviation of the zero-velocity pseudo-measurement, m/s.
     pub zupt_noise_mps: f64,
+    /// Largest normalised innovation squared (χ² with 3 degrees of freedom) at which a
+    /// zero-velocity update is taken at face value. Beyond it the filter's velocity
+    /// and its uncertainty say the foot is moving, by far more than the update allows
+    /// (a detector calling stance in a swing, or a velocity error the covariance does
+    /// not hold): the update's innovation covariance is inflated to meet the bound, so
+    /// the update pulls part of the way; repeated over the samples of a true stance it
+    /// still brings the velocity to zero. `None`: every update at face value (the
+    /// paper). Default [`ZUPT_GATE_NIS`].
+    pub zupt_gate_nis: Option<f64>,
     /// Initial 1-σ of the accelerometer and gyroscope biases.
     pub initial_accel_bias_std_mps2: f64,
     pub initial_gyro_bias_std_rads: f64,
@@ -109,6 +124,7 @@ impl Default for FootConfig {
             accel_bias_walk: 1.0e-4,
             gyro_bias_walk: 1.0e-5,
             zupt_noise_mps: 0.01,
+            zupt_gate_nis: Some(ZUPT_GATE_NIS),
             initial_accel_bias_std_mps2: 0.1,
             initial_gyro_bias_std_rads: 0.005,
             accel_range_mps2: None,
@@ -263,6 +279,9 @@ impl FootConfig {
         positive("accel_bias_walk", self.accel_bias_walk)?;
         positive("gyro_bias_walk", self.gyro_bias_walk)?;
         positive("zupt_noise_mps", self.zupt_noise_mps)?;
+        if let Some(g) = self.zupt_gate_nis {
+            positive("zupt_gate_nis", g)?;
+        }
         positive(
             "initial_accel_bias_std_mps2",
             self.initial_accel_bias_std_mps2,

@@ -252,14 +252,21 @@ impl Strapdown {
     }
 
     /// Zero-velocity update with measurement noise σ (m/s); feeds back what
-    /// `correction` says. Returns false (and changes nothing) if the innovation
+    /// `correction` says. An update whose normalised innovation squared exceeds
+    /// `gate_nis` has its innovation covariance inflated to meet it (the update pulls
+    /// part of the way). Returns false (and changes nothing) if the innovation
     /// covariance cannot be inverted. The covariance is left for
     /// [`condition`](Self::condition).
-    pub fn zupt(&mut self, sigma_mps: f64, correction: Correction) -> bool {
+    pub fn zupt(&mut self, sigma_mps: f64, gate_nis: Option<f64>, correction: Correction) -> bool {
         let r = sigma_mps * sigma_mps;
         let s = self.cov.fixed_view::<3, 3>(IV, IV) + Matrix3::from_diagonal_element(r);
         let Some(s_inv) = s.try_inverse() else {
             return false;
+        };
+        let nis = self.v.dot(&(s_inv * self.v));
+        let (s, s_inv) = match gate_nis {
+            Some(g) if nis > g => (s * (nis / g), s_inv * (g / nis)),
+            _ => (s, s_inv),
         };
         let k = self.cov.fixed_columns::<3>(IV) * s_inv; // 15 × 3
         let dx = k * self.v;

@@ -413,7 +413,7 @@ impl FootNavigator {
         let before = (ins.q, ins.p, ins.ba, ins.bg, ins.cov.diagonal());
         ins.propagate(&c.f, &c.w, dt_int, dt, &noise, interval_mean);
         if stance {
-            ins.zupt(zupt_sigma, correction);
+            ins.zupt(zupt_sigma, self.config.zupt_gate_nis, correction);
         }
         let cov_finite = ins.condition();
         if !(cov_finite && ins.state_is_finite())

@@ -552,3 +552,55 @@ fn adaptive_shoe_threshold_follows_the_gait() {
         assert!(FootNavigator::new(c).is_err(), "exponent {bad}");
     }
 }
+
+/// A stance called in the middle of a swing (a detector's glitch, a bad label) says
+/// the foot is still while the filter's velocity and its uncertainty say it moves at
+/// metres per second. Taken at face value, each such update stops the foot in the
+/// air and shortens the stride; bounded by `zupt_gate_nis`, it pulls only a little,
+/// while the true stances (small innovations) are untouched.
+#[test]
+fn a_stance_called_mid_swing_cannot_stop_the_foot() {
+    let sim = simulate_foot(&FootScenario::walk(1, 2));
+    // The true stance, and 6 samples (30 ms) called stance in the middle of each swing.
+    let mut labels: Vec<bool> = sim.truth.iter().map(|t| t.stance).collect();
+    let mut k = 0;
+    while k < labels.len() {
+        if labels[k] {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        while k < labels.len() && !labels[k] {
+            k += 1;
+        }
+        let mid = (start + k) / 2;
+        if k - start > 20 && k < labels.len() {
+            labels[mid - 3..mid + 3].fill(true);
+        }
+    }
+    let run = |gate: Option<f64>| {
+        let mut nav = FootNavigator::new(FootConfig {
+            zupt_gate_nis: gate,
+            ..FootConfig::default()
+        })
+        .unwrap();
+        let mut est = Vec::new();
+        for (s, &stance) in sim.samples.iter().zip(&labels) {
+            est.extend(nav.push_with_stance(s, stance).unwrap());
+        }
+        assert_finite(&est);
+        est.last().map(|e| e.distance_m).unwrap()
+    };
+    let truth = sim.distance_m;
+    let bounded = run(FootConfig::default().zupt_gate_nis);
+    let face_value = run(None);
+    eprintln!("distance {truth:.1} m: bounded {bounded:.1} m, at face value {face_value:.1} m");
+    assert!(
+        (bounded - truth).abs() < 0.03 * truth,
+        "bounded: {bounded} m of {truth} m"
+    );
+    assert!(
+        (face_value - truth).abs() > 3.0 * (bounded - truth).abs(),
+        "at face value {face_value} m, bounded {bounded} m, true {truth} m"
+    );
+}

@@ -166,6 +166,7 @@ pub fn methods() -> Vec<Method> {
             config: FootConfig {
                 detector: ZeroVelocityDetector::Shoe(ShoeDetector::default()),
                 correction: Correction::AsPublished,
+                zupt_gate_nis: None,
                 ..base_config()
             },
             labels: None,

@@ -4,9 +4,10 @@ use super::*;
 
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
-/// Version 3: the input layer's time state ([`TimeGuard`]) replaces the last time
-/// (version 2 added `FootConfig::gyro_timing` and the adaptive SHOE detector).
-const SNAPSHOT_VERSION: u16 = 3;
+/// Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
+/// ([`TimeGuard`]) replaces the last time (version 2 added `FootConfig::gyro_timing`
+/// and the adaptive SHOE detector).
+const SNAPSHOT_VERSION: u16 = 4;
 
 fn write_body(w: &mut Writer, s: &BodySample) {
     w.f64(s.t_s);
@@ -71,6 +72,7 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
         accel_bias_walk,
         gyro_bias_walk,
         zupt_noise_mps,
+        zupt_gate_nis,
         initial_accel_bias_std_mps2,
         initial_gyro_bias_std_rads,
         accel_range_mps2,
@@ -107,6 +109,8 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
         GyroTiming::Instantaneous => 0,
         GyroTiming::IntervalMean => 1,
     });
+    // Version 4.
+    w.opt_f64(*zupt_gate_nis);
     let fixed = |w: &mut Writer, t: &FixedThresholds| {
         let FixedThresholds {
             acc_dev_mps2,
@@ -212,6 +216,7 @@ fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
         1 => GyroTiming::IntervalMean,
         _ => return Err(SnapshotError::Invalid("gyro timing").into()),
     };
+    let zupt_gate_nis = r.opt_f64()?;
     let fixed = |r: &mut Reader| -> Result<FixedThresholds, SnapshotError> {
         let mut t = [0.0; 4];
         r.f64s(&mut t)?;
@@ -299,6 +304,7 @@ fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
         accel_bias_walk: v[6],
         gyro_bias_walk: v[7],
         zupt_noise_mps: v[8],
+        zupt_gate_nis,
         initial_accel_bias_std_mps2: v[9],
         initial_gyro_bias_std_rads: v[10],
         accel_range_mps2,

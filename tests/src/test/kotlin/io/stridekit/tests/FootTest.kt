@@ -285,6 +285,10 @@ class FootTest {
         val even = assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(medianWindow = 4)) }
         assertEquals("median_window", even.field)
         assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(zuptNoiseMps = -1.0)) }
+        // Zero-velocity updates bounded at a normalised innovation of 100 by default; null: the paper's face value.
+        assertEquals(100.0, footConfigDefault().zuptGateNis)
+        assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(zuptGateNis = 0.0)) }
+        FootNavigator(footConfigDefault().copy(zuptGateNis = null)).use { assertEquals(null, it.config().zuptGateNis) }
         assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(maxGapS = Double.NaN)) }
         val mirror = assertFailsWith<FootException.InvalidConfig> {
             FootNavigator(footConfigDefault().copy(axisRemap = footAxesPyshoe().copy(negateZ = false)))
