@@ -41,6 +41,9 @@
 //!    - a period under `running_interval_s` (running cadence) needs a median amplitude
 //!      of at least `running_min_amplitude_mps2` (running shakes the body well over 1 g;
 //!      small peaks at that rate are double bumps of a slow walk);
+//!    - the phone held one way: the direction of the acceleration low-passed over about
+//!      a stride (gravity in the sensor frame) within 45° of the newest candidate's at
+//!      every candidate (putting the phone away turns it further);
 //!    - a median *impact ratio* ≥ `min_impact_ratio`: RMS of the raw magnitude above
 //!      8 Hz (second-order high-pass) over the step, divided by the step amplitude.
 //!      Heel strikes put energy above 8 Hz; smooth periodic motion without impacts
@@ -50,7 +53,8 @@
 //!
 //!    On confirmation the k checked candidates are released as steps, and older
 //!    buffered ones only as far as they chain back with step-like intervals (0.5–2.4
-//!    periods): the irregular peaks of handling the phone before walking are dropped.
+//!    periods) and the phone held as in the bout: the irregular peaks of handling the
+//!    phone before walking are dropped.
 //!    If the previous bout ended by losing its periodicity (not by silence: candidates
 //!    kept coming, no interval over `max_step_interval_s`) at most 6 s earlier and the
 //!    new cadence is within ±30 % of the old one, the person walked on (a turn, the phone
@@ -162,11 +166,11 @@ const SHORT_WALK_AMPLITUDE: f64 = 2.0;
 /// How the phone is held: the direction of the acceleration low-passed with this time
 /// constant (about one stride, so the swing of a stride averages out), s.
 const CARRY_TAU_S: f64 = 1.0;
-/// A candidate buffered before a bout chains back to it only if the phone was held
-/// within 45° of how it is held in the bout (cosine): the irregular peaks of putting
-/// the phone into a pocket or bag turn it further than that, the swing of a walk in a
-/// pocket, a bag or a hand does not (a stride's ±30° thigh or arm swing is averaged
-/// over the stride).
+/// A bout is confirmed only if its checked candidates, and buffered older ones chain
+/// back to it only if they, have the phone held within 45° of how it is held at the
+/// newest checked candidate (cosine): the irregular peaks of putting the phone into a
+/// pocket or bag turn it further than that, the swing of a walk in a pocket, a bag or
+/// a hand does not (a stride's ±30° thigh or arm swing is averaged over the stride).
 const CARRY_MIN_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
 fn unit(v: [f64; 3]) -> [f64; 3] {
