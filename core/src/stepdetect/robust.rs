@@ -56,9 +56,9 @@
 //!    periods) and the phone held as in the bout: the irregular peaks of handling the
 //!    phone before walking are dropped.
 //!    If the previous bout ended by losing its periodicity (not by silence: candidates
-//!    kept coming, no interval over `max_step_interval_s`) at most 6 s earlier and the
+//!    kept coming, no interval over `max_step_interval_s`) at most 10 s earlier and the
 //!    new cadence is within ±30 % of the old one, the person walked on (a turn, the phone
-//!    handled while walking): the steps of the gap are filled at the cadence (≤ 12).
+//!    handled while walking): the steps of the gap are filled at the cadence (≤ 24).
 //! 5. **In a bout** each candidate is a step unless it comes sooner than
 //!    `refractory` × the step period (a double peak of one step); a gap of 1.6–2.4
 //!    periods means one weak step was missed and it is filled at the midpoint; a gap
@@ -146,10 +146,12 @@ const PERIOD_LOCK_MAX: f64 = 1.45;
 /// A bout that ended by losing its periodicity (not by silence) and is followed within
 /// this time by a bout at a cadence within ±30 % of it, with candidates arriving all
 /// through the gap (the phone kept moving), is one walk: the steps in the gap (a turn,
-/// the phone handled while walking) are filled at the cadence, s.
-const FILL_MAX_GAP_S: f64 = 6.0;
-/// Most steps filled into one gap.
-const FILL_MAX_STEPS: usize = 12;
+/// the phone handled while walking: a message read on the way) are filled at the
+/// cadence, s. (6 s until 2026-12-03: a purse walk at 50 Hz with jittered timestamps
+/// lost 14 steps to a 6.3 s gap.)
+const FILL_MAX_GAP_S: f64 = 10.0;
+/// Most steps filled into one gap (10 s at 2.4 steps/s).
+const FILL_MAX_STEPS: usize = 24;
 
 /// A run of at least this many regular candidates that ended in silence before it
 /// could be confirmed (a few steps, then a stop: reaching a door, a shop window, a
