@@ -70,8 +70,9 @@
 //!    period (a run of missed or extra peaks) it is reset to that period.
 //! 6. **Dropped samples.** Input gaps up to [`MAX_INPUT_GAP_S`] (a busy phone drops
 //!    samples in bursts) are bridged by the grid's interpolation; when the next step of
-//!    a bout comes after such a gap, the steps of the gap are counted at the cadence
-//!    (the walker did not stop because the phone did). Longer gaps restart the
+//!    a bout comes after such gaps, and what was seen of the interval (the interval
+//!    minus the time the gaps hid) is shorter than 2.5 periods, the steps of the gaps
+//!    are counted at the cadence (the walker did not stop because the phone did). Longer gaps restart the
 //!    detector (the app was paused).
 //!
 //! Step features (duration, variance, max, min of the raw magnitude) are taken over
@@ -483,6 +484,8 @@ pub(crate) struct RobustDetector {
     prev_interval_s: f64,
     /// Time of the last accepted candidate (pending or emitted), NaN if none.
     last_t_s: f64,
+    /// Input gaps (spacings over [`DATA_GAP_S`]) since then, total s.
+    missing_s: f64,
     hf_sum_sq: f64,
     hf_n: f64,
     /// Low-pass states of the impact high-pass sections.
@@ -492,8 +495,9 @@ pub(crate) struct RobustDetector {
     /// Last step and period of the bout that ended most recently (NaN if none).
     bout_end_t_s: f64,
     bout_end_period_s: f64,
-    /// End of the most recent gap in the input data (NaN if none).
+    /// End of the most recent gap in the input data (NaN if none) and its length, s.
     data_gap_end_t_s: f64,
+    data_gap_s: f64,
     /// Step period from the signal's autocorrelation.
     gait: GaitPeriod,
 }
@@ -526,6 +530,7 @@ impl RobustDetector {
             period_s: f64::NAN,
             prev_interval_s: f64::NAN,
             last_t_s: f64::NAN,
+            missing_s: 0.0,
             hf_sum_sq: 0.0,
             hf_n: 0.0,
             hp: [0.0; 2],
@@ -533,6 +538,7 @@ impl RobustDetector {
             bout_end_t_s: f64::NAN,
             bout_end_period_s: f64::NAN,
             data_gap_end_t_s: f64::NAN,
+            data_gap_s: 0.0,
             gait: GaitPeriod::new(),
         }
     }
@@ -564,6 +570,8 @@ impl RobustDetector {
         }
         if dt > DATA_GAP_S {
             self.data_gap_end_t_s = t_s;
+            self.data_gap_s = dt;
+            self.missing_s += dt;
         }
         let c = super::ema_gain(dt / CARRY_TAU_S);
         for (s, v) in self.carry.iter_mut().zip(accel_mps2) {
@@ -740,9 +748,12 @@ impl RobustDetector {
             }
             let gap_end = p.max_step_interval_s.max(2.5 * self.period_s);
             // Samples were dropped since the previous step (a busy phone): the walk
-            // went on through the gap, its steps are counted at the cadence.
+            // went on through the gap, its steps are counted at the cadence. Several
+            // gaps close together count by the time they hid: what was seen of the
+            // interval must be short of a step-less stretch (2.5 periods).
             let across_gap = self.data_gap_end_t_s > self.last_t_s
-                && interval <= MAX_INPUT_GAP_S + 2.5 * self.period_s;
+                && interval <= 2.5 * self.period_s + self.missing_s.max(MAX_INPUT_GAP_S)
+                && interval <= FILL_MAX_GAP_S;
             // While a bridged gap is inside the correlation window (the interpolated
             // stretch is not periodic, the walk may well be), steps that keep coming
             // at the cadence continue the bout.
@@ -778,6 +789,7 @@ impl RobustDetector {
                     self.follow_period(interval, true);
                 }
                 self.last_t_s = t_s;
+                self.missing_s = self.missing_after(t_s);
                 self.amplitude_ref_mps2 += AMPLITUDE_GAIN * (amplitude - self.amplitude_ref_mps2);
                 return;
             }
@@ -812,6 +824,7 @@ impl RobustDetector {
             amplitude
         };
         self.last_t_s = t_s;
+        self.missing_s = self.missing_after(t_s);
         self.try_confirm(out);
     }
 
@@ -841,6 +854,17 @@ impl RobustDetector {
         let half_steps = self.acf(period) < super::gait::HALF_LAG_ANTI;
         (period > 0.0 && !half_steps && self.periodic(period, self.p.min_periodicity))
             .then_some(period)
+    }
+
+    /// Time the input has been missing since `t_s`, a candidate's time (it is
+    /// processed a little after its peak, when a gap may already have begun).
+    fn missing_after(&self, t_s: f64) -> f64 {
+        let gap_start = self.data_gap_end_t_s - self.data_gap_s;
+        if self.data_gap_end_t_s > t_s {
+            self.data_gap_end_t_s - gap_start.max(t_s)
+        } else {
+            0.0
+        }
     }
 
     /// Follow the bout's step period with a new step interval (`measured`: between
@@ -1118,6 +1142,7 @@ impl RobustDetector {
             self.period_s,
             self.prev_interval_s,
             self.last_t_s,
+            self.missing_s,
             self.hf_sum_sq,
             self.hf_n,
             self.hp[0],
@@ -1126,6 +1151,7 @@ impl RobustDetector {
             self.bout_end_t_s,
             self.bout_end_period_s,
             self.data_gap_end_t_s,
+            self.data_gap_s,
         ]);
         self.gait.write(w);
     }
@@ -1202,6 +1228,7 @@ impl RobustDetector {
         d.period_s = r.f64_or_nan()?;
         d.prev_interval_s = r.f64_or_nan()?;
         d.last_t_s = r.f64_or_nan()?;
+        d.missing_s = r.f64_in(0.0, 2.0 * T, "step detector missing time")?;
         d.hf_sum_sq = r.f64()?;
         d.hf_n = r.f64()?;
         d.hp = [
@@ -1213,6 +1240,7 @@ impl RobustDetector {
         d.bout_end_period_s = r.f64_or_nan()?;
         // NaN before the first gap in the data.
         d.data_gap_end_t_s = r.f64_or_nan()?;
+        d.data_gap_s = r.f64_in(0.0, MAX_INPUT_GAP_S, "step detector gap")?;
         d.gait = GaitPeriod::read(r)?;
         let period_ok = |p: f64| p.is_nan() || (0.0..=60.0).contains(&p);
         let time_ok = |t: f64| t.is_nan() || t.abs() <= T;
