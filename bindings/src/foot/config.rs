@@ -434,7 +434,7 @@ pub struct FootConfig {
     /// Largest normalised innovation squared (3 degrees of freedom) at which a
     /// zero-velocity update is taken at face value; beyond it the update is inflated
     /// to meet it and pulls part of the way (a stance called in a swing cannot yank
-    /// the track). Null: every update at face value (the paper). Default 100.
+    /// the track). Null: every update at face value (the paper). Default 100; at least 1.
     #[uniffi(default = Some(100.0))]
     pub zupt_gate_nis: Option<f64>,
     /// Initial 1-σ of the accelerometer bias, m/s².
@@ -455,6 +455,15 @@ pub struct FootConfig {
     /// Shortest swing that ends a stride at the next stance onset, s.
     #[uniffi(default = 0.1)]
     pub min_swing_s: f64,
+    /// Rotation of the accelerometer's axes onto the gyroscope's, a rotation vector in
+    /// the body frame (x, y, z components), rad, each within ±0.1: a device calibration
+    /// (`stridekit calibrate foot` learns it from a level walk; docs/foot.md). Default 0.
+    #[uniffi(default = 0.0)]
+    pub accel_alignment_x_rad: f64,
+    #[uniffi(default = 0.0)]
+    pub accel_alignment_y_rad: f64,
+    #[uniffi(default = 0.0)]
+    pub accel_alignment_z_rad: f64,
 }
 
 impl From<core::FootConfig> for FootConfig {
@@ -482,6 +491,9 @@ impl From<core::FootConfig> for FootConfig {
             gyro_range_rads: c.gyro_range_rads,
             max_gap_s: c.max_gap_s,
             min_swing_s: c.min_swing_s,
+            accel_alignment_x_rad: c.accel_alignment_rad[0],
+            accel_alignment_y_rad: c.accel_alignment_rad[1],
+            accel_alignment_z_rad: c.accel_alignment_rad[2],
         }
     }
 }
@@ -512,6 +524,11 @@ impl TryFrom<FootConfig> for core::FootConfig {
             gyro_range_rads: c.gyro_range_rads,
             max_gap_s: c.max_gap_s,
             min_swing_s: c.min_swing_s,
+            accel_alignment_rad: [
+                c.accel_alignment_x_rad,
+                c.accel_alignment_y_rad,
+                c.accel_alignment_z_rad,
+            ],
         })
     }
 }

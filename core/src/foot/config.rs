@@ -90,7 +90,7 @@ pub struct FootConfig {
     /// not hold): the update's innovation covariance is inflated to meet the bound, so
     /// the update pulls part of the way; repeated over the samples of a true stance it
     /// still brings the velocity to zero. `None`: every update at face value (the
-    /// paper). Default [`ZUPT_GATE_NIS`].
+    /// paper). Default [`ZUPT_GATE_NIS`]; at least 1.
     pub zupt_gate_nis: Option<f64>,
     /// Initial 1-σ of the accelerometer and gyroscope biases.
     pub initial_accel_bias_std_mps2: f64,
@@ -104,7 +104,21 @@ pub struct FootConfig {
     pub max_gap_s: f64,
     /// Shortest swing that ends a stride at the next stance onset, s.
     pub min_swing_s: f64,
+    /// Rotation of the accelerometer's axes onto the gyroscope's (the body frame), as a
+    /// rotation vector in the body frame, rad: the specific force used is
+    /// `exp([α×]) · f` after [`axis_remap`](Self::axis_remap). A device calibration,
+    /// zero by default: consumer IMUs can have their accelerometer and gyroscope
+    /// triads misaligned by a degree or more, which tips the swing's forward
+    /// acceleration into the vertical (the height climbs at every stride) while the
+    /// velocity at the next stance is back to zero, so no zero-velocity update sees
+    /// it. Learn it from a level walk with `stridekit calibrate foot` (docs/foot.md).
+    /// Each component within ±[`MAX_ACCEL_ALIGNMENT_RAD`].
+    pub accel_alignment_rad: [f64; 3],
 }
+
+/// Largest accelerometer-to-gyroscope alignment component accepted, rad (≈ 5.7°: a
+/// misalignment beyond that is a mounting, to be set with the axis remap).
+pub const MAX_ACCEL_ALIGNMENT_RAD: f64 = 0.1;
 
 impl Default for FootConfig {
     fn default() -> Self {
@@ -131,6 +145,7 @@ impl Default for FootConfig {
             gyro_range_rads: None,
             max_gap_s: 0.1,
             min_swing_s: 0.1,
+            accel_alignment_rad: [0.0; 3],
         }
     }
 }
@@ -280,7 +295,14 @@ impl FootConfig {
         positive("gyro_bias_walk", self.gyro_bias_walk)?;
         positive("zupt_noise_mps", self.zupt_noise_mps)?;
         if let Some(g) = self.zupt_gate_nis {
-            positive("zupt_gate_nis", g)?;
+            // A bound under 1 would inflate nearly every update by orders of magnitude
+            // (the mean NIS of a consistent update is 3); a tiny one overflows.
+            if !(g.is_finite() && g >= 1.0) {
+                return Err(FootError::InvalidConfig {
+                    field: "zupt_gate_nis",
+                    reason: "must be finite and at least 1",
+                });
+            }
         }
         positive(
             "initial_accel_bias_std_mps2",
@@ -301,6 +323,16 @@ impl FootConfig {
             return Err(FootError::InvalidConfig {
                 field: "min_swing_s",
                 reason: "must be finite and ≥ 0",
+            });
+        }
+        if !self
+            .accel_alignment_rad
+            .iter()
+            .all(|a| a.abs() <= MAX_ACCEL_ALIGNMENT_RAD)
+        {
+            return Err(FootError::InvalidConfig {
+                field: "accel_alignment_rad",
+                reason: "each component must be finite and within ±0.1 rad",
             });
         }
         self.detector.validate()

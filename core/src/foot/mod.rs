@@ -14,7 +14,7 @@ mod navigator;
 mod svm;
 mod types;
 
-pub use config::{Correction, FootConfig, GyroTiming, ZUPT_GATE_NIS};
+pub use config::{Correction, FootConfig, GyroTiming, MAX_ACCEL_ALIGNMENT_RAD, ZUPT_GATE_NIS};
 pub use detect::{
     AdaptiveShoe, AdaptiveThresholds, FixedThresholds, Gait, ShoeDetector, SvmAdaptive,
     WindowStats, ZeroVelocityDetector,

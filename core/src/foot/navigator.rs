@@ -59,6 +59,30 @@ const MAX_GYRO_BIAS_RADS: f64 = 1.0;
 /// A sample a batch push rejected, with its index in the batch.
 pub type FootRejection = crate::batch::Rejected<FootError>;
 
+/// `exp([α×]) · v` (Rodrigues), `v` itself when `α` is zero (the default: no cost).
+fn align(alpha: &[f64; 3], v: [f64; 3]) -> [f64; 3] {
+    if alpha == &[0.0; 3] {
+        return v;
+    }
+    let a = Vector3::from(*alpha);
+    let v = Vector3::from(v);
+    // sin θ / θ and (1 − cos θ) / θ² = ½ (sin(θ/2) / (θ/2))², by series near 0 (a
+    // denormal angle must not divide 0 by 0).
+    let sinc = |x: f64| {
+        if x < 1e-4 {
+            1.0 - x * x / 6.0
+        } else {
+            x.sin() / x
+        }
+    };
+    let th = a.norm();
+    let k1 = sinc(th);
+    let h = sinc(0.5 * th);
+    let k2 = 0.5 * h * h;
+    let axv = a.cross(&v);
+    (v + axv * k1 + a.cross(&axv) * k2).into()
+}
+
 #[derive(Clone, Debug, Default, PartialEq)]
 struct Alignment {
     n: u64,
@@ -200,7 +224,10 @@ impl FootNavigator {
         let mean = self.check_inner(s)?;
         self.time.accept(s.t_s);
         self.units.accept(mean);
-        let f = self.config.axis_remap.apply(s.accel_mps2);
+        let f = align(
+            &self.config.accel_alignment_rad,
+            self.config.axis_remap.apply(s.accel_mps2),
+        );
         let w = self.config.axis_remap.apply(s.gyro_rads);
         let saturated = saturated(&s.accel_mps2, self.config.accel_range_mps2)
             || saturated(&s.gyro_rads, self.config.gyro_range_rads);

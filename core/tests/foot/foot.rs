@@ -604,3 +604,88 @@ fn a_stance_called_mid_swing_cannot_stop_the_foot() {
         "at face value {face_value} m, bounded {bounded} m, true {truth} m"
     );
 }
+
+/// `v` turned by the rotation vector `a` (Rodrigues).
+fn rotate(a: [f64; 3], v: [f64; 3]) -> [f64; 3] {
+    let r = nalgebra::Rotation3::new(nalgebra::Vector3::from(a));
+    (r * nalgebra::Vector3::from(v)).into()
+}
+
+/// A walk whose accelerometer is turned against the gyroscope by `misalign` (rotation
+/// vector, body axes).
+fn misaligned_walk(misalign: [f64; 3]) -> SimulatedFoot {
+    let mut sim = simulate_foot(&FootScenario::walk(11, 2));
+    let back = [-misalign[0], -misalign[1], -misalign[2]];
+    for s in &mut sim.samples {
+        s.accel_mps2 = rotate(back, s.accel_mps2);
+    }
+    sim
+}
+
+#[test]
+fn the_accelerometer_alignment_undoes_a_misaligned_accelerometer() {
+    let misalign = [0.004, 0.021, -0.006];
+    let clean = simulate_foot(&FootScenario::walk(11, 2));
+    let turned = misaligned_walk(misalign);
+    let (_, reference) = replay(&clean, FootConfig::default());
+    let (_, uncorrected) = replay(&turned, FootConfig::default());
+    let config = FootConfig {
+        accel_alignment_rad: misalign,
+        ..FootConfig::default()
+    };
+    let (nav, corrected) = replay(&turned, config.clone());
+    assert_eq!(nav.config().accel_alignment_rad, misalign);
+    // The configured alignment gives back the aligned IMU's track (to rounding) ...
+    assert_eq!(corrected.len(), reference.len());
+    for (a, b) in corrected.iter().zip(&reference) {
+        for k in 0..3 {
+            assert!(
+                (a.position_m[k] - b.position_m[k]).abs() < 1e-6,
+                "{a:?} vs {b:?}"
+            );
+        }
+        assert_eq!(a.stance, b.stance);
+    }
+    // ... where the misaligned one drifted in height (the swing's forward acceleration
+    // read partly as vertical).
+    let dz = |e: &[FootEstimate]| e.last().unwrap().position_m[2] - e[0].position_m[2];
+    assert!(
+        dz(&uncorrected).abs() > 5.0 * dz(&reference).abs().max(0.01),
+        "height drift misaligned {} vs aligned {}",
+        dz(&uncorrected),
+        dz(&reference)
+    );
+    // The snapshot keeps it.
+    let restored = FootNavigator::restore(&nav.snapshot()).unwrap();
+    assert_eq!(restored.config(), &config);
+}
+
+#[test]
+fn an_accelerometer_alignment_out_of_range_is_a_typed_error() {
+    for a in [
+        [0.0, 0.2, 0.0],
+        [f64::NAN, 0.0, 0.0],
+        [0.0, 0.0, -f64::INFINITY],
+    ] {
+        let e = FootNavigator::new(FootConfig {
+            accel_alignment_rad: a,
+            ..FootConfig::default()
+        })
+        .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                FootError::InvalidConfig {
+                    field: "accel_alignment_rad",
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+    }
+    assert!(FootNavigator::new(FootConfig {
+        accel_alignment_rad: [0.1, -0.1, 0.05],
+        ..FootConfig::default()
+    })
+    .is_ok());
+}

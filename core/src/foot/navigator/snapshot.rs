@@ -4,10 +4,10 @@ use super::*;
 
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
-/// Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
+/// Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
 /// ([`TimeGuard`]) replaces the last time (version 2 added `FootConfig::gyro_timing`
 /// and the adaptive SHOE detector).
-const SNAPSHOT_VERSION: u16 = 4;
+const SNAPSHOT_VERSION: u16 = 5;
 
 fn write_body(w: &mut Writer, s: &BodySample) {
     w.f64(s.t_s);
@@ -79,6 +79,7 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
         gyro_range_rads,
         max_gap_s,
         min_swing_s,
+        accel_alignment_rad,
     } = c;
     axis_remap.write(w);
     w.u64(*median_window as u64);
@@ -111,6 +112,8 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
     });
     // Version 4.
     w.opt_f64(*zupt_gate_nis);
+    // Version 5.
+    w.f64s(accel_alignment_rad);
     let fixed = |w: &mut Writer, t: &FixedThresholds| {
         let FixedThresholds {
             acc_dev_mps2,
@@ -217,6 +220,8 @@ fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
         _ => return Err(SnapshotError::Invalid("gyro timing").into()),
     };
     let zupt_gate_nis = r.opt_f64()?;
+    let mut accel_alignment_rad = [0.0; 3];
+    r.f64s(&mut accel_alignment_rad)?;
     let fixed = |r: &mut Reader| -> Result<FixedThresholds, SnapshotError> {
         let mut t = [0.0; 4];
         r.f64s(&mut t)?;
@@ -311,6 +316,7 @@ fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
         gyro_range_rads,
         max_gap_s: v[11],
         min_swing_s: v[12],
+        accel_alignment_rad,
     })
 }
 

@@ -289,6 +289,12 @@ class FootTest {
         assertEquals(100.0, footConfigDefault().zuptGateNis)
         assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(zuptGateNis = 0.0)) }
         FootNavigator(footConfigDefault().copy(zuptGateNis = null)).use { assertEquals(null, it.config().zuptGateNis) }
+        // The accelerometer-to-gyroscope alignment (a device calibration): zero by default, within ±0.1 rad.
+        assertEquals(0.0, footConfigDefault().accelAlignmentYRad)
+        val aligned = footConfigDefault().copy(accelAlignmentYRad = 0.021)
+        FootNavigator(aligned).use { assertEquals(aligned, it.config()) }
+        val tooFar = assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(accelAlignmentXRad = 0.2)) }
+        assertEquals("accel_alignment_rad", tooFar.field)
         assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(maxGapS = Double.NaN)) }
         val mirror = assertFailsWith<FootException.InvalidConfig> {
             FootNavigator(footConfigDefault().copy(axisRemap = footAxesPyshoe().copy(negateZ = false)))
