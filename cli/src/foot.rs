@@ -32,6 +32,10 @@ use stridekit_formats::{read_foot_csv, FootFormat};
 use stridekit_lab::foot::eval::{align, replay_counted, Method, Trial};
 use stridekit_lab::report::{line_chart, track_chart, Chart, Series, Style};
 
+/// `calibrate foot`: walks fitted alone that disagree by more than this, degrees,
+/// get a warning (x-io's two NGIMU walks: 0.3°; the UofT MicroStrain's sessions: 1.1°).
+const DISAGREE_DEG: f64 = 0.5;
+
 /// Plots keep at most about this many points per series (the CSV keeps all).
 const PLOT_POINTS: usize = 4000;
 
@@ -70,6 +74,8 @@ pub struct FootArgs {
     /// Sensor axes spec (`frd`, `flu`, `x,-y,-z`, …).
     pub axes: Option<String>,
     pub imu: Option<ImuProfile>,
+    /// A device calibration written by `stridekit calibrate foot`.
+    pub calibration: Option<PathBuf>,
 }
 
 /// The navigator configuration for a recording of `format` under `args`, and a
@@ -89,20 +95,133 @@ pub fn config_for(args: &FootArgs, format: FootFormat) -> Result<(FootConfig, St
             "default for this layout"
         }
     };
-    let text = format!(
+    let mut text = format!(
         "{}, axes {spec} ({}), IMU profile {} ({})",
         format.name(),
         how(args.axes.is_some()),
         imu.name(),
         how(args.imu.is_some()),
     );
-    Ok((
-        FootConfig {
-            axis_remap,
-            ..imu.config()
-        },
-        text,
-    ))
+    let mut config = FootConfig {
+        axis_remap,
+        ..imu.config()
+    };
+    if let Some(path) = &args.calibration {
+        let a = read_calibration(path)?;
+        config.accel_alignment_rad = a;
+        text += &format!(
+            ", accelerometer alignment ({:.2}°, {:.2}°, {:.2}°) from {}",
+            a[0].to_degrees(),
+            a[1].to_degrees(),
+            a[2].to_degrees(),
+            path.display()
+        );
+    }
+    Ok((config, text))
+}
+
+/// The alignment of a foot calibration file (`stridekit calibrate foot`).
+pub fn read_calibration(path: &Path) -> Result<[f64; 3], String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    stridekit_lab::foot::alignment::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// `stridekit calibrate foot`: learn the accelerometer alignment from level walks,
+/// write the calibration file, and return the report.
+pub fn calibrate(
+    files: &[PathBuf],
+    out: &Path,
+    axes: Option<String>,
+    imu: Option<ImuProfile>,
+) -> Result<String, String> {
+    let mut walks = Vec::new();
+    let mut config: Option<FootConfig> = None;
+    let mut report = String::new();
+    for file in files {
+        let rec = read_foot_csv(file).map_err(|e| format!("{}: {e}", file.display()))?;
+        let args = FootArgs {
+            axes: axes.clone(),
+            imu,
+            ..Default::default()
+        };
+        let (c, described) = config_for(&args, rec.format)?;
+        if config.as_ref().is_some_and(|k| *k != c) {
+            return Err(format!(
+                "{}: another layout than the first file (give --axes and --imu)",
+                file.display()
+            ));
+        }
+        report += &format!("{}: {described}\n", file.display());
+        let samples: Vec<stridekit_core::foot::FootSample> = (0..rec.len())
+            .map(|i| stridekit_core::foot::FootSample {
+                t_s: rec.t_s[i],
+                accel_mps2: rec.accel_mps2[i],
+                gyro_rads: rec.gyro_rads[i],
+            })
+            .collect();
+        walks.push((rec.name.clone(), samples));
+        config = Some(c);
+    }
+    let config = config.ok_or("no walk given")?;
+    let fit = stridekit_lab::foot::alignment::learn(&config, &walks)?;
+    let a = fit.alignment_rad;
+    report += &format!(
+        "accelerometer alignment (rotation vector, body axes x forward, y left, z up; \
+         the angle about y fitted): ({:.3}°, {:.3}°, {:.3}°), {} iterations\n",
+        a[0].to_degrees(),
+        a[1].to_degrees(),
+        a[2].to_degrees(),
+        fit.iterations
+    );
+    report += "| walk | stance-to-stance steps | distance | RMS height change per step, before → after | height end − start | 3-D end − start |\n|---|---|---|---|---|---|\n";
+    for w in &fit.walks {
+        let pct = |x: f64| 100.0 * x / w.distance_m.max(1e-9);
+        report += &format!(
+            "| {} | {} | {:.2} m | {:.1} → {:.1} mm | {:+.3} → {:+.3} m | {:.2} → {:.2} % |\n",
+            w.name,
+            w.steps,
+            w.distance_m,
+            1e3 * w.rms_before_m,
+            1e3 * w.rms_after_m,
+            w.height_before_m,
+            w.height_after_m,
+            pct(w.closure_before_m),
+            pct(w.closure_after_m),
+        );
+    }
+    if walks.len() > 1 {
+        // Each walk alone: a device constant agrees between walks; when the angles
+        // scatter, the height error is not (only) this alignment.
+        let mut alone = Vec::new();
+        for w in &walks {
+            let f = stridekit_lab::foot::alignment::learn(&config, std::slice::from_ref(w))?;
+            report += &format!("  {} alone: {:.3}°\n", w.0, f.alignment_rad[1].to_degrees());
+            alone.push(f.alignment_rad[1]);
+        }
+        let (lo, hi) = alone
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+                (l.min(v), h.max(v))
+            });
+        if (hi - lo).to_degrees() > DISAGREE_DEG {
+            report += &format!(
+                "warning: the walks alone disagree by {:.2}° (over {DISAGREE_DEG}°): their \
+                 height errors are not (only) a constant alignment of this IMU; check the \
+                 calibration on another level walk before using it\n",
+                (hi - lo).to_degrees()
+            );
+        }
+    }
+    let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+    let text = stridekit_lab::foot::alignment::to_text(
+        a,
+        &format!(
+            "accelerometer-to-gyroscope alignment learned by `stridekit calibrate foot` from the level walks:\n{}\naxes and IMU profile: as described when replaying with --calibration",
+            names.join("\n")
+        ),
+    );
+    std::fs::write(out, text).map_err(|e| format!("{}: {e}", out.display()))?;
+    Ok(report)
 }
 
 pub fn run(args: &FootArgs) -> Result<(), String> {
@@ -479,6 +598,51 @@ mod tests {
         // The command itself runs end to end.
         run(&args).unwrap();
         assert!(dir.join("walk_out.svg").exists());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// A level simulated walk whose accelerometer is turned 1.2° about the lateral
+    /// axis against the gyroscope, as an x-io export: `calibrate` learns the angle,
+    /// writes the file, and the replay with `--calibration` uses it.
+    #[test]
+    fn calibrate_learns_the_alignment_and_the_replay_loads_it() {
+        use stridekit_sim::{simulate_foot, FootScenario};
+        let truth = 0.021_f64;
+        let sim = simulate_foot(&FootScenario::walk(3, 1));
+        // Turned by −truth about y: x' = c·x − s·z, z' = s·x + c·z.
+        let (sn, c) = truth.sin_cos();
+        let dir = std::env::temp_dir().join(format!("stridekit-footcal-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("level.csv");
+        let mut text = String::from("Time (s),Gyroscope X (deg/s),Gyroscope Y (deg/s),Gyroscope Z (deg/s),Accelerometer X (g),Accelerometer Y (g),Accelerometer Z (g)\n");
+        for s in &sim.samples {
+            let w = s.gyro_rads.map(f64::to_degrees);
+            let f = s.accel_mps2;
+            let a = [c * f[0] - sn * f[2], f[1], sn * f[0] + c * f[2]].map(|v| v / 9.80665);
+            text += &format!(
+                "{:.9},{},{},{},{},{},{}\n",
+                s.t_s, w[0], w[1], w[2], a[0], a[1], a[2]
+            );
+        }
+        std::fs::write(&file, text).unwrap();
+        let cal = dir.join("imu.cal");
+        let report = calibrate(std::slice::from_ref(&file), &cal, None, None).unwrap();
+        assert!(report.contains("| level |"), "{report}");
+        let a = read_calibration(&cal).unwrap();
+        assert!((a[1] - truth).abs() < 0.003, "{a:?}");
+        let args = FootArgs {
+            file: file.clone(),
+            out: dir.join("out.csv"),
+            calibration: Some(cal.clone()),
+            ..Default::default()
+        };
+        let (config, described) = config_for(&args, FootFormat::Xio).unwrap();
+        assert_eq!(config.accel_alignment_rad, a);
+        assert!(described.contains("accelerometer alignment"), "{described}");
+        run(&args).unwrap();
+        std::fs::write(&cal, "not a calibration\n").unwrap();
+        let e = config_for(&args, FootFormat::Xio).unwrap_err();
+        assert!(e.contains("imu.cal"), "{e}");
         std::fs::remove_dir_all(&dir).ok();
     }
 

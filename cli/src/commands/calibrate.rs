@@ -26,6 +26,28 @@ pub enum Calibrate {
         #[arg(long, value_enum, default_value_t = Model::Pendulum)]
         model: Model,
     },
+    /// Learn a foot IMU's accelerometer alignment from level walks.
+    ///
+    /// Learn the rotation of a foot IMU's accelerometer axes against its gyroscope's
+    /// (a device calibration: a degree of it makes the height climb at every stride)
+    /// from one or more walks on level ground, each starting at rest, and write it
+    /// (versioned text); load it with `stridekit foot FILE --calibration FILE` or set
+    /// `FootConfig::accel_alignment_rad`. The walks must be level: the fit makes every
+    /// stance as high as the one before.
+    Foot {
+        /// Level walks with the IMU (pyshoe / UofT CSV or x-io NGIMU CSV).
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// The calibration file to write.
+        #[arg(long, value_name = "FILE")]
+        out: PathBuf,
+        /// Sensor axes spec, as for `stridekit foot`.
+        #[arg(long, value_name = "SPEC")]
+        axes: Option<String>,
+        /// The IMU profile, as for `stridekit foot`.
+        #[arg(long, value_enum)]
+        imu: Option<super::replay::Imu>,
+    },
 }
 
 /// Step-length models on the command line.
@@ -54,6 +76,18 @@ impl From<Model> for StepLengthModel {
 
 pub fn run(c: Calibrate) -> Result<(), String> {
     match c {
+        Calibrate::Foot {
+            files,
+            out,
+            axes,
+            imu,
+        } => {
+            let out = OutFile::prepare(&out, "")?;
+            let text = crate::foot::calibrate(&files, &out.path, axes, imu.map(Into::into))?;
+            print!("{text}");
+            eprintln!("{}", out.wrote());
+            Ok(())
+        }
         Calibrate::Pdr { data, out, model } => {
             let data = super::data_dir(data, "phone-indoor", "walks with waypoints")?;
             let out = OutFile::prepare(&out, "")?;

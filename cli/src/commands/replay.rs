@@ -142,12 +142,25 @@ pub struct FootArgs {
     /// consumer (gyro bias measured at the start rest; default otherwise).
     #[arg(long, value_enum)]
     pub imu: Option<Imu>,
+    /// A device calibration of this IMU written by `stridekit calibrate foot` (the
+    /// accelerometer-to-gyroscope alignment learned from a level walk).
+    #[arg(long, value_name = "FILE")]
+    pub calibration: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum Imu {
     Consumer,
     Calibrated,
+}
+
+impl From<Imu> for crate::foot::ImuProfile {
+    fn from(i: Imu) -> Self {
+        match i {
+            Imu::Consumer => Self::Consumer,
+            Imu::Calibrated => Self::Calibrated,
+        }
+    }
 }
 
 pub fn foot(a: FootArgs) -> Result<(), String> {
@@ -159,10 +172,8 @@ pub fn foot(a: FootArgs) -> Result<(), String> {
             .labels
             .map(|l| l.strip_prefix("zv_").map(str::to_string).unwrap_or(l)),
         axes: a.axes,
-        imu: a.imu.map(|i| match i {
-            Imu::Consumer => crate::foot::ImuProfile::Consumer,
-            Imu::Calibrated => crate::foot::ImuProfile::Calibrated,
-        }),
+        imu: a.imu.map(Into::into),
+        calibration: a.calibration,
     })?;
     eprintln!("{} (and the SVGs beside it)", out.wrote());
     Ok(())

@@ -2,6 +2,7 @@
 //! diagnosis and tuning, the leave-one-session-out split and the SVM zero-velocity
 //! trainer (`train zupt`) that produced the shipped model.
 
+pub mod alignment;
 pub mod diagnose;
 pub mod eval;
 pub mod sessions;
