@@ -221,7 +221,44 @@ pub fn calibrate(
         ),
     );
     std::fs::write(out, text).map_err(|e| format!("{}: {e}", out.display()))?;
+    let svg = out.with_extension("svg");
+    plot_stances(&svg, &fit)?;
+    report += &format!("stance heights before and after: {}\n", svg.display());
     Ok(report)
+}
+
+/// Every stance's height over time, per walk, with the starting alignment (dots) and
+/// the fitted one (line): a level walk's stances should lie on zero.
+fn plot_stances(path: &Path, fit: &stridekit_lab::foot::alignment::LevelFit) -> Result<(), String> {
+    let mut series = Vec::new();
+    for (i, w) in fit.walks.iter().enumerate() {
+        let c = stridekit_lab::report::PALETTE[i % stridekit_lab::report::PALETTE.len()];
+        series.push(Series {
+            name: format!("{} before", w.name),
+            points: w.stances_before.clone(),
+            color: Some(c),
+            style: Style::Points,
+        });
+        series.push(Series {
+            name: format!("{} calibrated", w.name),
+            points: w.stances_after.clone(),
+            color: Some(c),
+            style: Style::Line,
+        });
+    }
+    line_chart(
+        path,
+        &Chart {
+            title: "stance heights above the first stance (a level walk: 0)",
+            x_label: "time since the walk's start (s)",
+            y_label: "height (m)",
+            series: &series,
+            bands: &[],
+            y_range: None,
+            y_format: stridekit_lab::report::YFormat::Number,
+        },
+    )
+    .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 pub fn run(args: &FootArgs) -> Result<(), String> {
@@ -628,6 +665,7 @@ mod tests {
         let cal = dir.join("imu.cal");
         let report = calibrate(std::slice::from_ref(&file), &cal, None, None).unwrap();
         assert!(report.contains("| level |"), "{report}");
+        assert!(dir.join("imu.svg").exists());
         let a = read_calibration(&cal).unwrap();
         assert!((a[1] - truth).abs() < 0.003, "{a:?}");
         let args = FootArgs {

@@ -125,6 +125,10 @@ pub struct WalkFit {
     pub height_after_m: f64,
     pub closure_before_m: f64,
     pub closure_after_m: f64,
+    /// Each stance's time (s after the walk's first estimate) and mean height above
+    /// the first stance's (m): with the starting alignment, fitted.
+    pub stances_before: Vec<(f64, f64)>,
+    pub stances_after: Vec<(f64, f64)>,
 }
 
 /// The learned alignment.
@@ -258,6 +262,13 @@ pub fn learn(base: &FootConfig, walks: &[(String, Vec<FootSample>)]) -> Result<L
             let d: Vec<f64> = (0..3).map(|k| r.end_m[k] - r.start_m[k]).collect();
             (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
         };
+        let series = |r: &Replay| -> Vec<(f64, f64)> {
+            let h = heights(r, st);
+            st.iter()
+                .zip(&h)
+                .map(|(s, z)| (r.t_s[s.start] - r.t_s[0], z - h[0]))
+                .collect()
+        };
         fits.push(WalkFit {
             name: name.clone(),
             steps: st.len() - 1,
@@ -268,6 +279,8 @@ pub fn learn(base: &FootConfig, walks: &[(String, Vec<FootSample>)]) -> Result<L
             height_after_m: after.end_m[2] - after.start_m[2],
             closure_before_m: closure(b),
             closure_after_m: closure(&after),
+            stances_before: series(b),
+            stances_after: series(&after),
         });
     }
     Ok(LevelFit {
