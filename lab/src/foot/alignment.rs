@@ -104,8 +104,14 @@ fn stances(r: &Replay) -> Vec<Stance> {
 fn heights(r: &Replay, st: &[Stance]) -> Vec<f64> {
     st.iter()
         .map(|s| {
-            let z = &r.z_m[s.start..s.end.min(r.z_m.len())];
-            z.iter().sum::<f64>() / z.len().max(1) as f64
+            // The stances were found on another replay of the same samples: the same
+            // estimate indices (the alignment changes no rejection and no delay);
+            // guarded all the same.
+            let end = s.end.min(r.z_m.len());
+            match r.z_m.get(s.start..end) {
+                Some(z) if !z.is_empty() => z.iter().sum::<f64>() / z.len() as f64,
+                _ => f64::NAN,
+            }
         })
         .collect()
 }
