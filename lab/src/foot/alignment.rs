@@ -272,7 +272,12 @@ pub fn learn(base: &FootConfig, walks: &[(String, Vec<FootSample>)]) -> Result<L
             let h = heights(r, st);
             st.iter()
                 .zip(&h)
-                .map(|(s, z)| (r.t_s[s.start] - r.t_s[0], z - h[0]))
+                .map(|(s, z)| {
+                    (
+                        r.t_s.get(s.start).map_or(f64::NAN, |t| t - r.t_s[0]),
+                        z - h[0],
+                    )
+                })
                 .collect()
         };
         fits.push(WalkFit {
