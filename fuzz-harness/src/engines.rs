@@ -456,7 +456,13 @@ pub struct Foot {
 impl Engine for Foot {
     fn fresh() -> Self {
         Self {
-            e: FootNavigator::new(FootConfig::default()).expect("default config"),
+            // A small accelerometer alignment: the rotation at the door runs on every
+            // sample (zero, the default, skips it).
+            e: FootNavigator::new(FootConfig {
+                accel_alignment_rad: [0.01, 0.02, -0.015],
+                ..FootConfig::default()
+            })
+            .expect("valid config"),
             t: 0.0,
         }
     }
