@@ -29,7 +29,7 @@
 
 use std::sync::Arc;
 
-use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 use super::config::{Correction, FootConfig, GyroTiming, MAX_DETECTOR_WINDOW};
 use super::detect::{
@@ -59,13 +59,13 @@ const MAX_GYRO_BIAS_RADS: f64 = 1.0;
 /// A sample a batch push rejected, with its index in the batch.
 pub type FootRejection = crate::batch::Rejected<FootError>;
 
-/// `exp([α×]) · v` (Rodrigues), `v` itself when `α` is zero (the default: no cost).
-fn align(alpha: &[f64; 3], v: [f64; 3]) -> [f64; 3] {
+/// The rotation `exp([α×])` (Rodrigues) as a matrix, `None` when `α` is zero (the
+/// default: the door then skips it).
+fn accel_rotation(alpha: &[f64; 3]) -> Option<Matrix3<f64>> {
     if alpha == &[0.0; 3] {
-        return v;
+        return None;
     }
     let a = Vector3::from(*alpha);
-    let v = Vector3::from(v);
     // sin θ / θ and (1 − cos θ) / θ² = ½ (sin(θ/2) / (θ/2))², by series near 0 (a
     // denormal angle must not divide 0 by 0).
     let sinc = |x: f64| {
@@ -76,11 +76,9 @@ fn align(alpha: &[f64; 3], v: [f64; 3]) -> [f64; 3] {
         }
     };
     let th = a.norm();
-    let k1 = sinc(th);
     let h = sinc(0.5 * th);
-    let k2 = 0.5 * h * h;
-    let axv = a.cross(&v);
-    (v + axv * k1 + a.cross(&axv) * k2).into()
+    let k = a.cross_matrix();
+    Some(Matrix3::identity() + k * sinc(th) + k * k * (0.5 * h * h))
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -96,6 +94,8 @@ struct Alignment {
 pub struct FootNavigator {
     config: FootConfig,
     noise: Noise,
+    /// [`FootConfig::accel_alignment_rad`] as a matrix (`None`: zero), derived from it.
+    accel_rotation: Option<Matrix3<f64>>,
     /// Time of the newest accepted raw sample.
     time: TimeGuard,
     units: AccelUnits,
@@ -130,6 +130,7 @@ impl FootNavigator {
             gyro_bias_var_per_s: config.gyro_bias_walk.powi(2),
         };
         Ok(Self {
+            accel_rotation: accel_rotation(&config.accel_alignment_rad),
             median: MedianFilter::new(config.median_window),
             config,
             noise,
@@ -224,10 +225,10 @@ impl FootNavigator {
         let mean = self.check_inner(s)?;
         self.time.accept(s.t_s);
         self.units.accept(mean);
-        let f = align(
-            &self.config.accel_alignment_rad,
-            self.config.axis_remap.apply(s.accel_mps2),
-        );
+        let mut f = self.config.axis_remap.apply(s.accel_mps2);
+        if let Some(r) = &self.accel_rotation {
+            f = (r * Vector3::from(f)).into();
+        }
         let w = self.config.axis_remap.apply(s.gyro_rads);
         let saturated = saturated(&s.accel_mps2, self.config.accel_range_mps2)
             || saturated(&s.gyro_rads, self.config.gyro_range_rads);

@@ -407,7 +407,8 @@ impl FootNavigator {
         // Exhaustive on purpose: a new field must be written (or said to be derived).
         let FootNavigator {
             config,
-            noise: _, // derived from the configuration at restore
+            noise: _,          // derived from the configuration at restore
+            accel_rotation: _, // likewise
             time,
             units,
             median,
