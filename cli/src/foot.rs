@@ -152,12 +152,8 @@ pub fn calibrate(
             ));
         }
         report += &format!("{}: {described}\n", file.display());
-        let samples: Vec<stridekit_core::foot::FootSample> = (0..rec.len())
-            .map(|i| stridekit_core::foot::FootSample {
-                t_s: rec.t_s[i],
-                accel_mps2: rec.accel_mps2[i],
-                gyro_rads: rec.gyro_rads[i],
-            })
+        let samples: Vec<_> = (0..rec.len())
+            .map(|i| stridekit_lab::foot::eval::foot_sample(&rec, i))
             .collect();
         walks.push((rec.name.clone(), samples));
         config = Some(c);

@@ -388,6 +388,15 @@ pub struct Replayed {
     pub resets: u64,
 }
 
+/// Row `i` of a recording as the navigator's sample.
+pub fn foot_sample(rec: &FootRecording, i: usize) -> FootSample {
+    FootSample {
+        t_s: rec.t_s[i],
+        accel_mps2: rec.accel_mps2[i],
+        gyro_rads: rec.gyro_rads[i],
+    }
+}
+
 /// Runs one method over a trial. A sample the navigator rejects (repeated or
 /// reversed timestamp, NaN/∞, out of range, units of g) is skipped and counted by
 /// reason; it changes nothing in the navigator (engine contract).
@@ -427,11 +436,7 @@ pub fn replay_counted(trial: &Trial, m: &Method) -> Result<Replayed, String> {
     // (t_s, index) of the accepted samples: strictly increasing in t_s.
     let mut accepted: Vec<(f64, usize)> = Vec::with_capacity(rec.len());
     for i in 0..rec.len() {
-        let s = FootSample {
-            t_s: rec.t_s[i],
-            accel_mps2: rec.accel_mps2[i],
-            gyro_rads: rec.gyro_rads[i],
-        };
+        let s = foot_sample(rec, i);
         let r = match labels {
             Some(l) => nav.push_with_stance(&s, l[i]),
             None => nav.push(&s),
