@@ -167,6 +167,16 @@ const SHORT_WALK_MAX_GAP_S: f64 = 6.0;
 const SHORT_WALK_CADENCE: f64 = 0.3;
 const SHORT_WALK_AMPLITUDE: f64 = 2.0;
 
+/// The last step of a walk: the foot that stops is set down gently, often under the
+/// relative amplitude bar (1.3 m/s² peak to valley against the walk's typical 6.4 at
+/// the end of Samsung_Dario_Hard_InHand_1). Inside a bout such a weak candidate on cadence (within
+/// this share of the period after the previous step) is held; when the walk goes on,
+/// the next step comes about one period later and counts the weak one anyway (a missed
+/// step is filled); when no step has come [`TAIL_WAIT_PERIODS`] periods after it, the
+/// walk ended with it and it is released as the bout's last step.
+const TAIL_CADENCE: f64 = 0.2;
+const TAIL_WAIT_PERIODS: f64 = 1.2;
+
 /// How the phone is held: the direction of the acceleration low-passed with this time
 /// constant (about one stride, so the swing of a stride averages out), s.
 const CARRY_TAU_S: f64 = 1.0;
@@ -500,6 +510,9 @@ pub(crate) struct RobustDetector {
     data_gap_s: f64,
     /// Step period from the signal's autocorrelation.
     gait: GaitPeriod,
+    /// A weak candidate on cadence held as the possible last step of the bout (see
+    /// [`TAIL_CADENCE`]).
+    tail: Option<StepEvent>,
 }
 
 impl RobustDetector {
@@ -540,6 +553,7 @@ impl RobustDetector {
             data_gap_end_t_s: f64::NAN,
             data_gap_s: 0.0,
             gait: GaitPeriod::new(),
+            tail: None,
         }
     }
 
@@ -551,6 +565,10 @@ impl RobustDetector {
             // released stay counted, unconfirmed candidates are dropped). The door
             // only lets later times through; a time not after the previous one can
             // only come from an inconsistent restored state, and starts over too.
+            // A last step held when the input stopped ended the walk.
+            if let (Some(ev), true) = (self.tail, self.in_bout) {
+                out.push(ev);
+            }
             *self = Self::new(self.p);
         }
         self.moments.add(mag);
@@ -614,6 +632,17 @@ impl RobustDetector {
     }
 
     fn grid(&mut self, t_s: f64, y: f64, out: &mut Sink<'_>) {
+        if let Some(ev) = self.tail {
+            if t_s - ev.t_s > TAIL_WAIT_PERIODS * self.period_s {
+                // No step followed: the walk ended with this one.
+                self.tail = None;
+                if self.in_bout {
+                    out.push(ev);
+                    self.last_t_s = ev.t_s;
+                    self.moments = Moments::EMPTY;
+                }
+            }
+        }
         let (a_mean, a_ms) = (self.gain_mean, self.gain_ms);
         self.mean += a_mean * (y - self.mean);
         let x = y - self.mean;
@@ -712,9 +741,20 @@ impl RobustDetector {
             self.amplitude_ref_mps2
         };
         if amplitude < p.relative_amplitude * reference {
-            // A secondary bump of the previous step (or of the swing).
+            // A secondary bump of the previous step (or of the swing), or, on cadence
+            // inside a bout, perhaps the walk's last step (held, see TAIL_CADENCE).
+            let interval = t_s - self.last_t_s;
+            if self.in_bout
+                && self.tail.is_none()
+                && (interval - self.period_s).abs() <= TAIL_CADENCE * self.period_s
+            {
+                self.tail = Some(self.moments.event(t_s, interval));
+            }
             return;
         }
+        // A step-strength candidate: the walk went on (or this one decides), the held
+        // weak one is not a last step.
+        self.tail = None;
         self.amplitude_ref_mps2 = reference;
         let interval = t_s - self.last_t_s; // NaN without a previous candidate
         if interval < p.min_step_interval_s {
@@ -1154,6 +1194,10 @@ impl RobustDetector {
             self.data_gap_s,
         ]);
         self.gait.write(w);
+        w.bool(self.tail.is_some());
+        if let Some(ev) = &self.tail {
+            super::write_event(w, ev);
+        }
     }
 
     pub(crate) fn read(r: &mut Reader, p: RobustStepParams) -> Result<Self, SnapshotError> {
@@ -1242,6 +1286,11 @@ impl RobustDetector {
         d.data_gap_end_t_s = r.f64_or_nan()?;
         d.data_gap_s = r.f64_in(0.0, MAX_INPUT_GAP_S, "step detector gap")?;
         d.gait = GaitPeriod::read(r)?;
+        d.tail = if r.bool()? {
+            Some(super::read_event(r)?)
+        } else {
+            None
+        };
         let period_ok = |p: f64| p.is_nan() || (0.0..=60.0).contains(&p);
         let time_ok = |t: f64| t.is_nan() || t.abs() <= T;
         let ok = d.hf_n >= 0.0
@@ -1251,7 +1300,8 @@ impl RobustDetector {
             && period_ok(d.bout_end_period_s)
             && time_ok(d.last_t_s)
             && time_ok(d.bout_end_t_s)
-            && time_ok(d.data_gap_end_t_s);
+            && time_ok(d.data_gap_end_t_s)
+            && d.tail.is_none_or(|ev| ev.t_s.abs() <= T);
         if !ok {
             return Err(SnapshotError::Invalid("step detector statistics"));
         }

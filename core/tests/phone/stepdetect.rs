@@ -906,3 +906,96 @@ fn a_gentle_walk_after_a_hard_run_is_counted() {
         );
     }
 }
+
+/// A walk whose last step is set down gently (a third of the others' swing and impact,
+/// the foot that stops), then standing: the last step is counted once no step follows
+/// it; the same weak bump half a step after the last step (not on cadence) is not a
+/// step; and a gentle step inside the walk is counted once, not twice. (Before the
+/// detector held such a step, the walk's last step was lost: one per walk, and one
+/// per stop of a walk with stops.)
+#[test]
+fn the_gentle_last_step_of_a_walk_is_counted() {
+    // (factor of the last strike, its offset in periods after the one before, a strong
+    // walk after it).
+    let cases = [
+        (0.3, 1.0, false, true),
+        (0.3, 0.5, false, false),
+        (0.3, 1.0, true, true),
+    ];
+    for seed in 1..=4 {
+        for &(gentle, offset, walk_on, counts) in &cases {
+            let mut rng = Rng(seed);
+            let period = 1.0 / WALK.step_hz;
+            let mut strikes: Vec<(f64, f64)> = Vec::new();
+            let mut t = 2.0;
+            while t < 22.0 {
+                strikes.push((t, 1.0));
+                t += (1.0 + 0.03 * rng.sym()) * period;
+            }
+            let last = strikes.last().unwrap().0;
+            let gentle_t = last + offset * period;
+            strikes.push((gentle_t, gentle));
+            if walk_on {
+                let mut t = last + 2.0 * period;
+                while t < last + 12.0 {
+                    strikes.push((t, 1.0));
+                    t += (1.0 + 0.03 * rng.sym()) * period;
+                }
+            }
+            let end = strikes.last().unwrap().0 + period;
+            let mut samples = Vec::new();
+            let mut k = 0usize;
+            for t in times(100.0, 0.1, end + 3.0, &mut rng) {
+                while k + 1 < strikes.len() && strikes[k + 1].0 <= t {
+                    k += 1;
+                }
+                let mut m = G + 0.03 * rng.gauss();
+                let t0 = strikes[k].0;
+                // The body slows over the last step: the motion fades from the last
+                // full step to the gentle one (and comes back over the next step when
+                // the walk goes on).
+                let fade = if t < last {
+                    1.0
+                } else if t < gentle_t {
+                    1.0 + (gentle - 1.0) * (t - last) / (gentle_t - last)
+                } else if walk_on {
+                    gentle + (1.0 - gentle) * ((t - gentle_t) / period).min(1.0)
+                } else {
+                    gentle
+                };
+                if t >= t0 && t < end {
+                    let w = std::f64::consts::TAU * (t - t0) * WALK.step_hz;
+                    m += fade * 0.5 * WALK.swing_mps2 * (w.cos() + 0.3 * (2.0 * w + 0.5).cos());
+                    m += fade * WALK.impact_mps2 * (-((t - t0) / 0.02).powi(2)).exp();
+                }
+                samples.push(AccelSample {
+                    t_s: t,
+                    accel_mps2: vector(t, m),
+                });
+            }
+            let mut d = StepDetector::default();
+            let steps = d.push_batch(&samples).estimates;
+            let at_gentle = steps
+                .iter()
+                .filter(|e| (e.t_s - gentle_t).abs() < 0.2)
+                .count();
+            assert_eq!(
+                at_gentle,
+                usize::from(counts),
+                "seed {seed}, gentle step {offset} periods after, walk on {walk_on}: {at_gentle} steps at it"
+            );
+            // Nothing counted twice, and the walk's count is right to one step (its
+            // first steps, as in the other tests).
+            assert!(
+                steps.windows(2).all(|w| w[1].t_s - w[0].t_s > 0.5 * period),
+                "seed {seed}: steps closer than half a period"
+            );
+            let want = strikes.len() - usize::from(!counts);
+            assert!(
+                steps.len().abs_diff(want) <= 1,
+                "seed {seed}: {} steps, {want} expected",
+                steps.len()
+            );
+        }
+    }
+}
