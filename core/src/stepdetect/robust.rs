@@ -1039,8 +1039,24 @@ impl RobustDetector {
             }
             keep += 1;
         }
+        let mut dropped: Ring<Pending, PENDING> = Ring::new();
         for _ in keep..n {
-            self.pending.pop_front();
+            if let Some(c) = self.pending.pop_front() {
+                dropped.push(c);
+            }
+        }
+        // The dropped candidates may be a short walk that a brief stop (under the
+        // silence that keeps one, `max_step_interval_s`) parted from the bout: a
+        // surveyor pausing at a waypoint, a walker at a door. They are kept as a short
+        // walk when all of them form one (as before a longer stop) with the phone held
+        // as in the bout, and released below on the same terms.
+        if self.short_walk.is_empty()
+            && self.is_short_walk(&dropped)
+            && dropped
+                .iter()
+                .all(|c| dot(c.carry, bout_carry) >= CARRY_MIN_COS)
+        {
+            self.short_walk = dropped;
         }
         if let Some(first) = self.pending.get(0) {
             let gap = first.event.t_s - self.bout_end_t_s; // NaN without a previous bout
@@ -1051,6 +1067,11 @@ impl RobustDetector {
                     .saturating_sub(1)
                     .min(FILL_MAX_STEPS);
                 let step = gap / (m + 1) as f64;
+                if m > 0 {
+                    // The gap is filled at the cadence: a short walk inside it is
+                    // counted by the fill.
+                    self.short_walk = Ring::new();
+                }
                 for i in 1..=m {
                     out.push(StepEvent {
                         t_s: self.bout_end_t_s + i as f64 * step,
@@ -1073,14 +1094,23 @@ impl RobustDetector {
     /// steps: every interval within ±[`ASYMMETRY`] of their median, inside the bout
     /// interval range).
     fn keep_short_walk(&mut self) {
-        let n = self.pending.len();
+        if self.is_short_walk(&self.pending) {
+            self.short_walk = self.pending;
+        }
+    }
+
+    /// Whether the candidates of `ring` look like a short walk (at least
+    /// [`SHORT_WALK_MIN`], every interval within ±[`ASYMMETRY`] of their median, the
+    /// median inside the bout interval range).
+    fn is_short_walk(&self, ring: &Ring<Pending, PENDING>) -> bool {
+        let n = ring.len();
         if n < SHORT_WALK_MIN {
-            return;
+            return false;
         }
         let mut iv = [0.0f64; PENDING];
         for (j, slot) in iv.iter_mut().enumerate().take(n - 1) {
-            let (Some(a), Some(b)) = (self.pending.get(j), self.pending.get(j + 1)) else {
-                return;
+            let (Some(a), Some(b)) = (ring.get(j), ring.get(j + 1)) else {
+                return false;
             };
             *slot = b.event.t_s - a.event.t_s;
         }
@@ -1089,14 +1119,10 @@ impl RobustDetector {
         ivs.sort_by(f64::total_cmp);
         let median = ivs[(n - 1) / 2];
         let p = self.p;
-        if !(p.min_bout_interval_s..=p.max_step_interval_s).contains(&median)
-            || iv[..n - 1]
+        (p.min_bout_interval_s..=p.max_step_interval_s).contains(&median)
+            && iv[..n - 1]
                 .iter()
-                .any(|&i| (i - median).abs() > ASYMMETRY * median)
-        {
-            return;
-        }
-        self.short_walk = self.pending;
+                .all(|&i| (i - median).abs() <= ASYMMETRY * median)
     }
 
     /// A bout was just confirmed at `period` with the candidates in `pending`: release
