@@ -637,9 +637,10 @@ impl RobustDetector {
                 // No step followed: the walk ended with this one.
                 self.tail = None;
                 if self.in_bout {
+                    // The statistics since the previous step are kept for the next
+                    // one (as after a rejected candidate): it always has samples.
                     out.push(ev);
                     self.last_t_s = ev.t_s;
-                    self.moments = Moments::EMPTY;
                 }
             }
         }
@@ -746,6 +747,7 @@ impl RobustDetector {
             let interval = t_s - self.last_t_s;
             if self.in_bout
                 && self.tail.is_none()
+                && self.moments.n > 0.0
                 && (interval - self.period_s).abs() <= TAIL_CADENCE * self.period_s
             {
                 self.tail = Some(self.moments.event(t_s, interval));
