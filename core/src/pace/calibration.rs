@@ -35,7 +35,8 @@ pub const PACE_CALIBRATION_VERSION: u32 = 1;
 ///
 /// Export it with [`PaceTracker::calibration`](super::PaceTracker::calibration) at the
 /// end of a run with good GNSS (it is `None` until the step length is learned), store
-/// it with the user's profile, and pass it as [`PaceConfig::calibration`] next time: the
+/// it with the user's profile, and pass it as
+/// [`PaceConfig::calibration`](super::PaceConfig::calibration) next time: the
 /// tracker then gives calibrated pedometer speed from the first steps, with or without
 /// GNSS (treadmill, indoor track, a watch without GNSS), and keeps refining it when
 /// GNSS is good. It is part of the configuration, so snapshots keep it.

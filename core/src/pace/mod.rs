@@ -241,8 +241,9 @@ impl PaceTracker {
     }
 
     /// Push one raw accelerometer sample (m/s², gravity included, any axes): the
-    /// tracker detects steps itself (the default [`StepDetector`]) and feeds them to
-    /// the step stream. An alternative to platform step counts: use one step source
+    /// tracker detects steps itself (the default
+    /// [`StepDetector`](crate::stepdetect::StepDetector)) and feeds them to the step
+    /// stream. An alternative to platform step counts: use one step source
     /// per tracker (a detected step earlier than a pushed count is ignored).
     pub fn push_accel(&mut self, t_s: f64, accel_mps2: [f64; 3]) -> Result<(), PaceError> {
         let first = match &mut self.accel {

@@ -90,7 +90,7 @@ impl VerticalHistory {
 
     /// Peak-to-peak vertical displacement over `t0_s..=t1_s`, m; NaN when the
     /// history does not cover the span (fewer than 4 slots, or less than half of it)
-    /// or the span is longer than [`MAX_SPAN_SLOTS`] slots (2.56 s).
+    /// or the span is longer than `MAX_SPAN_SLOTS` slots (2.56 s).
     pub fn displacement_range_m(&self, t0_s: f64, t1_s: f64) -> f64 {
         if t1_s.partial_cmp(&t0_s) != Some(std::cmp::Ordering::Greater) {
             return f64::NAN;

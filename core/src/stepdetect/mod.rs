@@ -14,6 +14,12 @@
 //! queue (no heap): [`StepDetector::push`] returns the oldest waiting step and
 //! [`StepDetector::pop_step`] drains the rest.
 //!
+//! When a step is released (every [`StepEvent::t_s`] is the step's own time, on the
+//! input's clock): inside a walk, about 0.15 s after it; the first steps of a walk, when
+//! the bout is confirmed (a few steps later, 2–3 s); the gentle last step of a walk
+//! (default detector), once no step has followed it for 1.2 step periods (about 0.7 s);
+//! a few steps before a stop, when the walk after the stop is confirmed.
+//!
 //! Units at the door: the checks and limits of [`crate::input`] (finite, per axis
 //! ≤ 2 000 m/s², time after the previous sample and in seconds, the g-units check
 //! [`crate::input::AccelUnits`]).
