@@ -169,8 +169,8 @@ const SHORT_WALK_AMPLITUDE: f64 = 2.0;
 
 /// The last step of a walk: the foot that stops is set down gently, often under the
 /// relative amplitude bar (1.3 m/s² peak to valley against the walk's typical 6.4 at
-/// the end of Samsung_Dario_Hard_InHand_1). Inside a bout such a weak candidate on cadence (within
-/// this share of the period after the previous step) is held; when the walk goes on,
+/// the end of Samsung_Dario_Hard_InHand_1). Inside a bout such a weak candidate on
+/// cadence (within this share of the period after the previous step) is held; when the walk goes on,
 /// the next step comes about one period later and counts the weak one anyway (a missed
 /// step is filled); when no step has come [`TAIL_WAIT_PERIODS`] periods after it, the
 /// walk ended with it and it is released as the bout's last step.
@@ -741,10 +741,10 @@ impl RobustDetector {
         } else {
             self.amplitude_ref_mps2
         };
+        let interval = t_s - self.last_t_s; // NaN without a previous candidate
         if amplitude < p.relative_amplitude * reference {
             // A secondary bump of the previous step (or of the swing), or, on cadence
             // inside a bout, perhaps the walk's last step (held, see TAIL_CADENCE).
-            let interval = t_s - self.last_t_s;
             if self.in_bout
                 && self.tail.is_none()
                 && self.moments.n > 0.0
@@ -758,7 +758,6 @@ impl RobustDetector {
         // weak one is not a last step.
         self.tail = None;
         self.amplitude_ref_mps2 = reference;
-        let interval = t_s - self.last_t_s; // NaN without a previous candidate
         if interval < p.min_step_interval_s {
             return;
         }
