@@ -76,6 +76,8 @@ pub struct FootArgs {
     pub imu: Option<ImuProfile>,
     /// A device calibration written by `stridekit calibrate foot`.
     pub calibration: Option<PathBuf>,
+    /// Turn off the level-floor constraint (`FootConfig::level_stride_max_grade`).
+    pub no_level_floor: bool,
 }
 
 /// The navigator configuration for a recording of `format` under `args`, and a
@@ -106,6 +108,10 @@ pub fn config_for(args: &FootArgs, format: FootFormat) -> Result<(FootConfig, St
         axis_remap,
         ..imu.config()
     };
+    if args.no_level_floor {
+        config.level_stride_max_grade = None;
+        text += ", level-floor constraint off";
+    }
     if let Some(path) = &args.calibration {
         let a = read_calibration(path)?;
         config.accel_alignment_rad = a;
@@ -331,6 +337,26 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
         last.distance_m,
         last.t_s - first.t_s,
     );
+    let strides: Vec<_> = est.iter().filter_map(|(_, e)| e.stride).collect();
+    let levelled: Vec<f64> = strides
+        .iter()
+        .filter(|s| s.levelled_m != 0.0)
+        .map(|s| s.levelled_m)
+        .collect();
+    if m.config.level_stride_max_grade.is_some() {
+        println!(
+            "  level floor: {} of {} strides taken as level, their height change set to zero ({:+.3} m in all, median {:+.3} m per levelled stride); the other strides climbed {:+.3} m",
+            levelled.len(),
+            strides.len(),
+            levelled.iter().sum::<f64>(),
+            if levelled.is_empty() {
+                0.0
+            } else {
+                stridekit_lab::stats::median(levelled.iter().copied())
+            },
+            strides.iter().map(|s| s.climb_m).sum::<f64>(),
+        );
+    }
     let d: Vec<f64> = (0..3)
         .map(|i| last.position_m[i] - first.position_m[i])
         .collect();

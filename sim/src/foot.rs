@@ -10,7 +10,9 @@
 //!   stride length closest to [`FootGait::stride_length_m`]; the foot turns half of
 //!   each 90° corner on the stride before the corner footprint and half on the one
 //!   after; the walk starts and ends with a rest (`rest_start_s`, `rest_end_s`) at
-//!   the origin, foot flat, pointing East;
+//!   the origin, foot flat, pointing East; with `rise_per_stride_m` each footprint is
+//!   that much above the one before (stairs or a ramp, on the same minimum-jerk
+//!   profile as the horizontal displacement);
 //! - **stride** (footprint k → k + 1): motion of duration `(1 − stance_fraction)·T`
 //!   then stance of `stance_fraction·T`, `T` the stride duration (varies
 //!   `stride_jitter` per stride). During the motion, with `τ ∈ [0, 1]`: horizontal
@@ -114,6 +116,9 @@ pub struct FootScenario {
     pub sensor_z_down: bool,
     /// Time of the first sample, s.
     pub start_t_s: f64,
+    /// Each footprint this much above the one before, m (stairs, a ramp: a walk up
+    /// a spiral; the loop then closes horizontally only). 0: level.
+    pub rise_per_stride_m: f64,
 }
 
 impl FootScenario {
@@ -139,6 +144,7 @@ impl FootScenario {
             mount_rpy_rad: [0.0; 3],
             sensor_z_down: false,
             start_t_s: 0.0,
+            rise_per_stride_m: 0.0,
         }
     }
 
@@ -228,6 +234,8 @@ fn stream(seed: u64, k: u64) -> Rng {
 #[derive(Clone, Copy, Debug)]
 struct Footprint {
     p: [f64; 2],
+    /// Height, m.
+    z: f64,
     yaw: f64,
 }
 
@@ -304,6 +312,7 @@ impl Walk {
         };
         pos[0].v = print.p[0];
         pos[1].v = print.p[1];
+        pos[2].v = print.z;
         att[2].v = print.yaw;
         if let Some(m) = moving {
             stance = false;
@@ -335,10 +344,11 @@ impl Walk {
             let bump1 = 192.0 * u * u * u1;
             let bump2 = 384.0 * u * (u1 * u1 - u);
             let h = self.gait.lift_m;
+            let dz = b.z - a.z;
             pos[2] = Jet {
-                v: h * bump,
-                d: h * bump1 / tt,
-                dd: h * bump2 / t2,
+                v: a.z + s * dz + h * bump,
+                d: (s1 * dz + h * bump1) / tt,
+                dd: (s2 * dz + h * bump2) / t2,
             };
             let r = self.gait.roll_peak_rad;
             att[0] = Jet {
@@ -396,8 +406,10 @@ pub fn simulate_foot(scenario: &FootScenario) -> SimulatedFoot {
         fin(sc.loop_m[0], 20.0).max(gait.stride_length_m * 0.5),
         fin(sc.loop_m[1], 10.0).max(gait.stride_length_m * 0.5),
     ];
+    let rise = fin(sc.rise_per_stride_m, 0.0).clamp(-1.0, 1.0);
     let mut prints = vec![Footprint {
         p: [0.0, 0.0],
+        z: 0.0,
         yaw: 0.0,
     }];
     let n_sides = 4 * sc.laps as usize;
@@ -410,8 +422,10 @@ pub fn simulate_foot(scenario: &FootScenario) -> SimulatedFoot {
         for j in 1..=n {
             let d = len * j as f64 / n as f64;
             let corner = j == n && side + 1 < n_sides;
+            let z = prints.len() as f64 * rise;
             prints.push(Footprint {
                 p: [start[0] + d * cd, start[1] + d * sd],
+                z,
                 yaw: if corner { dir + 0.5 * half_pi } else { dir },
             });
         }

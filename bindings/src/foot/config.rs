@@ -464,6 +464,12 @@ pub struct FootConfig {
     pub accel_alignment_y_rad: f64,
     #[uniffi(default = 0.0)]
     pub accel_alignment_z_rad: f64,
+    /// Level-floor constraint: a stride whose height change is at most this grade
+    /// (rise / horizontal length) is taken as level and its height change set to zero
+    /// (`FootStride.levelledM` says by how much); stairs and ramps keep theirs. Null:
+    /// off. Default 0.05 (1:20, the steepest walk that is not a ramp); 0..=0.2.
+    #[uniffi(default = Some(0.05))]
+    pub level_stride_max_grade: Option<f64>,
 }
 
 impl From<core::FootConfig> for FootConfig {
@@ -494,6 +500,7 @@ impl From<core::FootConfig> for FootConfig {
             accel_alignment_x_rad: c.accel_alignment_rad[0],
             accel_alignment_y_rad: c.accel_alignment_rad[1],
             accel_alignment_z_rad: c.accel_alignment_rad[2],
+            level_stride_max_grade: c.level_stride_max_grade,
         }
     }
 }
@@ -529,6 +536,7 @@ impl TryFrom<FootConfig> for core::FootConfig {
                 c.accel_alignment_y_rad,
                 c.accel_alignment_z_rad,
             ],
+            level_stride_max_grade: c.level_stride_max_grade,
         })
     }
 }

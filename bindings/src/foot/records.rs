@@ -61,8 +61,11 @@ pub struct FootStride {
     pub duration_s: f64,
     /// `length_m / duration_s`, m/s.
     pub speed_mps: f64,
-    /// Height change, m (up positive).
+    /// Height change, m (up positive); zero on a stride taken as level.
     pub climb_m: f64,
+    /// Height the level-floor constraint took off at the end of this stride, m (0 when
+    /// the stride was not taken as level; `FootConfig.levelStrideMaxGrade`).
+    pub levelled_m: f64,
 }
 
 impl From<core::Stride> for FootStride {
@@ -73,6 +76,7 @@ impl From<core::Stride> for FootStride {
             duration_s: s.duration_s,
             speed_mps: s.speed_mps,
             climb_m: s.climb_m,
+            levelled_m: s.levelled_m,
         }
     }
 }

@@ -146,6 +146,11 @@ pub struct FootArgs {
     /// accelerometer-to-gyroscope alignment learned from a level walk).
     #[arg(long, value_name = "FILE")]
     pub calibration: Option<PathBuf>,
+    /// Keep the filter's own height on level strides: turn off the level-floor
+    /// constraint (on by default: a stride that rises or falls by at most 5 % of its
+    /// length is taken as level; stairs and ramps keep their height).
+    #[arg(long)]
+    pub no_level_floor: bool,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -174,6 +179,7 @@ pub fn foot(a: FootArgs) -> Result<(), String> {
         axes: a.axes,
         imu: a.imu.map(Into::into),
         calibration: a.calibration,
+        no_level_floor: a.no_level_floor,
     })?;
     eprintln!("{} (and the SVGs beside it)", out.wrote());
     Ok(())

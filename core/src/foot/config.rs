@@ -114,7 +114,26 @@ pub struct FootConfig {
     /// it. Learn it from a level walk with `stridekit calibrate foot` (docs/foot.md).
     /// Each component within ±[`MAX_ACCEL_ALIGNMENT_RAD`].
     pub accel_alignment_rad: [f64; 3],
+    /// Level-floor constraint: a stride whose height change is at most this grade
+    /// (rise / horizontal stride length) is taken as level, and the height is set
+    /// back to the previous stance onset's ([`Stride::levelled_m`](super::Stride)
+    /// says by how much). Strides that climb more (stairs, ramps) keep the filter's
+    /// height. `None`: off, the height is the filter's alone. Default
+    /// [`LEVEL_STRIDE_MAX_GRADE`]; within 0..=[`MAX_LEVEL_STRIDE_GRADE`].
+    pub level_stride_max_grade: Option<f64>,
 }
+
+/// Default of [`FootConfig::level_stride_max_grade`]: 5 %, the steepest slope that
+/// building codes call a walking surface rather than a ramp (1:20; a 7 cm rise on a
+/// 1.4 m stride). A stair stride rises 15–40 cm over 0.3–0.7 m (25–60 %). The height a
+/// consumer IMU gains per level stride from a degree of accelerometer misalignment is
+/// 1–5 cm on a 1.1 m stride, and the filter's stride-to-stride height noise on the
+/// UofT runs reaches ±9 % (docs/foot.md, "The level floor").
+pub const LEVEL_STRIDE_MAX_GRADE: f64 = 0.05;
+
+/// Largest [`FootConfig::level_stride_max_grade`] accepted (a grade beyond it would
+/// flatten shallow stairs).
+pub const MAX_LEVEL_STRIDE_GRADE: f64 = 0.2;
 
 /// Largest accelerometer-to-gyroscope alignment component accepted, rad (≈ 5.7°: a
 /// misalignment beyond that is a mounting, to be set with the axis remap).
@@ -146,6 +165,7 @@ impl Default for FootConfig {
             max_gap_s: 0.1,
             min_swing_s: 0.1,
             accel_alignment_rad: [0.0; 3],
+            level_stride_max_grade: Some(LEVEL_STRIDE_MAX_GRADE),
         }
     }
 }
@@ -334,6 +354,14 @@ impl FootConfig {
                 field: "accel_alignment_rad",
                 reason: "each component must be finite and within ±0.1 rad",
             });
+        }
+        if let Some(g) = self.level_stride_max_grade {
+            if !(0.0..=MAX_LEVEL_STRIDE_GRADE).contains(&g) {
+                return Err(FootError::InvalidConfig {
+                    field: "level_stride_max_grade",
+                    reason: "must be within 0..=0.2",
+                });
+            }
         }
         self.detector.validate()
     }

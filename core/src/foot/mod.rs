@@ -14,7 +14,10 @@ mod navigator;
 mod svm;
 mod types;
 
-pub use config::{Correction, FootConfig, GyroTiming, MAX_ACCEL_ALIGNMENT_RAD, ZUPT_GATE_NIS};
+pub use config::{
+    Correction, FootConfig, GyroTiming, LEVEL_STRIDE_MAX_GRADE, MAX_ACCEL_ALIGNMENT_RAD,
+    MAX_LEVEL_STRIDE_GRADE, ZUPT_GATE_NIS,
+};
 pub use detect::{
     AdaptiveShoe, AdaptiveThresholds, FixedThresholds, Gait, ShoeDetector, SvmAdaptive,
     WindowStats, ZeroVelocityDetector,

@@ -466,19 +466,30 @@ impl FootNavigator {
         }
         self.ins_t = c.t_s;
 
-        let p = [ins.p.x, ins.p.y, ins.p.z];
+        let mut p = [ins.p.x, ins.p.y, ins.p.z];
         let mut stride = None;
         if stance && !self.stance {
             if c.t_s - self.swing_start_t >= self.config.min_swing_s {
                 if let Some((t0, p0)) = self.last_onset {
                     let len = (p[0] - p0[0]).hypot(p[1] - p0[1]);
                     let dur = c.t_s - t0;
+                    let mut climb = p[2] - p0[2];
+                    let mut levelled = 0.0;
+                    if level_stride(self.config.level_stride_max_grade, climb, len) {
+                        // The nominal position feeds nothing back into the
+                        // mechanisation, so moving its height changes nothing else.
+                        ins.p.z -= climb;
+                        p[2] = p0[2];
+                        levelled = climb;
+                        climb = 0.0;
+                    }
                     stride = Some(Stride {
                         t_s: c.t_s,
                         length_m: len,
                         duration_s: dur,
                         speed_mps: if dur > 0.0 { len / dur } else { 0.0 },
-                        climb_m: p[2] - p0[2],
+                        climb_m: climb,
+                        levelled_m: levelled,
                     });
                     self.strides = self.strides.saturating_add(1);
                     self.distance_m += len;
@@ -547,6 +558,12 @@ impl FootNavigator {
 }
 
 #[inline]
+/// Whether a stride that rose `climb_m` over `length_m` horizontally is taken as
+/// level ([`FootConfig::level_stride_max_grade`]).
+fn level_stride(max_grade: Option<f64>, climb_m: f64, length_m: f64) -> bool {
+    max_grade.is_some_and(|g| climb_m.abs() <= g * length_m)
+}
+
 fn norm(v: &[f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }

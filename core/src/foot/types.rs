@@ -33,8 +33,12 @@ pub struct Stride {
     pub duration_s: f64,
     /// `length_m / duration_s`, m/s.
     pub speed_mps: f64,
-    /// Height change, m (up positive): stairs.
+    /// Height change, m (up positive): stairs. Zero on a stride taken as level.
     pub climb_m: f64,
+    /// Height the level-floor constraint took off at the end of this stride, m (the
+    /// filter's climb over a stride it took as level; 0 when the stride was not
+    /// levelled: see [`FootConfig::level_stride_max_grade`](super::FootConfig)).
+    pub levelled_m: f64,
 }
 
 /// Where the foot is, after one sample. Frame: local level East-North-Up with the
@@ -94,9 +98,16 @@ impl FootEstimate {
             self.distance_m,
         ];
         let stride_ok = self.stride.is_none_or(|s| {
-            [s.t_s, s.length_m, s.duration_s, s.speed_mps, s.climb_m]
-                .iter()
-                .all(|v| v.is_finite())
+            [
+                s.t_s,
+                s.length_m,
+                s.duration_s,
+                s.speed_mps,
+                s.climb_m,
+                s.levelled_m,
+            ]
+            .iter()
+            .all(|v| v.is_finite())
         });
         stride_ok
             && self

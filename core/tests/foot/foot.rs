@@ -627,11 +627,16 @@ fn the_accelerometer_alignment_undoes_a_misaligned_accelerometer() {
     let misalign = [0.004, 0.021, -0.006];
     let clean = simulate_foot(&FootScenario::walk(11, 2));
     let turned = misaligned_walk(misalign);
-    let (_, reference) = replay(&clean, FootConfig::default());
-    let (_, uncorrected) = replay(&turned, FootConfig::default());
+    // The filter's own height: the level floor would take the drift off.
+    let unlevelled = FootConfig {
+        level_stride_max_grade: None,
+        ..FootConfig::default()
+    };
+    let (_, reference) = replay(&clean, unlevelled.clone());
+    let (_, uncorrected) = replay(&turned, unlevelled.clone());
     let config = FootConfig {
         accel_alignment_rad: misalign,
-        ..FootConfig::default()
+        ..unlevelled
     };
     let (nav, corrected) = replay(&turned, config.clone());
     assert_eq!(nav.config().accel_alignment_rad, misalign);
@@ -688,4 +693,117 @@ fn an_accelerometer_alignment_out_of_range_is_a_typed_error() {
         ..FootConfig::default()
     })
     .is_ok());
+}
+
+/// Height at the last estimate against the first, m.
+fn height_gain(est: &[FootEstimate]) -> f64 {
+    est.last().unwrap().position_m[2] - est[0].position_m[2]
+}
+
+#[test]
+fn the_level_floor_takes_off_the_height_a_misaligned_accelerometer_gains() {
+    // 1.2° about the lateral axis, as on x-io's NGIMU: every swing's forward
+    // acceleration is read partly as vertical and the height climbs at every stride.
+    let turned = misaligned_walk([0.0, 0.021, 0.0]);
+    let off = FootConfig {
+        level_stride_max_grade: None,
+        ..FootConfig::default()
+    };
+    let (_, climbing) = replay(&turned, off);
+    let (nav, level) = replay(&turned, FootConfig::default());
+    assert_eq!(
+        nav.config().level_stride_max_grade,
+        Some(stridekit_core::foot::LEVEL_STRIDE_MAX_GRADE)
+    );
+    let strides: Vec<_> = level.iter().filter_map(|e| e.stride).collect();
+    let levelled: Vec<_> = strides.iter().filter(|s| s.levelled_m != 0.0).collect();
+    assert!(
+        height_gain(&climbing) > 0.005 * turned.distance_m,
+        "without the level floor the height climbs: {} m over {} m",
+        height_gain(&climbing),
+        turned.distance_m
+    );
+    // What is left is the turn after the first side: the filter's tilt and bias
+    // estimates settle anew with the misaligned IMU turned (two strides climb 8 and
+    // 20 cm, steeper than a level stride).
+    assert!(
+        height_gain(&level).abs() < 0.2 * height_gain(&climbing).abs(),
+        "level floor: {} m, without it {} m",
+        height_gain(&level),
+        height_gain(&climbing)
+    );
+    assert!(
+        levelled.len() * 10 >= strides.len() * 9,
+        "{} of {}",
+        levelled.len(),
+        strides.len()
+    );
+    for s in &strides {
+        // A levelled stride reports no climb; the height taken off is its own.
+        assert!(s.levelled_m == 0.0 || s.climb_m == 0.0, "{s:?}");
+        assert!(s.levelled_m.abs() <= 0.05 * s.length_m + 1e-12, "{s:?}");
+    }
+    // The horizontal track is the filter's either way (the nominal position feeds
+    // nothing back).
+    assert_eq!(level.len(), climbing.len());
+    for (a, b) in level.iter().zip(&climbing) {
+        assert_eq!(a.position_m[..2], b.position_m[..2]);
+        assert_eq!(a.velocity_mps, b.velocity_mps);
+        assert_eq!(a.quaternion, b.quaternion);
+    }
+}
+
+#[test]
+fn stairs_and_a_ramp_keep_their_height() {
+    // A stair stride: 0.6 m on, two risers of 0.17 m up (57 %); a ramp of 1:10 on
+    // 1.4 m strides. Both go round a spiral; both are steeper than the level floor's
+    // grade, so nothing is taken off.
+    for (stride_m, rise_m, label) in [(0.6, 0.34, "stairs"), (1.4, 0.14, "ramp 1:10")] {
+        let mut sc = FootScenario::walk(5, 1);
+        sc.gait.stride_length_m = stride_m;
+        sc.loop_m = [8.0, 4.0];
+        sc.rise_per_stride_m = rise_m;
+        let sim = simulate_foot(&sc);
+        let (_, est) = replay(&sim, FootConfig::default());
+        let strides: Vec<_> = est.iter().filter_map(|e| e.stride).collect();
+        assert_eq!(strides.len(), sim.strides.len(), "{label}");
+        let truth = rise_m * sim.strides.len() as f64;
+        let gain = height_gain(&est);
+        assert!(
+            (gain - truth).abs() < 0.03 * truth,
+            "{label}: climbed {gain} m, truly {truth} m"
+        );
+        for s in &strides {
+            assert_eq!(s.levelled_m, 0.0, "{label}: {s:?}");
+            assert!((s.climb_m - rise_m).abs() < 0.3 * rise_m, "{label}: {s:?}");
+        }
+    }
+}
+
+#[test]
+fn a_level_floor_grade_out_of_range_is_a_typed_error() {
+    for g in [-0.01, 0.21, f64::NAN, f64::INFINITY] {
+        let e = FootNavigator::new(FootConfig {
+            level_stride_max_grade: Some(g),
+            ..FootConfig::default()
+        })
+        .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                FootError::InvalidConfig {
+                    field: "level_stride_max_grade",
+                    ..
+                }
+            ),
+            "{g}: {e:?}"
+        );
+    }
+    for g in [None, Some(0.0), Some(0.2)] {
+        assert!(FootNavigator::new(FootConfig {
+            level_stride_max_grade: g,
+            ..FootConfig::default()
+        })
+        .is_ok());
+    }
 }

@@ -187,6 +187,12 @@ pub fn learn(base: &FootConfig, walks: &[(String, Vec<FootSample>)]) -> Result<L
     if walks.is_empty() {
         return Err("no walk given".into());
     }
+    // The filter's own heights: the level-floor constraint would hide the climb the
+    // fit measures (and the figures before and after are without it too).
+    let base = &FootConfig {
+        level_stride_max_grade: None,
+        ..base.clone()
+    };
     let start = base.accel_alignment_rad;
     let mut stance_sets = Vec::new();
     let mut before = Vec::new();

@@ -4,10 +4,10 @@ use super::*;
 
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
-/// Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
+/// Version 6: `FootConfig::level_stride_max_grade` and `Stride::levelled_m`. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
 /// ([`TimeGuard`]) replaces the last time (version 2 added `FootConfig::gyro_timing`
 /// and the adaptive SHOE detector).
-const SNAPSHOT_VERSION: u16 = 5;
+const SNAPSHOT_VERSION: u16 = 6;
 
 fn write_body(w: &mut Writer, s: &BodySample) {
     w.f64(s.t_s);
@@ -80,6 +80,7 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
         max_gap_s,
         min_swing_s,
         accel_alignment_rad,
+        level_stride_max_grade,
     } = c;
     axis_remap.write(w);
     w.u64(*median_window as u64);
@@ -114,6 +115,8 @@ fn write_config(w: &mut Writer, c: &FootConfig) {
     w.opt_f64(*zupt_gate_nis);
     // Version 5.
     w.f64s(accel_alignment_rad);
+    // Version 6.
+    w.opt_f64(*level_stride_max_grade);
     let fixed = |w: &mut Writer, t: &FixedThresholds| {
         let FixedThresholds {
             acc_dev_mps2,
@@ -222,6 +225,7 @@ fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
     let zupt_gate_nis = r.opt_f64()?;
     let mut accel_alignment_rad = [0.0; 3];
     r.f64s(&mut accel_alignment_rad)?;
+    let level_stride_max_grade = r.opt_f64()?;
     let fixed = |r: &mut Reader| -> Result<FixedThresholds, SnapshotError> {
         let mut t = [0.0; 4];
         r.f64s(&mut t)?;
@@ -317,6 +321,7 @@ fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
         max_gap_s: v[11],
         min_swing_s: v[12],
         accel_alignment_rad,
+        level_stride_max_grade,
     })
 }
 
@@ -359,7 +364,14 @@ fn write_estimate(w: &mut Writer, e: &FootEstimate) {
     w.f64(*distance_m);
     w.bool(stride.is_some());
     let s = stride.unwrap_or_default();
-    w.f64s(&[s.t_s, s.length_m, s.duration_s, s.speed_mps, s.climb_m]);
+    w.f64s(&[
+        s.t_s,
+        s.length_m,
+        s.duration_s,
+        s.speed_mps,
+        s.climb_m,
+        s.levelled_m,
+    ]);
     w.bool(*saturated);
     w.bool(*gap);
 }
@@ -385,7 +397,7 @@ fn read_estimate(r: &mut Reader) -> Result<FootEstimate, SnapshotError> {
     e.strides = r.u64()?;
     e.distance_m = r.f64()?;
     let has_stride = r.bool()?;
-    let mut s = [0.0; 5];
+    let mut s = [0.0; 6];
     r.f64s(&mut s)?;
     e.stride = has_stride.then_some(Stride {
         t_s: s[0],
@@ -393,6 +405,7 @@ fn read_estimate(r: &mut Reader) -> Result<FootEstimate, SnapshotError> {
         duration_s: s[2],
         speed_mps: s[3],
         climb_m: s[4],
+        levelled_m: s[5],
     });
     e.saturated = r.bool()?;
     e.gap = r.bool()?;

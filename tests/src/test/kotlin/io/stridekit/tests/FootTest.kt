@@ -126,12 +126,16 @@ class FootTest {
             assertTrue(produced.toInt() in (samples.size - 200)..samples.size, "produced $produced of ${samples.size}")
             assertEquals(end.strides.toInt(), strides.size, "one stride-end estimate per stride")
             assertTrue(end.strides >= 20, "strides counted: ${end.strides}")
+            // Every trial here is on a level floor: most strides are taken as level, and those report no climb.
+            val levelled = strides.count { it.stride!!.levelledM != 0.0 }
+            assertTrue(levelled * 2 > strides.size, "levelled $levelled of ${strides.size}")
+            assertTrue(strides.all { it.stride!!.levelledM == 0.0 || it.stride!!.climbM == 0.0 })
             assertTrue(end.distanceM > 0.7 * walk.truthPathM && end.distanceM < 1.2 * walk.truthPathM,
                 "distance ${end.distanceM} m vs truth path ${walk.truthPathM} m")
             val closure = end.horizontal() / end.distanceM
             println("FootTest: ${walk.name}: ${end.strides} strides, ${"%.2f".format(end.distanceM)} m (truth ${"%.2f".format(walk.truthPathM)} m), " +
                 "end ${"%.3f".format(end.horizontal())} m from start (${"%.2f".format(100 * closure)} %; truth ${"%.3f".format(walk.truthEndM)} m)")
-            // The default detector (adaptive SHOE) closes walking trials to 0.81 %
+            // The default detector (adaptive SHOE) closes walking trials to 0.32 %
             // (median, 3-D, calibrated-IMU profile; docs/foot.md, `stridekit eval foot`);
             // the consumer defaults are used here; 5 % catches a broken pipeline
             // without asserting accuracy the detector does not have.
@@ -295,6 +299,11 @@ class FootTest {
         FootNavigator(aligned).use { assertEquals(aligned, it.config()) }
         val tooFar = assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(accelAlignmentXRad = 0.2)) }
         assertEquals("accel_alignment_rad", tooFar.field)
+        // The level floor: strides within 5 % of level are taken as level by default; null turns it off.
+        assertEquals(0.05, footConfigDefault().levelStrideMaxGrade)
+        FootNavigator(footConfigDefault().copy(levelStrideMaxGrade = null)).use { assertEquals(null, it.config().levelStrideMaxGrade) }
+        val steep = assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(levelStrideMaxGrade = 0.3)) }
+        assertEquals("level_stride_max_grade", steep.field)
         assertFailsWith<FootException.InvalidConfig> { FootNavigator(footConfigDefault().copy(maxGapS = Double.NaN)) }
         val mirror = assertFailsWith<FootException.InvalidConfig> {
             FootNavigator(footConfigDefault().copy(axisRemap = footAxesPyshoe().copy(negateZ = false)))
