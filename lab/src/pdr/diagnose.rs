@@ -31,7 +31,7 @@ use stridekit_core::ahrs::ImuSample;
 use stridekit_core::pdr::wrap;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
 
-use crate::pdr::metrics::{evaluate, median, TrackPoint};
+use crate::pdr::metrics::{evaluate, median, Metrics, TrackPoint};
 use crate::pdr::walks::Walk;
 
 /// Legs shorter than this (m) or quicker (s) carry no direction.
@@ -681,23 +681,32 @@ fn waypoint_noise(out: &mut String, along: &[(f64, f64)], azimuth: &[(f64, f64)]
     } else {
         sigma_along
     };
-    let (floor_along, floor) = (
-        perfect_track_ate(walks, sigma_along),
-        perfect_track_ate(walks, sigma),
+    let (along_only, both) = (
+        perfect_track(walks, sigma_along),
+        perfect_track(walks, sigma),
     );
     let _ = writeln!(
         out,
-        "\nFits: along-track sd² = a + b·d² gives a = {a0:.3} m² (relative along-track scatter √b = {:.1} %), per-waypoint noise σ_along = √(a/2) = {sigma_along:.2} m; azimuth sd² = h² + c/L² gives a heading error h = {:.1}° that does not shrink with the leg and σ_across = √(c/2) = {sigma_cross:.2} m. A perfect track against these waypoints with isotropic noise σ = {sigma:.2} m (the RMS of the two) added: median ATE {floor:.2} m (with σ_along alone {floor_along:.2} m; 5 draws per walk).",
+        "\nFits: along-track sd² = a + b·d² gives a = {a0:.3} m² (relative along-track scatter √b = {:.1} %), per-waypoint noise σ_along = √(a/2) = {sigma_along:.2} m; azimuth sd² = h² + c/L² gives a heading error h = {:.1}° that does not shrink with the leg and σ_across = √(c/2) = {sigma_cross:.2} m. A perfect track against these waypoints with isotropic noise σ = {sigma:.2} m (the RMS of the two) added: median ATE {:.2} m, start-pinned {:.2} m, end {:.1} %, |distance| {:.1} % (with σ_along alone {:.2} m, {:.2} m, {:.1} %, {:.1} %; 5 draws per walk): what the waypoints alone charge a navigator with no error of its own.",
         100.0 * b.max(0.0).sqrt(),
         h2.max(0.0).sqrt().to_degrees(),
+        both.ate_m,
+        both.start_pinned_m,
+        both.end_pct,
+        both.distance_pct,
+        along_only.ate_m,
+        along_only.start_pinned_m,
+        along_only.end_pct,
+        along_only.distance_pct,
     );
 }
 
-/// Median ATE of a perfect track (the waypoint polyline itself) against its
-/// waypoints with isotropic noise σ per axis added; 5 draws per walk, fixed seed.
-fn perfect_track_ate(walks: &[Walk], sigma: f64) -> f64 {
+/// Medians of the measures (ATE, start-pinned error, end error, |distance
+/// error|) for a perfect track (the waypoint polyline itself) against its waypoints
+/// with isotropic noise σ per axis added; 5 draws per walk, fixed seed.
+fn perfect_track(walks: &[Walk], sigma: f64) -> Metrics {
     let mut rng = stridekit_sim::Rng::new(13);
-    let mut ates = Vec::new();
+    let mut all: Vec<Metrics> = Vec::new();
     for w in walks {
         let wp = &w.rec.truth;
         if wp.len() < 3 {
@@ -718,11 +727,18 @@ fn perfect_track_ate(walks: &[Walk], sigma: f64) -> f64 {
                 .map(|p| (p.0, p.1 + sigma * rng.normal(), p.2 + sigma * rng.normal()))
                 .collect();
             if let Some(m) = evaluate(&track, &noisy) {
-                ates.push(m.ate_m);
+                all.push(m);
             }
         }
     }
-    median(ates)
+    let med = |f: fn(&Metrics) -> f64| median(all.iter().map(f).collect::<Vec<f64>>());
+    Metrics {
+        ate_m: med(|m| m.ate_m),
+        start_pinned_m: med(|m| m.start_pinned_m),
+        end_pct: med(|m| m.end_pct),
+        distance_pct: med(|m| m.distance_pct.abs()),
+        polyline_m: med(|m| m.polyline_m),
+    }
 }
 
 #[cfg(test)]
@@ -792,9 +808,20 @@ mod tests {
                 ..Default::default()
             },
         }];
-        assert!(perfect_track_ate(&walks, 0.0) < 1e-9);
-        let a = perfect_track_ate(&walks, 0.5);
+        let exact = perfect_track(&walks, 0.0);
+        assert!(
+            exact.ate_m < 1e-9 && exact.start_pinned_m < 1e-9,
+            "{exact:?}"
+        );
+        assert!(
+            exact.end_pct < 1e-9 && exact.distance_pct < 1e-9,
+            "{exact:?}"
+        );
+        let noisy = perfect_track(&walks, 0.5);
         // Rigid alignment absorbs 3 of the 12 degrees of freedom: ≈ 0.5·√(2·9/12).
+        let a = noisy.ate_m;
         assert!(a > 0.3 && a < 0.9, "{a}");
+        // The noisy polyline is longer or shorter than the path: |distance| > 0.
+        assert!(noisy.distance_pct > 0.5, "{noisy:?}");
     }
 }
