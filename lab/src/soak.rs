@@ -315,10 +315,7 @@ fn cmp_foot(c: &mut Cmp, a: &FootEstimate, b: &FootEstimate) {
     c.eq(&a.strides, &b.strides);
     c.f(a.distance_m, b.distance_m);
     c.opt(&a.stride, &b.stride, |c, x, y| {
-        c.fs(
-            &[x.t_s, x.length_m, x.duration_s, x.speed_mps, x.climb_m],
-            &[y.t_s, y.length_m, y.duration_s, y.speed_mps, y.climb_m],
-        )
+        c.fs(&x.values(), &y.values())
     });
     c.eq(&a.saturated, &b.saturated);
     c.eq(&a.gap, &b.gap);

@@ -557,13 +557,13 @@ impl FootNavigator {
     }
 }
 
-#[inline]
 /// Whether a stride that rose `climb_m` over `length_m` horizontally is taken as
 /// level ([`FootConfig::level_stride_max_grade`]).
 fn level_stride(max_grade: Option<f64>, climb_m: f64, length_m: f64) -> bool {
     max_grade.is_some_and(|g| climb_m.abs() <= g * length_m)
 }
 
+#[inline]
 fn norm(v: &[f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }

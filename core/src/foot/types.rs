@@ -41,6 +41,21 @@ pub struct Stride {
     pub levelled_m: f64,
 }
 
+impl Stride {
+    /// Every number of the stride, in declaration order (`t_s`, `length_m`,
+    /// `duration_s`, `speed_mps`, `climb_m`, `levelled_m`).
+    pub fn values(&self) -> [f64; 6] {
+        [
+            self.t_s,
+            self.length_m,
+            self.duration_s,
+            self.speed_mps,
+            self.climb_m,
+            self.levelled_m,
+        ]
+    }
+}
+
 /// Where the foot is, after one sample. Frame: local level East-North-Up with the
 /// origin where the navigator started and yaw 0 = body +x pointing East at start
 /// (set `FootConfig::initial_yaw_rad` to use a known heading).
@@ -97,18 +112,9 @@ impl FootEstimate {
             self.heading_std_rad,
             self.distance_m,
         ];
-        let stride_ok = self.stride.is_none_or(|s| {
-            [
-                s.t_s,
-                s.length_m,
-                s.duration_s,
-                s.speed_mps,
-                s.climb_m,
-                s.levelled_m,
-            ]
-            .iter()
-            .all(|v| v.is_finite())
-        });
+        let stride_ok = self
+            .stride
+            .is_none_or(|s| s.values().iter().all(|v| v.is_finite()));
         stride_ok
             && self
                 .position_m

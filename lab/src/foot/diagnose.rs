@@ -118,39 +118,37 @@ pub fn run(dir: &Path) -> Result<String, String> {
         level,
     ));
     for (labels, lname, timing, tname, level) in runs {
-        {
-            let m = Method {
-                name: lname.into(),
-                config: FootConfig {
-                    gyro_timing: timing,
-                    level_stride_max_grade: level,
-                    ..base_config()
-                },
-                labels: labels.map(String::from),
-            };
-            let rows = trials
-                .iter()
-                .map(|t| per_trial(t, &m))
-                .collect::<Result<Vec<_>, _>>()?;
+        let m = Method {
+            name: lname.into(),
+            config: FootConfig {
+                gyro_timing: timing,
+                level_stride_max_grade: level,
+                ..base_config()
+            },
+            labels: labels.map(String::from),
+        };
+        let rows = trials
+            .iter()
+            .map(|t| per_trial(t, &m))
+            .collect::<Result<Vec<_>, _>>()?;
+        out.push_str(&format!(
+            "| {lname}, {tname} | {:.4} | {:+.1} | {:.3} |",
+            median(rows.iter().map(|r| r.ratio).collect::<Vec<f64>>()),
+            1000.0 * median(rows.iter().map(|r| r.dz_per_stride_m).collect::<Vec<f64>>()),
+            median(rows.iter().map(|r| r.h).collect::<Vec<f64>>()),
+        ));
+        for s in &sessions {
             out.push_str(&format!(
-                "| {lname}, {tname} | {:.4} | {:+.1} | {:.3} |",
-                median(rows.iter().map(|r| r.ratio).collect::<Vec<f64>>()),
-                1000.0 * median(rows.iter().map(|r| r.dz_per_stride_m).collect::<Vec<f64>>()),
-                median(rows.iter().map(|r| r.h).collect::<Vec<f64>>()),
+                " {:.3} |",
+                median(
+                    rows.iter()
+                        .filter(|r| &r.session == s)
+                        .map(|r| r.h)
+                        .collect::<Vec<f64>>()
+                )
             ));
-            for s in &sessions {
-                out.push_str(&format!(
-                    " {:.3} |",
-                    median(
-                        rows.iter()
-                            .filter(|r| &r.session == s)
-                            .map(|r| r.h)
-                            .collect::<Vec<f64>>()
-                    )
-                ));
-            }
-            out.push('\n');
         }
+        out.push('\n');
     }
     Ok(out)
 }

@@ -364,14 +364,7 @@ fn write_estimate(w: &mut Writer, e: &FootEstimate) {
     w.f64(*distance_m);
     w.bool(stride.is_some());
     let s = stride.unwrap_or_default();
-    w.f64s(&[
-        s.t_s,
-        s.length_m,
-        s.duration_s,
-        s.speed_mps,
-        s.climb_m,
-        s.levelled_m,
-    ]);
+    w.f64s(&s.values());
     w.bool(*saturated);
     w.bool(*gap);
 }
