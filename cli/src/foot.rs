@@ -287,6 +287,24 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
     };
     let replayed = replay_counted(&trial, &m)?;
     let est = &replayed.estimates;
+    // With the level floor on, the filter's own height too (for the report and the
+    // height plot): the same replay with it off.
+    let unlevelled = match m.config.level_stride_max_grade {
+        Some(_) => Some(
+            replay_counted(
+                &trial,
+                &Method {
+                    config: FootConfig {
+                        level_stride_max_grade: None,
+                        ..m.config.clone()
+                    },
+                    ..m.clone()
+                },
+            )?
+            .estimates,
+        ),
+        None => None,
+    };
     println!("{}: {}", trial.rec.name, described);
     println!(
         "  {} rows, {} samples skipped: {}",
@@ -324,7 +342,14 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
 
     write_csv(out, est, truth.as_deref())?;
     let (top, height) = svg_paths(out);
-    plot(&top, &height, &trial.rec.name, est, truth.as_deref())?;
+    plot(
+        &top,
+        &height,
+        &trial.rec.name,
+        est,
+        unlevelled.as_deref(),
+        truth.as_deref(),
+    )?;
 
     let first = est[0].1;
     let last = est[est.len() - 1].1;
@@ -343,9 +368,13 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
         .filter(|s| s.levelled_m != 0.0)
         .map(|s| s.levelled_m)
         .collect();
-    if m.config.level_stride_max_grade.is_some() {
+    if let Some(raw) = &unlevelled {
+        let own_end = match (raw.first(), raw.last()) {
+            (Some(a), Some(b)) => b.1.position_m[2] - a.1.position_m[2],
+            _ => 0.0,
+        };
         println!(
-            "  level floor: {} of {} strides taken as level, their height change set to zero ({:+.3} m in all, median {:+.3} m per levelled stride); the other strides climbed {:+.3} m",
+            "  level floor: {} of {} strides taken as level, their height change set to zero ({:+.3} m in all, median {:+.3} m per levelled stride); the other strides climbed {:+.3} m; the filter's own height ends at {:+.3} m (--no-level-floor)",
             levelled.len(),
             strides.len(),
             levelled.iter().sum::<f64>(),
@@ -355,6 +384,7 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
                 stridekit_lab::stats::median(levelled.iter().copied())
             },
             strides.iter().map(|s| s.climb_m).sum::<f64>(),
+            own_end,
         );
     }
     let d: Vec<f64> = (0..3)
@@ -457,6 +487,7 @@ fn plot(
     height: &Path,
     name: &str,
     est: &[(usize, FootEstimate)],
+    unlevelled: Option<&[(usize, FootEstimate)]>,
     truth: Option<&[[f64; 3]]>,
 ) -> Result<(), String> {
     let step = (est.len() / PLOT_POINTS).max(1);
@@ -495,6 +526,18 @@ fn plot(
         color: Some((214, 39, 40)),
         style: Style::Points,
     });
+    if let Some(raw) = unlevelled {
+        heights.push(Series {
+            name: "the filter's own height (level floor off)".into(),
+            points: raw
+                .iter()
+                .step_by(step)
+                .map(|(_, e)| (e.t_s, e.position_m[2]))
+                .collect(),
+            color: Some((150, 150, 150)),
+            style: Style::Line,
+        });
+    }
     heights.push(Series {
         name: "estimate".into(),
         points: thin(&|j| (est[j].1.t_s, est[j].1.position_m[2])),
