@@ -78,14 +78,21 @@ pub struct FootArgs {
     pub calibration: Option<PathBuf>,
     /// Turn off the level-floor constraint (`FootConfig::level_stride_max_grade`).
     pub no_level_floor: bool,
+    /// The gyroscope's range, rad/s (`FootConfig::gyro_range_rads`); `None`: the
+    /// layout's default.
+    pub gyro_range_rads: Option<f64>,
 }
 
 /// The navigator configuration for a recording of `format` under `args`, and a
 /// description of the choices for the output.
 pub fn config_for(args: &FootArgs, format: FootFormat) -> Result<(FootConfig, String), String> {
-    let (default_axes, default_imu) = match format {
-        FootFormat::Pyshoe => ("frd", ImuProfile::Calibrated),
-        FootFormat::Xio => ("flu", ImuProfile::Consumer),
+    let (default_axes, default_imu, default_range) = match format {
+        FootFormat::Pyshoe => (
+            "frd",
+            ImuProfile::Calibrated,
+            Some(stridekit_lab::foot::eval::UOFT_GYRO_RANGE_RADS),
+        ),
+        FootFormat::Xio => ("flu", ImuProfile::Consumer, None),
     };
     let spec = args.axes.as_deref().unwrap_or(default_axes);
     let axis_remap = FootConfig::axes_from_spec(spec).map_err(|e| format!("--axes {spec}: {e}"))?;
@@ -111,6 +118,17 @@ pub fn config_for(args: &FootArgs, format: FootFormat) -> Result<(FootConfig, St
     if args.no_level_floor {
         config.level_stride_max_grade = None;
         text += ", level-floor constraint off";
+    }
+    config.gyro_range_rads = args.gyro_range_rads.or(default_range);
+    if let Some(r) = config.gyro_range_rads {
+        text += &format!(
+            ", gyro range {r} rad/s ({}; clipped swing peaks repaired)",
+            if args.gyro_range_rads.is_some() {
+                "given"
+            } else {
+                "the UofT MicroStrain's, default for this layout"
+            }
+        );
     }
     if let Some(path) = &args.calibration {
         let a = read_calibration(path)?;

@@ -457,9 +457,11 @@ impl Engine for Foot {
     fn fresh() -> Self {
         Self {
             // A small accelerometer alignment: the rotation at the door runs on every
-            // sample (zero, the default, skips it).
+            // sample (zero, the default, skips it); a gyroscope range, so the clipping
+            // repair runs on fuzzed rates (none, the default, skips it).
             e: FootNavigator::new(FootConfig {
                 accel_alignment_rad: [0.01, 0.02, -0.015],
+                gyro_range_rads: Some(8.0),
                 ..FootConfig::default()
             })
             .expect("valid config"),

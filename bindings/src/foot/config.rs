@@ -446,7 +446,8 @@ pub struct FootConfig {
     /// Accelerometer range, m/s²: a sample at ≥ 99 % of it is saturated (null: unknown).
     #[uniffi(default = None)]
     pub accel_range_mps2: Option<f64>,
-    /// Gyroscope range, rad/s (null: unknown).
+    /// Gyroscope range, rad/s (null: unknown). A run of samples at ≥ 99 % of it on an
+    /// axis is taken as clipped and the rotation above the ceiling is restored after it.
     #[uniffi(default = None)]
     pub gyro_range_rads: Option<f64>,
     /// A time step longer than this is a gap (integrated at most this long), s.

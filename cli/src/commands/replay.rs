@@ -151,6 +151,11 @@ pub struct FootArgs {
     /// length is taken as level; stairs and ramps keep their height).
     #[arg(long)]
     pub no_level_floor: bool,
+    /// The gyroscope's range, rad/s: samples at 99 % of it are clipped, and the rotation
+    /// above the ceiling is restored after each clipped run. Default: 9.2 for pyshoe /
+    /// UofT files (their MicroStrain clips at about 9.13 rad/s), none for x-io.
+    #[arg(long, value_name = "RAD_S")]
+    pub gyro_range: Option<f64>,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -180,6 +185,7 @@ pub fn foot(a: FootArgs) -> Result<(), String> {
         imu: a.imu.map(Into::into),
         calibration: a.calibration,
         no_level_floor: a.no_level_floor,
+        gyro_range_rads: a.gyro_range,
     })?;
     eprintln!("{} (and the SVGs beside it)", out.wrote());
     Ok(())

@@ -98,6 +98,10 @@ pub struct FootConfig {
     /// Sensor range; a sample with any axis at ≥ 99 % of it is flagged saturated and
     /// no zero-velocity update uses its window. `None`: unknown (no check).
     pub accel_range_mps2: Option<f64>,
+    /// With a gyroscope range, a run of samples at ≥ 99 % of it on an axis is also
+    /// taken as clipped, and the rotation above the ceiling is restored after the run
+    /// (a parabolic peak at the slope it had when it reached the ceiling; `clip.rs`):
+    /// a foot's pitch rate in the swing can exceed a consumer gyroscope's range.
     pub gyro_range_rads: Option<f64>,
     /// A time step longer than this is a gap: the mechanisation integrates at most
     /// this long and the covariance grows with the real gap, s.

@@ -5,6 +5,7 @@
 //! strapdown mechanisation in a local level ENU frame and a 15-state error-state
 //! Kalman filter with zero-velocity updates. See `docs/foot.md`.
 
+mod clip;
 mod config;
 mod detect;
 mod ekf;

@@ -31,6 +31,7 @@ use std::sync::Arc;
 
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
+use super::clip::AxisClip;
 use super::config::{Correction, FootConfig, GyroTiming, MAX_DETECTOR_WINDOW};
 use super::detect::{
     AdaptiveShoe, AdaptiveThresholds, FixedThresholds, ShoeDetector, SvmAdaptive, WindowStats,
@@ -100,6 +101,8 @@ pub struct FootNavigator {
     time: TimeGuard,
     units: AccelUnits,
     median: MedianFilter,
+    /// Gyroscope clipping repair per sensor axis (with a configured range).
+    clip: [AxisClip; 3],
     /// Filtered samples, newest last (detector window source).
     det: Ring<BodySample, MAX_DETECTOR_WINDOW>,
     /// Monotonic queue `(t, ‖f‖)` for the gait-window peak.
@@ -132,6 +135,7 @@ impl FootNavigator {
         Ok(Self {
             accel_rotation: accel_rotation(&config.accel_alignment_rad),
             median: MedianFilter::new(config.median_window),
+            clip: [AxisClip::new(); 3],
             config,
             noise,
             time: TimeGuard::new(Stream::Imu),
@@ -192,12 +196,13 @@ impl FootNavigator {
         self.check_inner(s).map(|_| ())
     }
 
-    /// The door; returns the new mean |a| of the g-units check.
-    fn check_inner(&self, s: &FootSample) -> Result<f64, FootError> {
+    /// The door; returns the interval since the previous sample (`None` for the first)
+    /// and the new mean |a| of the g-units check.
+    fn check_inner(&self, s: &FootSample) -> Result<(Option<f64>, f64), FootError> {
         let dt = self.time.check(s.t_s)?;
         input::accel(&s.accel_mps2)?;
         input::gyro(&s.gyro_rads)?;
-        Ok(self.units.check(dt, norm(&s.accel_mps2))?)
+        Ok((dt, self.units.check(dt, norm(&s.accel_mps2))?))
     }
 
     /// Push one sample. Returns the estimate of the sample the pipeline finished (the
@@ -222,14 +227,22 @@ impl FootNavigator {
         s: &FootSample,
         external: Option<bool>,
     ) -> Result<Option<FootEstimate>, FootError> {
-        let mean = self.check_inner(s)?;
+        let (dt, mean) = self.check_inner(s)?;
         self.time.accept(s.t_s);
         self.units.accept(mean);
         let mut f = self.config.axis_remap.apply(s.accel_mps2);
         if let Some(r) = &self.accel_rotation {
             f = (r * Vector3::from(f)).into();
         }
-        let w = self.config.axis_remap.apply(s.gyro_rads);
+        let mut gyro = s.gyro_rads;
+        if let Some(range) = self.config.gyro_range_rads {
+            // The rotation a clipped swing peak did not report (`clip`).
+            let spread = u32::try_from(self.config.median_window).unwrap_or(1);
+            for (g, c) in gyro.iter_mut().zip(self.clip.iter_mut()) {
+                *g = c.push(s.t_s, *g, dt.unwrap_or(0.0), 0.99 * range, spread);
+            }
+        }
+        let w = self.config.axis_remap.apply(gyro);
         let saturated = saturated(&s.accel_mps2, self.config.accel_range_mps2)
             || saturated(&s.gyro_rads, self.config.gyro_range_rads);
         let body = BodySample {

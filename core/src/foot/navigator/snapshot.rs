@@ -4,7 +4,7 @@ use super::*;
 
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
-/// Version 6: `FootConfig::level_stride_max_grade` and `Stride::levelled_m`. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
+/// Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
 /// ([`TimeGuard`]) replaces the last time (version 2 added `FootConfig::gyro_timing`
 /// and the adaptive SHOE detector).
 const SNAPSHOT_VERSION: u16 = 6;
@@ -42,6 +42,47 @@ fn read_body(r: &mut Reader) -> Result<BodySample, SnapshotError> {
         return Err(SnapshotError::Invalid("non-finite sample"));
     }
     Ok(s)
+}
+
+fn write_clip(w: &mut Writer, c: &AxisClip) {
+    let AxisClip {
+        prev,
+        active,
+        sign,
+        ceiling,
+        slope,
+        t_entry,
+        pending_rad,
+        pending_n,
+    } = c;
+    for (t, m) in prev {
+        w.f64(*t);
+        w.f64(*m);
+    }
+    w.bool(*active);
+    w.f64s(&[*sign, *ceiling, *slope, *t_entry, *pending_rad]);
+    w.u64(u64::from(*pending_n));
+}
+
+fn read_clip(r: &mut Reader) -> Result<AxisClip, SnapshotError> {
+    let mut c = AxisClip::new();
+    for p in c.prev.iter_mut() {
+        *p = (r.f64_or_nan()?, r.f64_or_nan()?);
+    }
+    c.active = r.bool()?;
+    c.sign = r.f64()?;
+    c.ceiling = r.f64()?;
+    c.slope = r.f64_or_nan()?;
+    c.t_entry = r.f64()?;
+    c.pending_rad = r.f64()?;
+    c.pending_n = u32::try_from(r.u64()?)
+        .ok()
+        .filter(|n| *n <= MAX_MEDIAN_WINDOW as u32)
+        .ok_or(SnapshotError::Invalid("clip repair"))?;
+    if c.pending_rad.abs() > super::super::clip::MAX_RESTORED_RAD * 2.0 {
+        return Err(SnapshotError::Invalid("clip repair"));
+    }
+    Ok(c)
 }
 
 fn write_v3(w: &mut Writer, v: &Vector3<f64>) {
@@ -418,6 +459,7 @@ impl FootNavigator {
             time,
             units,
             median,
+            clip,
             det,
             gait,
             align,
@@ -440,6 +482,9 @@ impl FootNavigator {
         w.u64(median.samples().count() as u64);
         for s in median.samples() {
             write_body(&mut w, &s);
+        }
+        for c in clip {
+            write_clip(&mut w, c);
         }
         w.u64(det.len() as u64);
         for s in det.iter() {
@@ -586,6 +631,9 @@ impl FootNavigator {
         let len = r.len(n.config.median_window)?;
         for _ in 0..len {
             n.median.restore_push(read_body(&mut r)?);
+        }
+        for c in n.clip.iter_mut() {
+            *c = read_clip(&mut r)?;
         }
         let len = r.len(MAX_DETECTOR_WINDOW)?;
         for _ in 0..len {
