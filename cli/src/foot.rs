@@ -380,13 +380,13 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
         last.distance_m,
         last.t_s - first.t_s,
     );
-    let strides: Vec<_> = est.iter().filter_map(|(_, e)| e.stride).collect();
-    let levelled: Vec<f64> = strides
-        .iter()
-        .filter(|s| s.levelled_m != 0.0)
-        .map(|s| s.levelled_m)
-        .collect();
     if let Some(raw) = &unlevelled {
+        let strides: Vec<_> = est.iter().filter_map(|(_, e)| e.stride).collect();
+        let levelled: Vec<f64> = strides
+            .iter()
+            .filter(|s| s.levelled_m != 0.0)
+            .map(|s| s.levelled_m)
+            .collect();
         let own_end = match (raw.first(), raw.last()) {
             (Some(a), Some(b)) => b.1.position_m[2] - a.1.position_m[2],
             _ => 0.0,

@@ -239,7 +239,7 @@ impl FootNavigator {
             // The rotation a clipped swing peak did not report (`clip`).
             let spread = u32::try_from(self.config.median_window).unwrap_or(1);
             for (g, c) in gyro.iter_mut().zip(self.clip.iter_mut()) {
-                *g = c.push(s.t_s, *g, dt.unwrap_or(0.0), 0.99 * range, spread);
+                *g = c.push(s.t_s, *g, dt.unwrap_or(0.0), AT_RANGE * range, spread);
             }
         }
         let w = self.config.axis_remap.apply(gyro);
@@ -581,9 +581,13 @@ fn norm(v: &[f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
+/// A sample at this share of a configured sensor range or more is at the range
+/// (saturated; on a gyroscope axis, clipped).
+const AT_RANGE: f64 = 0.99;
+
 #[inline]
 fn saturated(v: &[f64; 3], range: Option<f64>) -> bool {
-    range.is_some_and(|r| v.iter().any(|x| x.abs() >= 0.99 * r))
+    range.is_some_and(|r| v.iter().any(|x| x.abs() >= AT_RANGE * r))
 }
 
 mod snapshot;
