@@ -19,6 +19,8 @@
 //! ([`FootConfig::gyro_range_rads`](super::FootConfig::gyro_range_rads)): a sample at
 //! 99 % of it or more is clipped.
 
+use crate::input::limits::MAX_GYRO_RADS;
+
 /// Longest clipped run repaired, s: a parabolic swing peak above the ceiling lasts a
 /// few tens of milliseconds; longer saturation (the sensor spun) is left as it is.
 pub const MAX_CLIP_S: f64 = 0.2;
@@ -85,7 +87,9 @@ impl AxisClip {
         let mut out = w;
         if self.pending_n > 0 && dt > 0.0 {
             let add = self.pending_rad / self.pending_n as f64;
-            out += add / dt;
+            // Within the door's limit (a very short interval would need a rate no
+            // sensor gives; the excess is dropped).
+            out = (w + add / dt).clamp(-MAX_GYRO_RADS, MAX_GYRO_RADS);
             self.pending_rad -= add;
             self.pending_n -= 1;
             if self.pending_n == 0 {
@@ -123,6 +127,24 @@ mod tests {
         assert!(lost > 0.02, "the test clips something: {lost}");
         let err = (truth - repaired).abs();
         assert!(err < 0.15 * lost, "lost {lost}, left {err}");
+    }
+
+    /// A run that ends on a very short interval: the restored rotation would need a
+    /// rate beyond the door's limit, and the rate stays within it (found by fuzzing:
+    /// such a rate in the buffered samples made the navigator refuse its own snapshot).
+    #[test]
+    fn the_restored_rate_stays_within_the_door_limit() {
+        let mut a = AxisClip::new();
+        let (c, dt) = (9.15_f64, 0.005_f64);
+        let mut t = 0.0;
+        for w in [5.0, 7.0, c, c, c] {
+            a.push(t, w, dt, 0.99 * c, 1);
+            t += dt;
+        }
+        let tiny = 1e-6;
+        let out = a.push(t - dt + tiny, 8.0, tiny, 0.99 * c, 1);
+        assert!(out.abs() <= MAX_GYRO_RADS, "{out}");
+        assert!(out > 8.0, "some rotation is still restored: {out}");
     }
 
     #[test]
