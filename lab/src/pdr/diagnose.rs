@@ -21,7 +21,10 @@
 //!   of length L; the parts that do not grow with the leg, a = 2σ²_along and
 //!   c = 2σ²_across, bound the per-waypoint noise (what no estimator can remove, plus
 //!   any error of ours that does not grow with the leg), and the ATE a perfect track
-//!   would score against these waypoints with that noise added (simulated, fixed seed).
+//!   would score against these waypoints with that noise added (simulated, fixed seed);
+//! - **heading against distance** ([`crate::pdr::legs`]): each leg rebuilt from our
+//!   heading and the leg's length, or our distance and the leg's direction, or the
+//!   rotation vector's heading and the leg's length, scored with the same measures.
 
 use std::f64::consts::FRAC_PI_2;
 use std::fmt::Write as _;
@@ -581,6 +584,7 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
             median(v.iter().map(|l| l.1 * deg)),
         );
     }
+    crate::pdr::legs::report(&mut out, walks, mag)?;
     Ok(out)
 }
 

@@ -4,6 +4,7 @@
 
 pub mod calibrate;
 pub mod diagnose;
+pub mod legs;
 pub mod metrics;
 pub mod odometry;
 pub mod real;
