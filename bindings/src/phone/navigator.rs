@@ -346,6 +346,13 @@ pub struct NavigatorConfig {
     /// step length, metres.
     #[uniffi(default = 10.0)]
     pub max_fix_accuracy_m: f64,
+    /// The platform removes the gyroscope's bias (Android `TYPE_GYROSCOPE`, iOS
+    /// `CMDeviceMotion.rotationRate`): the magnetometer then corrects the heading
+    /// slowly (120 s) and indoor steel stays out of it. `false` for a raw gyroscope
+    /// (`TYPE_GYROSCOPE_UNCALIBRATED`, `CMGyroData`), whose drift needs the fast loop
+    /// (10 s).
+    #[uniffi(default = true)]
+    pub gyro_calibrated: bool,
 }
 
 impl From<&core::NavigatorConfig> for NavigatorConfig {
@@ -363,6 +370,7 @@ impl From<&core::NavigatorConfig> for NavigatorConfig {
             prior_weinberg_k: c.step_length.prior_weinberg_k,
             prior_pendulum_k: c.step_length.prior_pendulum_k,
             max_fix_accuracy_m: c.step_length.max_accuracy_m,
+            gyro_calibrated: c.gyro_calibrated,
         }
     }
 }
@@ -393,6 +401,7 @@ impl TryFrom<NavigatorConfig> for core::NavigatorConfig {
                 max_accuracy_m: c.max_fix_accuracy_m,
                 ..base.step_length
             },
+            gyro_calibrated: c.gyro_calibrated,
         })
     }
 }

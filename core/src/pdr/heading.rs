@@ -8,8 +8,15 @@
 //!    itself carries a slowly varying correction `μ` (AHRS azimuth − true azimuth):
 //!    - with a magnetometer, `μ` is tracked from the tilt-compensated magnetic field
 //!      (the AHRS tilt, the raw field minus an online hard-iron estimate) by a
-//!      second-order loop (offset and drift rate, time constants 10 s and 40 s), with
-//!      samples whose field strength or dip departs from the learned ones rejected;
+//!      second-order loop (offset and drift rate), with samples whose field strength
+//!      or dip departs from the learned ones rejected. Its time constants balance the
+//!      gyroscope's drift against the field's disturbances: 120 s and 480 s for a
+//!      gyroscope whose bias the platform removes (Android `TYPE_GYROSCOPE`, iOS
+//!      device motion: a residual of ~0.01°/s), 10 s and 40 s for a raw one
+//!      (~0.5°/s). A loop of τ lags a drift b by b·τ and passes a disturbance of
+//!      spread σ and correlation time T by about σ·√(T / 2τ); indoors (σ ≈ 15°,
+//!      T ≈ 5 s: steel passed at walking speed) the sum is least at τ ≈ 140 s for the
+//!      first and ≈ 10 s for the second;
 //!    - without one, `μ` only follows its learned drift rate; GNSS teaches that rate
 //!      (the gyroscope bias about the vertical) while fixes are good.
 //! 2. **How the phone is carried**: the walking direction expressed in the phone's
@@ -77,9 +84,12 @@ const AXIS_GAIN: f64 = 0.3;
 const AXIS_MIN_GAIN: f64 = 0.1;
 /// Strides whose along/across variance ratio is below this carry no direction.
 const MIN_AXIS_RATIO: f64 = 1.5;
-/// Magnetic yaw loop: offset and rate time constants, s.
-const MAG_TAU_S: f64 = 10.0;
-const MAG_RATE_TAU_S: f64 = 40.0;
+/// Magnetic yaw loop: offset and rate time constants, s, for a raw gyroscope ...
+const MAG_TAU_RAW_GYRO_S: f64 = 10.0;
+const MAG_RATE_TAU_RAW_GYRO_S: f64 = 40.0;
+/// ... and for one whose bias the platform removes (see the module docs).
+const MAG_TAU_CALIBRATED_GYRO_S: f64 = 120.0;
+const MAG_RATE_TAU_CALIBRATED_GYRO_S: f64 = 480.0;
 /// A field sample is rejected when its strength or dip departs from the learned ones
 /// by more than this (µT, rad).
 const MAG_GATE_UT: f64 = 6.0;
@@ -316,6 +326,8 @@ pub struct WalkingDirection {
     mu_rate_rads: f64,
     mu_known: bool,
     mag_seen: bool,
+    /// The gyroscope's bias is removed by the platform (the magnetic loop is slow).
+    gyro_calibrated: bool,
     /// Learned field strength, µT, and dip, rad.
     mag_ref_ut: f64,
     dip_ref_rad: f64,
@@ -361,8 +373,19 @@ fn unit(v: [f64; 3]) -> Vector3<f64> {
 }
 
 impl WalkingDirection {
+    /// For a gyroscope whose bias the platform removes (the default of
+    /// `NavigatorConfig`).
     pub fn new() -> Self {
+        Self::with_gyro_calibrated(true)
+    }
+
+    /// `gyro_calibrated`: the platform removes the gyroscope's bias (Android
+    /// `TYPE_GYROSCOPE`, iOS device motion), so the magnetic loop can be slow and keep
+    /// the field's disturbances out of the heading; `false` for a raw gyroscope, whose
+    /// drift the loop must follow.
+    pub fn with_gyro_calibrated(gyro_calibrated: bool) -> Self {
         Self {
+            gyro_calibrated,
             azimuth_rad: 0.0,
             known: false,
             history: Ring::new(),
@@ -422,6 +445,11 @@ impl WalkingDirection {
         }
         let v = self.quat() * Vector3::from(heading_axis_body);
         (v.x.hypot(v.y) > 1e-6).then(|| wrap(self.azimuth_rad - (v.x.atan2(v.y) - self.mu_rad)))
+    }
+
+    /// Whether the magnetic loop takes the gyroscope's bias as removed by the platform.
+    pub fn gyro_calibrated(&self) -> bool {
+        self.gyro_calibrated
     }
 
     /// Estimated hard-iron offset of the magnetometer, body frame, µT.
@@ -578,8 +606,13 @@ impl WalkingDirection {
                             self.mu_known = true;
                         } else {
                             let e = wrap(meas - self.mu_rad);
-                            self.mu_rad += dt * e / MAG_TAU_S;
-                            self.mu_rate_rads += dt * e / (MAG_RATE_TAU_S * MAG_RATE_TAU_S);
+                            let (tau, rate_tau) = if self.gyro_calibrated {
+                                (MAG_TAU_CALIBRATED_GYRO_S, MAG_RATE_TAU_CALIBRATED_GYRO_S)
+                            } else {
+                                (MAG_TAU_RAW_GYRO_S, MAG_RATE_TAU_RAW_GYRO_S)
+                            };
+                            self.mu_rad += dt * e / tau;
+                            self.mu_rate_rads += dt * e / (rate_tau * rate_tau);
                         }
                         self.mag_seen = true;
                     }
@@ -834,6 +867,7 @@ impl WalkingDirection {
             self.forward_known,
             self.calibrated,
             self.up_known,
+            self.gyro_calibrated,
         ] {
             w.bool(b);
         }
@@ -869,7 +903,7 @@ impl WalkingDirection {
         r.f64s(&mut q)?;
         let mut stride = [0.0; 9];
         r.f64s(&mut stride)?;
-        let mut b = [false; 7];
+        let mut b = [false; 8];
         for x in b.iter_mut() {
             *x = r.bool()?;
         }
@@ -952,6 +986,7 @@ impl WalkingDirection {
             forward_known: b[4],
             calibrated: b[5],
             up_known: b[6],
+            gyro_calibrated: b[7],
             steps_in_stride,
             axis_strides,
         })

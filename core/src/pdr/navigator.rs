@@ -45,7 +45,7 @@ const SNAPSHOT_KIND: u8 = 5;
 /// Version 6: the vertical history and each step's vertical displacement (5: gait
 /// initiation in the step-length state; 4: the input layer's time state per stream;
 /// 3 added the attitude history, deferred and recent steps).
-const SNAPSHOT_VERSION: u16 = 6;
+const SNAPSHOT_VERSION: u16 = 7;
 /// Steps waiting for the carrying to be known, and recent placed steps kept.
 const DEFERRED_STEPS: usize = 32;
 pub const RECENT_STEPS: usize = 32;
@@ -133,6 +133,12 @@ pub struct NavigatorConfig {
     pub detector: StepDetectorConfig,
     pub step_length_model: StepLengthModel,
     pub step_length: StepLengthConfig,
+    /// The platform removes the gyroscope's bias (Android `TYPE_GYROSCOPE`, iOS
+    /// `CMDeviceMotion.rotationRate`; not `TYPE_GYROSCOPE_UNCALIBRATED` or raw
+    /// `CMGyroData`). Then the magnetometer corrects the heading slowly (time constant
+    /// 120 s) and the field's disturbances indoors stay out of it; `false` for a raw
+    /// gyroscope, whose drift needs the fast loop (10 s). Default `true`.
+    pub gyro_calibrated: bool,
 }
 
 impl Default for NavigatorConfig {
@@ -146,6 +152,7 @@ impl Default for NavigatorConfig {
             // and more closely than Weinberg's acceleration range (docs/phone.md).
             step_length_model: StepLengthModel::Pendulum,
             step_length: StepLengthConfig::default(),
+            gyro_calibrated: true,
         }
     }
 }
@@ -253,7 +260,7 @@ impl PhoneNavigator {
             detector: StepDetector::new(config.detector)?,
             lengths: StepLengthEstimator::new(config.step_length_model, config.step_length)?,
             config,
-            direction: WalkingDirection::new(),
+            direction: WalkingDirection::with_gyro_calibrated(config.gyro_calibrated),
             vertical: VerticalHistory::new(),
             frame: None,
             east_m: 0.0,

@@ -116,6 +116,23 @@ fn a_walk_split_and_restored_gives_the_same_output() {
     }
 }
 
+#[test]
+fn a_raw_gyroscope_setting_survives_the_snapshot() {
+    let xs = inputs(10.0);
+    for gyro_calibrated in [true, false] {
+        let config = NavigatorConfig {
+            gyro_calibrated,
+            ..NavigatorConfig::default()
+        };
+        let mut nav = PhoneNavigator::new(config).unwrap();
+        let before = feed(&mut nav, &xs[..300]);
+        let mut restored = PhoneNavigator::restore(&nav.snapshot()).unwrap();
+        assert_eq!(*restored.config(), config);
+        assert!(feed(&mut restored, &xs[300..]) == feed(&mut nav, &xs[300..]));
+        assert!(!before.is_empty());
+    }
+}
+
 /// A walk without GNSS (indoors): every detected step is placed on the track, those
 /// of the first burst (released before the walking direction was known) included,
 /// so the track's length is the distance walked.

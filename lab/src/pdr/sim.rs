@@ -37,7 +37,12 @@ const LOOP_GNSS_S: f64 = 60.0;
 /// Push the whole simulation through a navigator; the final estimate.
 fn navigate(sim: &SimulatedPhone, use_mag: bool) -> Result<NavEstimate, String> {
     let frame = LocalFrame::new(47.0, 8.0, 0.0);
-    let mut nav = PhoneNavigator::new(NavigatorConfig::default()).map_err(|e| e.to_string())?;
+    // The simulator's gyroscope is raw (a bias of 0.01 rad/s per axis).
+    let mut nav = PhoneNavigator::new(NavigatorConfig {
+        gyro_calibrated: false,
+        ..NavigatorConfig::default()
+    })
+    .map_err(|e| e.to_string())?;
     let mut fi = 0;
     for s in &sim.samples {
         while fi < sim.fixes.len() && sim.fixes[fi].t_s <= s.t_s {

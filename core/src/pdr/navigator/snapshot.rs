@@ -181,6 +181,7 @@ impl PhoneNavigator {
             detector: *detector.config(),
             step_length_model: lengths.model(),
             step_length: *lengths.config(),
+            gyro_calibrated: direction.gyro_calibrated(),
         };
         Ok(Self {
             config,

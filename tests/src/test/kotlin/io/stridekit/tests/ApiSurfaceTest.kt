@@ -127,6 +127,10 @@ class ApiSurfaceTest {
             val e = assertNotNull(r.latest)
             assertTrue(e.steps > 10L, "steps ${e.steps}")
         }
+        // A platform-calibrated gyroscope by default; a raw one is said so, and kept.
+        assertTrue(navigatorConfigDefault().gyroCalibrated)
+        val raw = navigatorConfigDefault().copy(gyroCalibrated = false)
+        PhoneNavigator(raw).use { nav -> assertEquals(raw, nav.config()) }
         val bad = navigatorConfigDefault().let { it.copy(orientation = it.orientation.copy(accelTimeConstantS = -1.0)) }
         assertFailsWith<NavException.InvalidConfig> { PhoneNavigator(bad) }
     }
