@@ -1,4 +1,4 @@
-//! `stridekit pdr FILE [--out traj.csv] [--calibration FILE] [--no-mag]`: replay a
+//! `stridekit pdr FILE [--out traj.csv] [--calibration FILE] [--no-mag] [--raw-gyro]`: replay a
 //! phone recording (an Android sensor log, `.txt` or `.txt.gz`, or any recording
 //! `stridekit-formats` reads) through `PhoneNavigator` with no GNSS.
 //!
@@ -31,6 +31,8 @@ pub struct PdrArgs {
     pub out: Option<PathBuf>,
     pub calibration: Option<PathBuf>,
     pub no_mag: bool,
+    /// The gyroscope is raw (`NavigatorConfig::gyro_calibrated` false).
+    pub raw_gyro: bool,
 }
 
 pub fn run(a: &PdrArgs) -> Result<String, String> {
@@ -42,6 +44,10 @@ pub fn run(a: &PdrArgs) -> Result<String, String> {
     let o = ReplayOptions {
         mag: !a.no_mag,
         calibration,
+        config: stridekit_core::pdr::NavigatorConfig {
+            gyro_calibrated: !a.raw_gyro,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let r = replay(&walk.rec, &o)?;

@@ -210,6 +210,11 @@ pub struct PdrArgs {
     /// Ignore the magnetometer.
     #[arg(long)]
     pub no_mag: bool,
+    /// The gyroscope is raw (its bias not removed by the platform, e.g. Android's
+    /// TYPE_GYROSCOPE_UNCALIBRATED alone): the magnetometer then corrects the heading
+    /// fast (10 s instead of 120 s) to follow the gyroscope's drift.
+    #[arg(long)]
+    pub raw_gyro: bool,
 }
 
 pub fn pdr(a: PdrArgs) -> Result<(), String> {
@@ -219,6 +224,7 @@ pub fn pdr(a: PdrArgs) -> Result<(), String> {
         out: Some(out.path.clone()),
         calibration: a.calibration,
         no_mag: a.no_mag,
+        raw_gyro: a.raw_gyro,
     })?;
     print!("{text}");
     if out.existed {
