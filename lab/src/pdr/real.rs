@@ -152,6 +152,18 @@ pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
             mag: false,
             ..base.clone()
         })?,
+        // What an app gets that says its gyroscope is raw: the fast magnetic loop.
+        score(
+            "defaults, magnetometer, raw-gyroscope setting (fast magnetic loop)",
+            &walks,
+            |_| ReplayOptions {
+                config: NavigatorConfig {
+                    gyro_calibrated: false,
+                    ..config
+                },
+                ..base.clone()
+            },
+        )?,
         score(
             "calibrated leave-one-floor-out, magnetometer",
             &walks,
