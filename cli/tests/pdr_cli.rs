@@ -11,6 +11,15 @@ fn stridekit() -> Command {
     Command::new(env!("CARGO_BIN_EXE_stridekit"))
 }
 
+/// The command exited 0 (its stderr is the failure message otherwise).
+fn succeeded(out: &std::process::Output) {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("stridekit-pdr-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
@@ -69,11 +78,7 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     assert!(
         stdout.contains("rejected samples: 1\n  skipped 1: IMU stream: duplicate timestamp"),
         "{stdout}"
@@ -114,11 +119,7 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
             .args(extra)
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        succeeded(&out);
         let text = std::fs::read_to_string(&csv).unwrap();
         let last = text.lines().last().unwrap().split(',').nth(4).unwrap();
         last.parse::<f64>().unwrap()
@@ -142,11 +143,7 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
         .arg(&cal)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     let text = std::fs::read_to_string(&cal).unwrap();
     assert!(text.starts_with("stridekit-pdr-calibration 1\n"), "{text}");
     let out = stridekit()
@@ -159,11 +156,7 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
         .arg("--no-mag")
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
 
     // The same log through the step detector: one row per step on the file's clock.
     let steps_csv = dir.join("out/steps");
@@ -174,11 +167,7 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
         .arg(&steps_csv)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     let text = std::fs::read_to_string(dir.join("out/steps.csv")).unwrap();
     let rows: Vec<&str> = text.lines().skip(1).collect();
     // 40 s at 1.8 steps/s.

@@ -43,6 +43,7 @@
 use nalgebra::{Quaternion, Rotation3, UnitQuaternion, Vector3};
 
 use super::rng::Rng;
+use stridekit_core::pdr::NavigatorConfig;
 use stridekit_core::placement::Placement;
 use stridekit_core::stepdetect::StepEvent;
 
@@ -486,6 +487,16 @@ struct PlannedStep {
 }
 
 /// Simulate the phone's sensors. Deterministic for a given scenario.
+/// The phone navigator's configuration for these simulated sensors: the default, with
+/// the gyroscope said to be raw (its bias, 0.01 rad/s per axis, is not removed as a
+/// platform's calibrated gyroscope's is), so the magnetic loop follows its drift.
+pub fn navigator_config() -> NavigatorConfig {
+    NavigatorConfig {
+        gyro_calibrated: false,
+        ..NavigatorConfig::default()
+    }
+}
+
 pub fn simulate_phone(scenario: &PhoneScenario) -> SimulatedPhone {
     let rate = if scenario.sample_rate_hz.is_finite() {
         scenario.sample_rate_hz.clamp(50.0, 500.0)

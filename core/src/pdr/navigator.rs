@@ -42,9 +42,10 @@ use super::heading::WalkingDirection;
 use super::vertical::VerticalHistory;
 
 const SNAPSHOT_KIND: u8 = 5;
-/// Version 6: the vertical history and each step's vertical displacement (5: gait
-/// initiation in the step-length state; 4: the input layer's time state per stream;
-/// 3 added the attitude history, deferred and recent steps).
+/// Version 7: the walking direction's `gyro_calibrated` flag (6: the vertical history
+/// and each step's vertical displacement; 5: gait initiation in the step-length state;
+/// 4: the input layer's time state per stream; 3 added the attitude history, deferred
+/// and recent steps).
 const SNAPSHOT_VERSION: u16 = 7;
 /// Steps waiting for the carrying to be known, and recent placed steps kept.
 const DEFERRED_STEPS: usize = 32;

@@ -6,8 +6,8 @@
 use stridekit_core::ahrs::ImuSample;
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::pace::GnssFix;
-use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
-use stridekit_sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
+use stridekit_core::pdr::PhoneNavigator;
+use stridekit_sim::phone::{navigator_config, simulate_phone, PhonePlacement, PhoneScenario};
 
 /// End-point error as % of the distance walked after `outage_s`.
 fn outage_error_pct(placement: PhonePlacement, seed: u64, walk_s: f64, outage_s: f64) -> f64 {
@@ -15,7 +15,7 @@ fn outage_error_pct(placement: PhonePlacement, seed: u64, walk_s: f64, outage_s:
     sc.gnss_outages = vec![(outage_s, walk_s + 1.0)];
     let sim = simulate_phone(&sc);
     let frame = LocalFrame::new(47.0, 8.0, 0.0);
-    let mut nav = PhoneNavigator::new(raw_gyro()).unwrap();
+    let mut nav = PhoneNavigator::new(navigator_config()).unwrap();
     let mut fi = 0;
     for s in &sim.samples {
         while fi < sim.fixes.len() && sim.fixes[fi].t_s <= s.t_s {
@@ -50,14 +50,5 @@ fn a_five_minute_outage_ends_within_ten_percent() {
     ] {
         let e = outage_error_pct(placement, seed, 480.0, 180.0);
         assert!(e < 10.0, "{placement:?} seed {seed}: {e:.1} %");
-    }
-}
-
-/// The simulator's gyroscope is raw (a bias of 0.01 rad/s per axis, no platform
-/// calibration): the navigator is told so.
-fn raw_gyro() -> NavigatorConfig {
-    NavigatorConfig {
-        gyro_calibrated: false,
-        ..NavigatorConfig::default()
     }
 }

@@ -13,8 +13,8 @@ use stridekit_core::ahrs::ImuSample;
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::pace::GnssFix;
 use stridekit_core::pdr::wrap;
-use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
-use stridekit_sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
+use stridekit_core::pdr::PhoneNavigator;
+use stridekit_sim::phone::{navigator_config, simulate_phone, PhonePlacement, PhoneScenario};
 
 fn quat(q: [f64; 4]) -> UnitQuaternion<f64> {
     UnitQuaternion::new_normalize(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]))
@@ -47,7 +47,7 @@ fn azimuth_error_over_time() {
             sc.gnss_outages = vec![(300.0, 900.0)];
             let sim = simulate_phone(&sc);
             let frame = LocalFrame::new(47.0, 8.0, 0.0);
-            let mut nav = PhoneNavigator::new(raw_gyro()).unwrap();
+            let mut nav = PhoneNavigator::new(navigator_config()).unwrap();
             let mut fi = 0;
             let mut next = 60.0;
             let (mut nav_line, mut yaw_line, mut carry_line) =
@@ -159,7 +159,7 @@ fn cost_split() {
         }
         let det_ns = t0.elapsed().as_nanos() as f64 / n;
         for use_mag in [true, false] {
-            let mut nav = PhoneNavigator::new(raw_gyro()).unwrap();
+            let mut nav = PhoneNavigator::new(navigator_config()).unwrap();
             let t0 = Instant::now();
             for s in &sim.samples {
                 nav.push_imu(&ImuSample {
@@ -173,14 +173,5 @@ fn cost_split() {
             let nav_ns = t0.elapsed().as_nanos() as f64 / n;
             println!("ahrs+output {ahrs_ns:.0} ns, detector {det_ns:.0} ns, navigator (mag {use_mag}) {nav_ns:.0} ns");
         }
-    }
-}
-
-/// The simulator's gyroscope is raw (a bias of 0.01 rad/s per axis, no platform
-/// calibration): the navigator is told so.
-fn raw_gyro() -> NavigatorConfig {
-    NavigatorConfig {
-        gyro_calibrated: false,
-        ..NavigatorConfig::default()
     }
 }

@@ -141,7 +141,9 @@ pub fn report(out: &mut String, walks: &[Walk], mag: bool) -> Result<(), String>
                 None => rv_ok = false,
             }
         }
-        let truth: Vec<(f64, f64, f64)> = wp.to_vec();
+        if !rv_ok {
+            continue;
+        }
         let ours: Vec<TrackPoint> = times
             .iter()
             .zip(&est)
@@ -152,9 +154,6 @@ pub fn report(out: &mut String, walks: &[Walk], mag: bool) -> Result<(), String>
                 distance_m: 0.0,
             })
             .collect();
-        if !rv_ok {
-            continue;
-        }
         let (lt, le) = wp
             .windows(2)
             .zip(&exact_dir_ours)
@@ -175,7 +174,7 @@ pub fn report(out: &mut String, walks: &[Walk], mag: bool) -> Result<(), String>
             chain(&times, est[0], &rv_exact_len),
         ];
         for (row, t) in rows.iter_mut().zip(&tracks) {
-            if let Some(m) = evaluate(t, &truth) {
+            if let Some(m) = evaluate(t, wp) {
                 row.push(m);
             }
         }

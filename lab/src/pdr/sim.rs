@@ -21,7 +21,7 @@ use std::fmt::Write as _;
 use stridekit_core::ahrs::ImuSample;
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::pace::GnssFix;
-use stridekit_core::pdr::{NavEstimate, NavigatorConfig, PhoneNavigator};
+use stridekit_core::pdr::{NavEstimate, PhoneNavigator};
 use stridekit_sim::phone::PhoneScenario;
 use stridekit_sim::phone::{simulate_phone, PhonePlacement, SimulatedPhone};
 
@@ -37,12 +37,8 @@ const LOOP_GNSS_S: f64 = 60.0;
 /// Push the whole simulation through a navigator; the final estimate.
 fn navigate(sim: &SimulatedPhone, use_mag: bool) -> Result<NavEstimate, String> {
     let frame = LocalFrame::new(47.0, 8.0, 0.0);
-    // The simulator's gyroscope is raw (a bias of 0.01 rad/s per axis).
-    let mut nav = PhoneNavigator::new(NavigatorConfig {
-        gyro_calibrated: false,
-        ..NavigatorConfig::default()
-    })
-    .map_err(|e| e.to_string())?;
+    let mut nav =
+        PhoneNavigator::new(stridekit_sim::phone::navigator_config()).map_err(|e| e.to_string())?;
     let mut fi = 0;
     for s in &sim.samples {
         while fi < sim.fixes.len() && sim.fixes[fi].t_s <= s.t_s {
