@@ -585,6 +585,10 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
         );
     }
     crate::pdr::legs::report(&mut out, walks, mag)?;
+    if mag {
+        // The distance does not depend on the magnetometer: once is enough.
+        crate::pdr::shared::report(&mut out, walks)?;
+    }
     Ok(out)
 }
 

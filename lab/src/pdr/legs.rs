@@ -74,7 +74,7 @@ fn chain(times: &[f64], start: (f64, f64), legs: &[(f64, f64)]) -> Vec<TrackPoin
 }
 
 /// Robust sd (1.4826 · median absolute deviation from the median).
-fn robust_sd(v: &[f64]) -> f64 {
+pub(crate) fn robust_sd(v: &[f64]) -> f64 {
     let m = median(v.to_vec());
     1.4826 * median(v.iter().map(|x| (x - m).abs()).collect::<Vec<f64>>())
 }

@@ -8,5 +8,6 @@ pub mod legs;
 pub mod metrics;
 pub mod odometry;
 pub mod real;
+pub mod shared;
 pub mod sim;
 pub mod walks;
