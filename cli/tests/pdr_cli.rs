@@ -241,3 +241,51 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("version 7"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A folder of one floor (a building of its own, a user's few walks) is evaluated:
+/// leave-one-floor-out has nothing to learn from there, so those rows score no walk
+/// and say why instead of stopping the command; a folder without waypoints is an
+/// error that says what is missing.
+#[test]
+fn eval_pdr_takes_a_folder_of_one_floor_and_refuses_one_without_waypoints() {
+    let dir = temp_dir("onefloor");
+    std::fs::create_dir_all(dir.join("walks")).unwrap();
+    write_log(&dir.join("walks").join("walk.txt"));
+    let out = stridekit()
+        .args(["eval", "pdr", "--data"])
+        .arg(dir.join("walks"))
+        .output()
+        .unwrap();
+    succeeded(&out);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("| defaults, magnetometer | 1 | "),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("| calibrated leave-one-floor-out, magnetometer | 0 | – |"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("- without F9: none ("), "{stdout}");
+
+    let bare = dir.join("bare");
+    std::fs::create_dir_all(&bare).unwrap();
+    let text = std::fs::read_to_string(dir.join("walks").join("walk.txt")).unwrap();
+    let no_waypoints: String = text
+        .lines()
+        .filter(|l| !l.contains("TYPE_WAYPOINT"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(bare.join("walk.txt"), no_waypoints).unwrap();
+    let out = stridekit()
+        .args(["eval", "pdr", "--data"])
+        .arg(&bare)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("no walk with surveyed waypoints"),
+        "{stderr}"
+    );
+}

@@ -42,6 +42,9 @@ pub struct MethodResult {
 
 impl MethodResult {
     fn cells(ms: &[&Metrics]) -> String {
+        if ms.is_empty() {
+            return "0 | – | – | – | –".to_string();
+        }
         format!(
             "{} | {:.2} m | {:.2} m | {:.1} % | {:+.1} % ({:.1} %)",
             ms.len(),
@@ -69,11 +72,12 @@ impl MethodResult {
     }
 }
 
-/// Replay every walk with options chosen per walk.
+/// Replay every walk with options chosen per walk; a walk without options (its
+/// floor has no leave-one-floor-out calibration) is not scored.
 fn score(
     name: &str,
     walks: &[Walk],
-    options: impl Fn(&Walk) -> ReplayOptions,
+    options: impl Fn(&Walk) -> Option<ReplayOptions>,
 ) -> Result<MethodResult, String> {
     score_track(name, walks, options, false)
 }
@@ -83,14 +87,15 @@ fn score(
 fn score_track(
     name: &str,
     walks: &[Walk],
-    options: impl Fn(&Walk) -> ReplayOptions,
+    options: impl Fn(&Walk) -> Option<ReplayOptions>,
     live: bool,
 ) -> Result<MethodResult, String> {
     let mut by_walk = Vec::with_capacity(walks.len());
     let pb = crate::progress::bar(walks.len(), name);
     for w in walks {
         pb.inc(1);
-        let r = replay(&w.rec, &options(w))?;
+        let Some(o) = options(w) else { continue };
+        let r = replay(&w.rec, &o)?;
         let track = if live { &r.live } else { &r.track };
         if let Some(m) = evaluate(track, &w.rec.truth) {
             by_walk.push((w.floor.clone(), m));
@@ -104,20 +109,29 @@ fn score_track(
 }
 
 /// Calibrations learned leave one floor out: floor → calibration from the others.
+/// A floor whose other floors hold nothing to learn from (a folder with one floor)
+/// gets none: the second map says why.
 pub fn lofo_calibrations(
     walks: &[Walk],
     config: &NavigatorConfig,
-) -> Result<BTreeMap<String, PdrCalibration>, String> {
-    let mut out = BTreeMap::new();
+) -> (BTreeMap<String, PdrCalibration>, BTreeMap<String, String>) {
+    let (mut out, mut missing) = (BTreeMap::new(), BTreeMap::new());
     let fl = floors(walks);
     let pb = crate::progress::bar(fl.len(), "calibrating (leave one floor out)");
     for f in fl {
         let train: Vec<&Walk> = walks.iter().filter(|w| w.floor != f).collect();
-        out.insert(f.clone(), learn(&train, config, config.step_length_model)?);
+        match learn(&train, config, config.step_length_model) {
+            Ok(c) => {
+                out.insert(f, c);
+            }
+            Err(e) => {
+                missing.insert(f, e);
+            }
+        }
         pb.inc(1);
     }
     pb.finish_and_clear();
-    Ok(out)
+    (out, missing)
 }
 
 pub fn floors(walks: &[Walk]) -> Vec<String> {
@@ -130,72 +144,90 @@ pub fn floors(walks: &[Walk]) -> Vec<String> {
 /// The whole evaluation as markdown.
 pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
     let walks = load_walks_with_progress(dir)?;
+    if walks.is_empty() {
+        return Err(format!(
+            "no walk with surveyed waypoints (TYPE_WAYPOINT) under {}: the evaluation scores tracks at the waypoints; `stridekit pdr FILE` replays a walk without them",
+            dir.display()
+        ));
+    }
     if diagnose {
         let mut s = crate::pdr::diagnose::run(&walks, true)?;
         s += &crate::pdr::diagnose::run(&walks, false)?;
         return Ok(s);
     }
     let config = NavigatorConfig::default();
-    let lofo = lofo_calibrations(&walks, &config)?;
+    let (lofo, no_lofo) = lofo_calibrations(&walks, &config);
     let all_refs: Vec<&Walk> = walks.iter().collect();
-    let fitted = learn(&all_refs, &config, config.step_length_model)?;
+    let fitted = learn(&all_refs, &config, config.step_length_model).ok();
     let base = ReplayOptions::default();
     let mut methods = vec![
-        score("defaults, magnetometer", &walks, |_| base.clone())?,
+        score("defaults, magnetometer", &walks, |_| Some(base.clone()))?,
         score_track(
             "defaults, magnetometer, live estimate",
             &walks,
-            |_| base.clone(),
+            |_| Some(base.clone()),
             true,
         )?,
-        score("defaults, no magnetometer", &walks, |_| ReplayOptions {
-            mag: false,
-            ..base.clone()
+        score("defaults, no magnetometer", &walks, |_| {
+            Some(ReplayOptions {
+                mag: false,
+                ..base.clone()
+            })
         })?,
         // What an app gets that says its gyroscope is raw: the fast magnetic loop.
         score(
             "defaults, magnetometer, raw-gyroscope setting (fast magnetic loop)",
             &walks,
-            |_| ReplayOptions {
-                config: NavigatorConfig {
-                    gyro_calibrated: false,
-                    ..config
-                },
-                ..base.clone()
+            |_| {
+                Some(ReplayOptions {
+                    config: NavigatorConfig {
+                        gyro_calibrated: false,
+                        ..config
+                    },
+                    ..base.clone()
+                })
             },
         )?,
         score(
             "calibrated leave-one-floor-out, magnetometer",
             &walks,
-            |w| ReplayOptions {
-                calibration: lofo.get(&w.floor).copied(),
-                ..base.clone()
+            |w| {
+                lofo.get(&w.floor).map(|c| ReplayOptions {
+                    calibration: Some(*c),
+                    ..base.clone()
+                })
             },
         )?,
         score(
             "calibrated leave-one-floor-out, no magnetometer",
             &walks,
-            |w| ReplayOptions {
-                calibration: lofo.get(&w.floor).copied(),
-                mag: false,
-                ..base.clone()
+            |w| {
+                lofo.get(&w.floor).map(|c| ReplayOptions {
+                    calibration: Some(*c),
+                    mag: false,
+                    ..base.clone()
+                })
             },
         )?,
         score(
             "calibrated on all walks (fitted), magnetometer",
             &walks,
-            |_| ReplayOptions {
-                calibration: Some(fitted),
-                ..base.clone()
+            |_| {
+                fitted.map(|c| ReplayOptions {
+                    calibration: Some(c),
+                    ..base.clone()
+                })
             },
         )?,
         score(
             "rotation vector as orientation (comparison)",
             &walks,
-            |_| ReplayOptions {
-                rotation_vector: true,
-                mag: false,
-                ..base.clone()
+            |_| {
+                Some(ReplayOptions {
+                    rotation_vector: true,
+                    mag: false,
+                    ..base.clone()
+                })
             },
         )?,
     ];
@@ -227,6 +259,12 @@ pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
         out,
         "\nCalibrations (leave one floor out, learned on the other floors):\n"
     );
+    for (f, why) in &no_lofo {
+        let _ = writeln!(
+            out,
+            "- without {f}: none ({why}); the calibrated leave-one-floor-out rows leave its walks out"
+        );
+    }
     for (f, c) in &lofo {
         let _ = writeln!(
             out,
