@@ -686,21 +686,29 @@ fn summary(
                 a as f64 / n as f64 * 100.0
             }
         };
+        // A gait with no trial in this group (a small folder) gets "–", not NaN.
+        let cell = |x: f64, decimals: usize| {
+            if x.is_finite() {
+                format!("{x:.decimals$}")
+            } else {
+                "–".to_string()
+            }
+        };
         out.push_str(&format!(
-            "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {:.1} | {:.1} |\n",
-            col(None, |o| o.armse_2d_m),
-            col(None, |o| o.rmse_h_m),
-            col(None, |o| o.rmse_m),
-            col(Some(GaitClass::Walk), |o| o.rmse_m),
-            col(Some(GaitClass::Run), |o| o.rmse_m),
-            col(Some(GaitClass::Other), |o| o.rmse_m),
-            col(Some(GaitClass::Walk), |o| o.closure_h_pct),
-            col(Some(GaitClass::Walk), |o| o.closure_pct),
-            col(Some(GaitClass::Run), |o| o.closure_pct),
-            pooled(0, |o, c| o.zv_agree[c]),
-            pooled(1, |o, c| o.zv_agree[c]),
-            pooled(2, |o, c| o.zv_agree[c]),
-            pooled(1, |o, c| o.false_stance[c]),
+            "| {name} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            cell(col(None, |o| o.armse_2d_m), 3),
+            cell(col(None, |o| o.rmse_h_m), 3),
+            cell(col(None, |o| o.rmse_m), 3),
+            cell(col(Some(GaitClass::Walk), |o| o.rmse_m), 3),
+            cell(col(Some(GaitClass::Run), |o| o.rmse_m), 3),
+            cell(col(Some(GaitClass::Other), |o| o.rmse_m), 3),
+            cell(col(Some(GaitClass::Walk), |o| o.closure_h_pct), 2),
+            cell(col(Some(GaitClass::Walk), |o| o.closure_pct), 2),
+            cell(col(Some(GaitClass::Run), |o| o.closure_pct), 2),
+            cell(pooled(0, |o, c| o.zv_agree[c]), 1),
+            cell(pooled(1, |o, c| o.zv_agree[c]), 1),
+            cell(pooled(2, |o, c| o.zv_agree[c]), 1),
+            cell(pooled(1, |o, c| o.false_stance[c]), 1),
         ));
     }
 }
@@ -743,8 +751,11 @@ fn evaluate(
     for (j, m) in cv.iter().enumerate() {
         names.insert(2 + j, format!("{} ({}-fold CV)", m.name, svm.len()));
     }
-    for m in &cv {
-        names.push(format!("{} (leave one session out)", m.name));
+    // A folder of one session has nothing to leave out: no such columns.
+    if loso.available() {
+        for m in &cv {
+            names.push(format!("{} (leave one session out)", m.name));
+        }
     }
     let mut results = Vec::new();
     let pb = crate::progress::bar(trials.len(), "eval foot: trials");
@@ -759,9 +770,11 @@ fn evaluate(
             let est = replay(trial, m)?;
             row.insert(2 + j, score_with_gait(trial, Some(&info.gait), &est));
         }
-        for m in &svm_methods(loso.model_for(&trial.rec.name)) {
-            let est = replay(trial, m)?;
-            row.push(score_with_gait(trial, Some(&info.gait), &est));
+        if let Some(model) = loso.model_for(&trial.rec.name) {
+            for m in &svm_methods(model) {
+                let est = replay(trial, m)?;
+                row.push(score_with_gait(trial, Some(&info.gait), &est));
+            }
         }
         results.push(row);
     }
@@ -775,8 +788,15 @@ pub fn run(dir: &Path) -> Result<String, String> {
     let (trials, infos): (Vec<Trial>, Vec<TrialInfo>) = loaded.into_iter().unzip();
     sp.set_message("eval foot: detector statistics of every trial");
     let stats = all_stats(&trials, &base_config())?;
-    sp.set_message(format!("eval foot: training {SVM_FOLDS} SVM folds"));
-    let svm = svm_folds(&trials, &stats, SVM_FOLDS)?;
+    if trials.len() < 2 {
+        return Err(format!(
+            "{}: eval foot needs at least two trials (its SVM is cross-validated over trials); `stridekit foot FILE` replays one",
+            dir.display()
+        ));
+    }
+    let folds = SVM_FOLDS.min(trials.len());
+    sp.set_message(format!("eval foot: training {folds} SVM folds"));
+    let svm = svm_folds(&trials, &stats, folds)?;
     sp.set_message("eval foot: training the leave-one-session-out SVMs");
     let loso = crate::foot::sessions::Loso::train(&trials, &stats)?;
     sp.finish_and_clear();
@@ -897,12 +917,19 @@ pub fn run(dir: &Path) -> Result<String, String> {
         .map(|t| t.pyshoe_best_m.unwrap_or(f64::NAN))
         .collect();
     let better = ours.iter().zip(&theirs).filter(|(a, b)| a <= b).count();
-    out.push_str(&format!(
-        "\nFilter check against pyshoe (same labels, same metric — pyshoe's 2-D ARMSE with its own alignment): this navigator driven by each trial's best labels, median {:.3} m; pyshoe's filter on the same labels (`best_error_m` in `_summary.csv`), median {:.3} m; ours is as good or better on {better} of {} trials.\n",
-        median(ours),
-        median(theirs),
-        trials.len()
-    ));
+    if theirs.iter().any(|x| x.is_finite()) {
+        out.push_str(&format!(
+            "\nFilter check against pyshoe (same labels, same metric — pyshoe's 2-D ARMSE with its own alignment): this navigator driven by each trial's best labels, median {:.3} m; pyshoe's filter on the same labels (`best_error_m` in `_summary.csv`), median {:.3} m; ours is as good or better on {better} of {} trials.\n",
+            median(ours),
+            median(theirs),
+            trials.len()
+        ));
+    } else {
+        out.push_str(&format!(
+            "\nFilter check against pyshoe: this navigator driven by each trial's best labels, median {:.3} m in pyshoe's metric; pyshoe's own errors (`_summary.csv`) are not in this folder.\n",
+            median(ours),
+        ));
+    }
     out.push_str(&format!(
         "\nTarget check (all trials): median RMSE ≤ oracle labels' {med_oracle:.3} m; ZV agreement ≥ 98 % on running samples; median loop closure ≤ 0.3 % on walking trials.\n\n"
     ));
@@ -919,7 +946,12 @@ pub fn run(dir: &Path) -> Result<String, String> {
                 n + r[j].zv_total[GaitClass::Run as usize],
             )
         });
-        let zv = a as f64 / n.max(1) as f64 * 100.0;
+        // No running sample in the folder: no agreement to state.
+        let zv = if n == 0 {
+            f64::NAN
+        } else {
+            a as f64 / n as f64 * 100.0
+        };
         let ch = median(
             walk.iter()
                 .map(|&i| results[i][j].closure_h_pct)
@@ -930,10 +962,14 @@ pub fn run(dir: &Path) -> Result<String, String> {
                 .map(|&i| results[i][j].closure_pct)
                 .collect::<Vec<f64>>(),
         );
+        let (zv_cell, zv_met) = if zv.is_finite() {
+            (format!("{zv:.1}"), yes(zv >= 98.0))
+        } else {
+            ("–".to_string(), "no running samples")
+        };
         out.push_str(&format!(
-            "| {name} | {rmse:.3} | {} | {zv:.1} | {} | {ch:.2} / {c3:.2} | {} (horizontal), {} (3-D) |\n",
+            "| {name} | {rmse:.3} | {} | {zv_cell} | {zv_met} | {ch:.2} / {c3:.2} | {} (horizontal), {} (3-D) |\n",
             yes(rmse <= med_oracle),
-            yes(zv >= 98.0),
             yes(ch <= 0.3),
             yes(c3 <= 0.3),
         ));

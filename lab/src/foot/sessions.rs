@@ -19,10 +19,11 @@ pub fn session_of(name: &str) -> &str {
     name.get(..10).unwrap_or(name)
 }
 
-/// One SVM per session, trained on every other session.
+/// One SVM per session, trained on every other session; `None` for a session with
+/// nothing else to train on (a folder of one session).
 pub struct Loso {
     sessions: Vec<String>,
-    models: Vec<SvmModel>,
+    models: Vec<Option<SvmModel>>,
 }
 
 impl Loso {
@@ -41,20 +42,31 @@ impl Loso {
                     data.extend(train_zupt::labelled_from(t, st)?);
                 }
             }
-            models.push(train_zupt::train(
-                &data,
-                &p,
-                vec![format!("leave-one-session-out: without {s}")],
-            )?);
+            let others = trials.iter().any(|t| session_of(&t.rec.name) != s);
+            models.push(if others {
+                Some(train_zupt::train(
+                    &data,
+                    &p,
+                    vec![format!("leave-one-session-out: without {s}")],
+                )?)
+            } else {
+                None
+            });
         }
         Ok(Self { sessions, models })
     }
 
-    /// The model that never saw `trial`'s session.
-    pub fn model_for(&self, trial: &str) -> &SvmModel {
+    /// Whether there is more than one session (then every session has a model).
+    pub fn available(&self) -> bool {
+        self.models.iter().any(Option::is_some)
+    }
+
+    /// The model that never saw `trial`'s session; `None` when every trial is of
+    /// that session.
+    pub fn model_for(&self, trial: &str) -> Option<&SvmModel> {
         let s = session_of(trial);
-        let i = self.sessions.iter().position(|x| x == s).unwrap_or(0);
-        &self.models[i]
+        let i = self.sessions.iter().position(|x| x == s)?;
+        self.models[i].as_ref()
     }
 }
 
