@@ -178,7 +178,7 @@ pub fn pedometer_only_table(dir: &Path, prefix: &str) -> Result<String, String> 
     );
     let _ = writeln!(out, "|---|---|---|---|");
     let mut pooled = [[0.0f64; 3]; 2];
-    let mut n = 0usize;
+    let mut n = [0usize; 2];
     for (i, (path, act, p, _)) in runs.iter().enumerate() {
         let cals: Vec<PaceCalibration> = runs
             .iter()
@@ -218,32 +218,44 @@ pub fn pedometer_only_table(dir: &Path, prefix: &str) -> Result<String, String> 
             }
         }
         let prior = score(PaceConfig::default());
+        // A run with no other run to calibrate from (a folder of one run) has no
+        // calibrated cell and stays out of that pool.
+        let calibrated = !cals.is_empty();
         for (k, v) in [cal, prior].iter().enumerate() {
+            if k == 0 && !calibrated {
+                continue;
+            }
             pooled[k][0] += v[0] * v[0];
             pooled[k][1] += v[1] * v[1];
             pooled[k][2] += v[2].abs();
+            n[k] += 1;
         }
-        n += 1;
         let name = path.file_name().unwrap_or_default().to_string_lossy();
+        let cal_cell = if calibrated {
+            format!("{} / {} / {:+.1} %", fmt(cal[0]), fmt(cal[1]), cal[2])
+        } else {
+            "– (no other run to calibrate from)".to_string()
+        };
         let _ = writeln!(
             out,
-            "| {name} | {} | {} / {} / {:+.1} % | {} / {} / {:+.1} % |",
+            "| {name} | {} | {cal_cell} | {} / {} / {:+.1} % |",
             cals.len(),
-            fmt(cal[0]),
-            fmt(cal[1]),
-            cal[2],
             fmt(prior[0]),
             fmt(prior[1]),
             prior[2]
         );
     }
-    if n > 0 {
+    if n[1] > 0 {
         let c = |k: usize| {
+            if n[k] == 0 {
+                return "–".to_string();
+            }
+            let m = n[k] as f64;
             format!(
                 "{} / {} / mean |error| {:.1} %",
-                fmt((pooled[k][0] / n as f64).sqrt()),
-                fmt((pooled[k][1] / n as f64).sqrt()),
-                pooled[k][2] / n as f64
+                fmt((pooled[k][0] / m).sqrt()),
+                fmt((pooled[k][1] / m).sqrt()),
+                pooled[k][2] / m
             )
         };
         let _ = writeln!(out, "| **pooled** | | {} | {} |", c(0), c(1));
