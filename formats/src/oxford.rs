@@ -23,6 +23,10 @@ pub enum OxfordPosition {
     NeckPouch,
     Armband,
     SwingingArm,
+    /// A folder whose name does not follow the set's `<Phone>_<User>_<Surface>_<Position>_<n>`
+    /// with one of the positions above (a recording of your own, renamed traces): the
+    /// trace is read all the same. Not in [`OxfordPosition::ALL`].
+    Other,
 }
 
 impl OxfordPosition {
@@ -55,6 +59,7 @@ impl OxfordPosition {
             OxfordPosition::NeckPouch => "NeckPouch",
             OxfordPosition::Armband => "Armband",
             OxfordPosition::SwingingArm => "SwingingArm",
+            OxfordPosition::Other => "Other",
         }
     }
 }
@@ -143,7 +148,21 @@ pub fn read_oxford_trace(dir: &Path) -> Result<OxfordTrace, FormatError> {
         .file_name()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let (phone, user, surface, position) = parse_name(&name)?;
+    // A name outside the set's pattern is not an error: the samples and the reference
+    // are what count; phone, user and surface are then "?" and the position Other.
+    let (phone, user, surface, position) = parse_name(&name).unwrap_or_else(|_| {
+        let parts: Vec<&str> = name.split('_').collect();
+        if parts.len() == 5 {
+            (
+                parts[0].to_string(),
+                parts[1].to_string(),
+                parts[2].to_string(),
+                OxfordPosition::Other,
+            )
+        } else {
+            ("?".into(), "?".into(), "?".into(), OxfordPosition::Other)
+        }
+    });
 
     let text = std::fs::read_to_string(dir.join("accelerometer.csv"))?;
     let mut accel: Vec<OxfordAccel> = Vec::with_capacity(text.len() / 40);

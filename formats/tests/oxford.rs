@@ -62,7 +62,7 @@ fn reads_every_trace_and_matches_the_published_step_totals() {
 }
 
 #[test]
-fn missing_or_misnamed_folders_are_errors() {
+fn missing_files_are_errors_and_folders_named_otherwise_are_read() {
     let dir = std::env::temp_dir().join(format!("stridekit-oxford-{}", std::process::id()));
     let bad = dir.join("not_a_trace");
     std::fs::create_dir_all(&bad).unwrap();
@@ -85,5 +85,15 @@ fn missing_or_misnamed_folders_are_errors() {
     assert_eq!(t.heel_strikes_t_s, vec![1.5, 1.6]);
     assert_eq!(t.position, OxfordPosition::InHand);
     assert_eq!(list_oxford_traces(&dir).unwrap(), vec![missing.clone()]);
+    // A folder named outside the set's pattern (a recording of your own) is read:
+    // the samples and the reference are what count.
+    let own = dir.join("my_walk");
+    std::fs::create_dir_all(&own).unwrap();
+    for f in ["accelerometer.csv", "stepcounter.csv"] {
+        std::fs::copy(missing.join(f), own.join(f)).unwrap();
+    }
+    let t = read_oxford_trace(&own).unwrap();
+    assert_eq!(t.heel_strikes_t_s, vec![1.5, 1.6]);
+    assert_eq!((t.user.as_str(), t.position), ("?", OxfordPosition::Other));
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -580,7 +580,10 @@ pub fn run(dir: &Path) -> Result<String, String> {
     for (vi, v) in Variant::ALL.iter().enumerate() {
         line(format!("**all, {}**", v.name()), &|_| true, vi);
     }
-    for pos in OxfordPosition::ALL {
+    for pos in OxfordPosition::ALL
+        .into_iter()
+        .chain([OxfordPosition::Other])
+    {
         line(format!("{pos}"), &|r: &Row| r.trace.position == pos, 0);
     }
     let users = users_of(rows.iter().map(|r| &r.trace));
