@@ -42,7 +42,13 @@ pub fn load(dir: &Path, drop: &[usize]) -> Result<(Vec<TraceWindows>, f64), Stri
     for path in list_oxford_traces(dir).map_err(|e| e.to_string())? {
         let t = read_oxford_trace(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let label = Placement::from_oxford_position(t.position.name())
-            .ok_or_else(|| format!("{}: no placement class", t.name))?;
+            .ok_or_else(|| {
+                format!(
+                    "{}: no placement in the folder name (the placement evaluation needs it as the label: <Phone>_<User>_<Surface>_<Position>_<n>, Position one of {})",
+                    t.name,
+                    stridekit_formats::OxfordPosition::ALL.map(|p| p.name()).join(", ")
+                )
+            })?;
         let start = Instant::now();
         let mut features = trace_features(t.accel.iter().map(|a| (a.t_s, a.accel_mps2)));
         secs += start.elapsed().as_secs_f64();
