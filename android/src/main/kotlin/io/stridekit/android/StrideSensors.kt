@@ -52,7 +52,9 @@ class StrideSensors(
 
     /**
      * Register for the given sensor types (Sensor.TYPE_ACCELEROMETER, TYPE_GYROSCOPE,
-     * TYPE_MAGNETIC_FIELD, TYPE_STEP_COUNTER). `samplingPeriodUs` 10 000 = 100 Hz;
+     * TYPE_MAGNETIC_FIELD, TYPE_STEP_COUNTER). `samplingPeriodUs` 10 000 = 100 Hz (every
+     * engine; 40 000 = 25 Hz is enough for steps and dead reckoning and costs less
+     * battery, the foot navigator wants 100 Hz or more: docs/api.md, "Sampling rates");
      * `maxReportLatencyUs` > 0 lets the sensor hub batch events while the screen is
      * off (the events keep their own timestamps). Returns the types that exist on this
      * device and were registered.
