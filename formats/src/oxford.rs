@@ -104,15 +104,19 @@ impl OxfordTrace {
     }
 }
 
+/// The five `_`-separated parts of `<Phone>_<User>_<Surface>_<Position>_<n>`.
+fn name_parts(name: &str) -> Option<[&str; 5]> {
+    name.split('_').collect::<Vec<&str>>().try_into().ok()
+}
+
 /// Parses `<Phone>_<User>_<Surface>_<Position>_<n>`.
 fn parse_name(name: &str) -> Result<(String, String, String, OxfordPosition), FormatError> {
-    let parts: Vec<&str> = name.split('_').collect();
-    if parts.len() != 5 {
-        return Err(FormatError::parse(
+    let parts = name_parts(name).ok_or_else(|| {
+        FormatError::parse(
             FORMAT,
             format!("folder name {name:?} is not <Phone>_<User>_<Surface>_<Position>_<n>"),
-        ));
-    }
+        )
+    })?;
     let position = OxfordPosition::parse(parts[3]).ok_or_else(|| {
         FormatError::parse(
             FORMAT,
@@ -151,17 +155,13 @@ pub fn read_oxford_trace(dir: &Path) -> Result<OxfordTrace, FormatError> {
     // A name outside the set's pattern is not an error: the samples and the reference
     // are what count; phone, user and surface are then "?" and the position Other.
     let (phone, user, surface, position) = parse_name(&name).unwrap_or_else(|_| {
-        let parts: Vec<&str> = name.split('_').collect();
-        if parts.len() == 5 {
-            (
-                parts[0].to_string(),
-                parts[1].to_string(),
-                parts[2].to_string(),
-                OxfordPosition::Other,
-            )
-        } else {
-            ("?".into(), "?".into(), "?".into(), OxfordPosition::Other)
-        }
+        let [phone, user, surface, ..] = name_parts(&name).unwrap_or(["?"; 5]);
+        (
+            phone.to_string(),
+            user.to_string(),
+            surface.to_string(),
+            OxfordPosition::Other,
+        )
     });
 
     let text = std::fs::read_to_string(dir.join("accelerometer.csv"))?;
