@@ -14,6 +14,15 @@ fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
+/// `rel` under the shared data folder, or `None` (the test skips, saying why).
+fn shared(rel: &str) -> Option<PathBuf> {
+    let d = data_dir().map(|d| d.join(rel));
+    if d.is_none() {
+        eprintln!("skipping: ../shared/data not found (set STRIDEKIT_DATA)");
+    }
+    d
+}
+
 /// Link `names` from `from` into a new folder.
 fn subset(from: &Path, names: &[&str], name: &str) -> PathBuf {
     let d = temp_dir(name);
@@ -41,8 +50,7 @@ fn eval(args: &[&str], dir: &Path) -> String {
 
 #[test]
 fn eval_foot_on_one_session() {
-    let Some(root) = data_dir().map(|d| d.join("foot/pyshoe-vicon")) else {
-        eprintln!("skipping: ../shared/data not found (set STRIDEKIT_DATA)");
+    let Some(root) = shared("foot/pyshoe-vicon") else {
         return;
     };
     let dir = subset(
@@ -60,8 +68,7 @@ fn eval_foot_on_one_session() {
 
 #[test]
 fn eval_steps_on_one_user() {
-    let Some(root) = data_dir().map(|d| d.join("steps/oxford")) else {
-        eprintln!("skipping: ../shared/data not found (set STRIDEKIT_DATA)");
+    let Some(root) = shared("steps/oxford") else {
         return;
     };
     let dir = subset(
