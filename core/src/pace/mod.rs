@@ -15,6 +15,7 @@ mod baseline;
 mod cadence;
 mod calibration;
 mod config;
+mod crosscheck;
 mod error;
 mod published;
 mod steps;
@@ -28,7 +29,9 @@ pub use calibration::{
 };
 pub use config::{AdaptiveParams, PaceConfig, PaceMode, PublishedParams};
 pub use error::{PaceError, Stream};
-pub use types::{GnssFix, PaceEstimate, PaceSample, PaceSource, StepSample, MIN_PACE_SPEED_MPS};
+pub use types::{
+    GnssFix, PaceEstimate, PaceFlags, PaceSample, PaceSource, StepSample, MIN_PACE_SPEED_MPS,
+};
 
 use crate::batch::{self, Batch};
 use crate::geo::LocalFrame;
@@ -36,6 +39,7 @@ use crate::input::{self, Stream as InputStream, TimeGuard};
 use crate::snapshot::{Reader, SnapshotError, Writer};
 use crate::stepdetect::{AccelSample, StepEvent};
 use accel::AccelSteps;
+use crosscheck::{CrossCheck, Finding};
 use steps::StepStream;
 
 /// Without any sample for longer than this, no distance is added for the gap, seconds
@@ -47,8 +51,9 @@ const SNAPSHOT_KIND: u8 = 1;
 /// Snapshot format version written by this build.
 /// Version 3: the input layer's time state per stream, the pedometer speed and the
 /// session's calibration sums. Version 5: the raw-accelerometer step-length model.
-/// Version 6: the calibration's accelerometer model.
-const SNAPSHOT_VERSION: u16 = 6;
+/// Version 6: the calibration's accelerometer model. Version 7: the cross-checks
+/// between GNSS and the steps, and the step stream's steps per report.
+const SNAPSHOT_VERSION: u16 = 7;
 
 /// A GNSS fix after validation, in the local frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -68,6 +73,9 @@ pub struct Context<'a> {
     pub steps: &'a StepStream,
     /// Raw accelerometer input's steps, when the app pushes it.
     pub accel: Option<&'a AccelSteps>,
+    /// Relative 1-σ added to the pedometer speed while it disagrees with GNSS
+    /// (`crosscheck`; 0 while they agree).
+    pub pedometer_extra_rel_sigma: f64,
 }
 
 /// The fusion filter behind a tracker. Both variants live inline (no heap), so the
@@ -92,6 +100,9 @@ pub struct PaceTracker {
     /// Step detector and feature step length for raw accelerometer input, created on
     /// the first sample (see `accel`).
     accel: Option<AccelSteps>,
+    /// Cross-checks between GNSS and the steps (strides for steps, a pedometer that
+    /// disagrees), see `crosscheck`.
+    check: CrossCheck,
 }
 
 /// A sample a batch push rejected, with its index in the batch.
@@ -108,6 +119,7 @@ impl PaceTracker {
             fix_time: TimeGuard::new(InputStream::Gnss),
             steps: StepStream::new(),
             accel: None,
+            check: CrossCheck::new(),
         })
     }
 
@@ -197,6 +209,12 @@ impl PaceTracker {
     /// Push one GNSS fix; returns the estimate for this epoch.
     pub fn push_fix(&mut self, fix: &GnssFix) -> Result<PaceEstimate, PaceError> {
         self.validate_fix(fix)?;
+        self.fix_time.accept(fix.t_s);
+        Ok(self.apply_fix(fix))
+    }
+
+    /// Run an accepted fix through the filter and the cross-checks.
+    fn apply_fix(&mut self, fix: &GnssFix) -> PaceEstimate {
         let frame = *self
             .frame
             .get_or_insert_with(|| LocalFrame::new(fix.lat_deg, fix.lon_deg, 0.0));
@@ -208,7 +226,6 @@ impl PaceTracker {
             accuracy_m: fix.horizontal_accuracy_m,
             speed: fix.speed_mps.zip(fix.speed_accuracy_mps),
         };
-        self.fix_time.accept(fix.t_s);
         if let Some(a) = &mut self.accel {
             a.on_fix(local.t_s, local.east_m, local.north_m, local.accuracy_m);
         }
@@ -216,28 +233,68 @@ impl PaceTracker {
             config: &self.config,
             steps: &self.steps,
             accel: self.accel.as_ref(),
+            pedometer_extra_rel_sigma: self.check.pedometer_extra_rel_sigma(),
         };
-        Ok(match &mut self.filter {
+        let mut e = match &mut self.filter {
             Filter::Published(f) => f.on_fix(&local, &ctx),
             Filter::Adaptive(f) => f.on_fix(&local, &ctx),
-        })
+        };
+        self.cross_check(&local);
+        e.flags = self.check.flags();
+        e
+    }
+
+    /// The cross-checks after a fix, and what the tracker does about their findings.
+    fn cross_check(&mut self, fix: &LocalFix) {
+        let pedometer_mps = match &self.filter {
+            Filter::Published(f) => f.pedometer_speed_mps(),
+            Filter::Adaptive(f) => f.pedometer_speed_mps(),
+        };
+        let stationary_after_s = self.config.stationary_after_s;
+        match self
+            .check
+            .on_fix(fix, &self.steps, pedometer_mps, stationary_after_s)
+        {
+            Finding::Nothing => {}
+            Finding::Rescale(k) => {
+                self.steps.rescale(k);
+                match &mut self.filter {
+                    Filter::Published(f) => f.rescale_steps(k),
+                    Filter::Adaptive(f) => f.rescale_steps(k),
+                }
+            }
+            Finding::Disagrees { cadence_hz } => {
+                if let Filter::Adaptive(f) = &mut self.filter {
+                    f.on_pedometer_disagrees(cadence_hz);
+                }
+            }
+        }
     }
 
     /// Push one step sample.
     pub fn push_steps(&mut self, sample: &StepSample) -> Result<(), PaceError> {
         self.steps.check(sample)?;
+        self.apply_steps(sample);
+        Ok(())
+    }
+
+    /// Run an accepted step sample through the step stream, the filter and the
+    /// cross-checks.
+    fn apply_steps(&mut self, sample: &StepSample) {
         self.steps.push(sample);
         let ctx = Context {
             config: &self.config,
             steps: &self.steps,
             accel: self.accel.as_ref(),
+            pedometer_extra_rel_sigma: self.check.pedometer_extra_rel_sigma(),
         };
         let t = sample.t_s();
         match &mut self.filter {
             Filter::Published(f) => f.on_steps(t, &ctx),
             Filter::Adaptive(f) => f.on_steps(t, &ctx),
         }
-        Ok(())
+        self.check
+            .on_steps(t, &self.steps, self.config.stationary_after_s);
     }
 
     /// Push one raw accelerometer sample (m/s², gravity included, any axes): the
@@ -293,16 +350,7 @@ impl PaceTracker {
             );
             return;
         }
-        self.steps.push(&sample);
-        let ctx = Context {
-            config: &self.config,
-            steps: &self.steps,
-            accel: self.accel.as_ref(),
-        };
-        match &mut self.filter {
-            Filter::Published(f) => f.on_steps(e.t_s, &ctx),
-            Filter::Adaptive(f) => f.on_steps(e.t_s, &ctx),
-        }
+        self.apply_steps(&sample);
     }
 
     /// Push a sample of either stream; a fix returns its estimate.
@@ -337,10 +385,15 @@ impl PaceTracker {
             config: &self.config,
             steps: &self.steps,
             accel: self.accel.as_ref(),
+            pedometer_extra_rel_sigma: self.check.pedometer_extra_rel_sigma(),
         };
-        match &self.filter {
+        let e = match &self.filter {
             Filter::Published(f) => f.estimate(&ctx),
             Filter::Adaptive(f) => f.estimate(&ctx),
+        };
+        PaceEstimate {
+            flags: self.check.flags(),
+            ..e
         }
     }
 }

@@ -18,6 +18,7 @@ impl PaceTracker {
             steps,
             filter,
             accel,
+            check,
         } = self;
         let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
         write_config(&mut w, config);
@@ -35,6 +36,7 @@ impl PaceTracker {
             }
             None => w.bool(false),
         }
+        check.write(&mut w);
         w.finish()
     }
 
@@ -63,6 +65,7 @@ impl PaceTracker {
         } else {
             None
         };
+        let check = CrossCheck::read(&mut r)?;
         r.end()?;
         Ok(Self {
             config,
@@ -71,6 +74,7 @@ impl PaceTracker {
             steps,
             filter,
             accel,
+            check,
         })
     }
 }
