@@ -15,6 +15,9 @@ use stridekit_core::PaceError;
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Rejected {
     by_reason: BTreeMap<String, u64>,
+    /// Of them, samples refused for their stream's time unit
+    /// ([`InputError::is_time_unit`]).
+    time_unit: u64,
 }
 
 /// The reason a sample was refused at the door, without the sample's own values, so
@@ -39,6 +42,10 @@ pub fn input_reason(e: &InputError) -> String {
         InputError::TimeUnit { stream, likely, .. } => {
             format!("{stream} timestamps look like {likely}, not seconds")
         }
+        InputError::TimeTooFine { stream, .. } => format!(
+            "{stream} timestamps finer than any sensor samples: not seconds \
+             (milliseconds divided by 10⁹ as if nanoseconds?)"
+        ),
         InputError::TimeJump { stream, .. } => {
             format!("{stream} stream: clock jumped by more than a year")
         }
@@ -68,7 +75,17 @@ impl Rejected {
 
     /// A sample refused at the door (see [`input_reason`]).
     pub fn input(&mut self, e: &InputError) {
+        if e.is_time_unit() {
+            self.time_unit += 1;
+        }
         self.add(input_reason(e));
+    }
+
+    /// Samples refused because their stream's timestamps are not seconds: a replay
+    /// with any has a stream in the wrong unit (its other samples of that stream were
+    /// held or refused too) and should fail, naming the unit (the reasons say it).
+    pub fn time_unit(&self) -> u64 {
+        self.time_unit
     }
 
     pub fn pace(&mut self, e: &PaceError) {
@@ -132,6 +149,7 @@ mod tests {
             field: "accel_x_mps2",
         }));
         assert_eq!(r.total(), 4);
+        assert_eq!(r.time_unit(), 0);
         let text = r.report();
         assert!(
             text.contains("skipped 2: accelerometer stream: duplicate timestamp"),
