@@ -17,6 +17,7 @@ mod calibration;
 mod config;
 mod crosscheck;
 mod error;
+mod held;
 mod published;
 mod steps;
 mod types;
@@ -40,6 +41,7 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 use crate::stepdetect::{AccelSample, StepEvent};
 use accel::AccelSteps;
 use crosscheck::{CrossCheck, Finding};
+use held::{unit_known, Held};
 use steps::StepStream;
 
 /// Without any sample for longer than this, no distance is added for the gap, seconds
@@ -52,7 +54,8 @@ const SNAPSHOT_KIND: u8 = 1;
 /// Version 3: the input layer's time state per stream, the pedometer speed and the
 /// session's calibration sums. Version 5: the raw-accelerometer step-length model.
 /// Version 6: the calibration's accelerometer model. Version 7: the cross-checks
-/// between GNSS and the steps, and the step stream's steps per report.
+/// between GNSS and the steps, the step stream's steps per report, the time state of
+/// the pushed step samples and the samples held until their unit is known.
 const SNAPSHOT_VERSION: u16 = 7;
 
 /// A GNSS fix after validation, in the local frame.
@@ -95,6 +98,11 @@ pub struct PaceTracker {
     frame: Option<LocalFrame>,
     /// Time state of the GNSS stream.
     fix_time: TimeGuard,
+    /// Time state of the pushed step samples (units; the step stream keeps the order
+    /// of every step, detected ones included).
+    step_time: TimeGuard,
+    /// Fixes and step samples held until their stream's unit is known (`held`).
+    held: Held,
     steps: StepStream,
     filter: Filter,
     /// Step detector and feature step length for raw accelerometer input, created on
@@ -117,6 +125,8 @@ impl PaceTracker {
             config,
             frame: None,
             fix_time: TimeGuard::new(InputStream::Gnss),
+            step_time: TimeGuard::new(InputStream::Steps),
+            held: Held::default(),
             steps: StepStream::new(),
             accel: None,
             check: CrossCheck::new(),
@@ -206,11 +216,76 @@ impl PaceTracker {
         Ok(())
     }
 
-    /// Push one GNSS fix; returns the estimate for this epoch.
+    /// Push one GNSS fix; returns the estimate for this epoch. Until the GNSS stream's
+    /// time unit is known (it showed an interval within its limits,
+    /// [`TimeGuard::established`], or the fix is close in time to the step stream's
+    /// known-good samples) the fix is held, not used, and the estimate is the one
+    /// before it (see `held`).
     pub fn push_fix(&mut self, fix: &GnssFix) -> Result<PaceEstimate, PaceError> {
         self.validate_fix(fix)?;
         self.fix_time.accept(fix.t_s);
+        let known = unit_known(&self.fix_time, &self.step_time, fix.t_s);
+        if !known && self.held.hold_fix(*fix) {
+            return Ok(self.current());
+        }
+        self.release_held();
         Ok(self.apply_fix(fix))
+    }
+
+    /// Apply the held samples whose stream's unit is now known, in time order (step
+    /// samples first at equal times, as replays push them).
+    fn release_held(&mut self) {
+        let fixes_known = |t: &TimeGuard, o: &TimeGuard, f: &GnssFix| unit_known(t, o, f.t_s);
+        let steps_known = |t: &TimeGuard, o: &TimeGuard, s: &StepSample| unit_known(t, o, s.t_s());
+        let mut fixes = [None; held::HELD];
+        if self
+            .held
+            .peek_fixes()
+            .iter()
+            .flatten()
+            .all(|f| fixes_known(&self.fix_time, &self.step_time, f))
+        {
+            fixes = self.held.take_fixes();
+        }
+        let mut steps = [None; held::HELD];
+        if self
+            .held
+            .peek_steps()
+            .iter()
+            .flatten()
+            .all(|s| steps_known(&self.step_time, &self.fix_time, s))
+        {
+            steps = self.held.take_steps();
+        }
+        let (mut i, mut j) = (0, 0);
+        loop {
+            let f = fixes.get(i).copied().flatten();
+            let s = steps.get(j).copied().flatten();
+            match (f, s) {
+                (Some(f), Some(s)) if s.t_s() <= f.t_s => {
+                    self.apply_held_steps(&s);
+                    j += 1;
+                }
+                (Some(f), _) => {
+                    self.apply_fix(&f);
+                    i += 1;
+                }
+                (None, Some(s)) => {
+                    self.apply_held_steps(&s);
+                    j += 1;
+                }
+                (None, None) => break,
+            }
+        }
+    }
+
+    /// A held step sample, still after the stream's last step (a detected step from
+    /// raw acceleration in between would put it behind: skipped; one step source per
+    /// tracker).
+    fn apply_held_steps(&mut self, s: &StepSample) {
+        if self.steps.check(s).is_ok() {
+            self.apply_steps(s);
+        }
     }
 
     /// Run an accepted fix through the filter and the cross-checks.
@@ -271,10 +346,18 @@ impl PaceTracker {
         }
     }
 
-    /// Push one step sample.
+    /// Push one step sample. Until the step stream's time unit is known (as for
+    /// [`Self::push_fix`]) the sample is held, not used (see `held`).
     pub fn push_steps(&mut self, sample: &StepSample) -> Result<(), PaceError> {
+        self.step_time.check(sample.t_s())?;
         self.steps.check(sample)?;
-        self.apply_steps(sample);
+        self.step_time.accept(sample.t_s());
+        let known = unit_known(&self.step_time, &self.fix_time, sample.t_s());
+        if !known && self.held.hold_steps(*sample) {
+            return Ok(());
+        }
+        self.release_held();
+        self.apply_held_steps(sample);
         Ok(())
     }
 
@@ -372,6 +455,7 @@ impl PaceTracker {
     /// `None` until a sample (fix, step sample or accelerometer sample) was accepted.
     pub fn estimate(&self) -> Option<PaceEstimate> {
         let started = self.fix_time.last_t_s().is_some()
+            || self.step_time.last_t_s().is_some()
             || self.steps.has_data()
             || self
                 .accel
