@@ -9,6 +9,7 @@ mod ahrs;
 mod odometry;
 mod pdr;
 mod pdr_accuracy;
+mod pdr_crosscheck;
 mod pdr_diag;
 mod pdr_heading;
 mod placement;

@@ -35,6 +35,7 @@ impl PhoneNavigator {
             recent,
             placed,
             calibration,
+            scale,
         } = self;
         let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
         w.bytes(&ahrs.snapshot());
@@ -94,6 +95,7 @@ impl PhoneNavigator {
             }
             None => w.bool(false),
         }
+        scale.write(&mut w);
         w.finish()
     }
 
@@ -152,6 +154,7 @@ impl PhoneNavigator {
         } else {
             None
         };
+        let scale = StepScale::read(&mut r)?;
         r.end()?;
         let newest = imu_time
             .last_t_s()
@@ -207,6 +210,7 @@ impl PhoneNavigator {
             recent,
             placed,
             calibration,
+            scale,
         })
     }
 }
