@@ -6,7 +6,9 @@
 //! flow (fresh, not standing): the GNSS path is the sum of chords between fixes
 //! ≥ 8 s apart (position noise stays small against 20–30 m chords), the steps are
 //! the stream's total over the same span, the pedometer distance the integral of the
-//! filter's cadence × step length. A window closes after ≥ 25 s. Windows slower
+//! filter's cadence × step length. A window closes at the first chord end ≥ 25 s
+//! after its start (three chords: long enough that a disturbed receiver's jumps
+//! show, short enough for two windows to take a minute). Windows slower
 //! than 1 m/s (noise) or faster than 12 m/s, or with fewer than 30 reports per
 //! minute, say nothing.
 //!
@@ -15,7 +17,8 @@
 //! population's step length at cadence c, under "strides" (every report is two steps)
 //! v/(2c) with the population's at 2c; the population is the walking line below
 //! 132 steps/min blended into the running prior above (`super::walking`, 1.0 m at
-//! 168 steps/min), with a spread between people of 30 % (1-σ of the log). Each
+//! 168 steps/min), with a spread between people (1-σ of the log) of 0.2 walking and
+//! 0.3 running. Each
 //! window adds the log-likelihood ratio of the two (capped at ±8: one window cannot
 //! decide); "strides" is impossible when 2c exceeds 300 steps/min, and a window
 //! that neither fits within 3 σ (a bicycle, a car) says nothing. The sum, kept within
@@ -68,8 +71,11 @@ const MAX_JITTER_RATIO: f64 = 1.3;
 
 /// Range of the running line read far from its cadence, m.
 const RUN_STEP_RANGE_M: (f64, f64) = (0.3, 2.5);
-/// Spread of step length between people at one cadence: 1-σ of its logarithm.
-const GAIT_LN_SIGMA: f64 = 0.3;
+/// Spread of step length between people at one cadence, 1-σ of its logarithm: walking
+/// (the walking line's 0.12 m of 0.72 m, `super::walking`, rounded up) and running
+/// (the running prior's 0.4 m of 1.0 m, less the part the speed explains).
+const WALK_LN_SIGMA: f64 = 0.2;
+const RUN_LN_SIGMA: f64 = 0.3;
 /// A window whose implied step length is beyond this many σ of both hypotheses
 /// says nothing about them.
 const FIT_SIGMAS: f64 = 3.0;
@@ -103,6 +109,13 @@ pub(crate) fn population_step_m(cadence: f64) -> f64 {
     w * walking_step_m(cadence) + (1.0 - w) * run
 }
 
+/// The spread of step length between people at a cadence (steps/s): the walking
+/// one blended into the running one as the step lengths are.
+fn gait_ln_sigma(cadence: f64) -> f64 {
+    let w = walk_weight(cadence);
+    w * WALK_LN_SIGMA + (1.0 - w) * RUN_LN_SIGMA
+}
+
 /// Log-likelihood ratio "strides" against "steps" of a window with GNSS speed
 /// `v_mps` and reported cadence `c` (per second).
 fn stride_evidence(v_mps: f64, c: f64) -> f64 {
@@ -110,8 +123,8 @@ fn stride_evidence(v_mps: f64, c: f64) -> f64 {
         return -WINDOW_EVIDENCE_CAP;
     }
     let implied = v_mps / c;
-    let e_steps = (implied / population_step_m(c)).ln() / GAIT_LN_SIGMA;
-    let e_strides = (implied / (2.0 * population_step_m(2.0 * c))).ln() / GAIT_LN_SIGMA;
+    let e_steps = (implied / population_step_m(c)).ln() / gait_ln_sigma(c);
+    let e_strides = (implied / (2.0 * population_step_m(2.0 * c))).ln() / gait_ln_sigma(2.0 * c);
     if e_steps.abs() > FIT_SIGMAS && e_strides.abs() > FIT_SIGMAS {
         return 0.0;
     }

@@ -64,6 +64,13 @@ impl Held {
         hold(&mut self.steps, s)
     }
 
+    /// Time of the newest held sample (−∞ when none is held).
+    pub fn newest_t_s(&self) -> f64 {
+        let fixes = self.fixes.iter().flatten().map(|f| f.t_s);
+        let steps = self.steps.iter().flatten().map(|s| s.t_s());
+        fixes.chain(steps).fold(f64::NEG_INFINITY, f64::max)
+    }
+
     /// The held fixes in order.
     pub fn peek_fixes(&self) -> &[Option<GnssFix>; HELD] {
         &self.fixes

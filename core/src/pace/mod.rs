@@ -476,6 +476,9 @@ impl PaceTracker {
             Filter::Adaptive(f) => f.estimate(&ctx),
         };
         PaceEstimate {
+            // A held sample is the newest seen: the estimate is at its time, the state
+            // without it.
+            t_s: e.t_s.max(self.held.newest_t_s()),
             flags: self.check.flags(),
             ..e
         }
