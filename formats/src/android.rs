@@ -47,6 +47,12 @@
 //! skipped and counted (`accelerometer without gyroscope`); the magnetometer is `None`
 //! where it has none.
 //!
+//! **Cut-off logs.** A log whose header has `startTime` must end with its `endTime`
+//! header line (as the Indoor Location Competition logs do); one without it, one that
+//! ends inside a line, or a gzip stream that ends early was cut off mid-write: the
+//! events before the cut are read and [`InertialRecording::truncated`] says so. Plain
+//! text or gzip is told by the content (gzip's magic bytes), not by the name.
+//!
 //! Rotation vector: a 4th value in −1..=1 is taken as w (API 18+ reports it in
 //! `values[3]`), otherwise (absent, or an accuracy such as 3) w = √(1 − x² − y² − z²).
 //!
@@ -86,17 +92,23 @@ pub const MAX_LOG_BYTES: u64 = 1 << 30;
 /// One timed 3-vector.
 type Timed = (f64, [f64; 3]);
 
-/// Reads an Android sensor log (`.gz`: gzip, else plain text).
+/// Reads an Android sensor log (gzip or plain text, told by the content).
 pub fn read_android_log(path: &Path) -> Result<InertialRecording, FormatError> {
+    crate::sniff::check_file(path)?;
+    let gz = crate::sniff::file_is_gzip(path)?;
     let file = std::fs::File::open(path)?;
-    let gz = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
     let mut bytes = Vec::new();
+    let mut cut_gzip = false;
     if gz {
-        flate2::read::GzDecoder::new(file)
+        match flate2::read::GzDecoder::new(file)
             .take(MAX_LOG_BYTES + 1)
-            .read_to_end(&mut bytes)?;
+            .read_to_end(&mut bytes)
+        {
+            Ok(_) => {}
+            // A gzip stream cut short: the lines before the cut are read.
+            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => cut_gzip = true,
+            Err(e) => return Err(e.into()),
+        }
     } else {
         file.take(MAX_LOG_BYTES + 1).read_to_end(&mut bytes)?;
     }
@@ -104,7 +116,9 @@ pub fn read_android_log(path: &Path) -> Result<InertialRecording, FormatError> {
         return Err(FormatError::parse(FORMAT, "larger than 1 GiB"));
     }
     let text = String::from_utf8_lossy(&bytes);
-    parse_android_log(&log_name(path), &text)
+    let mut rec = parse_android_log(&log_name(path), &text)?;
+    rec.truncated |= cut_gzip;
+    Ok(rec)
 }
 
 /// The file name without `.gz` and `.txt`.
@@ -200,17 +214,20 @@ pub fn parse_android_log(name: &str, text: &str) -> Result<InertialRecording, Fo
     let mut orientation = Vec::new();
     let mut uncalibrated = Vec::new();
     let mut accel_uncalibrated: Vec<Timed> = Vec::new();
+    let mut last_read = true;
     for line in text.lines() {
         let line = line.trim();
         if line.is_empty() {
             continue;
         }
+        last_read = false;
         if let Some(h) = line.strip_prefix('#') {
             for kv in h.split('\t') {
                 if let Some((k, v)) = kv.trim().split_once(':') {
                     meta.push((k.trim().to_string(), v.trim().to_string()));
                 }
             }
+            last_read = true;
             continue;
         }
         let fields: Vec<&str> = line.split_whitespace().collect();
@@ -265,7 +282,11 @@ pub fn parse_android_log(name: &str, text: &str) -> Result<InertialRecording, Fo
         if ok.is_none() {
             *skipped.entry(format!("malformed {kind}")).or_default() += 1;
         }
+        last_read = ok.is_some();
     }
+    let has = |key: &str| meta.iter().any(|(k, _)| k == key);
+    let truncated =
+        (has("startTime") && !has("endTime")) || crate::sniff::cut_mid_row(text, last_read);
     // Streams the log has only uncalibrated: raw − Android's bias estimate.
     if accel.is_empty() {
         accel = accel_uncalibrated;
@@ -323,6 +344,7 @@ pub fn parse_android_log(name: &str, text: &str) -> Result<InertialRecording, Fo
         uncalibrated,
         meta,
         skipped: skipped.into_iter().collect(),
+        truncated,
     })
 }
 
@@ -443,6 +465,19 @@ mod tests {
     }
 
     #[test]
+    fn a_cut_off_log_is_flagged() {
+        // SMALL has startTime and no endTime: cut off.
+        assert!(parse_android_log("x", SMALL).unwrap().truncated);
+        let whole = format!("{SMALL}#\tendTime:2000\n");
+        assert!(!parse_android_log("x", &whole).unwrap().truncated);
+        // No header at all: only a line cut short tells.
+        let plain = "1000\tTYPE_GYROSCOPE\t0\t0\t0\n1000\tTYPE_ACCELEROMETER\t0\t0\t9.8\n";
+        assert!(!parse_android_log("x", plain).unwrap().truncated);
+        let cut = format!("{plain}1020\tTYPE_ACCELEROMETER\t0.1");
+        assert!(parse_android_log("x", &cut).unwrap().truncated);
+    }
+
+    #[test]
     fn reads_gzip_and_names_the_log() {
         use std::io::Write;
         let dir = std::env::temp_dir().join(format!("stridekit-android-{}", std::process::id()));
@@ -462,6 +497,20 @@ mod tests {
         assert_eq!(a.samples, b.samples);
         let logs = list_android_logs(&dir).unwrap();
         assert_eq!(logs.len(), 2);
+        // Gzip told by the content; a stream cut short keeps what it held.
+        let renamed = dir.join("walk1.txt");
+        std::fs::copy(&path, &renamed).unwrap();
+        assert_eq!(read_android_log(&renamed).unwrap().samples, a.samples);
+        let whole = format!("{SMALL}#\tendTime:2000\n");
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        gz.write_all(whole.as_bytes()).unwrap();
+        let bytes = gz.finish().unwrap();
+        let full = dir.join("full.txt.gz");
+        std::fs::write(&full, &bytes).unwrap();
+        assert!(!read_android_log(&full).unwrap().truncated);
+        let cut = dir.join("cut.txt.gz");
+        std::fs::write(&cut, &bytes[..bytes.len() - 10]).unwrap();
+        assert!(read_android_log(&cut).unwrap().truncated);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
