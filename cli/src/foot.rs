@@ -21,16 +21,29 @@
 //!
 //! Outputs for `--out DIR/NAME.csv`: `DIR/NAME.csv` (one row per estimate),
 //! `DIR/NAME.svg` (top view: estimate, truth, stride ends) and `DIR/NAME_height.svg`
-//! (height over time).
+//! (height over time); `--out -`: the CSV on stdout, no plots. The CSV is in the
+//! navigator's frame, a local level East-North-Up frame from where the walk started
+//! (east = where the foot's x axis pointed at the start, as no heading reference is
+//! given): `t_s,east_m,north_m,up_m,v_east_mps,v_north_mps,v_up_mps,yaw_rad,stance,
+//! strides,distance_m,gt_east_m,gt_north_m,gt_up_m`, positions to 0.1 mm.
+//!
+//! A replay with no stride, or whose samples were refused for their units (in g,
+//! timestamps not in seconds), exits 1.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use stridekit_core::foot::{FootConfig, FootEstimate};
-use stridekit_formats::{read_foot_csv, FootFormat};
+use stridekit_formats::{read_foot_csv, Content, FootFormat};
 
 use stridekit_lab::foot::eval::{align, replay_counted, Method, Trial};
 use stridekit_lab::report::{line_chart, track_chart, Chart, Series, Style};
+
+use crate::outcome::{write_error, Failure};
+use crate::output::{say, Sink};
+
+/// What `stridekit foot` reads, for messages.
+const EXPECTS: &str = "a foot IMU CSV (pyshoe / UofT or x-io NGIMU layout)";
 
 /// `calibrate foot`: walks fitted alone that disagree by more than this, degrees,
 /// get a warning (x-io's two NGIMU walks: 0.3°; the UofT MicroStrain's sessions: 1.1°).
@@ -38,6 +51,9 @@ const DISAGREE_DEG: f64 = 0.5;
 
 /// Plots keep at most about this many points per series (the CSV keeps all).
 const PLOT_POINTS: usize = 4000;
+
+/// Below this distance walked, m, the loop closure is given without a percentage.
+const MIN_WALKED_M: f64 = 0.01;
 
 /// Which IMU the recording comes from (`--imu`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -67,8 +83,8 @@ impl ImuProfile {
 #[derive(Clone, Debug, Default)]
 pub struct FootArgs {
     pub file: PathBuf,
-    /// Trajectory CSV (the SVGs go next to it).
-    pub out: PathBuf,
+    /// Where the trajectory CSV goes (the SVGs next to a file).
+    pub sink: Sink,
     /// Drive the updates with this stance label column (`zv_NAME`).
     pub labels: Option<String>,
     /// Sensor axes spec (`frd`, `flu`, `x,-y,-z`, …).
@@ -281,13 +297,41 @@ fn plot_stances(path: &Path, fit: &stridekit_lab::foot::alignment::LevelFit) -> 
     .map_err(|e| format!("{}: {e}", path.display()))
 }
 
-pub fn run(args: &FootArgs) -> Result<(), String> {
+pub fn run(args: &FootArgs) -> Result<(), Failure> {
     let file = &args.file;
-    let out = &args.out;
-    let mut rec = read_foot_csv(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let what = |e| crate::input::read_error(file, e, EXPECTS);
+    match stridekit_formats::sniff(file).map_err(what)?.content {
+        Content::Foot(_) | Content::Broad | Content::Unknown => {}
+        other => return Err(crate::input::other_content(file, other, EXPECTS).into()),
+    }
+    let mut rec = read_foot_csv(file).map_err(what)?;
+    if rec.truncated {
+        crate::input::warn_truncated(file);
+    }
     let (config, described) = config_for(args, rec.format)?;
     if let Some(t) = rec.truth_m.as_mut() {
         stridekit_lab::foot::eval::mirror_truth(t);
+    }
+    if let Some(l) = args
+        .labels
+        .as_deref()
+        .filter(|l| !["best", "runner-up"].contains(l))
+    {
+        if rec.label(l).is_none() {
+            let have: Vec<String> = rec.labels.iter().map(|(n, _)| format!("zv_{n}")).collect();
+            return Err(crate::outcome::usage(
+                "--labels",
+                format!(
+                    "{}: no label column zv_{l} (the file has: {})",
+                    file.display(),
+                    if have.is_empty() {
+                        "none".to_string()
+                    } else {
+                        have.join(", ")
+                    }
+                ),
+            ));
+        }
     }
     let unreadable = (rec.unreadable_rows, rec.first_unreadable_line);
     let trial = Trial {
@@ -323,8 +367,8 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
         ),
         None => None,
     };
-    println!("{}: {}", trial.rec.name, described);
-    println!(
+    say!("{}: {}", trial.rec.name, described);
+    say!(
         "  {} rows, {} samples skipped: {}",
         trial.rec.len() + unreadable.0,
         replayed.skipped.total() + unreadable.0,
@@ -342,13 +386,14 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
         }
     );
     if let Some((i, e)) = &replayed.skipped.first {
-        println!("  first skipped: row {} ({e})", i + 2);
+        say!("  first skipped: row {} ({e})", i + 2);
     }
     if est.is_empty() {
         return Err(format!(
             "{}: no estimate: the navigator never aligned (it needs {} s of rest at the start, in m/s² and rad/s)",
             trial.rec.name, m.config.alignment_s
-        ));
+        )
+        .into());
     }
     // Truth per estimate, in the estimate's frame.
     let truth: Option<Vec<[f64; 3]>> = trial.rec.truth_m.as_ref().map(|t| {
@@ -358,20 +403,22 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
         g.iter().map(|p| into_estimate_frame(th, tr, *p)).collect()
     });
 
-    write_csv(out, est, truth.as_deref())?;
-    let (top, height) = svg_paths(out);
-    plot(
-        &top,
-        &height,
-        &trial.rec.name,
-        est,
-        unlevelled.as_deref(),
-        truth.as_deref(),
-    )?;
+    write_csv(&args.sink, est, truth.as_deref())?;
+    let plots = args.sink.path().map(svg_paths);
+    if let Some((top, height)) = &plots {
+        plot(
+            top,
+            height,
+            &trial.rec.name,
+            est,
+            unlevelled.as_deref(),
+            truth.as_deref(),
+        )?;
+    }
 
     let first = est[0].1;
     let last = est[est.len() - 1].1;
-    println!(
+    say!(
         "  {} estimates at {:.1} Hz (detector window {} samples), {} strides, {:.2} m walked, {:.1} s",
         est.len(),
         replayed.rate_hz,
@@ -391,7 +438,7 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
             (Some(a), Some(b)) => b.1.position_m[2] - a.1.position_m[2],
             _ => 0.0,
         };
-        println!(
+        say!(
             "  level floor: {} of {} strides taken as level, their height change set to zero ({:+.3} m in all, median {:+.3} m per levelled stride); the other strides climbed {:+.3} m; the filter's own height ends at {:+.3} m (--no-level-floor)",
             levelled.len(),
             strides.len(),
@@ -410,13 +457,20 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
         .collect();
     let d3 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
     let dh = d[0].hypot(d[1]);
-    let pct = |x: f64| 100.0 * x / last.distance_m.max(1e-9);
-    println!(
-        "  end − start: ({:.3}, {:.3}, {:.3}) m ENU; 3-D {:.3} m = {:.2} % of the distance walked, horizontal {:.3} m = {:.2} %, height {:+.3} m (loop closure, for a walk that ends where it starts)",
+    // A share of the distance walked; none when the foot did not walk.
+    let pct = |x: f64| {
+        if last.distance_m > MIN_WALKED_M {
+            format!("{:.2} %", 100.0 * x / last.distance_m)
+        } else {
+            "— % (nothing walked)".into()
+        }
+    };
+    say!(
+        "  end − start: ({:.3}, {:.3}, {:.3}) m ENU; 3-D {:.3} m = {} of the distance walked, horizontal {:.3} m = {}, height {:+.3} m (loop closure, for a walk that ends where it starts)",
         d[0], d[1], d[2], d3, pct(d3), dh, pct(dh), d[2]
     );
     if replayed.resets > 0 {
-        println!("  divergence-guard resets: {}", replayed.resets);
+        say!("  divergence-guard resets: {}", replayed.resets);
     }
     if let Some(g) = &truth {
         let se: f64 = est
@@ -437,19 +491,81 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
                     .sum::<f64>()
             })
             .sum();
-        println!(
+        say!(
             "  position RMSE against the aligned truth: {:.3} m (horizontal {:.3} m)",
             (se / est.len() as f64).sqrt(),
             (sh / est.len() as f64).sqrt()
         );
     }
-    println!(
-        "  trajectory in {}, plots in {} and {}",
-        out.display(),
-        top.display(),
-        height.display()
+    say!(
+        "  rests on: the IMU alone (zero-velocity updates at each stance; no GNSS, no step-length model); accelerometer alignment: {}",
+        match &args.calibration {
+            Some(f) => format!("the device calibration {}", f.display()),
+            None => "none given (`stridekit calibrate foot` learns it from level walks; without it the height may climb by a centimetre a stride, see docs/foot.md)".into(),
+        }
     );
-    Ok(())
+    match &plots {
+        Some((top, height)) => say!(
+            "  trajectory in {}, plots in {} and {}",
+            args.sink.name(),
+            top.display(),
+            height.display()
+        ),
+        None => say!("  trajectory on stdout (no plots)"),
+    }
+    usable(&replayed.skipped, trial.rec.len(), last.strides)
+}
+
+/// Fails when the replay produced nothing usable: no stride, or the samples refused
+/// for their units (in g, timestamps not in seconds) outnumber the accepted ones.
+fn usable(
+    skipped: &stridekit_lab::foot::Skipped,
+    samples: usize,
+    strides: u64,
+) -> Result<(), Failure> {
+    let mut causes = Vec::new();
+    if strides == 0 {
+        causes.push(if skipped.total() >= samples {
+            "no stride: every sample was refused".to_string()
+        } else {
+            "no stride detected: no trajectory (the foot never left a stance the detector saw)"
+                .to_string()
+        });
+    }
+    let units = [
+        (
+            skipped.in_g,
+            "accelerations look like g, not m/s² (multiply by 9.80665)",
+        ),
+        (
+            skipped.time_unit,
+            skipped
+                .time_unit_message
+                .as_deref()
+                .unwrap_or("timestamps not in seconds"),
+        ),
+    ];
+    for (n, why) in units {
+        if 2 * n > samples {
+            causes.push(format!(
+                "the IMU stream was refused for its units ({n} of its samples): {why}"
+            ));
+        }
+    }
+    if causes.is_empty() {
+        Ok(())
+    } else {
+        Err(Failure::Failed(causes.join("; ")))
+    }
+}
+
+/// `v` with `decimals` decimals, without a sign on a value that rounds to zero.
+fn fixed(v: f64, decimals: usize) -> String {
+    let text = format!("{v:.decimals$}");
+    match text.strip_prefix('-') {
+        Some(rest) if rest.bytes().all(|b| b == b'0' || b == b'.') => rest.to_string(),
+        _ => text,
+    }
 }
 
 /// `DIR/NAME.csv` → (`DIR/NAME.svg`, `DIR/NAME_height.svg`).
@@ -465,39 +581,35 @@ fn svg_paths(out: &Path) -> (PathBuf, PathBuf) {
 }
 
 fn write_csv(
-    out: &Path,
+    sink: &Sink,
     est: &[(usize, FootEstimate)],
     truth: Option<&[[f64; 3]]>,
-) -> Result<(), String> {
-    let io = |e: std::io::Error| format!("{}: {e}", out.display());
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(io)?;
-    }
-    let mut w = std::io::BufWriter::new(std::fs::File::create(out).map_err(io)?);
-    writeln!(w, "t_s,x_m,y_m,z_m,vx_mps,vy_mps,vz_mps,yaw_rad,stance,strides,distance_m,gt_x_m,gt_y_m,gt_z_m").map_err(io)?;
+) -> Result<(), Failure> {
+    let name = sink.name();
+    let io = write_error(&name);
+    let mut w = sink.open()?;
+    writeln!(w, "t_s,east_m,north_m,up_m,v_east_mps,v_north_mps,v_up_mps,yaw_rad,stance,strides,distance_m,gt_east_m,gt_north_m,gt_up_m").map_err(&io)?;
+    // Positions and distances to 0.1 mm, velocities to 0.1 mm/s, yaw to 1e-5 rad,
+    // time to 1 µs: finer than the navigator resolves (and than VICON's truth).
+    let mm = |v: f64| fixed(v, 4);
     for (j, (_, e)) in est.iter().enumerate() {
         let gs = truth.map_or(",,".to_string(), |g| {
-            format!("{},{},{}", g[j][0], g[j][1], g[j][2])
+            format!("{},{},{}", mm(g[j][0]), mm(g[j][1]), mm(g[j][2]))
         });
+        let [x, y, z] = e.position_m.map(mm);
+        let [vx, vy, vz] = e.velocity_mps.map(mm);
         writeln!(
             w,
-            "{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{:.6},{x},{y},{z},{vx},{vy},{vz},{},{},{},{},{gs}",
             e.t_s,
-            e.position_m[0],
-            e.position_m[1],
-            e.position_m[2],
-            e.velocity_mps[0],
-            e.velocity_mps[1],
-            e.velocity_mps[2],
-            e.yaw_rad,
+            fixed(e.yaw_rad, 5),
             e.stance as u8,
             e.strides,
-            e.distance_m,
-            gs
+            mm(e.distance_m),
         )
-        .map_err(io)?;
+        .map_err(&io)?;
     }
-    w.flush().map_err(io)
+    w.flush().map_err(&io)
 }
 
 fn plot(
@@ -673,7 +785,7 @@ mod tests {
         assert_eq!(rec.unreadable_rows, 1);
         let args = FootArgs {
             file: file.clone(),
-            out: dir.join("walk_out.csv"),
+            sink: Sink::from_arg(&dir.join("walk_out.csv"), "csv").unwrap(),
             axes: Some("flu".into()),
             ..Default::default()
         };
@@ -753,7 +865,7 @@ mod tests {
         assert!((a[1] - truth).abs() < 0.003, "{a:?}");
         let args = FootArgs {
             file: file.clone(),
-            out: dir.join("out.csv"),
+            sink: Sink::from_arg(&dir.join("out.csv"), "csv").unwrap(),
             calibration: Some(cal.clone()),
             ..Default::default()
         };
@@ -775,6 +887,13 @@ mod tests {
         };
         let e = config_for(&args, FootFormat::Xio).unwrap_err();
         assert!(e.contains("mirror"), "{e}");
+    }
+
+    #[test]
+    fn numbers_are_written_to_their_precision() {
+        assert_eq!(fixed(-0.00000014, 4), "0.0000");
+        assert_eq!(fixed(-0.00012, 4), "-0.0001");
+        assert_eq!(fixed(0.028743696105534, 4), "0.0287");
     }
 
     #[test]

@@ -1,9 +1,12 @@
 //! `stridekit`: the command-line tool of the stridekit SDK.
 
+mod basis;
 mod commands;
 mod demo;
 mod foot;
+mod input;
 mod orientation;
+mod outcome;
 mod output;
 mod pdr;
 mod replay;

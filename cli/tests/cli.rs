@@ -92,7 +92,8 @@ fn pace_replays_a_user_csv() {
         }
     }
     std::fs::write(&csv, text).unwrap();
-    let out = succeed(stridekit().arg("pace").arg(&csv));
+    // `--out -`: the CSV on stdout, the summary on stderr.
+    let out = succeed(stridekit().arg("pace").arg(&csv).args(["--out", "-"]));
     let stdout = String::from_utf8_lossy(&out.stdout);
     let lines: Vec<&str> = stdout.lines().collect();
     assert!(lines[0].starts_with("t_s,t_unix_s,speed_mps"));
@@ -126,7 +127,8 @@ fn pace_replays_a_user_csv() {
         stderr.contains("reader 1: position missing half, not finite or out of range"),
         "{stderr}"
     );
-    // --out: the same CSV in a file, the speed chart beside it.
+    // --out: the same CSV in a file, the speed chart beside it, the summary on the
+    // terminal.
     let out = stridekit()
         .arg("pace")
         .arg(&csv)
@@ -135,9 +137,10 @@ fn pace_replays_a_user_csv() {
         .output()
         .unwrap();
     assert!(out.status.success());
+    let summary = String::from_utf8_lossy(&out.stdout);
     assert!(
-        out.stdout.is_empty(),
-        "the CSV goes to the file, not stdout"
+        !summary.contains("t_s,") && summary.contains("average pace"),
+        "the CSV goes to the file, the summary to stdout: {summary}"
     );
     let written = std::fs::read_to_string(dir.join("out/run.csv")).unwrap();
     assert_eq!(written, stdout, "same rows as on stdout");
@@ -177,6 +180,8 @@ fn pace_saves_a_calibration_and_replays_steps_only_with_it() {
         stridekit()
             .arg("pace")
             .arg(&csv)
+            .arg("--out")
+            .arg(dir.join("with-gnss.csv"))
             .arg("--save-calibration")
             .arg(&cal),
     );
@@ -189,7 +194,10 @@ fn pace_saves_a_calibration_and_replays_steps_only_with_it() {
     // The same run as a treadmill would give it: steps only, with and without it.
     let replay = |with: bool| {
         let mut cmd = stridekit();
-        cmd.arg("pace").arg(&csv).arg("--no-gnss");
+        cmd.arg("pace")
+            .arg(&csv)
+            .arg("--no-gnss")
+            .args(["--out", "-"]);
         if with {
             cmd.arg("--calibration").arg(&cal);
         }
@@ -210,6 +218,8 @@ fn pace_saves_a_calibration_and_replays_steps_only_with_it() {
         .arg("pace")
         .arg(&csv)
         .arg("--no-gnss")
+        .arg("--out")
+        .arg(dir.join("no-gnss.csv"))
         .arg("--save-calibration")
         .arg(dir.join("none.txt"))
         .output()
@@ -221,6 +231,8 @@ fn pace_saves_a_calibration_and_replays_steps_only_with_it() {
     let out = stridekit()
         .arg("pace")
         .arg(&csv)
+        .arg("--out")
+        .arg(dir.join("refused.csv"))
         .arg("--calibration")
         .arg(&csv)
         .output()

@@ -19,9 +19,12 @@ pub enum FormatError {
     /// The path is a folder where a file is expected.
     #[error("this is a folder, not a file")]
     Folder,
+    /// The path is a folder, but not one of the recording folders a reader takes.
+    #[error("this is a folder without {0}")]
+    FolderWithout(&'static str),
     /// The file holds another kind of recording than the reader reads (told from its
     /// content, see [`crate::sniff`]).
-    #[error("this is a {found}, not a {expected}")]
+    #[error("its content is of another kind ({found}), not a {expected}")]
     OtherContent {
         /// What the file holds ([`crate::Content::name`]).
         found: &'static str,

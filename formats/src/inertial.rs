@@ -185,13 +185,22 @@ pub(crate) fn parse_rows(
 /// export, one with `time` a RIDI file; a directory holding `processed/data.csv` is a
 /// RIDI sequence.
 pub fn read_inertial(path: &Path) -> Result<InertialRecording, FormatError> {
-    if path.is_file() && crate::sniff::sniff(path)?.content == crate::Content::AndroidLog {
-        return crate::android::read_android_log(path);
+    if path.is_file() {
+        use crate::Content;
+        match crate::sniff::sniff(path)?.content {
+            Content::AndroidLog => return crate::android::read_android_log(path),
+            Content::Ridi | Content::Ronin | Content::Unknown => {}
+            other => {
+                return Err(FormatError::OtherContent {
+                    found: other.name(),
+                    expected: "phone recording (Android sensor log, RIDI or RoNIN CSV)",
+                })
+            }
+        }
     }
     if path.is_dir() && !path.join("processed").join("data.csv").is_file() {
-        return Err(FormatError::parse(
-            "RIDI",
-            "a folder without processed/data.csv (a RIDI sequence folder has one)",
+        return Err(FormatError::FolderWithout(
+            "processed/data.csv (a RIDI sequence folder has one)",
         ));
     }
     let file = if path.is_dir() {
