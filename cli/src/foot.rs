@@ -308,7 +308,11 @@ pub fn run(args: &FootArgs) -> Result<(), Failure> {
     if rec.truncated {
         crate::input::warn_truncated(file);
     }
-    let (config, described) = config_for(args, rec.format)?;
+    // (--axes is checked by clap: what can fail here is the calibration file.)
+    let (config, described) = config_for(args, rec.format).map_err(|e| match args.calibration {
+        Some(_) => crate::outcome::usage("--calibration", e),
+        None => Failure::Failed(e),
+    })?;
     if let Some(t) = rec.truth_m.as_mut() {
         stridekit_lab::foot::eval::mirror_truth(t);
     }

@@ -48,7 +48,10 @@ pub fn run(a: &PdrArgs) -> Result<(), Failure> {
         crate::input::warn_truncated(&a.file);
     }
     let calibration = match &a.calibration {
-        Some(p) => Some(stridekit_lab::pdr::calibrate::read(p)?),
+        Some(p) => Some(
+            stridekit_lab::pdr::calibrate::read(p)
+                .map_err(|e| crate::outcome::usage("--calibration", e))?,
+        ),
         None => None,
     };
     let o = ReplayOptions {

@@ -227,7 +227,8 @@ fn pace_saves_a_calibration_and_replays_steps_only_with_it() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("no calibration to save"));
     assert!(!dir.join("none.txt").exists());
-    // A file that is not a calibration is refused before the replay.
+    // A file that is not a calibration is refused before the replay: a bad value of
+    // the flag, exit 2.
     let out = stridekit()
         .arg("pace")
         .arg(&csv)
@@ -237,7 +238,7 @@ fn pace_saves_a_calibration_and_replays_steps_only_with_it() {
         .arg(&csv)
         .output()
         .unwrap();
-    assert!(!out.status.success());
+    assert_eq!(out.status.code(), Some(2));
     assert!(
         String::from_utf8_lossy(&out.stderr).contains("not a stridekit-pace-calibration file"),
         "{}",

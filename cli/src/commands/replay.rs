@@ -62,9 +62,11 @@ pub fn pace(a: PaceArgs) -> Result<(), Failure> {
     };
     if let Some(f) = &a.calibration {
         let text = std::fs::read_to_string(f)
-            .map_err(|e| format!("cannot read the calibration {}: {e}", f.display()))?;
-        config.calibration =
-            Some(PaceCalibration::parse(&text).map_err(|e| format!("{}: {e}", f.display()))?);
+            .map_err(|e| usage("--calibration", format!("cannot read {}: {e}", f.display())))?;
+        config.calibration = Some(
+            PaceCalibration::parse(&text)
+                .map_err(|e| usage("--calibration", format!("{}: {e}", f.display())))?,
+        );
     }
     let sink = Sink::from_arg(&a.out, "csv")?;
     let options = crate::replay::Options {
