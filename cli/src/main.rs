@@ -2,6 +2,7 @@
 
 mod commands;
 mod demo;
+mod demo_facts;
 mod foot;
 mod orientation;
 mod output;
