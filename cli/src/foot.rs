@@ -4,10 +4,14 @@
 //! Input: a pyshoe / UofT CSV or an x-io (NGIMU) CSV export (see
 //! `stridekit_formats::foot`). The sensor axes come from `--axes` (see
 //! [`FootConfig::axes_from_spec`]); without it, the layout's usual axes (pyshoe:
-//! `frd`; x-io: `flu`, the body frame itself). The IMU profile (`--imu`) likewise
-//! defaults by layout: the UofT trials were recorded with a factory-calibrated
+//! `frd`; x-io: `flu`, the body frame itself). The IMU profile (`--imu`) does not
+//! follow the layout, which any IMU's export can have: trials of the UofT VICON set
+//! (known by the set's label columns) were recorded with a factory-calibrated
 //! MicroStrain (`calibrated`), anything else is taken as consumer MEMS (`consumer`,
-//! the SDK default: gyro bias measured at the start rest).
+//! the SDK default: gyro bias measured at the start rest). The gyroscope range
+//! (`--gyro-range`) comes from the data when not given: the ceiling of a clipped
+//! gyroscope ([`stridekit_core::foot::GyroCeilingDetector`]), else none. The replay
+//! prints every device assumption it made ([`config_for`]).
 //!
 //! Samples the navigator rejects (repeated or reversed timestamps, NaN, values out
 //! of range, accelerations in g) are skipped and counted by reason, and the counts
@@ -36,6 +40,7 @@ use std::path::{Path, PathBuf};
 use stridekit_core::foot::{FootConfig, FootEstimate};
 use stridekit_formats::{read_foot_csv, Content, FootFormat};
 
+use stridekit_lab::foot::device::{evidence, Evidence};
 use stridekit_lab::foot::eval::{align, replay_counted, Method, Trial};
 use stridekit_lab::report::{line_chart, track_chart, Chart, Series, Style};
 
@@ -99,58 +104,71 @@ pub struct FootArgs {
     pub gyro_range_rads: Option<f64>,
 }
 
-/// The navigator configuration for a recording of `format` under `args`, and a
-/// description of the choices for the output.
-pub fn config_for(args: &FootArgs, format: FootFormat) -> Result<(FootConfig, String), String> {
-    let (default_axes, default_imu, default_range) = match format {
-        FootFormat::Pyshoe => (
-            "frd",
-            ImuProfile::Calibrated,
-            Some(stridekit_lab::foot::eval::UOFT_GYRO_RANGE_RADS),
-        ),
-        FootFormat::Xio => ("flu", ImuProfile::Consumer, None),
+/// The navigator configuration for a recording of `format` under `args`, given what
+/// the data say about the device, and the device assumptions made, for the output.
+///
+/// Nothing about the device is taken from the file's layout alone, which any IMU's
+/// export can have:
+/// - axes: `--axes`, else the layout's usual axes (pyshoe: `frd`, x-io: `flu`);
+/// - units: the ones the header names (the navigator refuses g and deg/s in SI columns);
+/// - IMU profile: `--imu`, else `calibrated` only for a trial of the UofT VICON set (its
+///   factory-calibrated MicroStrain, known by the set's label columns), `consumer` (the
+///   SDK default, gyro bias measured at the start rest) for everything else;
+/// - gyroscope range: `--gyro-range`, else the ceiling the data show (flat tops at a
+///   constant rate, [`stridekit_core::foot::GyroCeilingDetector`]); without that
+///   evidence, no range and nothing "repaired".
+pub fn config_for(
+    args: &FootArgs,
+    format: FootFormat,
+    device: &Evidence,
+) -> Result<(FootConfig, String), String> {
+    let default_axes = match format {
+        FootFormat::Pyshoe => "frd",
+        FootFormat::Xio => "flu",
     };
     let spec = args.axes.as_deref().unwrap_or(default_axes);
     let axis_remap = FootConfig::axes_from_spec(spec).map_err(|e| format!("--axes {spec}: {e}"))?;
-    let imu = args.imu.unwrap_or(default_imu);
-    let how = |given: bool| {
-        if given {
+    let (imu, imu_why) = match args.imu {
+        Some(imu) => (imu, "given"),
+        None if device.uoft_vicon_set => (
+            ImuProfile::Calibrated,
+            "the UofT VICON set's factory-calibrated MicroStrain: the file has the set's label columns",
+        ),
+        None => (
+            ImuProfile::Consumer,
+            "the SDK default for an IMU not known by name; --imu calibrated for a factory-calibrated one",
+        ),
+    };
+    let units = match format {
+        FootFormat::Pyshoe => "m/s² and rad/s, as the header names them",
+        FootFormat::Xio => "g and deg/s in the file, converted to m/s² and rad/s",
+    };
+    let mut text = format!(
+        "{}; device assumptions:\n  axes {spec} ({}); units {units}\n  IMU profile {} ({imu_why})",
+        format.name(),
+        if args.axes.is_some() {
             "given"
         } else {
             "default for this layout"
-        }
-    };
-    let mut text = format!(
-        "{}, axes {spec} ({}), IMU profile {} ({})",
-        format.name(),
-        how(args.axes.is_some()),
+        },
         imu.name(),
-        how(args.imu.is_some()),
     );
     let mut config = FootConfig {
         axis_remap,
         ..imu.config()
     };
+    let (range, gyro_text) = gyro_range(args.gyro_range_rads, device);
+    config.gyro_range_rads = range;
+    text += &format!("\n  gyroscope: {gyro_text}");
     if args.no_level_floor {
         config.level_stride_max_grade = None;
-        text += ", level-floor constraint off";
-    }
-    config.gyro_range_rads = args.gyro_range_rads.or(default_range);
-    if let Some(r) = config.gyro_range_rads {
-        text += &format!(
-            ", gyro range {r} rad/s ({}; clipped swing peaks repaired)",
-            if args.gyro_range_rads.is_some() {
-                "given"
-            } else {
-                "the UofT MicroStrain's, default for this layout"
-            }
-        );
+        text += "\n  level-floor constraint off";
     }
     if let Some(path) = &args.calibration {
         let a = read_calibration(path)?;
         config.accel_alignment_rad = a;
         text += &format!(
-            ", accelerometer alignment ({:.2}°, {:.2}°, {:.2}°) from {}",
+            "\n  accelerometer alignment ({:.2}°, {:.2}°, {:.2}°) from {}",
             a[0].to_degrees(),
             a[1].to_degrees(),
             a[2].to_degrees(),
@@ -158,6 +176,54 @@ pub fn config_for(args: &FootArgs, format: FootFormat) -> Result<(FootConfig, St
         );
     }
     Ok((config, text))
+}
+
+/// The gyroscope range to configure and what it rests on: the range given, else the
+/// ceiling the data show, else none (nothing is repaired without evidence). A given
+/// range the data contradict gets a warning in the text.
+fn gyro_range(given: Option<f64>, device: &Evidence) -> (Option<f64>, String) {
+    let seen = |c: &stridekit_core::foot::GyroCeiling| {
+        format!(
+            "{} flat tops at a constant ceiling of {:.2} rad/s on sensor {} (peak {:.2} rad/s)",
+            c.flat_tops,
+            c.ceiling_rads,
+            stridekit_lab::foot::device::side_name(c),
+            c.peak_rads
+        )
+    };
+    match (given, device.ceiling) {
+        (Some(r), found) => {
+            let mut t = format!("range {r} rad/s (given; clipped swing peaks repaired)");
+            if let Some(c) = found.filter(|c| c.range_rads() < 0.995 * r) {
+                t += &format!(
+                    "; warning: the data show {} — below 99 % of the given range: is --gyro-range right?",
+                    seen(&c)
+                );
+            }
+            if device.peak_rads > r {
+                t += &format!(
+                    "; warning: the data reach {:.2} rad/s, above the given range",
+                    device.peak_rads
+                );
+            }
+            (Some(r), t)
+        }
+        (None, Some(c)) => (
+            Some(c.range_rads()),
+            format!(
+                "clipping detected: {}; clipped swing peaks repaired above {:.2} rad/s (--gyro-range RAD_S to set the device's range instead)",
+                seen(&c),
+                c.ceiling_rads
+            ),
+        ),
+        (None, None) => (
+            None,
+            format!(
+                "no clipping detected (peak {:.2} rad/s, no flat tops at a constant ceiling): nothing repaired (--gyro-range RAD_S if the device's range is known)",
+                device.peak_rads
+            ),
+        ),
+    }
 }
 
 /// The alignment of a foot calibration file (`stridekit calibrate foot`).
@@ -177,14 +243,19 @@ pub fn calibrate(
     let mut walks = Vec::new();
     let mut config: Option<FootConfig> = None;
     let mut report = String::new();
-    for file in files {
-        let rec = read_foot_csv(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let recs = files
+        .iter()
+        .map(|file| read_foot_csv(file).map_err(|e| format!("{}: {e}", file.display())))
+        .collect::<Result<Vec<_>, _>>()?;
+    // One device: its evidence from all the walks.
+    let device = evidence(&recs.iter().collect::<Vec<_>>());
+    for (file, rec) in files.iter().zip(recs) {
         let args = FootArgs {
             axes: axes.clone(),
             imu,
             ..Default::default()
         };
-        let (c, described) = config_for(&args, rec.format)?;
+        let (c, described) = config_for(&args, rec.format, &device)?;
         if config.as_ref().is_some_and(|k| *k != c) {
             return Err(format!(
                 "{}: another layout than the first file (give --axes and --imu)",
@@ -309,10 +380,11 @@ pub fn run(args: &FootArgs) -> Result<(), Failure> {
         crate::input::warn_truncated(file);
     }
     // (--axes is checked by clap: what can fail here is the calibration file.)
-    let (config, described) = config_for(args, rec.format).map_err(|e| match args.calibration {
-        Some(_) => crate::outcome::usage("--calibration", e),
-        None => Failure::Failed(e),
-    })?;
+    let (config, described) =
+        config_for(args, rec.format, &evidence(&[&rec])).map_err(|e| match args.calibration {
+            Some(_) => crate::outcome::usage("--calibration", e),
+            None => Failure::Failed(e),
+        })?;
     if let Some(t) = rec.truth_m.as_mut() {
         stridekit_lab::foot::eval::mirror_truth(t);
     }
@@ -793,7 +865,7 @@ mod tests {
             axes: Some("flu".into()),
             ..Default::default()
         };
-        let (config, _) = config_for(&args, rec.format).unwrap();
+        let (config, _) = config_for(&args, rec.format, &evidence(&[&rec])).unwrap();
         assert!(
             config.gyro_bias_from_alignment,
             "x-io: consumer profile by default"
@@ -873,12 +945,12 @@ mod tests {
             calibration: Some(cal.clone()),
             ..Default::default()
         };
-        let (config, described) = config_for(&args, FootFormat::Xio).unwrap();
+        let (config, described) = config_for(&args, FootFormat::Xio, &Evidence::default()).unwrap();
         assert_eq!(config.accel_alignment_rad, a);
         assert!(described.contains("accelerometer alignment"), "{described}");
         run(&args).unwrap();
         std::fs::write(&cal, "not a calibration\n").unwrap();
-        let e = config_for(&args, FootFormat::Xio).unwrap_err();
+        let e = config_for(&args, FootFormat::Xio, &Evidence::default()).unwrap_err();
         assert!(e.contains("imu.cal"), "{e}");
         std::fs::remove_dir_all(&dir).ok();
     }
@@ -889,8 +961,99 @@ mod tests {
             axes: Some("x,y,-z".into()),
             ..Default::default()
         };
-        let e = config_for(&args, FootFormat::Xio).unwrap_err();
+        let e = config_for(&args, FootFormat::Xio, &Evidence::default()).unwrap_err();
         assert!(e.contains("mirror"), "{e}");
+    }
+
+    /// A trial of the UofT VICON set in `../shared/data`, or `None` (the test skips,
+    /// saying why).
+    fn uoft_trial(name: &str) -> Option<stridekit_formats::FootRecording> {
+        let Some(path) = stridekit_formats::data_dir()
+            .map(|d| d.join("foot/pyshoe-vicon").join(format!("{name}.csv")))
+            .filter(|p| p.exists())
+        else {
+            eprintln!("skipping: ../shared/data/foot/pyshoe-vicon/{name}.csv not found (set STRIDEKIT_DATA)");
+            return None;
+        };
+        Some(read_foot_csv(&path).unwrap())
+    }
+
+    /// Issue 36 item 6, real data: the MicroStrain's pitch rate on 2017-11-22-11-44-47
+    /// stops at about 9.13 rad/s in 15 swings. The data say so, and the ceiling found is
+    /// the clip's; the same motion with every rate ×1.5, as an IMU of 1.5× the range
+    /// clipped at 1.5× the rate would record it, is clipped at ×1.5, not at 9.2 rad/s.
+    #[test]
+    fn a_real_clipped_gyroscope_is_detected_at_its_own_ceiling() {
+        let Some(rec) = uoft_trial("2017-11-22-11-44-47") else {
+            return;
+        };
+        let (config, text) =
+            config_for(&FootArgs::default(), rec.format, &evidence(&[&rec])).unwrap();
+        let r = config.gyro_range_rads.expect("clipping detected");
+        assert!((9.0..9.15).contains(&(0.99 * r)), "{r}: {text}");
+        assert!(text.contains("clipping detected"), "{text}");
+        assert!(text.contains("on sensor y−"), "{text}");
+        assert!(!config.gyro_bias_from_alignment, "UofT: calibrated: {text}");
+
+        let mut wide = rec.clone();
+        wide.gyro_rads.iter_mut().flatten().for_each(|w| *w *= 1.5);
+        let c = evidence(&[&wide]).ceiling.expect("still clipped");
+        assert!((1.5 * 9.0..1.5 * 9.15).contains(&c.ceiling_rads), "{c:?}");
+    }
+
+    /// Issue 36 item 6, real data: a trial that never clips (2017-11-22-11-26-05,
+    /// peak 8.99 rad/s) with every rate ×1.3, its swing peaks at 11.7 rad/s as from a
+    /// wider-range IMU on a faster foot, written as a plain `t_s,acc_*,gyr_*` CSV of an
+    /// unknown device. Before: the layout meant the UofT MicroStrain, so the calibrated
+    /// profile and a 9.2 rad/s range whose "repair" added rotation to every peak above
+    /// 9.1 rad/s. Now: no flat tops, no range, nothing repaired, the consumer profile,
+    /// and the replay says so.
+    #[test]
+    fn a_wider_range_imu_is_not_repaired_at_the_microstrain_ceiling() {
+        let Some(rec) = uoft_trial("2017-11-22-11-26-05") else {
+            return;
+        };
+        let dir = std::env::temp_dir().join(format!("stridekit-widegyro-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("wide.csv");
+        let mut text =
+            String::from("t_s,acc_x_mps2,acc_y_mps2,acc_z_mps2,gyr_x_rads,gyr_y_rads,gyr_z_rads\n");
+        for i in 0..rec.len() {
+            let (a, w) = (rec.accel_mps2[i], rec.gyro_rads[i].map(|w| 1.3 * w));
+            text += &format!(
+                "{},{},{},{},{},{},{}\n",
+                rec.t_s[i], a[0], a[1], a[2], w[0], w[1], w[2]
+            );
+        }
+        std::fs::write(&file, text).unwrap();
+        let wide = read_foot_csv(&file).unwrap();
+        let device = evidence(&[&wide]);
+        assert!(device.peak_rads > 11.0, "{}", device.peak_rads);
+        assert_eq!(device.ceiling, None);
+        let args = FootArgs {
+            file: file.clone(),
+            sink: Sink::from_arg(&dir.join("out.csv"), "csv").unwrap(),
+            ..Default::default()
+        };
+        let (config, described) = config_for(&args, wide.format, &device).unwrap();
+        assert_eq!(config.gyro_range_rads, None, "{described}");
+        assert!(config.gyro_bias_from_alignment, "consumer: {described}");
+        assert!(described.contains("no clipping detected"), "{described}");
+        assert!(described.contains("IMU profile consumer"), "{described}");
+        // A range the user gives is used, and one the data contradict is questioned.
+        let (config, described) = config_for(
+            &FootArgs {
+                gyro_range_rads: Some(9.2),
+                ..args.clone()
+            },
+            wide.format,
+            &device,
+        )
+        .unwrap();
+        assert_eq!(config.gyro_range_rads, Some(9.2));
+        assert!(described.contains("above the given range"), "{described}");
+        run(&args).unwrap();
+        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]

@@ -3,6 +3,7 @@
 mod basis;
 mod commands;
 mod demo;
+mod demo_facts;
 mod foot;
 mod input;
 mod orientation;

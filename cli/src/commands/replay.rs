@@ -154,8 +154,9 @@ pub struct FootArgs {
     /// x-io.
     #[arg(long, value_name = "SPEC", value_parser = axes_spec)]
     pub axes: Option<String>,
-    /// The IMU: calibrated (factory-calibrated; default for pyshoe/UofT files) or
-    /// consumer (gyro bias measured at the start rest; default otherwise).
+    /// The IMU: calibrated (factory-calibrated; default for trials of the UofT VICON
+    /// set, known by its label columns) or consumer (gyro bias measured at the start
+    /// rest; default for every other file).
     #[arg(long, value_enum)]
     pub imu: Option<Imu>,
     /// A device calibration of this IMU written by `stridekit calibrate foot` (the
@@ -168,8 +169,9 @@ pub struct FootArgs {
     #[arg(long)]
     pub no_level_floor: bool,
     /// The gyroscope's range, rad/s: samples at 99 % of it are clipped, and the rotation
-    /// above the ceiling is restored after each clipped run. Default: 9.2 for pyshoe /
-    /// UofT files (their MicroStrain clips at about 9.13 rad/s), none for x-io.
+    /// above the ceiling is restored after each clipped run. Default: the ceiling the
+    /// data show (flat tops at one rate, again and again, nothing above), else none and
+    /// nothing repaired. The output says which.
     #[arg(long, value_name = "RAD_S", value_parser = positive_rads)]
     pub gyro_range: Option<f64>,
 }

@@ -44,9 +44,11 @@ pub enum Train {
     /// Train the learned phone odometry.
     ///
     /// Fit the learned phone odometry (a velocity regressor per placement and a general
-    /// one) on simulated walks, RIDI sequences or RoNIN CSV exports; write a model file
-    /// (format v1, see core/src/odometry/model.rs).
-    #[command(group(ArgGroup::new("source").args(["sim_seeds", "ridi", "ronin"])))]
+    /// one) on simulated walks, RIDI sequences, RoNIN CSV exports or real indoor walks
+    /// with surveyed waypoints (Android sensor logs); write a model file (format v2, see
+    /// core/src/odometry/model.rs). The shipped model: `--android
+    /// ../shared/data/phone-indoor --out core/models/odometry_v1.txt`.
+    #[command(group(ArgGroup::new("source").args(["sim_seeds", "ridi", "ronin", "android"])))]
     Odometry {
         /// Simulated walks per placement (the default source, 8 walks).
         #[arg(long, value_name = "N")]
@@ -57,6 +59,12 @@ pub enum Train {
         /// RoNIN CSV exports in DIR.
         #[arg(long, value_name = "DIR")]
         ronin: Option<PathBuf>,
+        /// Android sensor logs with surveyed waypoints in DIR (e.g.
+        /// ../shared/data/phone-indoor, which trained the shipped model): trains the
+        /// general and in_hand regressors on every walk, and measures the model on them
+        /// (fitted) and leave one floor out; both figures go into the model's comments.
+        #[arg(long, value_name = "DIR")]
+        android: Option<PathBuf>,
         /// The model file to write.
         #[arg(long, value_name = "FILE", default_value = "odometry_v1.txt")]
         out: PathBuf,
@@ -127,6 +135,7 @@ pub fn run(t: Train) -> Result<(), Failure> {
             sim_seeds,
             ridi,
             ronin,
+            android,
             out,
             window,
             lambda,
@@ -146,7 +155,20 @@ pub fn run(t: Train) -> Result<(), Failure> {
                 params.lambda = l;
             }
             let out = OutFile::prepare(&out, "txt")?;
-            stridekit_lab::odometry::commands::train(src, params, &out.path, &command_line())?
+            match android {
+                Some(dir) => stridekit_lab::pdr::odometry::train_command(
+                    &dir,
+                    params,
+                    &out.path,
+                    &command_line(),
+                )?,
+                None => stridekit_lab::odometry::commands::train(
+                    src,
+                    params,
+                    &out.path,
+                    &command_line(),
+                )?,
+            }
         }
     };
     println!("{text}");

@@ -518,6 +518,15 @@ pub fn replay(file: &str, model: Option<&Path>, svg: &Path) -> Result<String, St
         samples.len(),
         tracks.truth.len()
     );
+    let _ = writeln!(
+        out,
+        "model: {}; the learned odometry is experimental: on real walks the PDR (`stridekit pdr FILE`) is more accurate (docs/odometry.md)",
+        model
+            .comments
+            .iter()
+            .find_map(|c| c.strip_prefix("trained by: "))
+            .unwrap_or("no training command in its comments")
+    );
     out.push_str(&note);
     if tracks.rejected.total() == 0 {
         out.push_str("rejected samples: none\n");
