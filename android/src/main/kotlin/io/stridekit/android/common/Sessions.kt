@@ -108,7 +108,7 @@ class PaceSession(
         pushSteps()
         if (fixes.buffer.isEmpty()) return emptyList()
         val r = tracker.pushFixesPacked(fixes.buffer.drain())
-        for (x in r.rejected) _rejections.tryEmit(Rejection("gnss", null, x.description))
+        for (x in r.rejected) _rejections.tryEmit(Rejection("gnss", null, x.reason))
         for (e in r.estimates) _estimates.tryEmit(e)
         return r.estimates
     }
@@ -116,11 +116,11 @@ class PaceSession(
     private fun pushSteps() {
         if (!steps.buffer.isEmpty()) {
             val r = tracker.pushStepCountsPacked(steps.buffer.drain())
-            for (x in r.rejected) _rejections.tryEmit(Rejection("steps", null, x.description))
+            for (x in r.rejected) _rejections.tryEmit(Rejection("steps", null, x.reason))
         }
         if (!accel.buffer.isEmpty()) {
             val r = tracker.pushAccelPacked(accel.buffer.drain())
-            for (x in r.rejected) _rejections.tryEmit(Rejection("accelerometer", null, x.description))
+            for (x in r.rejected) _rejections.tryEmit(Rejection("accelerometer", null, x.reason))
         }
     }
 }
