@@ -193,3 +193,22 @@ fn real_logs_with_jitter_or_dropped_events_walk_nearly_the_same() {
         }
     }
 }
+
+#[test]
+fn the_navigator_fed_a_logs_events_walks_as_the_reader_and_the_cli() {
+    let Some(logs) = logs() else { return };
+    for path in &logs {
+        let text = text(path);
+        let mut direct = PhoneNavigator::new(NavigatorConfig::default()).unwrap();
+        for s in reader_samples(&text) {
+            direct.push_imu(&s).unwrap();
+        }
+        let mut events = PhoneNavigator::new(NavigatorConfig::default()).unwrap();
+        for e in android_motion_events(&text) {
+            events.push_event(&e).unwrap();
+        }
+        events.flush_events();
+        assert_eq!(events.estimate(), direct.estimate(), "{}", path.display());
+        assert_eq!(events.recent_steps().1, direct.recent_steps().1);
+    }
+}
