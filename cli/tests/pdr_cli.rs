@@ -83,7 +83,9 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
     succeeded(&out);
     assert!(!String::from_utf8_lossy(&out.stderr).contains("cut off"));
     assert!(
-        stdout.contains("rejected samples: 1\n  skipped 1: IMU stream: duplicate timestamp"),
+        stdout.contains("rejected samples: none\n")
+            && stdout
+                .contains("skipped by the reader 1: accelerometer stream: duplicate timestamp"),
         "{stdout}"
     );
     assert!(
@@ -195,7 +197,7 @@ fn pdr_replays_a_log_skipping_bad_samples_and_calibrate_writes_a_file() {
         let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
         assert!(o.status.success(), "{command}: {stdout}");
         assert!(
-            stdout.contains("skipped 1: IMU stream: duplicate timestamp"),
+            stdout.contains("skipped by the reader 1: accelerometer stream: duplicate timestamp"),
             "{command}: {stdout}"
         );
         stdout

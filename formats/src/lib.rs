@@ -28,7 +28,9 @@ mod xml;
 
 use std::path::Path;
 
-pub use crate::android::{is_android_log, list_android_logs, parse_android_log, read_android_log};
+pub use crate::android::{
+    android_motion_events, is_android_log, list_android_logs, parse_android_log, read_android_log,
+};
 pub use crate::broad::{list_broad_trials, parse_broad, read_broad, OrientationRecording};
 pub use crate::csv::{read_csv, read_csv_counted};
 pub use crate::data::{data_dir, DATA_ENV_VAR};
