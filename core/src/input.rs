@@ -122,6 +122,10 @@ pub enum Stream {
     Accelerometer,
     /// IMU samples (gyroscope + accelerometer, optionally magnetometer).
     Imu,
+    /// Separate gyroscope events (merged into IMU samples by [`crate::imu`]).
+    Gyroscope,
+    /// Separate magnetometer events (merged into IMU samples by [`crate::imu`]).
+    Magnetometer,
 }
 
 impl Stream {
@@ -129,7 +133,9 @@ impl Stream {
     /// stream is `established` or before; `None`: no slow-interval check.
     fn slow_interval_s(self, established: bool) -> Option<f64> {
         match self {
-            Stream::Accelerometer | Stream::Imu => Some(limits::SLOW_IMU_INTERVAL_S),
+            Stream::Accelerometer | Stream::Imu | Stream::Gyroscope | Stream::Magnetometer => {
+                Some(limits::SLOW_IMU_INTERVAL_S)
+            }
             Stream::Gnss => Some(limits::SLOW_GNSS_INTERVAL_S),
             // A stop of minutes is normal for steps, but not between the first ones.
             Stream::Steps => (!established).then_some(limits::SLOW_STEPS_INTERVAL_S),
@@ -141,7 +147,9 @@ impl Stream {
     /// 100 Hz).
     fn fast_interval_s(self) -> f64 {
         match self {
-            Stream::Accelerometer | Stream::Imu => limits::FAST_IMU_INTERVAL_S,
+            Stream::Accelerometer | Stream::Imu | Stream::Gyroscope | Stream::Magnetometer => {
+                limits::FAST_IMU_INTERVAL_S
+            }
             Stream::Gnss | Stream::Steps => limits::FAST_LOW_RATE_INTERVAL_S,
         }
     }
@@ -149,7 +157,7 @@ impl Stream {
     /// The usual interval of this stream, s: what a wrong unit is judged against.
     fn nominal_interval_s(self) -> f64 {
         match self {
-            Stream::Accelerometer | Stream::Imu => 0.01,
+            Stream::Accelerometer | Stream::Imu | Stream::Gyroscope | Stream::Magnetometer => 0.01,
             Stream::Gnss | Stream::Steps => 1.0,
         }
     }
@@ -162,6 +170,8 @@ impl std::fmt::Display for Stream {
             Stream::Steps => "step",
             Stream::Accelerometer => "accelerometer",
             Stream::Imu => "IMU",
+            Stream::Gyroscope => "gyroscope",
+            Stream::Magnetometer => "magnetometer",
         })
     }
 }

@@ -36,6 +36,7 @@ impl PhoneNavigator {
             placed,
             calibration,
             scale,
+            merger,
         } = self;
         let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
         w.bytes(&ahrs.snapshot());
@@ -96,6 +97,7 @@ impl PhoneNavigator {
             None => w.bool(false),
         }
         scale.write(&mut w);
+        w.bytes(&merger.snapshot());
         w.finish()
     }
 
@@ -155,6 +157,7 @@ impl PhoneNavigator {
             None
         };
         let scale = StepScale::read(&mut r)?;
+        let merger = ImuMerger::restore(r.bytes()?)?;
         r.end()?;
         let newest = imu_time
             .last_t_s()
@@ -185,6 +188,7 @@ impl PhoneNavigator {
             step_length_model: lengths.model(),
             step_length: *lengths.config(),
             gyro_calibrated: direction.gyro_calibrated(),
+            merge: *merger.config(),
         };
         Ok(Self {
             config,
@@ -211,6 +215,7 @@ impl PhoneNavigator {
             placed,
             calibration,
             scale,
+            merger,
         })
     }
 }
