@@ -9,3 +9,4 @@ mod foot_alloc;
 mod pdr_alloc;
 mod robustness;
 mod stepdetect_alloc;
+mod time_units;

@@ -10,6 +10,7 @@ mod imu_merge;
 mod odometry;
 mod pdr;
 mod pdr_accuracy;
+mod pdr_crosscheck;
 mod pdr_diag;
 mod pdr_heading;
 mod placement;
