@@ -14,6 +14,7 @@ pub mod calibration;
 pub mod foot;
 pub mod geo;
 pub mod input;
+pub mod map;
 pub mod odometry;
 pub mod pace;
 pub mod pdr;
