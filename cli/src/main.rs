@@ -6,6 +6,7 @@ mod foot;
 mod orientation;
 mod output;
 mod pdr;
+mod pdr_map;
 mod replay;
 mod steps;
 
