@@ -418,7 +418,7 @@ impl MapMatcher {
 
     /// Recompute the summary and the flags that follow from it.
     fn refresh(&mut self) {
-        self.summary = self.cloud.summary(AMBIGUOUS_RADIUS_M);
+        self.summary = self.cloud.summary(AMBIGUOUS_RADIUS_M, self.summary.off);
         let s = &self.summary;
         self.flags.ambiguous = s.near_share < AMBIGUOUS_SHARE;
         self.flags.converged = s.std_m < CONVERGED_STD_M && !self.flags.ambiguous;

@@ -48,13 +48,24 @@ pub(crate) struct Summary {
     pub(crate) near_share: f64,
 }
 
-/// The wrapped angle in (−π, π].
+/// The wrapped angle in (−π, π] (a branch for the usual angles within a turn of the
+/// range, rounding only beyond: this runs per particle per step).
 #[inline]
 pub(crate) fn wrap_pi(a: f64) -> f64 {
-    let tau = std::f64::consts::TAU;
-    let r = a - tau * (a / tau).round();
-    if r <= -std::f64::consts::PI {
-        r + tau
+    use std::f64::consts::{PI, TAU};
+    let r = if a > PI {
+        a - TAU
+    } else if a <= -PI {
+        a + TAU
+    } else {
+        return a;
+    };
+    if r > -PI && r <= PI {
+        return r;
+    }
+    let r = a - TAU * (a / TAU).round();
+    if r <= -PI {
+        r + TAU
     } else {
         r
     }
@@ -181,38 +192,66 @@ impl Cloud {
         w.iter_mut().for_each(|w| *w = step);
     }
 
-    /// Mean, spread and the share of weight within `radius_m` of the mean.
-    pub(crate) fn summary(&self, radius_m: f64) -> Summary {
-        let (mut sx, mut sy, mut ss, mut so, mut co) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    /// Mean, spread and the share of weight within `radius_m` of the mean; the
+    /// heading offsets are averaged around `reference` (the last mean: they are
+    /// angles, wrapped to within ±π of it).
+    pub(crate) fn summary(&self, radius_m: f64, reference: f64) -> Summary {
+        let dev = |o: f64| wrap_pi(o - reference);
+        let (mut sx, mut sy, mut ss, mut so) = (0.0, 0.0, 0.0, 0.0);
         for i in 0..self.len() {
             let w = self.w[i];
             sx += w * self.x[i];
             sy += w * self.y[i];
             ss += w * self.scale[i];
-            let (s, c) = self.off[i].sin_cos();
-            so += w * s;
-            co += w * c;
+            so += w * dev(self.off[i]);
         }
-        let (mut vx, mut vy, mut near) = (0.0, 0.0, 0.0);
+        let (mut vx, mut vy, mut vo, mut near) = (0.0, 0.0, 0.0, 0.0);
         let r2 = radius_m * radius_m;
         for i in 0..self.len() {
             let (dx, dy) = (self.x[i] - sx, self.y[i] - sy);
-            vx += self.w[i] * dx * dx;
-            vy += self.w[i] * dy * dy;
+            let w = self.w[i];
+            vx += w * dx * dx;
+            vy += w * dy * dy;
+            vo += w * (dev(self.off[i]) - so).powi(2);
             if dx * dx + dy * dy <= r2 {
-                near += self.w[i];
+                near += w;
             }
         }
-        // Circular spread from the mean resultant length R: σ = √(−2 ln R).
-        let r = so.hypot(co).clamp(1e-12, 1.0);
         Summary {
             x: sx,
             y: sy,
             std_m: (0.5 * (vx + vy)).sqrt(),
-            off: so.atan2(co),
-            off_std: (-2.0 * r.ln()).sqrt(),
+            off: wrap_pi(reference + so),
+            off_std: vo.sqrt(),
             scale: ss,
             near_share: near,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::wrap_pi;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn angles_wrap_into_the_half_open_turn() {
+        for (a, w) in [
+            (0.0, 0.0),
+            (PI, PI),
+            (-PI, PI),
+            (3.5, 3.5 - 2.0 * PI),
+            (-7.0, -7.0 + 2.0 * PI),
+        ] {
+            assert!((wrap_pi(a) - w).abs() < 1e-12, "{a}: {}", wrap_pi(a));
+        }
+        for k in -50..50 {
+            let a = 0.37 * f64::from(k);
+            let r = wrap_pi(a);
+            assert!(
+                r > -PI && r <= PI && ((a - r) / (2.0 * PI)).fract().abs() < 1e-9,
+                "{a} → {r}"
+            );
         }
     }
 }

@@ -17,7 +17,7 @@ use super::error::MapError;
 use super::fix::PendingFix;
 use super::matcher::{MapFlags, MapMatcher, MAX_PLAN_COORD_M, PENDING_FIXES};
 use super::navigator::MapNavigator;
-use super::particles::Cloud;
+use super::particles::{Cloud, Summary};
 use super::plan::FloorPlan;
 use super::rng::Rng;
 use super::smoother::{History, SmoothedPoint};
@@ -217,7 +217,7 @@ fn write_matcher(w: &mut Writer, m: &MapMatcher) {
         recoveries,
         fixes_used,
         fixes_rejected,
-        summary: _, // recomputed from the cloud
+        summary,
     } = m;
     w.u64(plans.len() as u64);
     plans.iter().for_each(|p| w.u64(p.fingerprint()));
@@ -253,6 +253,18 @@ fn write_matcher(w: &mut Writer, m: &MapMatcher) {
     w.u64(*recoveries);
     w.u64(*fixes_used);
     w.u64(*fixes_rejected);
+    // The summary follows from the cloud, but its heading mean from the one before:
+    // kept as it is.
+    let Summary {
+        x,
+        y,
+        std_m,
+        off,
+        off_std,
+        scale,
+        near_share,
+    } = *summary;
+    w.f64s(&[x, y, std_m, off, off_std, scale, near_share]);
 }
 
 fn read_matcher(
@@ -300,7 +312,15 @@ fn read_matcher(
     };
     let steps_since_recovery = r.u64()?;
     let (recoveries, fixes_used, fixes_rejected) = (r.u64()?, r.u64()?, r.u64()?);
-    let summary = cloud.summary(super::matcher::AMBIGUOUS_RADIUS_M);
+    let summary = Summary {
+        x: r.f64_in(-MAX_POSITION_M, MAX_POSITION_M, "mean position")?,
+        y: r.f64_in(-MAX_POSITION_M, MAX_POSITION_M, "mean position")?,
+        std_m: r.f64_in(0.0, MAX_POSITION_M, "position spread")?,
+        off: r.f64_in(-MAX_OFFSET_RAD, MAX_OFFSET_RAD, "heading offset")?,
+        off_std: r.f64_in(0.0, 2.0 * MAX_OFFSET_RAD, "heading spread")?,
+        scale: r.f64_in(0.5, 1.5, "step scale")?,
+        near_share: r.f64_in(0.0, 1.0 + 1e-9, "weight share")?,
+    };
     Ok(MapMatcher {
         config,
         plans,

@@ -220,7 +220,10 @@ fn a_snapshot_resumes_bit_for_bit_and_only_over_its_plans() {
                 "split {split}, sample {i}"
             );
         }
-        assert_eq!(b.snapshot(), whole.snapshot(), "split {split}");
+        assert!(
+            b.snapshot() == whole.snapshot(),
+            "split {split}: the same state at the end"
+        );
         let (mut pa, mut pb) = (Vec::new(), Vec::new());
         whole.smoothed_window(|p| pa.push(p));
         b.smoothed_window(|p| pb.push(p));
@@ -285,7 +288,7 @@ fn a_start_off_the_plan_is_snapped_or_refused_and_changes_nothing() {
             matches!(r, Err(MapError::OffPlan { .. }) | Err(MapError::Input(_))),
             "{r:?}"
         );
-        assert_eq!(m.snapshot(), before);
+        assert!(m.snapshot() == before, "a refused fix changed the state");
     }
     assert!(matches!(
         m.start_at(10.0, 10.0, None, Some(3)),
@@ -295,7 +298,7 @@ fn a_start_off_the_plan_is_snapped_or_refused_and_changes_nothing() {
         m.set_floor(7),
         Err(MapError::UnknownFloor { floor: 7 })
     ));
-    assert_eq!(m.snapshot(), before);
+    assert!(m.snapshot() == before, "a refused sample changed the state");
 }
 
 #[test]
@@ -367,13 +370,16 @@ fn fixes_far_off_the_plan_are_held_back_then_believed_when_they_agree() {
         },
     ] {
         assert!(m.push_fix(&f).is_err(), "{f:?}");
-        assert_eq!(m.snapshot(), before);
+        assert!(
+            m.snapshot() == before,
+            "a refused fix changed the state: {f:?}"
+        );
     }
     // A rejected IMU sample changes nothing either.
     let mut bad = samples[901];
     bad.gyro_rads[0] = f64::INFINITY;
     assert!(m.push(&bad).is_err());
-    assert_eq!(m.snapshot(), before);
+    assert!(m.snapshot() == before, "a refused sample changed the state");
 }
 
 #[test]
