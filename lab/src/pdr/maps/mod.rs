@@ -26,7 +26,9 @@ use std::path::Path;
 use stridekit_core::map::MapConfig;
 
 pub use replay::{nav_cache, replay_map, run_cached, MapReplay, NavCache};
-pub use rows::{lofo_row, no_plan_rows, oracle_rows, score_map_rows, LOFO_GRID};
+pub use rows::{
+    global_localisation, lofo_row, no_plan_rows, oracle_rows, score_map_rows, Global, LOFO_GRID,
+};
 pub use score::{best_rotation, map_score, quantile, MapScore, Row};
 pub use walks::{made_fixes, planned, plans_of_walks, PlanInfo, Planned};
 
@@ -130,6 +132,7 @@ pub fn run(dir: &Path, sets: &[(String, f64)]) -> Result<String, String> {
         }
     }
     let bounds = oracle_rows(&planned, &config, &at_steps)?;
+    let global = global_localisation(&planned, &config)?;
     let mut rows: Vec<&Row> = no_plan.rows.iter().collect();
     rows.extend([&live, &smooth, &flive, &fsmooth, &lofo]);
     rows.extend(bounds.iter());
@@ -212,6 +215,16 @@ pub fn run(dir: &Path, sets: &[(String, f64)]) -> Result<String, String> {
             runs[i].recoveries
         );
     }
+    let _ = writeln!(
+        out,
+        "\nGlobal localisation (no start: the particles over the walk's whole floor): {} of {} walks converged (σ < 2 m, not ambiguous) before they ended, a median {:.1} s after the start, then {:.1} m from the truth (median); {} of them more than {:.0} m off (converged to the wrong place).",
+        global.converged,
+        global.walks,
+        global.median_time_s,
+        global.median_error_m,
+        global.wrong_place,
+        rows::WRONG_PLACE_M
+    );
     let recov: u64 = runs.iter().map(|r| r.recoveries).sum();
     let _ = writeln!(
         out,

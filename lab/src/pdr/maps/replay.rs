@@ -181,12 +181,14 @@ pub fn run_cached(
     cache: &NavCache,
     plan: Arc<FloorPlan>,
     config: &MapConfig,
-    start: (f64, f64, f64),
+    start: Option<(f64, f64, f64)>,
     fixes: &[MapFix],
 ) -> Result<MapReplay, String> {
     let mut m = MapMatcher::new(*config, vec![plan]).map_err(|e| e.to_string())?;
-    m.start_at(start.0, start.1, start.2, None)
-        .map_err(|e| e.to_string())?;
+    if let Some(start) = start {
+        m.start_at(start.0, start.1, start.2, None)
+            .map_err(|e| e.to_string())?;
+    }
     let mut out = MapReplay {
         live: Vec::with_capacity(cache.samples.len()),
         live_std_m: Vec::with_capacity(cache.samples.len()),
@@ -254,7 +256,7 @@ pub fn run_cached(
     out.recoveries = s.recoveries;
     out.fixes_used = s.fixes_used;
     out.fixes_rejected = s.fixes_rejected;
-    if let Some(&(t0, ..)) = cache.samples.first() {
+    if let (Some(&(t0, ..)), Some(start)) = (cache.samples.first(), start) {
         let p = TrackPoint {
             t_s: t0,
             x_m: start.0,
@@ -311,7 +313,7 @@ mod tests {
         )
         .unwrap();
         let cache = nav_cache(&walk.rec, &config).unwrap();
-        let cached = run_cached(&cache, plan, &config, start, &fixes).unwrap();
+        let cached = run_cached(&cache, plan, &config, Some(start), &fixes).unwrap();
         assert_eq!(engine.live, cached.live);
         assert_eq!(engine.smoothed, cached.smoothed);
         assert_eq!(

@@ -40,7 +40,7 @@ pub fn score_map_rows(
             (Vec::new(), vec![false; truth.len()])
         };
         let start = (truth[0].1, truth[0].2, START_SIGMA_M);
-        let r = run_cached(&p.cache, Arc::clone(&p.plan), config, start, &fixes)?;
+        let r = run_cached(&p.cache, Arc::clone(&p.plan), config, Some(start), &fixes)?;
         if let Some(s) = map_score(&r.live, truth, &excluded) {
             live.by_walk.push((p.walk.floor.clone(), s));
         }
@@ -249,7 +249,7 @@ pub fn oracle_rows(
             ..*base
         };
         let start = (t[0].1, t[0].2, START_SIGMA_M);
-        let r = run_cached(&p.cache, Arc::clone(&p.plan), &c, start, &[])?;
+        let r = run_cached(&p.cache, Arc::clone(&p.plan), &c, Some(start), &[])?;
         if let Some(s) = map_score(&r.live, t, &none) {
             heading.by_walk.push((p.walk.floor.clone(), s));
         }
@@ -262,7 +262,7 @@ pub fn oracle_rows(
             scale_sigma: ORACLE_SCALE_SIGMA,
             ..c
         };
-        let r = run_cached(&scaled, Arc::clone(&p.plan), &c, start, &[])?;
+        let r = run_cached(&scaled, Arc::clone(&p.plan), &c, Some(start), &[])?;
         if let Some(s) = map_score(&r.at_steps, t, &none) {
             both.by_walk.push((p.walk.floor.clone(), s));
         }
@@ -278,3 +278,43 @@ pub fn oracle_rows(
 /// Spreads of the heading and the scale when the bounds take them from the truth.
 const ORACLE_HEADING_SIGMA_RAD: f64 = 3.0 * std::f64::consts::PI / 180.0;
 const ORACLE_SCALE_SIGMA: f64 = 0.02;
+
+/// Global localisation: every walk without a start (the particles over its whole
+/// floor). How many walks converged (`converged` at some time), when (seconds after the
+/// start, median), how far the estimate was from the truth when they did (median), and
+/// how many of those were more than [`WRONG_PLACE_M`] off (converged to the wrong place).
+pub struct Global {
+    pub walks: usize,
+    pub converged: usize,
+    pub median_time_s: f64,
+    pub median_error_m: f64,
+    pub wrong_place: usize,
+}
+
+/// Converged this far from the truth is converged to the wrong place, m.
+pub const WRONG_PLACE_M: f64 = 5.0;
+
+pub fn global_localisation(planned: &[Planned], config: &MapConfig) -> Result<Global, String> {
+    let pb = crate::progress::bar(planned.len(), "global localisation (no start)");
+    let (mut times, mut errors, mut wrong) = (Vec::new(), Vec::new(), 0);
+    for p in planned {
+        pb.inc(1);
+        let r = run_cached(&p.cache, Arc::clone(&p.plan), config, None, &[])?;
+        let Some(t) = r.converged_at_s else { continue };
+        let t0 = r.live.first().map_or(t, |q| q.t_s);
+        let (x, y, _) = crate::pdr::metrics::track_at(&r.live, t);
+        let (tx, ty) = p.walk.rec.position_at(t);
+        let e = (x - tx).hypot(y - ty);
+        wrong += usize::from(e > WRONG_PLACE_M);
+        times.push(t - t0);
+        errors.push(e);
+    }
+    pb.finish_and_clear();
+    Ok(Global {
+        walks: planned.len(),
+        converged: times.len(),
+        median_time_s: quantile(times.iter().copied(), 0.5),
+        median_error_m: quantile(errors.iter().copied(), 0.5),
+        wrong_place: wrong,
+    })
+}
