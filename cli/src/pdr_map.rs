@@ -16,7 +16,7 @@
 //! floor (global localisation, said in the summary).
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use stridekit_core::map::MapConfig;
@@ -26,11 +26,16 @@ use stridekit_lab::pdr::mapsvg::{map_svg, Layer};
 use stridekit_lab::pdr::metrics::track_at;
 use stridekit_lab::pdr::walks::load_walk;
 
+use crate::basis::PDR_PRIOR;
+use crate::outcome::{write_error, Failure};
+use crate::output::{say, Sink};
+
 /// Options of `stridekit pdr --map`.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct MapArgs {
     pub file: PathBuf,
-    pub out: PathBuf,
+    /// Where the CSV goes (the SVG beside a file).
+    pub sink: Sink,
     /// A floor folder (`geojson_map.json`, `floor_info.json`, `floor_image.png`) or
     /// one GeoJSON file.
     pub map: PathBuf,
@@ -38,8 +43,11 @@ pub struct MapArgs {
     pub start: Option<(f64, f64, Option<f64>)>,
 }
 
-pub fn run(a: &MapArgs) -> Result<String, String> {
+pub fn run(a: &MapArgs) -> Result<(), Failure> {
     let walk = load_walk(&a.file)?;
+    if walk.rec.truncated {
+        crate::input::warn_truncated(&a.file);
+    }
     let plan_file = read_floor_plan(&a.map).map_err(|e| format!("{}: {e}", a.map.display()))?;
     let plan = Arc::new(
         plan_file
@@ -68,8 +76,8 @@ pub fn run(a: &MapArgs) -> Result<String, String> {
         start,
         &[],
     )?;
-    write_csv(&a.out, &r)?;
-    let svg = a.out.with_extension("svg");
+    write_csv(&a.sink, &r)?;
+    let svg = a.sink.beside("svg");
     let image = if a.map.is_dir() {
         a.map.join("floor_image.png")
     } else {
@@ -80,42 +88,44 @@ pub fn run(a: &MapArgs) -> Result<String, String> {
     };
     let (live, smoothed) = (pts(&r.live), pts(&r.smoothed));
     let truth: Vec<(f64, f64)> = wp.iter().map(|w| (w.1, w.2)).collect();
-    map_svg(
-        &svg,
-        &walk.rec.name,
-        &plan,
-        image.is_file().then_some(image.as_path()),
-        &[
-            Layer {
-                name: "live",
-                color: "#1f77b4",
-                points: &live,
-                dots: false,
-            },
-            Layer {
-                name: "smoothed",
-                color: "#2ca02c",
-                points: &smoothed,
-                dots: false,
-            },
-            Layer {
-                name: "waypoints",
-                color: "#d62728",
-                points: &truth,
-                dots: false,
-            },
-            Layer {
-                name: "",
-                color: "#d62728",
-                points: &truth,
-                dots: true,
-            },
-        ],
-    )?;
+    if let Some(svg) = &svg {
+        map_svg(
+            svg,
+            &walk.rec.name,
+            &plan,
+            image.is_file().then_some(image.as_path()),
+            &[
+                Layer {
+                    name: "live",
+                    color: "#1f77b4",
+                    points: &live,
+                    dots: false,
+                },
+                Layer {
+                    name: "smoothed",
+                    color: "#2ca02c",
+                    points: &smoothed,
+                    dots: false,
+                },
+                Layer {
+                    name: "waypoints",
+                    color: "#d62728",
+                    points: &truth,
+                    dots: false,
+                },
+                Layer {
+                    name: "",
+                    color: "#d62728",
+                    points: &truth,
+                    dots: true,
+                },
+            ],
+        )?;
+    }
     let last = r.rows.last();
     let mut summary = format!(
         "{}: {} samples on floor {} of {} ({} walls, built from {} features{}); start {said}\n\
-         trajectory {} ({} rows), plot {}\n\
+         trajectory {} ({} rows){}\n\
          {} steps, {:.1} m walked; {} recoveries{}\n",
         walk.rec.name,
         walk.rec.samples.len(),
@@ -131,9 +141,11 @@ pub fn run(a: &MapArgs) -> Result<String, String> {
         } else {
             String::new()
         },
-        a.out.display(),
+        a.sink.name(),
         r.rows.len(),
-        svg.display(),
+        svg.as_ref()
+            .map(|s| format!(", plot {}", s.display()))
+            .unwrap_or_default(),
         last.map_or(0, |e| e.steps),
         last.map_or(0.0, |e| e.distance_m),
         r.recoveries,
@@ -158,17 +170,30 @@ pub fn run(a: &MapArgs) -> Result<String, String> {
             }
         }
     }
-    Ok(summary)
+    if last.is_some_and(|e| e.steps > 0) {
+        summary += &format!(
+            "rests on: the floor plan's walls and the start; step length: {PDR_PRIOR}, \
+             its scale learned per particle; heading: the magnetometer (north) and the \
+             gyroscope, its offset learned per particle\n"
+        );
+    }
+    say!("{}", summary.trim_end());
+    if last.is_some_and(|e| e.steps > 0) {
+        Ok(())
+    } else {
+        Err(Failure::Failed("no step detected: no trajectory".into()))
+    }
 }
 
-fn write_csv(path: &Path, r: &MapReplay) -> Result<(), String> {
-    let err = |e: std::io::Error| format!("{}: {e}", path.display());
-    let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(err)?);
+fn write_csv(sink: &Sink, r: &MapReplay) -> Result<(), Failure> {
+    let name = sink.name();
+    let err = write_error(&name);
+    let mut f = sink.open()?;
     writeln!(
         f,
         "t_s,x_m,y_m,position_std_m,smoothed_x_m,smoothed_y_m,floor,converged,ambiguous,recovered,steps"
     )
-    .map_err(err)?;
+    .map_err(&err)?;
     for e in &r.rows {
         let (sx, sy, _) = track_at(&r.smoothed, e.t_s);
         writeln!(
@@ -186,7 +211,7 @@ fn write_csv(path: &Path, r: &MapReplay) -> Result<(), String> {
             u8::from(e.flags.recovered),
             e.steps
         )
-        .map_err(err)?;
+        .map_err(&err)?;
     }
-    f.flush().map_err(err)
+    f.flush().map_err(&err)
 }

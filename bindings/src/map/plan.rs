@@ -76,6 +76,7 @@ impl FloorPlan {
         })
     }
 
+    /// The floor this plan is of (the competition's `floor_num`, or the one given).
     pub fn floor(&self) -> i32 {
         self.inner.floor()
     }

@@ -18,7 +18,7 @@ pub enum MapDeclination {
     Off,
 }
 
-/// Configuration of a [`super::navigator::MapNavigator`]: `mapConfigDefault()` gives
+/// Configuration of a `MapNavigator`: `mapConfigDefault()` gives
 /// the default; see the core's `MapConfig` for what each setting does.
 #[derive(Clone, Debug, PartialEq, uniffi::Record)]
 pub struct MapConfig {

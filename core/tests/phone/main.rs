@@ -6,6 +6,7 @@ mod common;
 
 mod adversarial_phone;
 mod ahrs;
+mod imu_merge;
 mod map;
 mod odometry;
 mod pdr;
