@@ -22,7 +22,8 @@ from pathlib import Path
 API_MD = Path(__file__).resolve().parent / "api.md"
 # In the bindings of the tests only (feature `testing`), never in an app's build.
 TESTING = {"simulateRun", "simulateFootWalk", "simulatePhoneWalk", "pdrReferenceReplay",
-           "SimulatedRun", "SimulatedFootWalk", "SimulatedPhoneWalk", "PdrReplay"}
+           "SimulatedRun", "SimulatedFootWalk", "SimulatedPhoneWalk", "PdrReplay",
+           "mapReferenceReplay", "MapReplay"}
 TESTING_NOTE = " (test builds only: feature `testing`)"
 START, END = "<!-- api-reference:start -->", "<!-- api-reference:end -->"
 FUN = re.compile(r"\bfun `(\w+)`\((.*?)\)\s*(?::\s*([^{=]+?))?\s*(?:\{|$|=)")

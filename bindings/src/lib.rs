@@ -29,6 +29,7 @@ uniffi::setup_scaffolding!();
 mod error;
 pub mod foot;
 mod logging;
+pub mod map;
 pub mod pace;
 pub mod packed;
 pub mod phone;

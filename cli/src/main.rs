@@ -10,6 +10,7 @@ mod orientation;
 mod outcome;
 mod output;
 mod pdr;
+mod pdr_map;
 mod replay;
 mod steps;
 

@@ -294,3 +294,105 @@ fn eval_pdr_takes_a_folder_of_one_floor_and_refuses_one_without_waypoints() {
         "{stderr}"
     );
 }
+
+/// A floor folder as the competition ships it: a 60 × 20 m hall (its outline box in
+/// degrees, mapped onto floor_info.json's metres) with one shop in it.
+fn write_floor(dir: &Path) {
+    std::fs::create_dir_all(dir).unwrap();
+    std::fs::write(
+        dir.join("geojson_map.json"),
+        r#"{"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"floor_num": 9},
+         "geometry": {"type": "MultiPolygon", "coordinates": [[[[120.0, 30.0], [120.0006, 30.0],
+            [120.0006, 30.0002], [120.0, 30.0002], [120.0, 30.0]]]]}},
+        {"type": "Feature", "properties": {"name": "shop"},
+         "geometry": {"type": "Polygon", "coordinates": [[[120.0004, 30.00015], [120.0005, 30.00015],
+            [120.0005, 30.0002], [120.0004, 30.0002], [120.0004, 30.00015]]]}}]}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("floor_info.json"),
+        r#"{"map_info": {"height": 20.0, "width": 60.0}}"#,
+    )
+    .unwrap();
+}
+
+#[test]
+fn pdr_on_a_floor_plan_writes_the_live_and_smoothed_tracks_in_plan_metres() {
+    let dir = temp_dir("map");
+    let log = dir.join("walk.txt");
+    write_log(&log);
+    let floor = dir.join("F9");
+    write_floor(&floor);
+    let out = dir.join("traj.csv");
+    let run = |extra: &[&str]| {
+        let mut c = stridekit();
+        c.args([
+            "pdr",
+            log.to_str().unwrap(),
+            "--map",
+            floor.to_str().unwrap(),
+            "--out",
+        ])
+        .arg(&out)
+        .args(extra);
+        c.output().unwrap()
+    };
+    // The log's first waypoint (0, 0) is on the outline: the start is moved onto the
+    // floor and the run goes on.
+    let o = run(&[]);
+    succeeded(&o);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("floor 9") && text.contains("first waypoint"),
+        "{text}"
+    );
+    assert!(text.contains("live: map-frame RMSE"), "{text}");
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let mut lines = csv.lines();
+    assert!(lines
+        .next()
+        .unwrap()
+        .starts_with("t_s,x_m,y_m,position_std_m,smoothed_x_m,smoothed_y_m"));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').take(6).map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.len() > 20, "{} rows", rows.len());
+    assert!(rows
+        .iter()
+        .all(|r| (-1.0..=61.0).contains(&r[1]) && (-1.0..=21.0).contains(&r[2])));
+    let svg = std::fs::read_to_string(out.with_extension("svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("smoothed"));
+    // An explicit start, and bad ones.
+    succeeded(&run(&["--start", "5,10,0.5"]));
+    for bad in ["5", "a,b", "1,2,-3"] {
+        let o = run(&["--start", bad]);
+        assert_eq!(o.status.code(), Some(2), "--start {bad}");
+    }
+    let o = run(&["--start", "300,10"]);
+    assert!(!o.status.success(), "a start far off the plan is refused");
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("walkable"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let o = stridekit()
+        .args(["pdr", log.to_str().unwrap(), "--start", "1,2", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2), "--start needs --map");
+    let o = run(&["--no-mag"]);
+    assert_eq!(o.status.code(), Some(2), "--no-mag does not go with --map");
+    let missing = stridekit()
+        .args([
+            "pdr",
+            log.to_str().unwrap(),
+            "--map",
+            dir.join("nowhere").to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(!missing.status.success());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -15,6 +15,7 @@ pub mod foot;
 pub mod geo;
 pub mod imu;
 pub mod input;
+pub mod map;
 pub mod odometry;
 pub mod pace;
 pub mod pdr;

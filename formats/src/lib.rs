@@ -15,6 +15,7 @@ mod csv;
 mod data;
 mod error;
 mod fit;
+mod floorplan;
 mod foot;
 mod gpx;
 mod inertial;
@@ -36,6 +37,10 @@ pub use crate::csv::{read_csv, read_csv_counted};
 pub use crate::data::{data_dir, DATA_ENV_VAR};
 pub use crate::error::{FormatError, Unreadable};
 pub use crate::fit::{read_fit, read_fit_counted};
+pub use crate::floorplan::{
+    parse_competition_plan, parse_geojson_plan, read_floor_plan, PlanFile, PlanFileError,
+    MAX_PLAN_BYTES,
+};
 pub use crate::foot::{list_foot_trials, parse_foot_csv, read_foot_csv, FootFormat, FootRecording};
 pub use crate::gpx::{read_gpx, read_gpx_counted};
 pub use crate::inertial::{

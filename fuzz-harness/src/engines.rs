@@ -239,7 +239,7 @@ pub struct Orientation {
     t: f64,
 }
 
-fn imu(b: &mut Bytes, t: f64) -> ImuSample {
+pub(crate) fn imu(b: &mut Bytes, t: f64) -> ImuSample {
     ImuSample {
         t_s: t,
         gyro_rads: b.vec3([0.0; 3], 0.5),

@@ -6,6 +6,7 @@
 pub mod bytes;
 pub mod engines;
 pub mod formats;
+pub mod map;
 pub mod models;
 pub mod packed;
 
@@ -41,6 +42,7 @@ targets! {
     "format_android_log_gz" => formats::android_log_gz,
     "format_broad" => formats::broad,
     "format_oxford_accel" => formats::oxford_accel,
+    "format_geojson_plan" => map::geojson_plan,
     // Model and calibration parsers.
     "model_svm" => models::svm,
     "model_placement" => models::placement,
@@ -64,6 +66,8 @@ targets! {
     "restore_placement_sealed" => restore_sealed::<Placement>,
     "restore_odometry" => restore::<Odometry>,
     "restore_odometry_sealed" => restore_sealed::<Odometry>,
+    "restore_map" => restore::<map::Map>,
+    "restore_map_sealed" => restore_sealed::<map::Map>,
     // Sample sequences per engine.
     "sequence_pace" => sequence::<Pace>,
     "sequence_ahrs" => sequence::<Orientation>,
@@ -73,6 +77,7 @@ targets! {
     "sequence_foot" => sequence::<Foot>,
     "sequence_placement" => sequence::<Placement>,
     "sequence_odometry" => sequence::<Odometry>,
+    "sequence_map" => sequence::<map::Map>,
     // Packed batch entry points of the bindings.
     "packed_pace_fixes" => packed::pace_fixes,
     "packed_pace_step_counts" => packed::pace_step_counts,
@@ -121,6 +126,7 @@ pub fn seeds(name: &str) -> Vec<Vec<u8>> {
         "restore_foot" => snaps::<Foot>(sealed),
         "restore_placement" => snaps::<Placement>(sealed),
         "restore_odometry" => snaps::<Odometry>(sealed),
+        "restore_map" => snaps::<map::Map>(sealed),
         n if n.starts_with("sequence_") || n.starts_with("packed_") => {
             let mut s = engines::plausible_bytes(3, 4_000);
             if n.starts_with("packed_") {
@@ -128,7 +134,17 @@ pub fn seeds(name: &str) -> Vec<Vec<u8>> {
             }
             vec![s]
         }
+        "format_geojson_plan" => vec![map_seed_plan().to_vec()],
         "model_pace_calibration" => vec![b"stridekit-pace-calibration 1\n# seed\nline 0.95 176.9 0.0083 0.025\naccel_model 0.378 -4.6e-5 0.0986 at 1.66 6.63 sigma 0.141 0.00199 0.016\n".to_vec()],
         _ => Vec::new(),
     }
+}
+
+/// A small competition-style plan (an outline and a shop), the GeoJSON target's seed.
+fn map_seed_plan() -> &'static [u8] {
+    br#"{"type": "FeatureCollection", "features": [
+ {"type": "Feature", "properties": {"floor_num": 1}, "geometry": {"type": "MultiPolygon",
+  "coordinates": [[[[120.0, 30.0], [120.001, 30.0], [120.001, 30.0007], [120.0, 30.0007], [120.0, 30.0]]]]}},
+ {"type": "Feature", "properties": {"name": "shop"}, "geometry": {"type": "Polygon",
+  "coordinates": [[[120.0004, 30.0003], [120.0006, 30.0003], [120.0006, 30.0005], [120.0004, 30.0005], [120.0004, 30.0003]]]}}]}"#
 }

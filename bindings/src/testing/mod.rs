@@ -4,9 +4,11 @@
 //! of an app build (the Android AAR and the iOS XCFramework are built without it).
 
 mod foot;
+mod map;
 mod pace;
 mod phone;
 
 pub use foot::{simulate_foot_walk, SimulatedFootWalk, MAX_SIM_FOOT_LAPS};
+pub use map::{map_reference_replay, MapReplay};
 pub use pace::{simulate_run, SimulatedRun, MAX_SIM_DURATION_S};
 pub use phone::{pdr_reference_replay, simulate_phone_walk, PdrReplay, SimulatedPhoneWalk};

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::{ArgGroup, Subcommand};
 use stridekit_core::PaceConfig;
 
-use super::{data_dir, orientation_setting, pace_setting, positive};
+use super::{data_dir, name_value, orientation_setting, pace_setting, positive};
 use crate::outcome::Failure;
 
 #[derive(Debug, Subcommand)]
@@ -45,15 +45,24 @@ pub enum Eval {
     /// Pedestrian dead reckoning on real indoor walks with surveyed waypoints (ATE,
     /// start-pinned, end and distance error per floor and overall), or with --sim on
     /// the phone simulator.
-    #[command(group(ArgGroup::new("real").args(["data", "diagnose"]).multiple(true).conflicts_with("simulated")))]
+    #[command(group(ArgGroup::new("real").args(["data", "diagnose", "maps", "map_set"]).multiple(true).conflicts_with("simulated")))]
     #[command(group(ArgGroup::new("simulated").args(["sim", "seeds"]).multiple(true)))]
     Pdr {
         /// Android sensor logs with waypoints (default: the shared phone-indoor walks).
         #[arg(long, value_name = "DIR")]
         data: Option<PathBuf>,
         /// Print where the error comes from instead.
-        #[arg(long)]
+        #[arg(long, conflicts_with = "maps")]
         diagnose: bool,
+        /// Score on the floor plans instead (each walk's folder holds its plan): the
+        /// map-frame error without a plan, with it (live and smoothed), with fixes
+        /// made from waypoints every 30 s, and leave one floor out.
+        #[arg(long)]
+        maps: bool,
+        /// With --maps: change a setting of the map engine (e.g. particles=500,
+        /// heading_sigma_deg=20); repeatable.
+        #[arg(long = "set", id = "map_set", value_name = "NAME=VALUE", value_parser = name_value, requires = "maps")]
+        set: Vec<(String, f64)>,
         /// Evaluate on the phone simulator instead (every placement: GNSS outage and
         /// closed loop).
         #[arg(long)]
@@ -187,6 +196,8 @@ pub fn run(e: Eval) -> Result<(), Failure> {
         Eval::Pdr {
             data,
             diagnose,
+            maps,
+            set,
             sim,
             seeds,
         } => {
@@ -194,7 +205,11 @@ pub fn run(e: Eval) -> Result<(), Failure> {
                 stridekit_lab::pdr::sim::report(seeds.unwrap_or(3))?
             } else {
                 let d = data_dir(data, "phone-indoor", "real indoor walks (or use --sim)")?;
-                stridekit_lab::pdr::real::run(&d, diagnose)?
+                if maps {
+                    stridekit_lab::pdr::maps::run(&d, &set)?
+                } else {
+                    stridekit_lab::pdr::real::run(&d, diagnose)?
+                }
             }
         }
         Eval::Steplength { data } => stridekit_lab::steplength_eval::report(data.as_deref())?,

@@ -254,17 +254,54 @@ pub struct PdrArgs {
     /// fast (10 s instead of 120 s) to follow the gyroscope's drift.
     #[arg(long)]
     pub raw_gyro: bool,
+    /// Position on a floor plan instead: a floor folder (geojson_map.json,
+    /// floor_info.json, floor_image.png) or a GeoJSON file in WGS84. The CSV then holds
+    /// t_s,x_m,y_m (the live estimate, plan metres), σ, the smoothed path and flags.
+    #[arg(long, value_name = "FLOORDIR|FILE", conflicts_with_all = ["calibration", "no_mag", "raw_gyro"])]
+    pub map: Option<PathBuf>,
+    /// With --map: where the walk starts, plan metres, and its σ (default: the log's
+    /// first waypoint, σ 1 m).
+    #[arg(long, value_name = "X,Y[,SIGMA]", value_parser = start_arg, requires = "map")]
+    pub start: Option<(f64, f64, Option<f64>)>,
+}
+
+/// `X,Y` or `X,Y,SIGMA` (metres).
+fn start_arg(s: &str) -> Result<(f64, f64, Option<f64>), String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|p| {
+            p.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("{p:?} is not a number"))
+        })
+        .collect::<Result<_, _>>()?;
+    match v[..] {
+        [x, y] if x.is_finite() && y.is_finite() => Ok((x, y, None)),
+        [x, y, s] if x.is_finite() && y.is_finite() && s.is_finite() && s >= 0.0 => {
+            Ok((x, y, Some(s)))
+        }
+        _ => Err("expected X,Y or X,Y,SIGMA in metres (SIGMA ≥ 0)".into()),
+    }
 }
 
 pub fn pdr(a: PdrArgs) -> Result<(), Failure> {
     let sink = Sink::from_arg(&a.out, "csv")?;
-    crate::pdr::run(&crate::pdr::PdrArgs {
-        file: a.file,
-        sink: sink.clone(),
-        calibration: a.calibration,
-        no_mag: a.no_mag,
-        raw_gyro: a.raw_gyro,
-    })?;
+    if let Some(map) = a.map {
+        crate::pdr_map::run(&crate::pdr_map::MapArgs {
+            file: a.file,
+            sink: sink.clone(),
+            map,
+            start: a.start,
+        })?;
+    } else {
+        crate::pdr::run(&crate::pdr::PdrArgs {
+            file: a.file,
+            sink: sink.clone(),
+            calibration: a.calibration,
+            no_mag: a.no_mag,
+            raw_gyro: a.raw_gyro,
+        })?;
+    }
     if let Sink::File(f) = &sink {
         if f.existed {
             say!("(replaced the previous {})", f.path.display());

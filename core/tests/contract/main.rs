@@ -6,6 +6,7 @@ mod common;
 
 mod alloc;
 mod foot_alloc;
+mod map_alloc;
 mod pdr_alloc;
 mod robustness;
 mod stepdetect_alloc;

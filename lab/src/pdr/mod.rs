@@ -5,6 +5,8 @@
 pub mod calibrate;
 pub mod diagnose;
 pub mod legs;
+pub mod maps;
+pub mod mapsvg;
 pub mod metrics;
 pub mod odometry;
 pub mod real;
