@@ -13,6 +13,7 @@ pub mod batch;
 pub mod calibration;
 pub mod foot;
 pub mod geo;
+pub mod imu;
 pub mod input;
 pub mod odometry;
 pub mod pace;
