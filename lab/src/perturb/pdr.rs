@@ -48,7 +48,7 @@ pub fn sweep(dir: &Path, cases: &[Perturbation]) -> Result<Report, String> {
             }
             None => replay(rec, &options)?,
         };
-        let refused: u64 = run.rejected.values().sum();
+        let refused = run.rejected.total();
         let ate = evaluate(&run.track, &rec.truth).map_or(f64::NAN, |m| m.ate_m);
         Ok((ate, refused))
     };
