@@ -8,4 +8,5 @@ mod alloc;
 mod foot_alloc;
 mod pdr_alloc;
 mod robustness;
+mod snapshot_pins;
 mod stepdetect_alloc;
