@@ -9,6 +9,7 @@
 //! on bad input. Every engine can be snapshotted to bytes and restored.
 
 pub mod ahrs;
+pub mod angle;
 pub mod batch;
 pub mod calibration;
 pub mod foot;
