@@ -21,8 +21,10 @@ pub mod pdr;
 pub mod placement;
 pub mod signal;
 pub mod snapshot;
+pub mod stats;
 pub mod stepdetect;
 pub mod steplength;
+pub mod vec3;
 
 // What apps use, at the crate root: each engine with its configuration, sample,
 // estimate and error (the domain modules hold the rest of their surface).

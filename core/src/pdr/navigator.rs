@@ -34,6 +34,7 @@ use crate::input::{self, InputError, Stream, TimeGuard};
 use crate::pace::GnssFix;
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
+use crate::stats::{CHI2_99_2DOF, RADIUS68_TO_SIGMA};
 use crate::stepdetect::{StepDetectError, StepDetector, StepDetectorConfig, StepEvent};
 use crate::steplength::{StepLengthConfig, StepLengthError, StepLengthEstimator, StepLengthModel};
 
@@ -53,10 +54,9 @@ pub const RECENT_STEPS: usize = 32;
 /// Span of a step whose duration is unknown (first of a bout) or implausibly long, s.
 const DEFAULT_STEP_S: f64 = 0.55;
 const MAX_STEP_S: f64 = 2.0;
-/// 68 % radius of a circular 2-D Gaussian is 1.515 σ per axis.
-const RADIUS68_TO_SIGMA: f64 = 1.0 / 1.515;
-/// Per-axis σ assumed for a fix without accuracy, m.
+/// Per-axis σ assumed for a fix without accuracy, m, and the least σ of any fix, m.
 const DEFAULT_FIX_SIGMA_M: f64 = 5.0;
+const MIN_FIX_SIGMA_M: f64 = 0.5;
 /// Dead-reckoning position noise per step: share of the step length along track
 /// (step-length error) and walking-direction uncertainty across it, rad.
 const STEP_LENGTH_REL_SIGMA: f64 = 0.05;
@@ -534,7 +534,11 @@ impl PhoneNavigator {
         let r = sigma * sigma;
         let (de, dn) = (p[0] - self.east_m, p[1] - self.north_m);
         let nis = (de * de + dn * dn) / (self.pos_var_m2 + r);
-        let r_eff = if nis > 9.21 { r * nis / 9.21 } else { r };
+        let r_eff = if nis > CHI2_99_2DOF {
+            r * nis / CHI2_99_2DOF
+        } else {
+            r
+        };
         let k = self.pos_var_m2 / (self.pos_var_m2 + r_eff);
         self.east_m += k * de;
         self.north_m += k * dn;
@@ -551,8 +555,9 @@ impl PhoneNavigator {
 
     /// Per-axis σ of a fix, m.
     fn fix_sigma_m(&self, fix: &GnssFix) -> f64 {
-        fix.horizontal_accuracy_m
-            .map_or(DEFAULT_FIX_SIGMA_M, |a| (a * RADIUS68_TO_SIGMA).max(0.5))
+        fix.horizontal_accuracy_m.map_or(DEFAULT_FIX_SIGMA_M, |a| {
+            (a * RADIUS68_TO_SIGMA).max(MIN_FIX_SIGMA_M)
+        })
     }
 
     /// The walking direction learns how the phone is carried (and its forward sign)

@@ -31,7 +31,7 @@ use std::fmt::Write as _;
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use stridekit_core::ahrs::ImuSample;
-use stridekit_core::pdr::wrap;
+use stridekit_core::angle::wrap;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
 
 use crate::pdr::metrics::{evaluate, median, Metrics, TrackPoint};

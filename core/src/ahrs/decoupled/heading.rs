@@ -12,7 +12,7 @@
 //! that gain falls below the nominal one: the first seconds converge as fast as the
 //! noise allows.
 
-use std::f64::consts::{PI, TAU};
+use crate::angle::wrap;
 
 /// Heading state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -63,26 +63,15 @@ impl Heading {
             AVERAGED_CAP
         };
         let d = g * innovation;
-        self.delta_rad = wrap_pi(self.delta_rad + d);
+        self.delta_rad = wrap(self.delta_rad + d);
         d
-    }
-}
-
-/// An angle in −π..π.
-#[inline(always)]
-pub(crate) fn wrap_pi(a: f64) -> f64 {
-    if a > PI {
-        a - TAU
-    } else if a < -PI {
-        a + TAU
-    } else {
-        a
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::TAU;
 
     #[test]
     fn averages_first_then_low_passes() {

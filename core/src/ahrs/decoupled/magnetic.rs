@@ -14,6 +14,8 @@
 //! the new local field (the user walked into another building, or the learned field
 //! was wrong): it becomes the reference and the heading re-converges to it.
 
+use crate::ahrs::field::FieldGate;
+
 /// Time constant of the current magnitude and dip, s.
 pub const CURRENT_TIME_CONSTANT_S: f64 = 0.05;
 /// Time constant of the learned field's magnitude and dip, s.
@@ -95,8 +97,16 @@ impl MagDisturbance {
             self.norm_ut += k * (norm_ut - self.norm_ut);
             self.dip_rad += k * (dip_rad - self.dip_rad);
         }
-        let disturbed = ((self.norm_ut - self.ref_norm_ut).abs() > lim.norm_rel * self.ref_norm_ut)
-            | ((self.dip_rad - self.ref_dip_rad).abs() > lim.dip_rad);
+        let gate = FieldGate {
+            strength_ut: lim.norm_rel * self.ref_norm_ut,
+            dip_rad: lim.dip_rad,
+        };
+        let disturbed = gate.departs(
+            self.norm_ut,
+            self.dip_rad,
+            self.ref_norm_ut,
+            self.ref_dip_rad,
+        );
         self.undisturbed_s = if disturbed {
             0.0
         } else if self.undisturbed_s < lim.min_undisturbed_s {

@@ -38,7 +38,7 @@ mod settings;
 mod tilt;
 
 use self::bias::Bias;
-use self::heading::{wrap_pi, Heading};
+use self::heading::Heading;
 use self::magnetic::{gain, MagDisturbance, MagLimits};
 use self::rest::{Rest, RestLimits};
 use self::tilt::Tilt;
@@ -47,6 +47,7 @@ use super::frame::EarthFrame;
 use super::madgwick::GYRO_CLIP_SHARE;
 use super::quat::{self, Quat};
 use super::settings::AhrsSettings;
+use crate::angle::wrap;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 pub use self::settings::DecoupledSettings;
@@ -365,7 +366,7 @@ impl Decoupled {
         if v.use_it {
             let kh = gain(dt, self.inv_mag_tau);
             self.heading_init = self.heading.averaging(kh);
-            let innovation = wrap_pi(f.heading_rad - self.heading.delta_rad);
+            let innovation = wrap(f.heading_rad - self.heading.delta_rad);
             let d = self.heading.correct(innovation, kh);
             if self.bias_estimation & !self.heading_init & (self.heading_bias_gain > 0.0) {
                 // A turn of d about the vertical, in the body frame.

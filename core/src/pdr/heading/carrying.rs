@@ -10,6 +10,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use super::stride::StrideStats;
 use super::WalkingDirection;
 use crate::angle::wrap;
+use crate::vec3;
 
 /// Step frequency above which the gait is taken as running (spring-mass), Hz.
 pub(super) const RUNNING_STEP_HZ: f64 = 2.4;
@@ -42,9 +43,7 @@ pub(super) const MIN_AZIMUTH_NORM: f64 = 1e-6;
 
 /// `v` normalised; +z for a null vector.
 pub(super) fn unit(v: [f64; 3]) -> Vector3<f64> {
-    Vector3::from(v)
-        .try_normalize(MIN_NORM)
-        .unwrap_or(Vector3::z())
+    Vector3::from(vec3::unit(v, MIN_NORM).unwrap_or([0.0, 0.0, 1.0]))
 }
 
 /// The carrying estimate and the gravity direction that tells when it changes.

@@ -6,6 +6,7 @@
 use nalgebra::{UnitQuaternion, Vector3};
 
 use super::hard_iron::HardIron;
+use crate::ahrs::field::FieldGate;
 use crate::angle::wrap;
 
 /// Loop time constants (offset, drift rate), s, for a raw gyroscope (~0.5°/s of bias
@@ -18,8 +19,10 @@ const MAG_TAU_CALIBRATED_GYRO_S: f64 = 120.0;
 const MAG_RATE_TAU_CALIBRATED_GYRO_S: f64 = 480.0;
 /// A field sample is rejected when its strength or dip departs from the learned ones
 /// by more than this (µT, rad).
-const MAG_GATE_UT: f64 = 6.0;
-const MAG_GATE_DIP_RAD: f64 = 0.14;
+const MAG_GATE: FieldGate = FieldGate {
+    strength_ut: 6.0,
+    dip_rad: 0.14,
+};
 /// Time constant of the learned field strength and dip, s.
 const MAG_REF_TAU_S: f64 = 60.0;
 /// A corrected field weaker than this carries no direction, µT ...
@@ -44,8 +47,7 @@ impl FieldReference {
             self.dip_rad = dip_rad;
             self.known = true;
         }
-        let ok = (n_ut - self.strength_ut).abs() < MAG_GATE_UT
-            && (dip_rad - self.dip_rad).abs() < MAG_GATE_DIP_RAD;
+        let ok = !MAG_GATE.departs(n_ut, dip_rad, self.strength_ut, self.dip_rad);
         let k = dt / MAG_REF_TAU_S;
         self.strength_ut += k * (n_ut - self.strength_ut);
         self.dip_rad += k * (dip_rad - self.dip_rad);

@@ -3,7 +3,8 @@
 //! of the running bout or a candidate buffered until a bout is confirmed.
 
 use super::pending::Pending;
-use super::{unit, Moments, RobustDetector, Sink};
+use super::{Moments, RobustDetector, Sink};
+use crate::vec3;
 
 /// Weight of a new candidate in the typical step amplitude.
 pub(super) const AMPLITUDE_GAIN: f64 = 0.2;
@@ -78,7 +79,7 @@ impl RobustDetector {
             event: ev,
             impact,
             amplitude_mps2: amplitude,
-            carry: unit(self.carry),
+            carry: vec3::unit(self.carry, 0.0).unwrap_or([0.0; 3]),
         });
         self.amplitude_ref_mps2 = if self.amplitude_ref_mps2 > 0.0 {
             self.amplitude_ref_mps2 + AMPLITUDE_GAIN * (amplitude - self.amplitude_ref_mps2)

@@ -5,9 +5,10 @@
 
 use super::bout::MISSED_STEP_MAX_PERIODS;
 use super::pending::{merge, Pending};
-use super::{dot, RobustDetector, Sink, PENDING};
+use super::{RobustDetector, Sink, PENDING};
 use crate::signal::Ring;
 use crate::stepdetect::gait::HALF_LAG_ANTI;
+use crate::vec3::dot;
 
 /// Largest deviation of one step interval from the period when confirming (left/right
 /// asymmetry of a phone carried on one side: 0.45 s / 0.65 s in a front pocket).

@@ -48,19 +48,6 @@ const RMS_TAU_S: f64 = 2.0;
 /// constant (about one stride, so the swing of a stride averages out), s.
 const CARRY_TAU_S: f64 = 1.0;
 
-fn unit(v: [f64; 3]) -> [f64; 3] {
-    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    if n > 0.0 {
-        [v[0] / n, v[1] / n, v[2] / n]
-    } else {
-        [0.0; 3]
-    }
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
 /// State of the default detector.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct RobustDetector {

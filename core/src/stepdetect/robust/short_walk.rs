@@ -5,8 +5,9 @@
 
 use super::confirm::{ASYMMETRY, CARRY_MIN_COS};
 use super::pending::Pending;
-use super::{dot, RobustDetector, Sink, PENDING};
+use super::{RobustDetector, Sink, PENDING};
 use crate::signal::Ring;
+use crate::vec3::dot;
 
 /// Least candidates of a short walk.
 const SHORT_WALK_MIN: usize = 3;

@@ -11,6 +11,7 @@ use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 use crate::stepdetect::gait::GaitPeriod;
 use crate::stepdetect::{read_event, write_event, Moments};
+use crate::vec3::dot;
 
 /// Every signal state is a filtered acceleration magnitude (or a difference of two):
 /// it stays within the magnitude limit of the door, its squares within its square.
@@ -285,10 +286,9 @@ fn read_candidates(r: &mut Reader) -> Result<Ring<Pending, PENDING>, SnapshotErr
         let mut carry = [0.0; 3];
         r.f64s(&mut carry)?;
         // A unit vector (or zero, when the acceleration averaged to nothing).
-        let norm2 = carry[0] * carry[0] + carry[1] * carry[1] + carry[2] * carry[2];
         if impact < 0.0
             || !(amplitude_mps2.is_nan() || (0.0..=2.0 * A).contains(&amplitude_mps2))
-            || norm2 > 1.0 + UNIT_NORM2_TOL
+            || dot(carry, carry) > 1.0 + UNIT_NORM2_TOL
         {
             return Err(SnapshotError::Invalid("step candidate"));
         }
