@@ -69,6 +69,9 @@ const COURSE_MIN_TIME_S: f64 = 5.0;
 const COURSE_MAX_TIME_S: f64 = 60.0;
 /// Fixes with a worse accuracy give no stretch, m.
 const COURSE_MAX_ACCURACY_M: f64 = 15.0;
+/// ... nor a stretch whose dead-reckoned displacement is under this share of the GNSS
+/// one (no walk to compare).
+const COURSE_MIN_DR_SHARE: f64 = 0.5;
 
 /// Why the navigator rejected an input, a configuration or a snapshot (its state is
 /// unchanged).
@@ -234,9 +237,8 @@ pub struct PhoneNavigator {
     /// Dead-reckoned position without GNSS corrections, m.
     dr_east_m: f64,
     dr_north_m: f64,
-    /// Where the current GNSS stretch starts: time, fix east/north, dead-reckoned
-    /// east/north.
-    course_anchor: [f64; 5],
+    /// Where the current GNSS stretch starts.
+    course_anchor: CourseAnchor,
     /// Steps detected before the walking direction was known: placed once it is
     /// (at their own times, from the attitude history).
     deferred: Ring<PendingStep, DEFERRED_STEPS>,
@@ -245,6 +247,28 @@ pub struct PhoneNavigator {
     placed: u64,
     /// The personal calibration loaded, if any.
     calibration: Option<PdrCalibration>,
+}
+
+/// The start of a GNSS stretch (see `observe_course`); all NaN before the first.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct CourseAnchor {
+    t_s: f64,
+    /// The fix, local ENU, m.
+    fix_east_m: f64,
+    fix_north_m: f64,
+    /// The dead-reckoned position at that time, m.
+    dr_east_m: f64,
+    dr_north_m: f64,
+}
+
+impl CourseAnchor {
+    const NONE: Self = Self {
+        t_s: f64::NAN,
+        fix_east_m: f64::NAN,
+        fix_north_m: f64::NAN,
+        dr_east_m: f64::NAN,
+        dr_north_m: f64::NAN,
+    };
 }
 
 /// NED → ENU rotation (swaps north and east, flips the vertical).
@@ -275,7 +299,7 @@ impl PhoneNavigator {
             fix_time: TimeGuard::new(Stream::Gnss),
             dr_east_m: 0.0,
             dr_north_m: 0.0,
-            course_anchor: [f64::NAN; 5],
+            course_anchor: CourseAnchor::NONE,
             deferred: Ring::new(),
             recent: Ring::new(),
             placed: 0,
@@ -567,8 +591,20 @@ impl PhoneNavigator {
         let good = fix
             .horizontal_accuracy_m
             .is_none_or(|a| a <= COURSE_MAX_ACCURACY_M);
-        let [t0, e0, n0, de0, dn0] = self.course_anchor;
-        let anchor = [fix.t_s, p[0], p[1], self.dr_east_m, self.dr_north_m];
+        let CourseAnchor {
+            t_s: t0,
+            fix_east_m: e0,
+            fix_north_m: n0,
+            dr_east_m: de0,
+            dr_north_m: dn0,
+        } = self.course_anchor;
+        let anchor = CourseAnchor {
+            t_s: fix.t_s,
+            fix_east_m: p[0],
+            fix_north_m: p[1],
+            dr_east_m: self.dr_east_m,
+            dr_north_m: self.dr_north_m,
+        };
         if !good || !t0.is_finite() || fix.t_s - t0 > COURSE_MAX_TIME_S {
             self.course_anchor = anchor;
             return;
@@ -579,7 +615,7 @@ impl PhoneNavigator {
             return;
         }
         let (de, dn) = (self.dr_east_m - de0, self.dr_north_m - dn0);
-        if de.hypot(dn) > 0.5 * g {
+        if de.hypot(dn) > COURSE_MIN_DR_SHARE * g {
             // Azimuth of GNSS minus azimuth of dead reckoning (clockwise positive); its
             // σ from the two fixes' accuracy across the baseline.
             let err = (ge * dn - gn * de).atan2(ge * de + gn * dn);

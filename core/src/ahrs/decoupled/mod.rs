@@ -382,28 +382,79 @@ impl Decoupled {
     }
 
     pub(crate) fn write_state(&self, w: &mut Writer) {
-        let t = &self.tilt;
-        w.f64s(&t.q_gyr);
-        w.f64s(&t.q_inc);
-        w.f64s(&t.avg);
-        w.f64s(&t.avg_rate);
-        w.f64s(&self.bias.b);
-        w.f64(self.bias.var);
-        w.f64s(&self.rest.gyro_mean);
-        w.f64s(&self.rest.accel_mean);
-        w.f64(self.rest.still_s);
-        w.f64(self.heading.delta_rad);
-        w.bool(self.heading.valid);
-        w.f64(self.heading.averaged);
-        let m = &self.mag;
-        w.f64s(&[m.ref_norm_ut, m.ref_dip_rad]);
-        w.bool(m.ref_valid);
-        w.f64s(&[m.norm_ut, m.dip_rad, m.undisturbed_s, m.rejected_s]);
-        w.f64(self.accel_elapsed_s);
-        w.f64s(&self.bias_corr);
-        w.f64(self.bias_elapsed_s);
-        w.f64(self.mag_elapsed_s);
-        w.bool(self.heading_init);
+        // Exhaustive on purpose, at every level: a new field must be written here (or
+        // said to be derived from the settings), else this does not compile.
+        let Decoupled {
+            accel_tau_s: _,
+            accel_omega: _,
+            motion_bias_gain: _,
+            bias_q: _,
+            motion_accuracy_var: _,
+            heading_bias_gain: _,
+            inv_rest_bias_tau: _,
+            inv_mag_tau: _,
+            max_bias_rads: _,
+            gyro_clip_rads: _,
+            bias_estimation: _,
+            rest_limits: _,
+            mag_limits: _,
+            tilt:
+                Tilt {
+                    q_gyr,
+                    q_inc,
+                    avg,
+                    avg_rate,
+                },
+            bias: Bias { b, var },
+            rest:
+                Rest {
+                    gyro_mean,
+                    accel_mean,
+                    still_s,
+                },
+            heading:
+                Heading {
+                    delta_rad,
+                    valid,
+                    averaged,
+                },
+            mag:
+                MagDisturbance {
+                    ref_norm_ut,
+                    ref_dip_rad,
+                    ref_valid,
+                    norm_ut,
+                    dip_rad,
+                    undisturbed_s,
+                    rejected_s,
+                },
+            accel_elapsed_s,
+            bias_corr,
+            bias_elapsed_s,
+            mag_elapsed_s,
+            heading_init,
+            flags: _, // written by the engine with the output flags
+        } = self;
+        w.f64s(q_gyr);
+        w.f64s(q_inc);
+        w.f64s(avg);
+        w.f64s(avg_rate);
+        w.f64s(b);
+        w.f64(*var);
+        w.f64s(gyro_mean);
+        w.f64s(accel_mean);
+        w.f64(*still_s);
+        w.f64(*delta_rad);
+        w.bool(*valid);
+        w.f64(*averaged);
+        w.f64s(&[*ref_norm_ut, *ref_dip_rad]);
+        w.bool(*ref_valid);
+        w.f64s(&[*norm_ut, *dip_rad, *undisturbed_s, *rejected_s]);
+        w.f64(*accel_elapsed_s);
+        w.f64s(bias_corr);
+        w.f64(*bias_elapsed_s);
+        w.f64(*mag_elapsed_s);
+        w.bool(*heading_init);
     }
 
     pub(crate) fn read_state(&mut self, r: &mut Reader) -> Result<(), SnapshotError> {

@@ -55,7 +55,14 @@ impl PhoneNavigator {
         ]);
         imu_time.write(&mut w);
         fix_time.write(&mut w);
-        w.f64s(course_anchor);
+        let CourseAnchor {
+            t_s,
+            fix_east_m,
+            fix_north_m,
+            dr_east_m,
+            dr_north_m,
+        } = course_anchor;
+        w.f64s(&[*t_s, *fix_east_m, *fix_north_m, *dr_east_m, *dr_north_m]);
         w.u64(*steps);
         w.u64(deferred.len() as u64);
         for p in deferred.iter() {
@@ -114,11 +121,16 @@ impl PhoneNavigator {
         let [dr_east_m, dr_north_m] = [r.f64()?, r.f64()?];
         let imu_time = TimeGuard::read(&mut r, Stream::Imu)?;
         let fix_time = TimeGuard::read(&mut r, Stream::Gnss)?;
-        let mut course_anchor = [0.0; 5];
-        for v in &mut course_anchor {
-            // All NaN before the first stretch.
-            *v = r.f64_or_nan()?;
-        }
+        // All NaN before the first stretch.
+        let anchor = [(); 5].map(|_| r.f64_or_nan());
+        let [t_s, fix_east_m, fix_north_m, anchor_dr_east_m, anchor_dr_north_m] = anchor;
+        let course_anchor = CourseAnchor {
+            t_s: t_s?,
+            fix_east_m: fix_east_m?,
+            fix_north_m: fix_north_m?,
+            dr_east_m: anchor_dr_east_m?,
+            dr_north_m: anchor_dr_north_m?,
+        };
         let steps = r.u64()?;
         let mut deferred = Ring::new();
         for _ in 0..r.len(DEFERRED_STEPS)? {
@@ -167,11 +179,8 @@ impl PhoneNavigator {
             && (0.0..=1e25).contains(&pos_var_m2)
             && (0.0..=1e13).contains(&distance_m)
             && (last_step_length_m.is_nan() || (0.0..=10.0).contains(&last_step_length_m))
-            && course_anchor
-                .iter()
-                .all(|v| v.is_nan() || v.abs() <= 1e11 + 1.0)
+            && course_anchor_ok(&course_anchor)
             && newest.map_or(last_t_s.is_nan(), |t| t == last_t_s)
-            && course_anchor.iter().all(|v| v.is_nan()) == course_anchor[0].is_nan()
             && !(frame.is_none() && fix_time.last_t_s().is_some());
         if !ok {
             return Err(SnapshotError::Invalid("navigator state").into());
@@ -219,4 +228,18 @@ fn read_vertical(r: &mut Reader) -> Result<f64, SnapshotError> {
     } else {
         Err(SnapshotError::Invalid("vertical displacement"))
     }
+}
+
+/// A stretch start: all NaN (none yet) or all set, within generous bounds.
+fn course_anchor_ok(a: &CourseAnchor) -> bool {
+    let CourseAnchor {
+        t_s,
+        fix_east_m,
+        fix_north_m,
+        dr_east_m,
+        dr_north_m,
+    } = *a;
+    let v = [t_s, fix_east_m, fix_north_m, dr_east_m, dr_north_m];
+    v.iter().all(|v| v.is_nan() || v.abs() <= 1e11 + 1.0)
+        && v.iter().all(|v| v.is_nan()) == t_s.is_nan()
 }
