@@ -15,6 +15,7 @@ pub mod calibration;
 pub mod foot;
 pub mod geo;
 pub mod input;
+mod model_text;
 pub mod odometry;
 pub mod pace;
 pub mod pdr;

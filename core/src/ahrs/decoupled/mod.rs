@@ -234,24 +234,11 @@ impl Decoupled {
             mag_recovery: self.flags.mag_recovery,
             ..AhrsFlags::default()
         };
-
         // Angular-rate recovery: a clipped reading makes the integration wrong; restart
         // the averages so that accelerometer and magnetometer take over at once.
         let clip = self.gyro_clip_rads;
         let clipped = (gyro[0].abs() > clip) | (gyro[1].abs() > clip) | (gyro[2].abs() > clip);
-
-        // Rest and the bias at rest.
-        if self.bias_estimation {
-            let max_var = self.max_bias_rads * self.max_bias_rads;
-            self.bias.predict(self.bias_q * dt, max_var);
-            let at_rest = self.rest.step(&gyro, a, dt, &self.rest_limits);
-            if at_rest {
-                let k = gain(dt, self.inv_rest_bias_tau);
-                self.bias.rest(&gyro, k, self.max_bias_rads);
-            }
-            flags.at_rest = at_rest;
-            flags.bias_learning = at_rest;
-        }
+        self.rest_and_bias(&gyro, a, dt, &mut flags);
         let b = &self.bias.b;
         let w = [gyro[0] - b[0], gyro[1] - b[1], gyro[2] - b[2]];
         self.tilt.integrate(&w, dt);
@@ -261,8 +248,36 @@ impl Decoupled {
             self.accel_elapsed_s = 0.0;
             self.heading.restart_averaging();
         }
+        let accel_init = self.inclination(a, dt, clipped, &mut flags);
+        self.slow_loops(dt, mag, &mut flags);
+        if flags.angular_rate_recovery & !accel_init & !self.heading_init {
+            flags.angular_rate_recovery = clipped;
+        }
+        flags.initialising = accel_init | self.heading_init;
+        self.flags = flags;
+        flags
+    }
 
-        // Inclination from the accelerometer averaged in the almost-inertial frame.
+    /// Rest detection and the bias at rest (with bias estimation on).
+    #[inline(always)]
+    fn rest_and_bias(&mut self, gyro: &[f64; 3], a: &[f64; 3], dt: f64, flags: &mut AhrsFlags) {
+        if self.bias_estimation {
+            let max_var = self.max_bias_rads * self.max_bias_rads;
+            self.bias.predict(self.bias_q * dt, max_var);
+            let at_rest = self.rest.step(gyro, a, dt, &self.rest_limits);
+            if at_rest {
+                let k = gain(dt, self.inv_rest_bias_tau);
+                self.bias.rest(gyro, k, self.max_bias_rads);
+            }
+            flags.at_rest = at_rest;
+            flags.bias_learning = at_rest;
+        }
+    }
+
+    /// Inclination from the accelerometer averaged in the almost-inertial frame; its
+    /// corrections summed for the motion bias. Whether the average is still starting.
+    #[inline(always)]
+    fn inclination(&mut self, a: &[f64; 3], dt: f64, clipped: bool, flags: &mut AhrsFlags) -> bool {
         self.accel_elapsed_s += dt;
         let accel_init = self.accel_elapsed_s < self.accel_tau_s;
         let mut t_avg = if accel_init {
@@ -296,10 +311,14 @@ impl Decoupled {
             }
             None => flags.accel_rejected = true,
         }
+        accel_init
+    }
 
-        // The slow loops (time constants of 10 s and more) run at most every
-        // SLOW_PERIOD_S: the motion bias from the corrections summed since, the
-        // heading from the magnetometer sample at hand.
+    /// The slow loops (time constants of 10 s and more) run at most every
+    /// SLOW_PERIOD_S: the motion bias from the corrections summed since, the heading
+    /// from the magnetometer sample at hand.
+    #[inline(always)]
+    fn slow_loops(&mut self, dt: f64, mag: Option<&[f64; 3]>, flags: &mut AhrsFlags) {
         self.bias_elapsed_s += dt;
         self.mag_elapsed_s += dt;
         let mag_due = mag.is_some() & ((self.mag_elapsed_s >= SLOW_PERIOD_S) | !self.heading.valid);
@@ -307,21 +326,7 @@ impl Decoupled {
         if mag_due | bias_due {
             let q_be = self.tilt.q_body_to_e();
             if bias_due {
-                let dt_b = self.bias_elapsed_s;
-                self.bias_elapsed_s = 0.0;
-                let c = self.bias_corr;
-                if (c[0] != 0.0) | (c[1] != 0.0) {
-                    self.bias_corr = [0.0; 3];
-                    let c_body = quat::rotate(&quat::conj(&q_be), &c);
-                    let g = self.motion_bias_gain;
-                    self.bias.motion(
-                        &c_body,
-                        g,
-                        g * dt_b,
-                        self.motion_accuracy_var,
-                        self.max_bias_rads,
-                    );
-                }
+                self.motion_bias(&q_be);
             }
             if let (true, Some(m)) = (mag_due, mag) {
                 let dt_m = self.mag_elapsed_s;
@@ -338,12 +343,27 @@ impl Decoupled {
             flags.mag_rejected = self.flags.mag_rejected;
             flags.heading_held = self.flags.heading_held;
         }
-        if flags.angular_rate_recovery & !accel_init & !self.heading_init {
-            flags.angular_rate_recovery = clipped;
+    }
+
+    /// The motion bias from the inclination corrections summed since the last update
+    /// (`q_be`: body → E' now).
+    #[inline(always)]
+    fn motion_bias(&mut self, q_be: &Quat) {
+        let dt_b = self.bias_elapsed_s;
+        self.bias_elapsed_s = 0.0;
+        let c = self.bias_corr;
+        if (c[0] != 0.0) | (c[1] != 0.0) {
+            self.bias_corr = [0.0; 3];
+            let c_body = quat::rotate(&quat::conj(q_be), &c);
+            let g = self.motion_bias_gain;
+            self.bias.motion(
+                &c_body,
+                g,
+                g * dt_b,
+                self.motion_accuracy_var,
+                self.max_bias_rads,
+            );
         }
-        flags.initialising = accel_init | self.heading_init;
-        self.flags = flags;
-        flags
     }
 
     /// One magnetometer update of the heading (`dt` since the previous one).

@@ -132,30 +132,8 @@ impl PhoneNavigator {
             dr_north_m: anchor_dr_north_m?,
         };
         let steps = r.u64()?;
-        let mut deferred = Ring::new();
-        for _ in 0..r.len(DEFERRED_STEPS)? {
-            let mut v = [0.0; 3];
-            r.f64s(&mut v)?;
-            deferred.push(PendingStep {
-                t0_s: v[0],
-                t1_s: v[1],
-                length_m: v[2],
-                vertical_displacement_m: read_vertical(&mut r)?,
-            });
-        }
-        let mut recent = Ring::new();
-        for _ in 0..r.len(RECENT_STEPS)? {
-            let mut v = [0.0; 5];
-            r.f64s(&mut v)?;
-            recent.push(NavStep {
-                t_s: v[0],
-                east_m: v[1],
-                north_m: v[2],
-                length_m: v[3],
-                azimuth_rad: v[4],
-                vertical_displacement_m: read_vertical(&mut r)?,
-            });
-        }
+        let deferred = read_deferred(&mut r)?;
+        let recent = read_recent(&mut r)?;
         let placed = r.u64()?;
         let calibration = if r.bool()? {
             let text = std::str::from_utf8(r.bytes()?)
@@ -242,4 +220,40 @@ fn course_anchor_ok(a: &CourseAnchor) -> bool {
     let v = [t_s, fix_east_m, fix_north_m, dr_east_m, dr_north_m];
     v.iter().all(|v| v.is_nan() || v.abs() <= 1e11 + 1.0)
         && v.iter().all(|v| v.is_nan()) == t_s.is_nan()
+}
+
+/// The steps waiting for the carrying.
+fn read_deferred(r: &mut Reader) -> Result<Ring<PendingStep, DEFERRED_STEPS>, SnapshotError> {
+    let mut deferred = Ring::new();
+    for _ in 0..r.len(DEFERRED_STEPS)? {
+        let mut v = [0.0; 3];
+        r.f64s(&mut v)?;
+        let [t0_s, t1_s, length_m] = v;
+        deferred.push(PendingStep {
+            t0_s,
+            t1_s,
+            length_m,
+            vertical_displacement_m: read_vertical(r)?,
+        });
+    }
+    Ok(deferred)
+}
+
+/// The latest placed steps.
+fn read_recent(r: &mut Reader) -> Result<Ring<NavStep, RECENT_STEPS>, SnapshotError> {
+    let mut recent = Ring::new();
+    for _ in 0..r.len(RECENT_STEPS)? {
+        let mut v = [0.0; 5];
+        r.f64s(&mut v)?;
+        let [t_s, east_m, north_m, length_m, azimuth_rad] = v;
+        recent.push(NavStep {
+            t_s,
+            east_m,
+            north_m,
+            length_m,
+            azimuth_rad,
+            vertical_displacement_m: read_vertical(r)?,
+        });
+    }
+    Ok(recent)
 }
