@@ -249,20 +249,22 @@ impl Madgwick {
             angular_rate_recovery: self.flags.angular_rate_recovery,
             ..AhrsFlags::default()
         };
-        self.recover_angular_rate(s, &gyro, &mut flags);
-        self.ramp_gain(s, dt, &mut flags);
-        let w = self.unbiased_gyro(s, dt, gyro, a_norm, &mut flags);
+        // Flags go in and out by value: they stay in registers.
+        flags = self.recover_angular_rate(s, &gyro, flags);
+        flags = self.ramp_gain(s, dt, flags);
+        let w;
+        (w, flags) = self.unbiased_gyro(s, dt, gyro, a_norm, flags);
         let q = self.q.get();
         let up = up_in_body(&q);
         // ∇/2 of the accelerometer's and the magnetometer's misfits.
         let mut grad = [0.0; 4];
         if a_norm > MIN_VECTOR_NORM {
-            self.accel_gradient(s, dt, &q, &up, a, a2, a_norm, &mut grad, &mut flags);
+            (grad, flags) = self.accel_gradient(s, dt, &q, &up, a, a2, a_norm, grad, flags);
         } else {
             flags.accel_rejected = true;
         }
         if let Some(m) = mag {
-            self.add_mag_gradient(s, dt, &q, &up, m, &mut grad, &mut flags);
+            (grad, flags) = self.add_mag_gradient(s, dt, &q, &up, m, grad, flags);
         }
         let p = propagate(&q, &w, dt);
         self.q.set(gradient_step(
@@ -276,7 +278,12 @@ impl Madgwick {
 
     /// Angular rate recovery: a clipped gyroscope restarts the initialisation phase.
     #[inline(always)]
-    fn recover_angular_rate(&mut self, s: &AhrsSettings, gyro: &[f64; 3], flags: &mut AhrsFlags) {
+    fn recover_angular_rate(
+        &mut self,
+        s: &AhrsSettings,
+        gyro: &[f64; 3],
+        mut flags: AhrsFlags,
+    ) -> AhrsFlags {
         if (gyro[0].abs() > self.gyro_clip_rads)
             | (gyro[1].abs() > self.gyro_clip_rads)
             | (gyro[2].abs() > self.gyro_clip_rads)
@@ -287,11 +294,12 @@ impl Madgwick {
             self.accel_rec = Recovery::default();
             self.mag_rec = Recovery::default();
         }
+        flags
     }
 
     /// While initialising, the gain ramps down to the nominal one.
     #[inline(always)]
-    fn ramp_gain(&mut self, s: &AhrsSettings, dt: f64, flags: &mut AhrsFlags) {
+    fn ramp_gain(&mut self, s: &AhrsSettings, dt: f64, mut flags: AhrsFlags) -> AhrsFlags {
         if flags.initialising {
             self.gain -= self.ramp_rate * dt;
             if self.gain <= s.gain {
@@ -300,6 +308,7 @@ impl Madgwick {
                 flags.angular_rate_recovery = false;
             }
         }
+        flags
     }
 
     /// The gyroscope minus its estimated bias (learned at rest).
@@ -310,8 +319,8 @@ impl Madgwick {
         dt: f64,
         gyro: [f64; 3],
         a_norm: f64,
-        flags: &mut AhrsFlags,
-    ) -> [f64; 3] {
+        mut flags: AhrsFlags,
+    ) -> ([f64; 3], AhrsFlags) {
         let mut w = gyro;
         if s.bias_estimation {
             let b = &self.bias.bias_rads;
@@ -319,7 +328,7 @@ impl Madgwick {
             let still = (a_norm - s.gravity_mps2).abs() < STILL_ACCEL_MPS2;
             flags.bias_learning = self.bias.update(&w, dt, still);
         }
-        w
+        (w, flags)
     }
 
     /// Accelerometer: misfit between the estimated and the measured up direction; its
@@ -336,9 +345,9 @@ impl Madgwick {
         a: &[f64; 3],
         a2: f64,
         a_norm: f64,
-        grad: &mut Quat,
-        flags: &mut AhrsFlags,
-    ) {
+        mut grad: Quat,
+        mut flags: AhrsFlags,
+    ) -> (Quat, AhrsFlags) {
         let [qw, qx, qy, qz] = *q;
         let [vx, vy, vz] = *up;
         // 1/|a| as |a|/|a|²: root and division in parallel.
@@ -353,13 +362,14 @@ impl Madgwick {
         flags.accel_recovery = self.accel_rec.recovering;
         flags.accel_rejected = !use_it;
         if use_it {
-            *grad = [
+            grad = [
                 qx * f2 - qy * f1,
                 qz * f1 + qw * f2 - 2.0 * qx * f3,
                 qz * f2 - qw * f1 - 2.0 * qy * f3,
                 qx * f1 + qy * f2,
             ];
         }
+        (grad, flags)
     }
 
     /// Magnetometer: misfit between the estimated and the measured field direction,
@@ -373,12 +383,12 @@ impl Madgwick {
         q: &Quat,
         up: &[f64; 3],
         m: &[f64; 3],
-        grad: &mut Quat,
-        flags: &mut AhrsFlags,
-    ) {
+        mut grad: Quat,
+        mut flags: AhrsFlags,
+    ) -> (Quat, AhrsFlags) {
         let m2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
         if m2 <= MIN_VECTOR_NORM * MIN_VECTOR_NORM {
-            return;
+            return (grad, flags);
         }
         let m_norm = m2.sqrt();
         let inv = m_norm * (1.0 / m2);
@@ -403,7 +413,7 @@ impl Madgwick {
         }
         if !use_it {
             flags.mag_rejected = true;
-            return;
+            return (grad, flags);
         }
         let k = if flags.initialising {
             min(dt * (1.0 / MAG_REF_INIT_TAU_S), 1.0)
@@ -419,6 +429,7 @@ impl Madgwick {
         for i in 0..4 {
             grad[i] = (grad[i] + gp[i]) + bx * gq[i];
         }
+        (grad, flags)
     }
 
     /// State after the settings, in the order of snapshot format 1 (q … still time).

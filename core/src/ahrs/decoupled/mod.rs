@@ -238,7 +238,7 @@ impl Decoupled {
         // the averages so that accelerometer and magnetometer take over at once.
         let clip = self.gyro_clip_rads;
         let clipped = (gyro[0].abs() > clip) | (gyro[1].abs() > clip) | (gyro[2].abs() > clip);
-        self.rest_and_bias(&gyro, a, dt, &mut flags);
+        flags = self.rest_and_bias(&gyro, a, dt, flags);
         let b = &self.bias.b;
         let w = [gyro[0] - b[0], gyro[1] - b[1], gyro[2] - b[2]];
         self.tilt.integrate(&w, dt);
@@ -248,8 +248,9 @@ impl Decoupled {
             self.accel_elapsed_s = 0.0;
             self.heading.restart_averaging();
         }
-        let accel_init = self.inclination(a, dt, clipped, &mut flags);
-        self.slow_loops(dt, mag, &mut flags);
+        let accel_init;
+        (flags, accel_init) = self.inclination(a, dt, clipped, flags);
+        flags = self.slow_loops(dt, mag, flags);
         if flags.angular_rate_recovery & !accel_init & !self.heading_init {
             flags.angular_rate_recovery = clipped;
         }
@@ -260,7 +261,13 @@ impl Decoupled {
 
     /// Rest detection and the bias at rest (with bias estimation on).
     #[inline(always)]
-    fn rest_and_bias(&mut self, gyro: &[f64; 3], a: &[f64; 3], dt: f64, flags: &mut AhrsFlags) {
+    fn rest_and_bias(
+        &mut self,
+        gyro: &[f64; 3],
+        a: &[f64; 3],
+        dt: f64,
+        mut flags: AhrsFlags,
+    ) -> AhrsFlags {
         if self.bias_estimation {
             let max_var = self.max_bias_rads * self.max_bias_rads;
             self.bias.predict(self.bias_q * dt, max_var);
@@ -272,12 +279,19 @@ impl Decoupled {
             flags.at_rest = at_rest;
             flags.bias_learning = at_rest;
         }
+        flags
     }
 
     /// Inclination from the accelerometer averaged in the almost-inertial frame; its
-    /// corrections summed for the motion bias. Whether the average is still starting.
+    /// corrections summed for the motion bias; and whether the average is still starting.
     #[inline(always)]
-    fn inclination(&mut self, a: &[f64; 3], dt: f64, clipped: bool, flags: &mut AhrsFlags) -> bool {
+    fn inclination(
+        &mut self,
+        a: &[f64; 3],
+        dt: f64,
+        clipped: bool,
+        mut flags: AhrsFlags,
+    ) -> (AhrsFlags, bool) {
         self.accel_elapsed_s += dt;
         let accel_init = self.accel_elapsed_s < self.accel_tau_s;
         let mut t_avg = if accel_init {
@@ -311,14 +325,14 @@ impl Decoupled {
             }
             None => flags.accel_rejected = true,
         }
-        accel_init
+        (flags, accel_init)
     }
 
     /// The slow loops (time constants of 10 s and more) run at most every
     /// SLOW_PERIOD_S: the motion bias from the corrections summed since, the heading
     /// from the magnetometer sample at hand.
     #[inline(always)]
-    fn slow_loops(&mut self, dt: f64, mag: Option<&[f64; 3]>, flags: &mut AhrsFlags) {
+    fn slow_loops(&mut self, dt: f64, mag: Option<&[f64; 3]>, mut flags: AhrsFlags) -> AhrsFlags {
         self.bias_elapsed_s += dt;
         self.mag_elapsed_s += dt;
         let mag_due = mag.is_some() & ((self.mag_elapsed_s >= SLOW_PERIOD_S) | !self.heading.valid);
@@ -343,6 +357,7 @@ impl Decoupled {
             flags.mag_rejected = self.flags.mag_rejected;
             flags.heading_held = self.flags.heading_held;
         }
+        flags
     }
 
     /// The motion bias from the inclination corrections summed since the last update
