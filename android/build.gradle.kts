@@ -63,8 +63,13 @@ android {
 
     // The release variant as a Maven publication (AAR + POM carrying the dependencies
     // below), so an app depends on coordinates instead of a bare files(…aar).
+    // withJavadocJar: AGP runs Dokka on the Kotlin sources (the generated bindings'
+    // KDoc and the adapters') into the publication's -javadoc.jar.
     publishing {
-        singleVariant("release") { withSourcesJar() }
+        singleVariant("release") {
+            withSourcesJar()
+            withJavadocJar()
+        }
     }
 
     packaging {
@@ -146,11 +151,21 @@ val generateBindings by tasks.registering(Exec::class) {
     outputs.dir(out)
 }
 
+// 1b. Google Play: every LOAD segment of every ABI's library aligned to 16 KB
+//     (bindings/build.rs links with -z max-page-size=16384; NDK r27c defaults to 4 KB).
+val checkAlignment by tasks.registering(Exec::class) {
+    group = "stridekit"
+    description = "every jniLibs/<abi>/libstridekit.so has its LOAD segments aligned to 16 KB"
+    dependsOn(cargoNdk)
+    workingDir = workspaceDir
+    commandLine("python3", "android/check-alignment.py", "--jnilibs", jniLibsDir.path)
+}
+
 // 4. The same checks scripts/test runs on the host bindings, on these.
 val checkBindings by tasks.registering(Exec::class) {
     group = "stridekit"
     description = "the generated Kotlin has the Android cleaner and no checksum check"
-    dependsOn(generateBindings)
+    dependsOn(generateBindings, checkAlignment)
     workingDir = workspaceDir
     commandLine(
         "sh", "-c",

@@ -15,6 +15,10 @@ pub enum SensorStream {
     Steps,
     Accelerometer,
     Imu,
+    /// Separate gyroscope events (`PhoneNavigator.pushSensorEventsPacked`).
+    Gyroscope,
+    /// Separate magnetometer events (`PhoneNavigator.pushSensorEventsPacked`).
+    Magnetometer,
 }
 
 impl std::fmt::Display for SensorStream {
@@ -24,6 +28,8 @@ impl std::fmt::Display for SensorStream {
             SensorStream::Steps => "step",
             SensorStream::Accelerometer => "accelerometer",
             SensorStream::Imu => "IMU",
+            SensorStream::Gyroscope => "gyroscope",
+            SensorStream::Magnetometer => "magnetometer",
         })
     }
 }
@@ -35,6 +41,8 @@ impl From<Stream> for SensorStream {
             Stream::Steps => Self::Steps,
             Stream::Accelerometer => Self::Accelerometer,
             Stream::Imu => Self::Imu,
+            Stream::Gyroscope => Self::Gyroscope,
+            Stream::Magnetometer => Self::Magnetometer,
         }
     }
 }

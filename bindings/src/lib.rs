@@ -43,4 +43,4 @@ pub use pace::{
     AccelStepModel, BatchResult, GnssFix, PaceCalibration, PaceConfig, PaceEstimate, PaceMode,
     PaceSample, PaceSource, PaceTracker, RejectedSample, StepSample,
 };
-pub use packed::ImuSample;
+pub use packed::{ImuEvent, ImuSample};

@@ -51,6 +51,19 @@
 //! Both are packed from the one `ImuSample` record: `packImuSamples` (80 bytes) and
 //! `packFootSamples` (56 bytes, the magnetometer fields are not written).
 //!
+//! **Separate sensor events** ([`SENSOR_EVENT_RECORD_BYTES`] = 40 bytes per event):
+//! what a phone delivers, one sensor per event, each with its own time; merged into
+//! IMU samples by the SDK (`PhoneNavigator.pushSensorEventsPacked`, rule in
+//! `stridekit_core::imu`).
+//!
+//! | offset | type   | field                                                        |
+//! |-------:|--------|--------------------------------------------------------------|
+//! | 0      | f64 LE | `t_s`, seconds (the same clock for every sensor)             |
+//! | 8      | i64 LE | `sensor_type`: Android `Sensor.TYPE_*`: 1 accelerometer, 2 magnetometer, 4 gyroscope |
+//! | 16     | f64 LE | `x` (m/s², µT or rad/s by type; device axes)                 |
+//! | 24     | f64 LE | `y`                                                          |
+//! | 32     | f64 LE | `z`                                                          |
+//!
 //! Every layout has a pack helper (`packFixes`, `packStepCounts`, `packAccelSamples`,
 //! `packImuSamples`, `packFootSamples`) for code that has records; code that fills a
 //! buffer itself (a sensor callback) writes the same: Kotlin
@@ -66,6 +79,7 @@
 use crate::error::PaceError;
 use stridekit_core::ahrs::ImuSample as CoreImuSample;
 use stridekit_core::foot::FootSample;
+use stridekit_core::imu::{ImuEvent as CoreImuEvent, SensorKind};
 use stridekit_core::pace as core;
 
 /// Bytes per packed step-count record.
@@ -79,6 +93,8 @@ pub const IMU6_RECORD_BYTES: usize = 56;
 /// Bytes per packed 9-axis IMU record (the phone engines): a 6-axis record, then
 /// the magnetometer.
 pub const IMU_RECORD_BYTES: usize = 80;
+/// Bytes per packed sensor event (`PhoneNavigator.pushSensorEventsPacked`).
+pub const SENSOR_EVENT_RECORD_BYTES: usize = 40;
 
 /// `bytes` as records of `record` bytes, or why not (the engine wraps the reason in
 /// its own `InvalidBuffer`).
@@ -202,6 +218,57 @@ pub fn imu_samples(
     bytes: &[u8],
 ) -> Result<impl ExactSizeIterator<Item = CoreImuSample> + '_, String> {
     Ok(whole_records(bytes, IMU_RECORD_BYTES, "IMU")?.map(imu_record))
+}
+
+/// Decode packed sensor events (`PhoneNavigator.pushSensorEventsPacked`): each an
+/// event, or the sensor type it does not know; or why the buffer is not a whole
+/// number of records.
+pub fn sensor_events(
+    bytes: &[u8],
+) -> Result<impl ExactSizeIterator<Item = Result<CoreImuEvent, i64>> + '_, String> {
+    Ok(
+        whole_records(bytes, SENSOR_EVENT_RECORD_BYTES, "sensor event")?.map(|c| {
+            let mut code = [0u8; 8];
+            code.copy_from_slice(&c[8..16]);
+            let code = i64::from_le_bytes(code);
+            let kind = SensorKind::from_android(code).ok_or(code)?;
+            Ok(CoreImuEvent {
+                t_s: f64_at(c, 0),
+                kind,
+                values: [f64_at(c, 16), f64_at(c, 24), f64_at(c, 32)],
+            })
+        }),
+    )
+}
+
+/// One sensor event as a phone delivers it (`packImuEvents` packs it for
+/// `PhoneNavigator.pushSensorEventsPacked`; an app's sensor callback usually writes
+/// the 40-byte records itself).
+#[derive(Clone, Copy, Debug, PartialEq, uniffi::Record)]
+pub struct ImuEvent {
+    /// Time, seconds on the app's monotonic clock (one clock for every sensor),
+    /// strictly increasing within each sensor.
+    pub t_s: f64,
+    /// Android's `Sensor.TYPE_*`: 1 accelerometer (m/s²), 2 magnetometer (µT),
+    /// 4 gyroscope (rad/s).
+    pub sensor_type: i64,
+    pub x: f64,
+    pub y: f64,
+    pub z: f64,
+}
+
+/// Pack sensor events into the 40-byte little-endian layout of
+/// `PhoneNavigator.pushSensorEventsPacked`: `t_s` (f64), `sensor_type` (i64), `x, y,
+/// z` (f64).
+#[uniffi::export]
+pub fn pack_imu_events(events: Vec<ImuEvent>) -> Vec<u8> {
+    let mut out = Vec::with_capacity(events.len() * SENSOR_EVENT_RECORD_BYTES);
+    for e in events {
+        out.extend_from_slice(&e.t_s.to_le_bytes());
+        out.extend_from_slice(&e.sensor_type.to_le_bytes());
+        put(&mut out, [e.x, e.y, e.z]);
+    }
+    out
 }
 
 /// The 6-axis record of a sample, in layout order (the pack side of [`imu6_record`]).

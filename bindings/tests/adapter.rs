@@ -349,7 +349,7 @@ fn batch_rejections_are_reported_by_index_and_skipped() {
     ));
     assert!(matches!(r.rejected[2].error, PaceError::OutOfRange { .. }));
     for x in &r.rejected {
-        assert_eq!(x.description, x.error.to_string());
+        assert_eq!(x.reason, x.error.to_string());
     }
     assert_eq!(r.estimates.len(), good.len());
     assert_eq!(r.latest, t.estimate());

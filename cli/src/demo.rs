@@ -8,9 +8,26 @@ use std::path::Path;
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::PaceConfig;
 use stridekit_lab::pace::{replay, score, sim_reference, METHODS};
+const _: () = assert!(METHODS.len() == NAMES.len());
 use stridekit_sim::{simulate_run, RunScenario, ZoneKind};
 
-use stridekit_lab::report::{line_chart, track_chart, Band, Chart, Series, Style, YFormat};
+use stridekit_lab::report::{
+    inline_html, line_chart, track_chart, Band, Chart, Series, Style, YFormat,
+};
+
+use crate::demo_facts::{Facts, NextSession, FAST_MPS, RUN_MIN_MPS};
+
+/// The methods as the report names them everywhere (table, legends, explanations), in
+/// the order of `stridekit_lab::pace::METHODS`.
+const NAMES: [&str; 4] = [
+    "raw GNSS diff",
+    "GNSS EMA",
+    "AsPublished",
+    "stridekit (default)",
+];
+
+/// Slowest speed whose pace is drawn, m/s (16:40 /km): slower is standing or shuffling.
+const PACE_MIN_MPS: f64 = 1.0;
 
 fn series(name: &str, t: &[f64], v: &[f64], color: (u8, u8, u8), style: Style) -> Series {
     Series {
@@ -29,6 +46,34 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
     let truth = sim_reference(&run, &r);
     let s = score(&r, &truth, &run.zones);
     let truth_dist = run.truth.last().map(|t| t.distance_m).unwrap_or(0.0);
+    let frame = LocalFrame::new(scenario.origin_lat_deg, scenario.origin_lon_deg, 0.0);
+    let fixes: Vec<(f64, f64)> = run
+        .fixes
+        .iter()
+        .map(|f| {
+            let p = frame.to_enu(f.lat_deg, f.lon_deg, 0.0);
+            (p[0], p[1])
+        })
+        .collect();
+    // The tracker's positions are relative to its first fix.
+    let origin = fixes.first().copied().unwrap_or((0.0, 0.0));
+    // The next session without GNSS (a treadmill): this run's steps alone, with the
+    // calibration this run exported and with the population prior.
+    let treadmill = r
+        .calibration
+        .and_then(|c| Treadmill::measure(&run, &samples, c));
+    let facts = Facts::measure(
+        &run,
+        &r,
+        &truth,
+        &s,
+        origin,
+        treadmill.as_ref().map(|tm| NextSession {
+            truth: &tm.truth,
+            calibrated: &tm.calibrated,
+            prior: &tm.prior,
+        }),
+    );
 
     let mut summary = String::new();
     let _ = writeln!(summary, "# stridekit demo: simulated run (seed {seed})\n");
@@ -52,39 +97,43 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             "—".into()
         }
     };
+    // Beside each speed error, the pace error a runner reads (s/km).
+    let fp = |v: f64, p: f64, html: bool| match (v.is_finite() && p.is_finite(), html) {
+        (true, false) => format!("{v:.3} · {p:.0} s/km"),
+        (true, true) => format!("{v:.3}<br><small>{p:.0} s/km</small>"),
+        (false, _) => f(v),
+    };
     let mut rows_html = String::new();
-    for (m, name) in METHODS.iter().enumerate() {
+    for (m, name) in NAMES.iter().enumerate() {
         let d = if m >= 2 {
             let d = s.distance_m[m - 2];
             format!("{d:.0} ({:+.2} %)", 100.0 * (d - truth_dist) / truth_dist)
         } else {
             "—".into()
         };
+        let cells = [s.all[m], s.disturbed[m], s.outage[m]];
+        let pe = facts.pace_error[m];
         let _ = writeln!(
             summary,
             "| {name} | {} | {} | {} | {d} |",
-            f(s.all[m]),
-            f(s.disturbed[m]),
-            f(s.outage[m])
+            fp(cells[0], pe[0], false),
+            fp(cells[1], pe[1], false),
+            fp(cells[2], pe[2], false),
         );
-        let shown = if *name == "default" {
-            "stridekit (default)"
-        } else {
-            name
-        };
         let _ = write!(
             rows_html,
-            "<tr{}><td>{shown}</td><td>{}</td><td>{}</td><td>{}</td><td>{d}</td></tr>",
-            if *name == "default" {
-                " class=ours"
-            } else {
-                ""
-            },
-            f(s.all[m]),
-            f(s.disturbed[m]),
-            f(s.outage[m])
+            "<tr{}><td>{name}</td><td>{}</td><td>{}</td><td>{}</td><td>{d}</td></tr>",
+            if m == 3 { " class=ours" } else { "" },
+            fp(cells[0], pe[0], true),
+            fp(cells[1], pe[1], true),
+            fp(cells[2], pe[2], true),
         );
     }
+    let pace_note = format!(
+        "Beside each speed RMSE (m/s): the median pace error where the runner runs (faster than {} /km), in s/km.",
+        crate::replay::min_s(1000.0 / RUN_MIN_MPS)
+    );
+    let _ = writeln!(summary, "\n{pace_note}");
     // Step length over the last minute (medians: the very last grid point can fall
     // between the last step sample and the end of the recording).
     let t_end = r.t_s.last().copied().unwrap_or(0.0);
@@ -113,11 +162,6 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             "\nStep length over the last minute (median): {l:.2} m (true {t:.2} m)."
         );
     }
-    // The next session without GNSS (a treadmill): this run's steps alone, with the
-    // calibration this run exported and with the population prior.
-    let treadmill = r
-        .calibration
-        .and_then(|c| Treadmill::measure(&run, &samples, c));
     if let Some(tm) = &treadmill {
         let _ = writeln!(summary, "\n{}", tm.sentence());
     }
@@ -134,13 +178,14 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
          GNSS and {} stops.</p>\
          <table><tr><th>method</th><th>speed RMSE where GNSS is good (m/s)</th>\
          <th>in disturbed GNSS</th><th>without GNSS</th><th>distance (m, error)</th></tr>{rows_html}</table>\
-         <p>True distance {truth_dist:.0} m.{}</p>{}{METHODS_HTML}",
+         <p>{}</p><p>True distance {truth_dist:.0} m.{}</p>{}{METHODS_HTML}",
         scenario.duration_s / 60.0,
         truth_dist / 1000.0,
         run.fixes.len(),
         run.zones.iter().filter(|z| z.kind == ZoneKind::Disturbance).count(),
         run.zones.iter().filter(|z| z.kind == ZoneKind::Outage).count(),
         run.zones.iter().filter(|z| z.kind == ZoneKind::Stop).count(),
+        inline_html(&pace_note),
         last_len
             .map(|(l, t)| format!(
                 " Step length over the last minute (median): {l:.2} m (true {t:.2} m)."
@@ -148,7 +193,7 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             .unwrap_or_default(),
         treadmill
             .as_ref()
-            .map(|tm| format!("<p>{}</p>", tm.sentence().replace("**", "")))
+            .map(|tm| format!("<p>{}</p>", inline_html(&tm.sentence())))
             .unwrap_or_default()
     );
 
@@ -177,16 +222,25 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
         .collect();
     let t: Vec<f64> = r.t_s.iter().map(|&v| min(v)).collect();
     let t = &t;
-    // Pace in min/km; below a walk (1.5 m/s) pace is not a useful number: a gap.
+    // Pace in min/km; slower than PACE_MIN_MPS (standing, shuffling) is a gap.
     let pace = |v: &[f64]| -> Vec<f64> {
         v.iter()
             .map(|&s| {
-                if s >= 1.5 {
+                if s >= PACE_MIN_MPS {
                     1000.0 / s / 60.0
                 } else {
                     f64::NAN
                 }
             })
+            .collect()
+    };
+    // The GNSS-only methods have no value without GNSS (the replay holds their last
+    // one): not drawn there.
+    let gnss_only = |m: usize| -> Vec<f64> {
+        r.speed[m]
+            .iter()
+            .zip(&r.has_gnss)
+            .map(|(&v, &g)| if g { v } else { f64::NAN })
             .collect()
     };
     let truth_pace = pace(&truth);
@@ -202,20 +256,14 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
     };
     let pace_series = [
         series(
-            "raw GNSS (fix to fix)",
+            NAMES[0],
             t,
             &pace(&r.speed[0]),
             (190, 190, 190),
             Style::Points,
         ),
         series("truth", t, &truth_pace, (0, 0, 0), Style::Line),
-        series(
-            "stridekit",
-            t,
-            &pace(&r.speed[3]),
-            (220, 30, 60),
-            Style::Line,
-        ),
+        series(NAMES[3], t, &pace(&r.speed[3]), (220, 30, 60), Style::Line),
     ];
     let write = |name: &str, res: Result<(), stridekit_lab::report::ReportError>| {
         res.map_err(|e| format!("cannot write {name}: {e}"))
@@ -241,9 +289,9 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
     }
     let speed = [
         series("truth", t, &truth, (0, 0, 0), Style::Line),
-        series("GNSS EMA", t, &r.speed[1], (230, 140, 40), Style::Line),
-        series("AsPublished", t, &r.speed[2], (60, 120, 220), Style::Line),
-        series("stridekit", t, &r.speed[3], (220, 30, 60), Style::Line),
+        series(NAMES[1], t, &gnss_only(1), (230, 140, 40), Style::Line),
+        series(NAMES[2], t, &r.speed[2], (60, 120, 220), Style::Line),
+        series(NAMES[3], t, &r.speed[3], (220, 30, 60), Style::Line),
     ];
     write(
         "speed.svg",
@@ -261,8 +309,8 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
         ),
     )?;
     let weight = [
-        series("AsPublished", t, &r.weight[0], (60, 120, 220), Style::Line),
-        series("stridekit", t, &r.weight[1], (220, 30, 60), Style::Line),
+        series(NAMES[2], t, &r.weight[0], (60, 120, 220), Style::Line),
+        series(NAMES[3], t, &r.weight[1], (220, 30, 60), Style::Line),
     ];
     write(
         "gnss_weight.svg",
@@ -274,15 +322,23 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
                 y_label: "GNSS weight",
                 series: &weight,
                 bands: &bands,
-                y_range: Some((0.0, 1.45)),
+                y_range: Some(GNSS_WEIGHT_RANGE),
                 y_format: YFormat::Number,
             },
         ),
     )?;
+    // The true step length where the runner steps (none while standing).
     let truth_len: Vec<f64> = r
         .t_s
         .iter()
-        .map(|&t| run.truth_at(t).step_length_m)
+        .map(|&t| {
+            let p = run.truth_at(t);
+            if p.cadence_spm > 0.0 {
+                p.step_length_m
+            } else {
+                f64::NAN
+            }
+        })
         .collect();
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for &v in truth_len
@@ -302,7 +358,7 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
     let steps = [
         series("truth", t, &truth_len, (0, 0, 0), Style::Line),
         series(
-            "stridekit (learned from GNSS)",
+            &format!("{}, learned from GNSS", NAMES[3]),
             t,
             &r.step_length,
             (220, 30, 60),
@@ -324,17 +380,6 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             },
         ),
     )?;
-    let frame = LocalFrame::new(scenario.origin_lat_deg, scenario.origin_lon_deg, 0.0);
-    let fixes: Vec<(f64, f64)> = run
-        .fixes
-        .iter()
-        .map(|f| {
-            let p = frame.to_enu(f.lat_deg, f.lon_deg, 0.0);
-            (p[0], p[1])
-        })
-        .collect();
-    // The tracker's positions are relative to its first fix.
-    let origin = fixes.first().copied().unwrap_or((0.0, 0.0));
     let fused: Vec<(f64, f64)> = r
         .position_enu_m
         .iter()
@@ -354,7 +399,7 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             style: Style::Line,
         },
         Series {
-            name: "stridekit".into(),
+            name: NAMES[3].into(),
             points: fused,
             color: Some((220, 30, 60)),
             style: Style::Line,
@@ -403,13 +448,13 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
             ),
         )?;
     }
+    let shown = figures(&facts, treadmill.is_some());
     let mut md = summary.clone();
     md.push_str(&format!("\n{METHODS_EXPLAINED}\n"));
-    for (f, caption) in figures(treadmill.is_some()) {
+    for (f, caption) in &shown {
         md.push_str(&format!("\n![{f}]({f})\n\n{caption}\n"));
     }
     std::fs::write(out_dir.join("summary.md"), md).map_err(|e| e.to_string())?;
-    let shown = figures(treadmill.is_some());
     std::fs::write(out_dir.join("index.html"), html(&summary_html, &shown))
         .map_err(|e| e.to_string())?;
     println!(
@@ -419,6 +464,9 @@ pub fn run(out_dir: &Path, seed: u64) -> Result<(), String> {
     );
     Ok(())
 }
+
+/// The GNSS weight's axis: the weight is a share, 0..1.
+const GNSS_WEIGHT_RANGE: (f64, f64) = (0.0, 1.0);
 
 /// The run's steps replayed alone (a treadmill the next day), with the calibration
 /// the GNSS session exported and with the population prior.
@@ -475,54 +523,214 @@ impl Treadmill {
         let (rp, dp) = self.score(&self.prior);
         format!(
             "**Next session without GNSS** (a treadmill: this run's steps alone, every fix left out): \
-             with the calibration this run exported (`PaceTracker::calibration()`, imported through \
-             `PaceConfig::calibration`) speed RMSE {rc:.3} m/s, distance {dc:+.1} %; with the \
-             population prior {rp:.3} m/s, {dp:+.1} %."
+             with the calibration this run exported (`PaceTracker.calibration()`, imported through \
+             `PaceConfig.calibration` in Kotlin and Swift) speed RMSE {rc:.3} m/s, distance {dc:+.1} %; \
+             with the population prior {rp:.3} m/s, {dp:+.1} %."
         )
     }
 }
 
-/// What the methods in the tables and plots are.
+/// What the methods in the tables and plots are (names as [`NAMES`]).
 const METHODS_EXPLAINED: &str = "Methods: **raw GNSS diff** = distance between consecutive fixes \
 over their time (what a naive app shows); **GNSS EMA** = the same, smoothed (exponential moving \
 average); **AsPublished** = the pace-fusion method as its paper publishes it (GNSS and pedometer \
-blended by a fixed rule); **default** = stridekit's filter (GNSS, cadence and a step length \
-learned from GNSS in one Kalman filter, with GNSS outliers rejected).";
+blended by a fixed rule); **stridekit (default)** = the SDK's filter (GNSS, cadence and a step \
+length learned from GNSS in one Kalman filter, with GNSS outliers rejected).";
 
 const METHODS_HTML: &str = "<dl>\
-<dt>raw GNSS</dt><dd>distance between consecutive fixes over their time: what a naive app shows.</dd>\
+<dt>raw GNSS diff</dt><dd>distance between consecutive fixes over their time: what a naive app shows.</dd>\
 <dt>GNSS EMA</dt><dd>the same, smoothed by an exponential moving average.</dd>\
 <dt>AsPublished</dt><dd>the pace-fusion method exactly as its paper publishes it: GNSS and the pedometer blended by a fixed rule.</dd>\
 <dt>stridekit (default)</dt><dd>the SDK's filter: GNSS, cadence and a step length learned from GNSS in one Kalman filter, GNSS outliers rejected; in outages the speed comes from the steps.</dd>\
 </dl>";
 
-/// The figures of the report, with the sentence under each (the treadmill one when
-/// the run exported a calibration).
-fn figures(treadmill: bool) -> Vec<(&'static str, &'static str)> {
-    let mut f = FIGURES.to_vec();
+/// `4.7` m/s as the captions write speeds.
+fn mps(v: f64) -> String {
+    format!("{v:.1} m/s")
+}
+
+/// Signed percent of `v` against `truth`.
+fn pct(v: f64, truth: f64) -> String {
+    format!("{:+.0} %", 100.0 * (v - truth) / truth)
+}
+
+/// "first" … for the captions.
+fn ordinal(k: usize) -> &'static str {
+    ["first", "second", "third", "fourth"]
+        .get(k)
+        .copied()
+        .unwrap_or("next")
+}
+
+/// The figures of the report with the caption under each: what the chart shows, with
+/// the figures measured on this run (`facts`); the treadmill one when the run exported
+/// a calibration.
+fn figures(facts: &Facts, treadmill: bool) -> Vec<(&'static str, String)> {
+    let ours = NAMES[3];
+    let pe = &facts.pace_error;
+    let mut f = vec![
+        (
+            "pace.svg",
+            format!(
+                "Pace as a watch shows it: the truth, the raw GNSS diff pace (grey dots: the spikes a \
+                 naive app shows) and {ours}'s. Shaded: disturbed GNSS (yellow), no GNSS (grey), the \
+                 runner stopped (blue). Slower than {} /km (standing) pace is not drawn. Where the \
+                 runner runs with GNSS, {ours}'s pace is within {:.0} s/km of the truth half of the \
+                 time (raw GNSS diff: {:.0} s/km); without GNSS, {:.0} s/km.",
+                crate::replay::min_s(1000.0 / PACE_MIN_MPS),
+                pe[3][0],
+                pe[0][0],
+                pe[3][2],
+            ),
+        ),
+        ("speed.svg", speed_caption(facts)),
+        (
+            "gnss_weight.svg",
+            format!(
+                "How much each method's speed follows GNSS (1) or the steps (0). AsPublished leans \
+                 on GNSS whenever it has it (median weight {:.2} while running); {ours} uses GNSS \
+                 mostly to learn the step length, so while the runner runs its speed is the steps' \
+                 (median weight {:.2}) and GNSS errors do not reach it; at stops there are no steps \
+                 and it follows GNSS (median weight {:.2}). Without GNSS (grey) both run on the \
+                 steps (median weights {:.2} and {:.2}).",
+                facts.weight_running[0],
+                facts.weight_running[1],
+                facts.weight_stopped,
+                facts.weight_outage[0],
+                facts.weight_outage[1],
+            ),
+        ),
+        ("step_length.svg", step_caption(facts)),
+        ("track.svg", track_caption(facts)),
+    ];
     if treadmill {
-        f.push(TREADMILL_FIGURE);
+        f.push(("treadmill.svg", treadmill_caption(facts)));
     }
     f
 }
 
-const TREADMILL_FIGURE: (&str, &str) = ("treadmill.svg", "The next session without any GNSS (a treadmill, an indoor track): the same run's steps alone, paced with the step length this run learned from GNSS (exported as a calibration, imported next time) or with the population prior. The calibrated speed is near the truth from the first steps, where the prior is off by this runner's difference from the population; the fast intervals are read short by both (the line's slope, learned at the run's usual paces, extrapolates). Walks use the population walking line either way.");
+fn speed_caption(facts: &Facts) -> String {
+    let d = &facts.disturbed_rmse;
+    let mut s = format!(
+        "The same run in m/s with every method, for engineers (GNSS EMA has no value without \
+         GNSS). In the disturbed stretches \
+         (yellow) GNSS EMA and AsPublished follow the GNSS errors (speed RMSE there {:.2} and \
+         {:.2} m/s); {}'s RMSE there is {:.2} m/s. Without GNSS (grey) the speed comes from \
+         the steps:",
+        d[1], d[2], NAMES[3], d[3]
+    );
+    for (k, o) in facts.outages.iter().enumerate() {
+        s += &format!(
+            " in the {} outage ({:.0}–{:.0} min) the truth averages {}, {} {} ({}) and \
+             AsPublished {} ({}); at the outage's top speed, {}, {} reads {} ({});",
+            ordinal(k),
+            o.start_min,
+            o.end_min,
+            mps(o.truth_mps),
+            NAMES[3],
+            mps(o.ours_mps),
+            pct(o.ours_mps, o.truth_mps),
+            mps(o.published_mps),
+            pct(o.published_mps, o.truth_mps),
+            mps(o.top_truth_mps),
+            NAMES[3],
+            mps(o.top_ours_mps),
+            pct(o.top_ours_mps, o.top_truth_mps),
+        );
+    }
+    s.pop();
+    s += ". Where the runner goes faster than anything the step length was learned at, the \
+          steps are read short (step length chart).";
+    s
+}
 
-const FIGURES: [(&str, &str); 5] = [
-    ("pace.svg", "Pace as a watch shows it: the truth, the raw GNSS pace (grey dots: the spikes a naive app shows) and stridekit's. Shaded: disturbed GNSS (yellow), no GNSS (grey), the runner stopped (blue). Below 1.5 m/s (walking, stopped) pace is not drawn."),
-    ("speed.svg", "The same run in m/s with every method, for engineers: GNSS EMA lags and follows GNSS errors; AsPublished follows GNSS closely; stridekit stays on the truth through disturbances and outages."),
-    ("gnss_weight.svg", "How much each method's speed follows GNSS (1) or the steps (0). AsPublished leans on GNSS whenever it has it; stridekit uses GNSS mostly to learn the step length, so while the runner runs its speed is the steps' (weight near 0) and GNSS errors do not reach it; at stops there are no steps and it follows GNSS (weight 1)."),
-    ("step_length.svg", "The step length stridekit learns from GNSS while it is good, against the truth; it carries the speed through the outages."),
-    ("track.svg", "Where the runner was: the GNSS fixes, the truth and stridekit's fused position. With GNSS it stays on the truth; without GNSS this input has no compass, so the position goes on in the last direction at the fused speed (the straight lines) and snaps back when GNSS returns."),
-];
+fn step_caption(facts: &Facts) -> String {
+    let mut s = format!(
+        "The step length {} learns from GNSS while it is good (a line against cadence), against \
+         the truth; in outages it carries the speed:",
+        NAMES[3]
+    );
+    for (k, o) in facts.outages.iter().enumerate() {
+        s += &format!(
+            " {:.2} m against {:.2} m in the {} ({});",
+            o.ours_step_m,
+            o.truth_step_m,
+            ordinal(k),
+            pct(o.ours_step_m, o.truth_step_m)
+        );
+    }
+    s.pop();
+    s += ". At stops there are no steps: the truth is not drawn and the learned value is held.";
+    s
+}
+
+fn track_caption(facts: &Facts) -> String {
+    let worst: Vec<String> = facts
+        .outages
+        .iter()
+        .enumerate()
+        .map(|(k, o)| {
+            if k == 0 {
+                format!(
+                    "{:.0} m from the truth in the first outage",
+                    o.worst_position_m
+                )
+            } else {
+                format!("{:.0} m in the {}", o.worst_position_m, ordinal(k))
+            }
+        })
+        .collect();
+    format!(
+        "Where the runner was: the GNSS fixes, the truth and {}'s fused position. With GNSS it \
+         stays on the truth; without GNSS this input has no compass, so the position goes on in \
+         the last direction at the fused speed (the straight lines; at worst {}), and snaps back \
+         when GNSS returns.",
+        NAMES[3],
+        worst.join(" and ")
+    )
+}
+
+fn treadmill_caption(facts: &Facts) -> String {
+    let mut s = String::from(
+        "The next session without any GNSS (a treadmill, an indoor track): the same run's steps \
+         alone, paced with the step length this run learned from GNSS (exported as a calibration, \
+         imported next time) or with the population prior.",
+    );
+    if let Some(u) = facts.usual {
+        s += &format!(
+            " At the run's usual paces (slower than {} /km) the truth averages {}: calibrated {} \
+             ({}), prior {} ({}), this runner's difference from the population.",
+            crate::replay::min_s(1000.0 / FAST_MPS),
+            mps(u.truth),
+            mps(u.calibrated),
+            pct(u.calibrated, u.truth),
+            mps(u.prior),
+            pct(u.prior, u.truth),
+        );
+    }
+    if let Some(f) = facts.fast {
+        s += &format!(
+            " In the fast intervals ({} and faster) the truth averages {}: calibrated {} ({}), \
+             its line learned at the usual paces extrapolating short; prior {} ({}).",
+            mps(FAST_MPS),
+            mps(f.truth),
+            mps(f.calibrated),
+            pct(f.calibrated, f.truth),
+            mps(f.prior),
+            pct(f.prior, f.truth),
+        );
+    }
+    s + " Walks use the population walking line either way."
+}
 
 /// The report page: the summary as HTML and every figure with its caption.
-fn html(summary: &str, figures: &[(&str, &str)]) -> String {
+fn html(summary: &str, figures: &[(&str, String)]) -> String {
     let figures: String = figures
         .iter()
         .map(|(f, caption)| {
             format!(
-                "<figure><img src=\"{f}\" alt=\"{f}\"><figcaption>{caption}</figcaption></figure>"
+                "<figure><img src=\"{f}\" alt=\"{f}\"><figcaption>{}</figcaption></figure>",
+                inline_html(caption)
             )
         })
         .collect();
@@ -531,6 +739,7 @@ fn html(summary: &str, figures: &[(&str, &str)]) -> String {
 <style>body{{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}}\
 table{{border-collapse:collapse;margin:1em 0}}td,th{{border:1px solid #ccc;padding:.35em .7em;text-align:right}}\
 td:first-child,th:first-child{{text-align:left}}th{{background:#f3f3f3}}tr.ours td{{font-weight:600;background:#fff3f3}}\
+td small{{color:#555;font-weight:400}}code{{font-family:ui-monospace,monospace;background:#f3f3f3;padding:0 .2em}}\
 dt{{font-weight:600}}dd{{margin:0 0 .4em 1.5em}}figure{{margin:2em 0}}img{{max-width:100%}}\
 figcaption{{color:#555;max-width:900px}}</style><body>{summary}{figures}</body></html>"
     )

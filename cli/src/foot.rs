@@ -4,10 +4,14 @@
 //! Input: a pyshoe / UofT CSV or an x-io (NGIMU) CSV export (see
 //! `stridekit_formats::foot`). The sensor axes come from `--axes` (see
 //! [`FootConfig::axes_from_spec`]); without it, the layout's usual axes (pyshoe:
-//! `frd`; x-io: `flu`, the body frame itself). The IMU profile (`--imu`) likewise
-//! defaults by layout: the UofT trials were recorded with a factory-calibrated
+//! `frd`; x-io: `flu`, the body frame itself). The IMU profile (`--imu`) does not
+//! follow the layout, which any IMU's export can have: trials of the UofT VICON set
+//! (known by the set's label columns) were recorded with a factory-calibrated
 //! MicroStrain (`calibrated`), anything else is taken as consumer MEMS (`consumer`,
-//! the SDK default: gyro bias measured at the start rest).
+//! the SDK default: gyro bias measured at the start rest). The gyroscope range
+//! (`--gyro-range`) comes from the data when not given: the ceiling of a clipped
+//! gyroscope ([`stridekit_core::foot::GyroCeilingDetector`]), else none. The replay
+//! prints every device assumption it made ([`config_for`]).
 //!
 //! Samples the navigator rejects (repeated or reversed timestamps, NaN, values out
 //! of range, accelerations in g) are skipped and counted by reason, and the counts
@@ -21,16 +25,30 @@
 //!
 //! Outputs for `--out DIR/NAME.csv`: `DIR/NAME.csv` (one row per estimate),
 //! `DIR/NAME.svg` (top view: estimate, truth, stride ends) and `DIR/NAME_height.svg`
-//! (height over time).
+//! (height over time); `--out -`: the CSV on stdout, no plots. The CSV is in the
+//! navigator's frame, a local level East-North-Up frame from where the walk started
+//! (east = where the foot's x axis pointed at the start, as no heading reference is
+//! given): `t_s,east_m,north_m,up_m,v_east_mps,v_north_mps,v_up_mps,yaw_rad,stance,
+//! strides,distance_m,gt_east_m,gt_north_m,gt_up_m`, positions to 0.1 mm.
+//!
+//! A replay with no stride, or whose samples were refused for their units (in g,
+//! timestamps not in seconds), exits 1.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use stridekit_core::foot::{FootConfig, FootEstimate};
-use stridekit_formats::{read_foot_csv, FootFormat};
+use stridekit_formats::{read_foot_csv, Content, FootFormat};
 
+use stridekit_lab::foot::device::{evidence, Evidence};
 use stridekit_lab::foot::eval::{align, replay_counted, Method, Trial};
 use stridekit_lab::report::{line_chart, track_chart, Chart, Series, Style};
+
+use crate::outcome::{write_error, Failure};
+use crate::output::{say, Sink};
+
+/// What `stridekit foot` reads, for messages.
+const EXPECTS: &str = "a foot IMU CSV (pyshoe / UofT or x-io NGIMU layout)";
 
 /// `calibrate foot`: walks fitted alone that disagree by more than this, degrees,
 /// get a warning (x-io's two NGIMU walks: 0.3°; the UofT MicroStrain's sessions: 1.1°).
@@ -38,6 +56,9 @@ const DISAGREE_DEG: f64 = 0.5;
 
 /// Plots keep at most about this many points per series (the CSV keeps all).
 const PLOT_POINTS: usize = 4000;
+
+/// Below this distance walked, m, the loop closure is given without a percentage.
+const MIN_WALKED_M: f64 = 0.01;
 
 /// Which IMU the recording comes from (`--imu`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -67,8 +88,8 @@ impl ImuProfile {
 #[derive(Clone, Debug, Default)]
 pub struct FootArgs {
     pub file: PathBuf,
-    /// Trajectory CSV (the SVGs go next to it).
-    pub out: PathBuf,
+    /// Where the trajectory CSV goes (the SVGs next to a file).
+    pub sink: Sink,
     /// Drive the updates with this stance label column (`zv_NAME`).
     pub labels: Option<String>,
     /// Sensor axes spec (`frd`, `flu`, `x,-y,-z`, …).
@@ -83,58 +104,71 @@ pub struct FootArgs {
     pub gyro_range_rads: Option<f64>,
 }
 
-/// The navigator configuration for a recording of `format` under `args`, and a
-/// description of the choices for the output.
-pub fn config_for(args: &FootArgs, format: FootFormat) -> Result<(FootConfig, String), String> {
-    let (default_axes, default_imu, default_range) = match format {
-        FootFormat::Pyshoe => (
-            "frd",
-            ImuProfile::Calibrated,
-            Some(stridekit_lab::foot::eval::UOFT_GYRO_RANGE_RADS),
-        ),
-        FootFormat::Xio => ("flu", ImuProfile::Consumer, None),
+/// The navigator configuration for a recording of `format` under `args`, given what
+/// the data say about the device, and the device assumptions made, for the output.
+///
+/// Nothing about the device is taken from the file's layout alone, which any IMU's
+/// export can have:
+/// - axes: `--axes`, else the layout's usual axes (pyshoe: `frd`, x-io: `flu`);
+/// - units: the ones the header names (the navigator refuses g and deg/s in SI columns);
+/// - IMU profile: `--imu`, else `calibrated` only for a trial of the UofT VICON set (its
+///   factory-calibrated MicroStrain, known by the set's label columns), `consumer` (the
+///   SDK default, gyro bias measured at the start rest) for everything else;
+/// - gyroscope range: `--gyro-range`, else the ceiling the data show (flat tops at a
+///   constant rate, [`stridekit_core::foot::GyroCeilingDetector`]); without that
+///   evidence, no range and nothing "repaired".
+pub fn config_for(
+    args: &FootArgs,
+    format: FootFormat,
+    device: &Evidence,
+) -> Result<(FootConfig, String), String> {
+    let default_axes = match format {
+        FootFormat::Pyshoe => "frd",
+        FootFormat::Xio => "flu",
     };
     let spec = args.axes.as_deref().unwrap_or(default_axes);
     let axis_remap = FootConfig::axes_from_spec(spec).map_err(|e| format!("--axes {spec}: {e}"))?;
-    let imu = args.imu.unwrap_or(default_imu);
-    let how = |given: bool| {
-        if given {
+    let (imu, imu_why) = match args.imu {
+        Some(imu) => (imu, "given"),
+        None if device.uoft_vicon_set => (
+            ImuProfile::Calibrated,
+            "the UofT VICON set's factory-calibrated MicroStrain: the file has the set's label columns",
+        ),
+        None => (
+            ImuProfile::Consumer,
+            "the SDK default for an IMU not known by name; --imu calibrated for a factory-calibrated one",
+        ),
+    };
+    let units = match format {
+        FootFormat::Pyshoe => "m/s² and rad/s, as the header names them",
+        FootFormat::Xio => "g and deg/s in the file, converted to m/s² and rad/s",
+    };
+    let mut text = format!(
+        "{}; device assumptions:\n  axes {spec} ({}); units {units}\n  IMU profile {} ({imu_why})",
+        format.name(),
+        if args.axes.is_some() {
             "given"
         } else {
             "default for this layout"
-        }
-    };
-    let mut text = format!(
-        "{}, axes {spec} ({}), IMU profile {} ({})",
-        format.name(),
-        how(args.axes.is_some()),
+        },
         imu.name(),
-        how(args.imu.is_some()),
     );
     let mut config = FootConfig {
         axis_remap,
         ..imu.config()
     };
+    let (range, gyro_text) = gyro_range(args.gyro_range_rads, device);
+    config.gyro_range_rads = range;
+    text += &format!("\n  gyroscope: {gyro_text}");
     if args.no_level_floor {
         config.level_stride_max_grade = None;
-        text += ", level-floor constraint off";
-    }
-    config.gyro_range_rads = args.gyro_range_rads.or(default_range);
-    if let Some(r) = config.gyro_range_rads {
-        text += &format!(
-            ", gyro range {r} rad/s ({}; clipped swing peaks repaired)",
-            if args.gyro_range_rads.is_some() {
-                "given"
-            } else {
-                "the UofT MicroStrain's, default for this layout"
-            }
-        );
+        text += "\n  level-floor constraint off";
     }
     if let Some(path) = &args.calibration {
         let a = read_calibration(path)?;
         config.accel_alignment_rad = a;
         text += &format!(
-            ", accelerometer alignment ({:.2}°, {:.2}°, {:.2}°) from {}",
+            "\n  accelerometer alignment ({:.2}°, {:.2}°, {:.2}°) from {}",
             a[0].to_degrees(),
             a[1].to_degrees(),
             a[2].to_degrees(),
@@ -142,6 +176,54 @@ pub fn config_for(args: &FootArgs, format: FootFormat) -> Result<(FootConfig, St
         );
     }
     Ok((config, text))
+}
+
+/// The gyroscope range to configure and what it rests on: the range given, else the
+/// ceiling the data show, else none (nothing is repaired without evidence). A given
+/// range the data contradict gets a warning in the text.
+fn gyro_range(given: Option<f64>, device: &Evidence) -> (Option<f64>, String) {
+    let seen = |c: &stridekit_core::foot::GyroCeiling| {
+        format!(
+            "{} flat tops at a constant ceiling of {:.2} rad/s on sensor {} (peak {:.2} rad/s)",
+            c.flat_tops,
+            c.ceiling_rads,
+            stridekit_lab::foot::device::side_name(c),
+            c.peak_rads
+        )
+    };
+    match (given, device.ceiling) {
+        (Some(r), found) => {
+            let mut t = format!("range {r} rad/s (given; clipped swing peaks repaired)");
+            if let Some(c) = found.filter(|c| c.range_rads() < 0.995 * r) {
+                t += &format!(
+                    "; warning: the data show {} — below 99 % of the given range: is --gyro-range right?",
+                    seen(&c)
+                );
+            }
+            if device.peak_rads > r {
+                t += &format!(
+                    "; warning: the data reach {:.2} rad/s, above the given range",
+                    device.peak_rads
+                );
+            }
+            (Some(r), t)
+        }
+        (None, Some(c)) => (
+            Some(c.range_rads()),
+            format!(
+                "clipping detected: {}; clipped swing peaks repaired above {:.2} rad/s (--gyro-range RAD_S to set the device's range instead)",
+                seen(&c),
+                c.ceiling_rads
+            ),
+        ),
+        (None, None) => (
+            None,
+            format!(
+                "no clipping detected (peak {:.2} rad/s, no flat tops at a constant ceiling): nothing repaired (--gyro-range RAD_S if the device's range is known)",
+                device.peak_rads
+            ),
+        ),
+    }
 }
 
 /// The alignment of a foot calibration file (`stridekit calibrate foot`).
@@ -161,14 +243,19 @@ pub fn calibrate(
     let mut walks = Vec::new();
     let mut config: Option<FootConfig> = None;
     let mut report = String::new();
-    for file in files {
-        let rec = read_foot_csv(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let recs = files
+        .iter()
+        .map(|file| read_foot_csv(file).map_err(|e| format!("{}: {e}", file.display())))
+        .collect::<Result<Vec<_>, _>>()?;
+    // One device: its evidence from all the walks.
+    let device = evidence(&recs.iter().collect::<Vec<_>>());
+    for (file, rec) in files.iter().zip(recs) {
         let args = FootArgs {
             axes: axes.clone(),
             imu,
             ..Default::default()
         };
-        let (c, described) = config_for(&args, rec.format)?;
+        let (c, described) = config_for(&args, rec.format, &device)?;
         if config.as_ref().is_some_and(|k| *k != c) {
             return Err(format!(
                 "{}: another layout than the first file (give --axes and --imu)",
@@ -281,13 +368,46 @@ fn plot_stances(path: &Path, fit: &stridekit_lab::foot::alignment::LevelFit) -> 
     .map_err(|e| format!("{}: {e}", path.display()))
 }
 
-pub fn run(args: &FootArgs) -> Result<(), String> {
+pub fn run(args: &FootArgs) -> Result<(), Failure> {
     let file = &args.file;
-    let out = &args.out;
-    let mut rec = read_foot_csv(file).map_err(|e| format!("{}: {e}", file.display()))?;
-    let (config, described) = config_for(args, rec.format)?;
+    let what = |e| crate::input::read_error(file, e, EXPECTS);
+    match stridekit_formats::sniff(file).map_err(what)?.content {
+        Content::Foot(_) | Content::Broad | Content::Unknown => {}
+        other => return Err(crate::input::other_content(file, other, EXPECTS).into()),
+    }
+    let mut rec = read_foot_csv(file).map_err(what)?;
+    if rec.truncated {
+        crate::input::warn_truncated(file);
+    }
+    // (--axes is checked by clap: what can fail here is the calibration file.)
+    let (config, described) =
+        config_for(args, rec.format, &evidence(&[&rec])).map_err(|e| match args.calibration {
+            Some(_) => crate::outcome::usage("--calibration", e),
+            None => Failure::Failed(e),
+        })?;
     if let Some(t) = rec.truth_m.as_mut() {
         stridekit_lab::foot::eval::mirror_truth(t);
+    }
+    if let Some(l) = args
+        .labels
+        .as_deref()
+        .filter(|l| !["best", "runner-up"].contains(l))
+    {
+        if rec.label(l).is_none() {
+            let have: Vec<String> = rec.labels.iter().map(|(n, _)| format!("zv_{n}")).collect();
+            return Err(crate::outcome::usage(
+                "--labels",
+                format!(
+                    "{}: no label column zv_{l} (the file has: {})",
+                    file.display(),
+                    if have.is_empty() {
+                        "none".to_string()
+                    } else {
+                        have.join(", ")
+                    }
+                ),
+            ));
+        }
     }
     let unreadable = (rec.unreadable_rows, rec.first_unreadable_line);
     let trial = Trial {
@@ -323,8 +443,8 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
         ),
         None => None,
     };
-    println!("{}: {}", trial.rec.name, described);
-    println!(
+    say!("{}: {}", trial.rec.name, described);
+    say!(
         "  {} rows, {} samples skipped: {}",
         trial.rec.len() + unreadable.0,
         replayed.skipped.total() + unreadable.0,
@@ -342,13 +462,14 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
         }
     );
     if let Some((i, e)) = &replayed.skipped.first {
-        println!("  first skipped: row {} ({e})", i + 2);
+        say!("  first skipped: row {} ({e})", i + 2);
     }
     if est.is_empty() {
         return Err(format!(
             "{}: no estimate: the navigator never aligned (it needs {} s of rest at the start, in m/s² and rad/s)",
             trial.rec.name, m.config.alignment_s
-        ));
+        )
+        .into());
     }
     // Truth per estimate, in the estimate's frame.
     let truth: Option<Vec<[f64; 3]>> = trial.rec.truth_m.as_ref().map(|t| {
@@ -358,20 +479,22 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
         g.iter().map(|p| into_estimate_frame(th, tr, *p)).collect()
     });
 
-    write_csv(out, est, truth.as_deref())?;
-    let (top, height) = svg_paths(out);
-    plot(
-        &top,
-        &height,
-        &trial.rec.name,
-        est,
-        unlevelled.as_deref(),
-        truth.as_deref(),
-    )?;
+    write_csv(&args.sink, est, truth.as_deref())?;
+    let plots = args.sink.path().map(svg_paths);
+    if let Some((top, height)) = &plots {
+        plot(
+            top,
+            height,
+            &trial.rec.name,
+            est,
+            unlevelled.as_deref(),
+            truth.as_deref(),
+        )?;
+    }
 
     let first = est[0].1;
     let last = est[est.len() - 1].1;
-    println!(
+    say!(
         "  {} estimates at {:.1} Hz (detector window {} samples), {} strides, {:.2} m walked, {:.1} s",
         est.len(),
         replayed.rate_hz,
@@ -391,7 +514,7 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
             (Some(a), Some(b)) => b.1.position_m[2] - a.1.position_m[2],
             _ => 0.0,
         };
-        println!(
+        say!(
             "  level floor: {} of {} strides taken as level, their height change set to zero ({:+.3} m in all, median {:+.3} m per levelled stride); the other strides climbed {:+.3} m; the filter's own height ends at {:+.3} m (--no-level-floor)",
             levelled.len(),
             strides.len(),
@@ -410,13 +533,20 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
         .collect();
     let d3 = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
     let dh = d[0].hypot(d[1]);
-    let pct = |x: f64| 100.0 * x / last.distance_m.max(1e-9);
-    println!(
-        "  end − start: ({:.3}, {:.3}, {:.3}) m ENU; 3-D {:.3} m = {:.2} % of the distance walked, horizontal {:.3} m = {:.2} %, height {:+.3} m (loop closure, for a walk that ends where it starts)",
+    // A share of the distance walked; none when the foot did not walk.
+    let pct = |x: f64| {
+        if last.distance_m > MIN_WALKED_M {
+            format!("{:.2} %", 100.0 * x / last.distance_m)
+        } else {
+            "— % (nothing walked)".into()
+        }
+    };
+    say!(
+        "  end − start: ({:.3}, {:.3}, {:.3}) m ENU; 3-D {:.3} m = {} of the distance walked, horizontal {:.3} m = {}, height {:+.3} m (loop closure, for a walk that ends where it starts)",
         d[0], d[1], d[2], d3, pct(d3), dh, pct(dh), d[2]
     );
     if replayed.resets > 0 {
-        println!("  divergence-guard resets: {}", replayed.resets);
+        say!("  divergence-guard resets: {}", replayed.resets);
     }
     if let Some(g) = &truth {
         let se: f64 = est
@@ -437,19 +567,81 @@ pub fn run(args: &FootArgs) -> Result<(), String> {
                     .sum::<f64>()
             })
             .sum();
-        println!(
+        say!(
             "  position RMSE against the aligned truth: {:.3} m (horizontal {:.3} m)",
             (se / est.len() as f64).sqrt(),
             (sh / est.len() as f64).sqrt()
         );
     }
-    println!(
-        "  trajectory in {}, plots in {} and {}",
-        out.display(),
-        top.display(),
-        height.display()
+    say!(
+        "  rests on: the IMU alone (zero-velocity updates at each stance; no GNSS, no step-length model); accelerometer alignment: {}",
+        match &args.calibration {
+            Some(f) => format!("the device calibration {}", f.display()),
+            None => "none given (`stridekit calibrate foot` learns it from level walks; without it the height may climb by a centimetre a stride, see docs/foot.md)".into(),
+        }
     );
-    Ok(())
+    match &plots {
+        Some((top, height)) => say!(
+            "  trajectory in {}, plots in {} and {}",
+            args.sink.name(),
+            top.display(),
+            height.display()
+        ),
+        None => say!("  trajectory on stdout (no plots)"),
+    }
+    usable(&replayed.skipped, trial.rec.len(), last.strides)
+}
+
+/// Fails when the replay produced nothing usable: no stride, or the samples refused
+/// for their units (in g, timestamps not in seconds) outnumber the accepted ones.
+fn usable(
+    skipped: &stridekit_lab::foot::Skipped,
+    samples: usize,
+    strides: u64,
+) -> Result<(), Failure> {
+    let mut causes = Vec::new();
+    if strides == 0 {
+        causes.push(if skipped.total() >= samples {
+            "no stride: every sample was refused".to_string()
+        } else {
+            "no stride detected: no trajectory (the foot never left a stance the detector saw)"
+                .to_string()
+        });
+    }
+    let units = [
+        (
+            skipped.in_g,
+            "accelerations look like g, not m/s² (multiply by 9.80665)",
+        ),
+        (
+            skipped.time_unit,
+            skipped
+                .time_unit_message
+                .as_deref()
+                .unwrap_or("timestamps not in seconds"),
+        ),
+    ];
+    for (n, why) in units {
+        if 2 * n > samples {
+            causes.push(format!(
+                "the IMU stream was refused for its units ({n} of its samples): {why}"
+            ));
+        }
+    }
+    if causes.is_empty() {
+        Ok(())
+    } else {
+        Err(Failure::Failed(causes.join("; ")))
+    }
+}
+
+/// `v` with `decimals` decimals, without a sign on a value that rounds to zero.
+fn fixed(v: f64, decimals: usize) -> String {
+    let text = format!("{v:.decimals$}");
+    match text.strip_prefix('-') {
+        Some(rest) if rest.bytes().all(|b| b == b'0' || b == b'.') => rest.to_string(),
+        _ => text,
+    }
 }
 
 /// `DIR/NAME.csv` → (`DIR/NAME.svg`, `DIR/NAME_height.svg`).
@@ -465,39 +657,35 @@ fn svg_paths(out: &Path) -> (PathBuf, PathBuf) {
 }
 
 fn write_csv(
-    out: &Path,
+    sink: &Sink,
     est: &[(usize, FootEstimate)],
     truth: Option<&[[f64; 3]]>,
-) -> Result<(), String> {
-    let io = |e: std::io::Error| format!("{}: {e}", out.display());
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(io)?;
-    }
-    let mut w = std::io::BufWriter::new(std::fs::File::create(out).map_err(io)?);
-    writeln!(w, "t_s,x_m,y_m,z_m,vx_mps,vy_mps,vz_mps,yaw_rad,stance,strides,distance_m,gt_x_m,gt_y_m,gt_z_m").map_err(io)?;
+) -> Result<(), Failure> {
+    let name = sink.name();
+    let io = write_error(&name);
+    let mut w = sink.open()?;
+    writeln!(w, "t_s,east_m,north_m,up_m,v_east_mps,v_north_mps,v_up_mps,yaw_rad,stance,strides,distance_m,gt_east_m,gt_north_m,gt_up_m").map_err(&io)?;
+    // Positions and distances to 0.1 mm, velocities to 0.1 mm/s, yaw to 1e-5 rad,
+    // time to 1 µs: finer than the navigator resolves (and than VICON's truth).
+    let mm = |v: f64| fixed(v, 4);
     for (j, (_, e)) in est.iter().enumerate() {
         let gs = truth.map_or(",,".to_string(), |g| {
-            format!("{},{},{}", g[j][0], g[j][1], g[j][2])
+            format!("{},{},{}", mm(g[j][0]), mm(g[j][1]), mm(g[j][2]))
         });
+        let [x, y, z] = e.position_m.map(mm);
+        let [vx, vy, vz] = e.velocity_mps.map(mm);
         writeln!(
             w,
-            "{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{:.6},{x},{y},{z},{vx},{vy},{vz},{},{},{},{},{gs}",
             e.t_s,
-            e.position_m[0],
-            e.position_m[1],
-            e.position_m[2],
-            e.velocity_mps[0],
-            e.velocity_mps[1],
-            e.velocity_mps[2],
-            e.yaw_rad,
+            fixed(e.yaw_rad, 5),
             e.stance as u8,
             e.strides,
-            e.distance_m,
-            gs
+            mm(e.distance_m),
         )
-        .map_err(io)?;
+        .map_err(&io)?;
     }
-    w.flush().map_err(io)
+    w.flush().map_err(&io)
 }
 
 fn plot(
@@ -673,11 +861,11 @@ mod tests {
         assert_eq!(rec.unreadable_rows, 1);
         let args = FootArgs {
             file: file.clone(),
-            out: dir.join("walk_out.csv"),
+            sink: Sink::from_arg(&dir.join("walk_out.csv"), "csv").unwrap(),
             axes: Some("flu".into()),
             ..Default::default()
         };
-        let (config, _) = config_for(&args, rec.format).unwrap();
+        let (config, _) = config_for(&args, rec.format, &evidence(&[&rec])).unwrap();
         assert!(
             config.gyro_bias_from_alignment,
             "x-io: consumer profile by default"
@@ -753,16 +941,16 @@ mod tests {
         assert!((a[1] - truth).abs() < 0.003, "{a:?}");
         let args = FootArgs {
             file: file.clone(),
-            out: dir.join("out.csv"),
+            sink: Sink::from_arg(&dir.join("out.csv"), "csv").unwrap(),
             calibration: Some(cal.clone()),
             ..Default::default()
         };
-        let (config, described) = config_for(&args, FootFormat::Xio).unwrap();
+        let (config, described) = config_for(&args, FootFormat::Xio, &Evidence::default()).unwrap();
         assert_eq!(config.accel_alignment_rad, a);
         assert!(described.contains("accelerometer alignment"), "{described}");
         run(&args).unwrap();
         std::fs::write(&cal, "not a calibration\n").unwrap();
-        let e = config_for(&args, FootFormat::Xio).unwrap_err();
+        let e = config_for(&args, FootFormat::Xio, &Evidence::default()).unwrap_err();
         assert!(e.contains("imu.cal"), "{e}");
         std::fs::remove_dir_all(&dir).ok();
     }
@@ -773,8 +961,106 @@ mod tests {
             axes: Some("x,y,-z".into()),
             ..Default::default()
         };
-        let e = config_for(&args, FootFormat::Xio).unwrap_err();
+        let e = config_for(&args, FootFormat::Xio, &Evidence::default()).unwrap_err();
         assert!(e.contains("mirror"), "{e}");
+    }
+
+    /// A trial of the UofT VICON set in `../shared/data`, or `None` (the test skips,
+    /// saying why).
+    fn uoft_trial(name: &str) -> Option<stridekit_formats::FootRecording> {
+        let Some(path) = stridekit_formats::data_dir()
+            .map(|d| d.join("foot/pyshoe-vicon").join(format!("{name}.csv")))
+            .filter(|p| p.exists())
+        else {
+            eprintln!("skipping: ../shared/data/foot/pyshoe-vicon/{name}.csv not found (set STRIDEKIT_DATA)");
+            return None;
+        };
+        Some(read_foot_csv(&path).unwrap())
+    }
+
+    /// Issue 36 item 6, real data: the MicroStrain's pitch rate on 2017-11-22-11-44-47
+    /// stops at about 9.13 rad/s in 15 swings. The data say so, and the ceiling found is
+    /// the clip's; the same motion with every rate ×1.5, as an IMU of 1.5× the range
+    /// clipped at 1.5× the rate would record it, is clipped at ×1.5, not at 9.2 rad/s.
+    #[test]
+    fn a_real_clipped_gyroscope_is_detected_at_its_own_ceiling() {
+        let Some(rec) = uoft_trial("2017-11-22-11-44-47") else {
+            return;
+        };
+        let (config, text) =
+            config_for(&FootArgs::default(), rec.format, &evidence(&[&rec])).unwrap();
+        let r = config.gyro_range_rads.expect("clipping detected");
+        assert!((9.0..9.15).contains(&(0.99 * r)), "{r}: {text}");
+        assert!(text.contains("clipping detected"), "{text}");
+        assert!(text.contains("on sensor y−"), "{text}");
+        assert!(!config.gyro_bias_from_alignment, "UofT: calibrated: {text}");
+
+        let mut wide = rec.clone();
+        wide.gyro_rads.iter_mut().flatten().for_each(|w| *w *= 1.5);
+        let c = evidence(&[&wide]).ceiling.expect("still clipped");
+        assert!((1.5 * 9.0..1.5 * 9.15).contains(&c.ceiling_rads), "{c:?}");
+    }
+
+    /// Issue 36 item 6, real data: a trial that never clips (2017-11-22-11-26-05,
+    /// peak 8.99 rad/s) with every rate ×1.3, its swing peaks at 11.7 rad/s as from a
+    /// wider-range IMU on a faster foot, written as a plain `t_s,acc_*,gyr_*` CSV of an
+    /// unknown device. Before: the layout meant the UofT MicroStrain, so the calibrated
+    /// profile and a 9.2 rad/s range whose "repair" added rotation to every peak above
+    /// 9.1 rad/s. Now: no flat tops, no range, nothing repaired, the consumer profile,
+    /// and the replay says so.
+    #[test]
+    fn a_wider_range_imu_is_not_repaired_at_the_microstrain_ceiling() {
+        let Some(rec) = uoft_trial("2017-11-22-11-26-05") else {
+            return;
+        };
+        let dir = std::env::temp_dir().join(format!("stridekit-widegyro-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("wide.csv");
+        let mut text =
+            String::from("t_s,acc_x_mps2,acc_y_mps2,acc_z_mps2,gyr_x_rads,gyr_y_rads,gyr_z_rads\n");
+        for i in 0..rec.len() {
+            let (a, w) = (rec.accel_mps2[i], rec.gyro_rads[i].map(|w| 1.3 * w));
+            text += &format!(
+                "{},{},{},{},{},{},{}\n",
+                rec.t_s[i], a[0], a[1], a[2], w[0], w[1], w[2]
+            );
+        }
+        std::fs::write(&file, text).unwrap();
+        let wide = read_foot_csv(&file).unwrap();
+        let device = evidence(&[&wide]);
+        assert!(device.peak_rads > 11.0, "{}", device.peak_rads);
+        assert_eq!(device.ceiling, None);
+        let args = FootArgs {
+            file: file.clone(),
+            sink: Sink::from_arg(&dir.join("out.csv"), "csv").unwrap(),
+            ..Default::default()
+        };
+        let (config, described) = config_for(&args, wide.format, &device).unwrap();
+        assert_eq!(config.gyro_range_rads, None, "{described}");
+        assert!(config.gyro_bias_from_alignment, "consumer: {described}");
+        assert!(described.contains("no clipping detected"), "{described}");
+        assert!(described.contains("IMU profile consumer"), "{described}");
+        // A range the user gives is used, and one the data contradict is questioned.
+        let (config, described) = config_for(
+            &FootArgs {
+                gyro_range_rads: Some(9.2),
+                ..args.clone()
+            },
+            wide.format,
+            &device,
+        )
+        .unwrap();
+        assert_eq!(config.gyro_range_rads, Some(9.2));
+        assert!(described.contains("above the given range"), "{described}");
+        run(&args).unwrap();
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn numbers_are_written_to_their_precision() {
+        assert_eq!(fixed(-0.00000014, 4), "0.0000");
+        assert_eq!(fixed(-0.00012, 4), "-0.0001");
+        assert_eq!(fixed(0.028743696105534, 4), "0.0287");
     }
 
     #[test]

@@ -7,22 +7,32 @@
 //! `*.txt.gz`, see `stridekit pdr`) is read as well; when it holds Android's own
 //! rotation vector, the RMS difference to it is printed as a second opinion (Android's
 //! fusion is not truth; the first few seconds, while both settle, are not scored).
+//! The format is told by the content. The summary says whether the heading rests on
+//! the magnetometer; a replay with no accepted sample (or whose IMU stream was
+//! refused for its units) exits 1.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use stridekit_core::ahrs::{Ahrs, AhrsFlags, AhrsSettings};
-use stridekit_formats::{is_android_log, read_android_log, read_broad};
+use stridekit_formats::{read_android_log, read_broad, Content, FootFormat};
 
 use stridekit_lab::orientation::metric::{error_angles, ErrorSums};
 use stridekit_lab::rejected::Rejected;
 use stridekit_lab::report::{line_chart, Chart, Series, Style, YFormat};
 
+use crate::outcome::{check_usable, write_error, Failure};
+use crate::output::{say, Sink};
+
+/// What `stridekit orientation` reads, for messages.
+const EXPECTS: &str = "an IMU recording (a BROAD CSV, plain or gzip, or an Android sensor log)";
+
 /// Options of `stridekit orientation`.
 #[derive(Clone, Debug)]
 pub struct OrientationArgs {
     pub file: PathBuf,
-    pub out: PathBuf,
+    /// Where the CSV goes (the chart beside a file).
+    pub sink: Sink,
     /// Ignore the magnetometer (heading relative to the start).
     pub imu_only: bool,
 }
@@ -42,12 +52,19 @@ struct Row {
     reference: Option<[f64; 4]>,
 }
 
-pub fn run(args: &OrientationArgs) -> Result<(), String> {
-    let what = |e: &dyn std::fmt::Display| format!("{}: {e}", args.file.display());
-    let android = is_android_log(&args.file);
+pub fn run(args: &OrientationArgs) -> Result<(), Failure> {
+    let what = |e| crate::input::read_error(&args.file, e, EXPECTS);
+    let android = match stridekit_formats::sniff(&args.file).map_err(what)?.content {
+        Content::AndroidLog => true,
+        // A pyshoe foot CSV has the BROAD columns but the magnetometer and the truth.
+        Content::Broad | Content::Foot(FootFormat::Pyshoe) | Content::Unknown => false,
+        other => return Err(crate::input::other_content(&args.file, other, EXPECTS).into()),
+    };
     let mut reader_skipped: Vec<(String, u64)> = Vec::new();
+    let truncated;
     let rows: Vec<Row> = if android {
-        let rec = read_android_log(&args.file).map_err(|e| what(&e))?;
+        let rec = read_android_log(&args.file).map_err(what)?;
+        truncated = rec.truncated;
         reader_skipped.clone_from(&rec.skipped);
         let t0 = rec.samples.first().map_or(0.0, |s| s.t_s);
         let rv = &rec.orientation;
@@ -75,7 +92,8 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
             })
             .collect()
     } else {
-        let rec = read_broad(&args.file).map_err(|e| what(&e))?;
+        let rec = read_broad(&args.file).map_err(what)?;
+        truncated = rec.truncated;
         reader_skipped.extend(rec.unreadable.reason());
         rec.samples
             .iter()
@@ -90,16 +108,18 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
             })
             .collect()
     };
-    let mut ahrs = Ahrs::new(AhrsSettings::default()).map_err(|e| e.to_string())?;
-    let file =
-        std::fs::File::create(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
-    let mut w = std::io::BufWriter::new(file);
-    let io = |e: std::io::Error| format!("{}: {e}", args.out.display());
-    write!(w, "t_s,qw,qx,qy,qz").map_err(io)?;
-    for name in AhrsFlags::NAMES {
-        write!(w, ",{name}").map_err(io)?;
+    if truncated {
+        crate::input::warn_truncated(&args.file);
     }
-    writeln!(w).map_err(io)?;
+    let mut ahrs = Ahrs::new(AhrsSettings::default()).map_err(|e| e.to_string())?;
+    let sink_name = args.sink.name();
+    let io = write_error(&sink_name);
+    let mut w = args.sink.open()?;
+    write!(w, "t_s,qw,qx,qy,qz").map_err(&io)?;
+    for name in AhrsFlags::NAMES {
+        write!(w, ",{name}").map_err(&io)?;
+    }
+    writeln!(w).map_err(&io)?;
     let mut rejected = Rejected::default();
     let mut sums = ErrorSums::default();
     let mut accepted = 0usize;
@@ -120,11 +140,11 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
                     "{:.6},{:.9},{:.9},{:.9},{:.9}",
                     s.t_s, q[0], q[1], q[2], q[3]
                 )
-                .map_err(io)?;
+                .map_err(&io)?;
                 for f in flags.to_array() {
-                    write!(w, ",{}", f as u8).map_err(io)?;
+                    write!(w, ",{}", f as u8).map_err(&io)?;
                 }
-                writeln!(w).map_err(io)?;
+                writeln!(w).map_err(&io)?;
                 if let Some(t) = &s.reference {
                     sums.add(&q, t);
                 }
@@ -151,16 +171,20 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
             Err(e) => rejected.ahrs(&e),
         }
     }
-    w.flush().map_err(io)?;
-    let svg = args.out.with_extension("svg");
+    w.flush().map_err(&io)?;
+    drop(w);
+    let svg = args.sink.beside("svg");
     let reference_name = if android {
         "Android's rotation vector"
     } else {
         "the optical truth"
     };
     let chart = |series: Vec<Series>, title: String, y_label: &str| {
+        let Some(svg) = &svg else {
+            return Ok(());
+        };
         line_chart(
-            &svg,
+            svg,
             &Chart {
                 title: &title,
                 x_label: "time (s)",
@@ -208,15 +232,34 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
             "error angle (°)",
         )?;
     }
-    println!(
+    say!(
         "{}: {} samples, {accepted} accepted, written to {}",
         display_name(&args.file),
         rows.len(),
-        args.out.display()
+        sink_name
     );
-    print!("{}", rejected.report());
+    for line in rejected.report().lines() {
+        say!("{line}");
+    }
     for (why, n) in &reader_skipped {
-        println!("  skipped by the reader {n}: {why}");
+        say!("  skipped by the reader {n}: {why}");
+    }
+    if accepted > 0 {
+        let with_mag = rows.iter().filter(|r| r.mag_ut.is_some()).count();
+        say!(
+            "  rests on: the gyroscope and the accelerometer (tilt); heading: {}",
+            if args.imu_only {
+                "relative to the start (--imu-only): it drifts with the gyroscope's bias"
+                    .to_string()
+            } else if with_mag == 0 {
+                "relative to the start (no magnetometer in the file): it drifts with the gyroscope's bias".to_string()
+            } else {
+                format!(
+                    "the magnetometer (north; {:.0} % of the samples have one) with its disturbances rejected",
+                    100.0 * with_mag as f64 / rows.len() as f64
+                )
+            }
+        );
     }
     if sums.n > 0 {
         let r = sums.rmse();
@@ -233,18 +276,25 @@ pub fn run(args: &OrientationArgs) -> Result<(), String> {
             )
         };
         if args.imu_only {
-            println!(
+            say!(
                 "{against}: inclination RMSE {:.2}° (IMU only: the heading is relative to the start)",
                 r.inclination_deg
             );
         } else {
-            println!(
+            say!(
                 "{against}: RMSE total {:.2}°, heading {:.2}°, inclination {:.2}°",
-                r.total_deg, r.heading_deg, r.inclination_deg
+                r.total_deg,
+                r.heading_deg,
+                r.inclination_deg
             );
         }
     }
-    Ok(())
+    check_usable(
+        accepted > 0,
+        "no orientation: no sample was accepted",
+        &rejected,
+        &[("IMU", rows.len() as u64)],
+    )
 }
 
 /// Chart points per second of recording.

@@ -1,8 +1,101 @@
 //! Output files of the commands: the folders are created, a missing extension is
 //! added (`--out traj` writes `traj.csv`), and the command says what it wrote and
-//! whether it replaced a file.
+//! whether it replaced a file. `--out -` sends a replay's CSV to stdout; its summary
+//! then goes to stderr ([`say!`]), else to stdout.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use crate::outcome::{write_error, Failure};
+
+/// The summary goes to stderr (stdout carries the CSV).
+static SUMMARY_TO_STDERR: AtomicBool = AtomicBool::new(false);
+
+/// Print one line of a command's summary: to stdout, or to stderr when stdout
+/// carries the CSV (`--out -`).
+macro_rules! say {
+    ($($arg:tt)*) => {
+        $crate::output::say_line(format_args!($($arg)*))
+    };
+}
+pub(crate) use say;
+
+/// See [`say!`].
+pub fn say_line(line: std::fmt::Arguments) {
+    if SUMMARY_TO_STDERR.load(Ordering::Relaxed) {
+        eprintln!("{line}");
+    } else {
+        println!("{line}");
+    }
+}
+
+/// Where a replay's CSV goes: a file (`--out FILE`) or stdout (`--out -`).
+#[derive(Clone, Debug)]
+pub enum Sink {
+    File(OutFile),
+    Stdout,
+}
+
+/// Stdout: where a CSV goes when no file is named (only for options built in code;
+/// the commands' `--out` has a file name as its default).
+impl Default for Sink {
+    fn default() -> Self {
+        Sink::Stdout
+    }
+}
+
+impl Sink {
+    /// `-`: stdout (the summary then goes to stderr); else [`OutFile::prepare`].
+    pub fn from_arg(path: &Path, ext: &str) -> Result<Self, String> {
+        if path == Path::new("-") {
+            SUMMARY_TO_STDERR.store(true, Ordering::Relaxed);
+            Ok(Sink::Stdout)
+        } else {
+            OutFile::prepare(path, ext).map(Sink::File)
+        }
+    }
+
+    /// The file, `None` for stdout.
+    pub fn path(&self) -> Option<&Path> {
+        match self {
+            Sink::File(f) => Some(&f.path),
+            Sink::Stdout => None,
+        }
+    }
+
+    /// A file beside the CSV, the CSV's name with `ext` (`traj.csv` → `traj.svg`);
+    /// `None` when the CSV goes to stdout (charts are not written then).
+    pub fn beside(&self, ext: &str) -> Option<PathBuf> {
+        self.path().map(|p| p.with_extension(ext))
+    }
+
+    /// A buffered writer to the file or stdout.
+    pub fn open(&self) -> Result<Box<dyn Write>, Failure> {
+        Ok(match self {
+            Sink::File(f) => Box::new(std::io::BufWriter::new(
+                std::fs::File::create(&f.path).map_err(write_error(&f.path.to_string_lossy()))?,
+            )),
+            Sink::Stdout => Box::new(std::io::BufWriter::new(std::io::stdout().lock())),
+        })
+    }
+
+    /// What the CSV is written to, for messages.
+    pub fn name(&self) -> String {
+        match self {
+            Sink::File(f) => f.path.display().to_string(),
+            Sink::Stdout => "stdout".into(),
+        }
+    }
+
+    /// "wrote PATH" (and "(replaced)"), `None` for stdout.
+    pub fn wrote(&self) -> Option<String> {
+        match self {
+            Sink::File(f) => Some(f.wrote()),
+            Sink::Stdout => None,
+        }
+    }
+}
 
 /// A file a command is about to write.
 #[derive(Clone, Debug)]
@@ -67,6 +160,8 @@ mod tests {
         assert!(again.wrote().ends_with("(replaced)"));
         std::fs::create_dir_all(dir.join("folder.csv")).unwrap();
         assert!(OutFile::prepare(&dir.join("folder.csv"), "csv").is_err());
+        let file = Sink::from_arg(&dir.join("traj"), "csv").unwrap();
+        assert_eq!(file.beside("svg"), Some(dir.join("traj.svg")));
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

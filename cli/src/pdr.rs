@@ -14,31 +14,44 @@
 //! and beside it (same name, `.svg`) the track with the recording's waypoints
 //! carried into the track's frame by the best rotation + translation (the map's axes
 //! are not north-aligned). Rejected samples are skipped and counted by reason; the
-//! accuracy measures are printed when the file has at least two waypoints.
+//! accuracy measures are printed when the file has at least two waypoints. The
+//! summary says what the step length (the model with population parameters, or a
+//! calibration) and the heading (magnetometer or not) rest on; a replay with no step
+//! (or whose IMU stream was refused for its units) exits 1.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use stridekit_lab::pdr::metrics::{apply_rigid, best_rigid, evaluate, track_at};
 use stridekit_lab::pdr::walks::{load_walk, replay, ReplayOptions};
 use stridekit_lab::report::{track_chart, Series, Style};
 
+use crate::basis::{PDR_CALIBRATED, PDR_PRIOR};
+use crate::outcome::{check_usable, write_error, Failure};
+use crate::output::{say, Sink};
+
 /// Options of `stridekit pdr`.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct PdrArgs {
     pub file: PathBuf,
-    /// Trajectory CSV (default `pdr_trajectory.csv`); the SVG goes beside it.
-    pub out: Option<PathBuf>,
+    /// Where the trajectory CSV goes (the SVG beside a file).
+    pub sink: Sink,
     pub calibration: Option<PathBuf>,
     pub no_mag: bool,
     /// The gyroscope is raw (`NavigatorConfig::gyro_calibrated` false).
     pub raw_gyro: bool,
 }
 
-pub fn run(a: &PdrArgs) -> Result<String, String> {
+pub fn run(a: &PdrArgs) -> Result<(), Failure> {
     let walk = load_walk(&a.file)?;
+    if walk.rec.truncated {
+        crate::input::warn_truncated(&a.file);
+    }
     let calibration = match &a.calibration {
-        Some(p) => Some(stridekit_lab::pdr::calibrate::read(p)?),
+        Some(p) => Some(
+            stridekit_lab::pdr::calibrate::read(p)
+                .map_err(|e| crate::outcome::usage("--calibration", e))?,
+        ),
         None => None,
     };
     let o = ReplayOptions {
@@ -51,30 +64,25 @@ pub fn run(a: &PdrArgs) -> Result<String, String> {
         ..Default::default()
     };
     let r = replay(&walk.rec, &o)?;
-    let out = a
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("pdr_trajectory.csv"));
-    write_csv(&out, &r.steps)?;
-    let svg = out.with_extension("svg");
+    write_csv(&a.sink, &r.steps)?;
+    let svg = a.sink.beside("svg");
     let mut summary = format!(
-        "{}: {} samples, {} steps, {:.1} m walked; trajectory {} ({} rows), plot {}\n",
+        "{}: {} samples, {} steps, {:.1} m walked; trajectory {} ({} rows){}\n",
         walk.rec.name,
         walk.rec.samples.len(),
         r.steps.len(),
         r.steps.last().map_or(0.0, |s| s.distance_m),
-        out.display(),
+        a.sink.name(),
         r.steps.len(),
-        svg.display()
+        svg.as_ref()
+            .map(|s| format!(", plot {}", s.display()))
+            .unwrap_or_default()
     );
-    if r.rejected.is_empty() {
+    if r.rejected.total() == 0 {
         summary += "rejected samples: none\n";
     } else {
-        let total: u64 = r.rejected.values().sum();
-        summary += &format!("rejected samples: {total}\n");
-        for (why, n) in &r.rejected {
-            summary += &format!("  skipped {n}: {why}\n");
-        }
+        summary += &format!("rejected samples: {}\n", r.rejected.total());
+        summary += &r.rejected.report();
     }
     for (why, n) in &walk.rec.skipped {
         summary += &format!("  skipped by the reader {n}: {why}\n");
@@ -123,14 +131,39 @@ pub fn run(a: &PdrArgs) -> Result<String, String> {
             );
         }
     }
-    track_chart(&svg, &walk.rec.name, &series).map_err(|e| e.to_string())?;
-    Ok(summary)
+    if let Some(svg) = &svg {
+        track_chart(svg, &walk.rec.name, &series).map_err(|e| e.to_string())?;
+    }
+    if !r.steps.is_empty() {
+        summary += &format!(
+            "rests on: no GNSS; step length: {}; heading: {}\n",
+            match &a.calibration {
+                Some(f) => format!("{} ({PDR_CALIBRATED})", f.display()),
+                None => PDR_PRIOR.to_string(),
+            },
+            if a.no_mag {
+                "the gyroscope from the initial heading (--no-mag: north is not known)"
+            } else if walk.rec.samples.iter().any(|s| s.mag_ut.is_some()) {
+                "the magnetometer (north) and the gyroscope"
+            } else {
+                "the gyroscope from the initial heading (no magnetometer in the file: north is not known)"
+            }
+        );
+    }
+    say!("{}", summary.trim_end());
+    check_usable(
+        !r.steps.is_empty(),
+        "no step detected: no trajectory",
+        &r.rejected,
+        &[("IMU", walk.rec.samples.len() as u64)],
+    )
 }
 
-fn write_csv(path: &Path, steps: &[stridekit_lab::pdr::walks::StepRow]) -> Result<(), String> {
-    let err = |e: std::io::Error| format!("{}: {e}", path.display());
-    let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(err)?);
-    writeln!(f, "t_s,east_m,north_m,step_length_m,azimuth_deg,steps").map_err(err)?;
+fn write_csv(sink: &Sink, steps: &[stridekit_lab::pdr::walks::StepRow]) -> Result<(), Failure> {
+    let name = sink.name();
+    let err = write_error(&name);
+    let mut f = sink.open()?;
+    writeln!(f, "t_s,east_m,north_m,step_length_m,azimuth_deg,steps").map_err(&err)?;
     for (i, s) in steps.iter().enumerate() {
         writeln!(
             f,
@@ -142,7 +175,7 @@ fn write_csv(path: &Path, steps: &[stridekit_lab::pdr::walks::StepRow]) -> Resul
             s.azimuth_rad.to_degrees(),
             i + 1
         )
-        .map_err(err)?;
+        .map_err(&err)?;
     }
-    f.flush().map_err(err)
+    f.flush().map_err(&err)
 }

@@ -1,27 +1,37 @@
 //! `stridekit steps FILE [--out steps.csv]`: replay a phone accelerometer recording
 //! through the default step detector and write one row per detected step.
 //!
-//! Inputs (chosen by [`read_recording`]): an Oxford Step Counter trace folder (its
-//! `accelerometer.csv`, and `stepcounter.csv` as a reference when present) or an
-//! Oxford-format `accelerometer.csv` itself. Further formats (the Android sensor-log
-//! reader of the PDR work) plug in as one more arm of [`read_recording`] returning an
-//! [`AccelRecording`].
+//! Inputs (chosen by [`read_recording`] from the content, not the name): an Oxford
+//! Step Counter trace folder (its `accelerometer.csv`, and `stepcounter.csv` as a
+//! reference when present), an Oxford-format accelerometer CSV under any name, or an
+//! Android sensor log (plain or gzip). Another format plugs in as one more arm of
+//! [`read_recording`] returning an [`AccelRecording`].
 //!
 //! Samples the detector rejects (duplicate or reversed timestamps, NaN, out of range,
-//! samples in g) are skipped and counted by reason (stderr), never abort the replay.
+//! samples in g) are skipped and counted by reason, never abort the replay; a replay
+//! with no step (or whose stream was refused for its units) exits 1.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use stridekit_core::stepdetect::{StepDetector, StepDetectorConfig, StepEvent};
+use stridekit_formats::Content;
 
 use stridekit_lab::rejected::Rejected;
+
+use crate::basis::STEPS_DETECTOR;
+use crate::outcome::{check_usable, write_error, Failure};
+use crate::output::{say, Sink};
+
+/// What `stridekit steps` reads, for messages.
+const EXPECTS: &str = "an accelerometer recording (an Oxford Step Counter trace folder, an \
+     Oxford accelerometer CSV: ns, accuracy, ax, ay, az in m/s², or an Android sensor log)";
 
 /// Options of `stridekit steps`.
 pub struct StepsArgs {
     pub file: PathBuf,
-    /// Output CSV (default `steps.csv`).
-    pub out: Option<PathBuf>,
+    /// Where the CSV goes (the chart beside a file).
+    pub sink: Sink,
 }
 
 /// Accelerometer samples in file order, on the recording's own clock.
@@ -34,61 +44,70 @@ pub struct AccelRecording {
     pub reference_steps: Option<Vec<f64>>,
     /// What the reader skipped (unreadable rows, …), with counts.
     pub reader_skipped: Vec<(String, u64)>,
+    /// The file was cut off mid-write (read up to the cut).
+    pub truncated: bool,
 }
 
-/// Reads any supported accelerometer recording.
+/// Reads any supported accelerometer recording, told by its content.
 pub fn read_recording(path: &Path) -> Result<AccelRecording, String> {
-    let err = |e: stridekit_formats::FormatError| format!("{}: {e}", path.display());
-    let oxford_csv = if path.is_dir() {
-        path.join("accelerometer.csv")
-    } else {
-        path.to_path_buf()
-    };
-    let is_oxford = oxford_csv
-        .file_name()
-        .is_some_and(|n| n == "accelerometer.csv")
-        && oxford_csv.is_file();
-    if is_oxford {
-        let rows = stridekit_formats::read_oxford_accel_raw(&oxford_csv).map_err(err)?;
-        let samples = rows.samples.iter().map(|a| (a.t_s, a.accel_mps2)).collect();
-        let reader_skipped = rows.unreadable.reason().into_iter().collect();
-        let dir = oxford_csv.parent().unwrap_or(Path::new("."));
-        let reference = if dir.join("stepcounter.csv").is_file() {
-            stridekit_formats::read_oxford_trace(dir)
-                .ok()
-                .map(|t| t.heel_strikes_t_s)
-        } else {
-            None
-        };
-        return Ok(AccelRecording {
-            format: if path.is_dir() {
-                "Oxford trace folder"
-            } else {
-                "Oxford accelerometer.csv"
-            },
-            samples,
-            reference_steps: reference,
-            reader_skipped,
-        });
-    }
-    if stridekit_formats::is_android_log(path) {
-        // The Android sensor log (docs/phone.md): its accelerometer stream, ms → s on the
-        // file's own clock.
-        let rec = stridekit_formats::read_android_log(path).map_err(err)?;
-        if rec.samples.is_empty() {
-            return Err(format!("{}: no accelerometer samples", path.display()));
+    let err = |e: stridekit_formats::FormatError| crate::input::read_error(path, e, EXPECTS);
+    if path.is_dir() {
+        let csv = path.join("accelerometer.csv");
+        if !csv.is_file() {
+            return Err(format!(
+                "{} is a folder without accelerometer.csv; this command reads {EXPECTS}",
+                path.display()
+            ));
         }
-        return Ok(AccelRecording {
-            format: "Android sensor log",
-            samples: rec.samples.iter().map(|s| (s.t_s, s.accel_mps2)).collect(),
-            reference_steps: None,
-            reader_skipped: rec.skipped.clone(),
-        });
+        return read_oxford(&csv, "Oxford trace folder").map_err(err);
     }
-    Err(format!(
-        "{}: not a supported accelerometer recording (an Oxford Step Counter trace folder, its accelerometer.csv: ns, accuracy, ax, ay, az in m/s², or an Android sensor log .txt / .txt.gz)",
-        path.display()
-    ))
+    match stridekit_formats::sniff(path).map_err(err)?.content {
+        Content::OxfordAccel => read_oxford(path, "Oxford-format accelerometer CSV").map_err(err),
+        Content::AndroidLog => {
+            // The Android sensor log (docs/phone.md): its accelerometer stream, ms → s on
+            // the file's own clock.
+            let rec = stridekit_formats::read_android_log(path).map_err(err)?;
+            if rec.samples.is_empty() {
+                return Err(format!("{}: no accelerometer samples", path.display()));
+            }
+            Ok(AccelRecording {
+                format: "Android sensor log",
+                samples: rec.samples.iter().map(|s| (s.t_s, s.accel_mps2)).collect(),
+                reference_steps: None,
+                reader_skipped: rec.skipped.clone(),
+                truncated: rec.truncated,
+            })
+        }
+        other => Err(crate::input::other_content(path, other, EXPECTS)),
+    }
+}
+
+/// An Oxford-format accelerometer CSV, with the trace's reference steps when it is a
+/// trace's `accelerometer.csv` beside its `stepcounter.csv`.
+fn read_oxford(
+    csv: &Path,
+    format: &'static str,
+) -> Result<AccelRecording, stridekit_formats::FormatError> {
+    let rows = stridekit_formats::read_oxford_accel_raw(csv)?;
+    let samples = rows.samples.iter().map(|a| (a.t_s, a.accel_mps2)).collect();
+    let reader_skipped = rows.unreadable.reason().into_iter().collect();
+    let dir = csv.parent().unwrap_or(Path::new("."));
+    let in_trace = csv.file_name().is_some_and(|n| n == "accelerometer.csv")
+        && dir.join("stepcounter.csv").is_file();
+    let reference = if in_trace {
+        stridekit_formats::read_oxford_trace(dir)
+            .ok()
+            .map(|t| t.heel_strikes_t_s)
+    } else {
+        None
+    };
+    Ok(AccelRecording {
+        format,
+        samples,
+        reference_steps: reference,
+        reader_skipped,
+        truncated: rows.truncated,
+    })
 }
 
 /// Cadence over time (one point per step with a cadence), the reference's beside it
@@ -155,8 +174,11 @@ fn cadence_spm(t_s: &[f64], i: usize) -> Option<f64> {
     (k > 0).then(|| 60.0 * k as f64 / (t_s[i] - t_s[i - k]))
 }
 
-pub fn run(args: &StepsArgs) -> Result<(), String> {
+pub fn run(args: &StepsArgs) -> Result<(), Failure> {
     let rec = read_recording(&args.file)?;
+    if rec.truncated {
+        crate::input::warn_truncated(&args.file);
+    }
     let mut detector =
         StepDetector::new(StepDetectorConfig::default()).map_err(|e| e.to_string())?;
     let mut rejected = Rejected::default();
@@ -170,15 +192,10 @@ pub fn run(args: &StepsArgs) -> Result<(), String> {
             steps.push(e);
         }
     }
-    let out_path = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("steps.csv"));
-    let file = std::fs::File::create(&out_path)
-        .map_err(|e| format!("cannot write {}: {e}", out_path.display()))?;
-    let mut w = std::io::BufWriter::new(file);
-    let io = |e: std::io::Error| e.to_string();
-    writeln!(w, "t_s,step,cadence_spm,interval_s").map_err(io)?;
+    let sink_name = args.sink.name();
+    let io = write_error(&sink_name);
+    let mut w = args.sink.open()?;
+    writeln!(w, "t_s,step,cadence_spm,interval_s").map_err(&io)?;
     let times: Vec<f64> = steps.iter().map(|e| e.t_s).collect();
     for (i, e) in steps.iter().enumerate() {
         let cad = cadence_spm(&times, i)
@@ -189,17 +206,18 @@ pub fn run(args: &StepsArgs) -> Result<(), String> {
         } else {
             String::new()
         };
-        writeln!(w, "{:.3},{},{cad},{iv}", e.t_s, i + 1).map_err(io)?;
+        writeln!(w, "{:.3},{},{cad},{iv}", e.t_s, i + 1).map_err(&io)?;
     }
-    w.flush().map_err(io)?;
+    w.flush().map_err(&io)?;
     drop(w);
-    let svg = out_path.with_extension("svg");
-    cadence_chart(&svg, &args.file, &times, rec.reference_steps.as_deref())?;
+    if let Some(svg) = args.sink.beside("svg") {
+        cadence_chart(&svg, &args.file, &times, rec.reference_steps.as_deref())?;
+    }
     let span = match (rec.samples.first(), rec.samples.last()) {
         (Some(a), Some(b)) => b.0 - a.0,
         _ => 0.0,
     };
-    eprintln!(
+    say!(
         "{} ({}): {} samples over {:.0} s, {} rejected; {} steps written to {}",
         args.file.display(),
         rec.format,
@@ -207,21 +225,31 @@ pub fn run(args: &StepsArgs) -> Result<(), String> {
         span,
         rejected.total(),
         steps.len(),
-        out_path.display()
+        sink_name
     );
-    eprint!("{}", rejected.report());
+    for line in rejected.report().lines() {
+        say!("{line}");
+    }
     for (why, n) in &rec.reader_skipped {
-        eprintln!("  skipped by the reader {n}: {why}");
+        say!("  skipped by the reader {n}: {why}");
     }
     if let Some(r) = &rec.reference_steps {
         let n = r.len() as f64;
-        eprintln!(
+        say!(
             "  reference (stepcounter.csv): {} steps, count error {:+.2} %",
             r.len(),
             100.0 * (steps.len() as f64 - n) / n
         );
     }
-    Ok(())
+    if !steps.is_empty() {
+        say!("  rests on: {STEPS_DETECTOR}; no distance (a distance needs a step length: `stridekit pdr`, or `stridekit pace` with GNSS or a calibration)");
+    }
+    check_usable(
+        !steps.is_empty(),
+        "no step detected",
+        &rejected,
+        &[("accelerometer", rec.samples.len() as u64)],
+    )
 }
 
 #[cfg(test)]
@@ -270,7 +298,7 @@ mod tests {
         let out = dir.join("steps.csv");
         run(&StepsArgs {
             file: dir.clone(),
-            out: Some(out.clone()),
+            sink: Sink::from_arg(&out, "csv").unwrap(),
         })
         .unwrap();
         let rows = std::fs::read_to_string(&out).unwrap();
@@ -294,6 +322,18 @@ mod tests {
         let e = read_recording(Path::new("/nonexistent/walk.bin"))
             .err()
             .unwrap();
-        assert!(e.contains("not a supported"), "{e}");
+        assert!(e.contains("no such file or folder"), "{e}");
+        let dir = std::env::temp_dir().join(format!("stridekit-steps-kind-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let e = read_recording(&dir).err().unwrap();
+        assert!(e.contains("is a folder without accelerometer.csv"), "{e}");
+        let run = dir.join("run.csv");
+        std::fs::write(&run, "t_s,lat_deg,lon_deg\n1,2,3\n").unwrap();
+        let e = read_recording(&run).err().unwrap();
+        assert!(
+            e.contains("activity CSV") && e.contains("stridekit pace"),
+            "{e}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

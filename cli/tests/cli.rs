@@ -1,7 +1,7 @@
 //! The command-line tool as a user runs it: the README's main command (`demo`) and
 //! the replay of a user CSV.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn stridekit() -> Command {
@@ -32,7 +32,7 @@ fn demo_prints_a_summary_and_writes_the_report() {
     let out = succeed(stridekit().args(["demo", "--out"]).arg(&out_dir));
     let stdout = String::from_utf8_lossy(&out.stdout);
     for needle in [
-        "| default |",
+        "| stridekit (default) |",
         "| AsPublished |",
         "Next session without GNSS",
         "Report written to",
@@ -70,7 +70,63 @@ fn demo_prints_a_summary_and_writes_the_report() {
     assert!(!html.contains("<pre>"));
     let track = std::fs::read_to_string(out_dir.join("track.svg")).unwrap();
     assert!(track.contains("stridekit"), "the fused track is missing");
+    report_says_what_it_shows(&out_dir, &stdout);
     let _ = std::fs::remove_dir_all(&out_dir);
+}
+
+/// Issue 36 item 8: the demo report claims no more than its charts show, in the
+/// names an app developer uses, with one label per method and pace errors in s/km.
+fn report_says_what_it_shows(dir: &Path, stdout: &str) {
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let md = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    // Kotlin/Swift names, marked up as code; no Rust path, no literal backtick.
+    assert!(
+        !html.contains('`') && !html.contains("::"),
+        "Rust paths or backticks in index.html"
+    );
+    assert!(html.contains("<code>PaceTracker.calibration()</code>"));
+    assert!(!stdout.contains("::"), "Rust paths in the summary");
+    // The speed caption measures the outages instead of "stays on the truth".
+    assert!(
+        !md.contains("stays on the truth through"),
+        "the old overclaim"
+    );
+    assert!(
+        md.contains("at the outage's top speed, 4.7 m/s, stridekit (default) reads 4.1 m/s"),
+        "the first outage as the chart shows it:\n{md}"
+    );
+    // One label per method: the table's names are the legends'.
+    for (svg, name) in [
+        ("pace.svg", "raw GNSS diff"),
+        ("speed.svg", "GNSS EMA"),
+        ("speed.svg", "stridekit (default)"),
+        ("gnss_weight.svg", "AsPublished"),
+    ] {
+        let text = std::fs::read_to_string(dir.join(svg)).unwrap();
+        assert!(text.contains(name), "{svg} lacks the legend {name:?}");
+        assert!(
+            html.contains(&format!("<td>{name}</td>")),
+            "the table lacks {name:?}"
+        );
+    }
+    // The GNSS weight is a share: its axis ends at 1.
+    let weight = std::fs::read_to_string(dir.join("gnss_weight.svg")).unwrap();
+    let ticks: Vec<f64> = weight
+        .split("text-anchor=\"end\"")
+        .skip(1)
+        .filter_map(|t| t.split('>').nth(1)?.split('<').next()?.trim().parse().ok())
+        .collect();
+    assert_eq!(
+        ticks.iter().copied().fold(f64::NAN, f64::max),
+        1.0,
+        "{ticks:?}"
+    );
+    // Pace errors in s/km beside the m/s.
+    assert!(
+        stdout.contains("| stridekit (default) | 0.347 · 10 s/km |"),
+        "{stdout}"
+    );
+    assert!(html.contains("s/km</small>"));
 }
 
 #[test]
@@ -92,7 +148,8 @@ fn pace_replays_a_user_csv() {
         }
     }
     std::fs::write(&csv, text).unwrap();
-    let out = succeed(stridekit().arg("pace").arg(&csv));
+    // `--out -`: the CSV on stdout, the summary on stderr.
+    let out = succeed(stridekit().arg("pace").arg(&csv).args(["--out", "-"]));
     let stdout = String::from_utf8_lossy(&out.stdout);
     let lines: Vec<&str> = stdout.lines().collect();
     assert!(lines[0].starts_with("t_s,t_unix_s,speed_mps"));
@@ -126,7 +183,8 @@ fn pace_replays_a_user_csv() {
         stderr.contains("reader 1: position missing half, not finite or out of range"),
         "{stderr}"
     );
-    // --out: the same CSV in a file, the speed chart beside it.
+    // --out: the same CSV in a file, the speed chart beside it, the summary on the
+    // terminal.
     let out = stridekit()
         .arg("pace")
         .arg(&csv)
@@ -135,9 +193,10 @@ fn pace_replays_a_user_csv() {
         .output()
         .unwrap();
     assert!(out.status.success());
+    let summary = String::from_utf8_lossy(&out.stdout);
     assert!(
-        out.stdout.is_empty(),
-        "the CSV goes to the file, not stdout"
+        !summary.contains("t_s,") && summary.contains("average pace"),
+        "the CSV goes to the file, the summary to stdout: {summary}"
     );
     let written = std::fs::read_to_string(dir.join("out/run.csv")).unwrap();
     assert_eq!(written, stdout, "same rows as on stdout");
@@ -177,6 +236,8 @@ fn pace_saves_a_calibration_and_replays_steps_only_with_it() {
         stridekit()
             .arg("pace")
             .arg(&csv)
+            .arg("--out")
+            .arg(dir.join("with-gnss.csv"))
             .arg("--save-calibration")
             .arg(&cal),
     );
@@ -189,7 +250,10 @@ fn pace_saves_a_calibration_and_replays_steps_only_with_it() {
     // The same run as a treadmill would give it: steps only, with and without it.
     let replay = |with: bool| {
         let mut cmd = stridekit();
-        cmd.arg("pace").arg(&csv).arg("--no-gnss");
+        cmd.arg("pace")
+            .arg(&csv)
+            .arg("--no-gnss")
+            .args(["--out", "-"]);
         if with {
             cmd.arg("--calibration").arg(&cal);
         }
@@ -210,6 +274,8 @@ fn pace_saves_a_calibration_and_replays_steps_only_with_it() {
         .arg("pace")
         .arg(&csv)
         .arg("--no-gnss")
+        .arg("--out")
+        .arg(dir.join("no-gnss.csv"))
         .arg("--save-calibration")
         .arg(dir.join("none.txt"))
         .output()
@@ -217,15 +283,18 @@ fn pace_saves_a_calibration_and_replays_steps_only_with_it() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("no calibration to save"));
     assert!(!dir.join("none.txt").exists());
-    // A file that is not a calibration is refused before the replay.
+    // A file that is not a calibration is refused before the replay: a bad value of
+    // the flag, exit 2.
     let out = stridekit()
         .arg("pace")
         .arg(&csv)
+        .arg("--out")
+        .arg(dir.join("refused.csv"))
         .arg("--calibration")
         .arg(&csv)
         .output()
         .unwrap();
-    assert!(!out.status.success());
+    assert_eq!(out.status.code(), Some(2));
     assert!(
         String::from_utf8_lossy(&out.stderr).contains("not a stridekit-pace-calibration file"),
         "{}",

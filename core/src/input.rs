@@ -95,6 +95,10 @@ pub enum Stream {
     Accelerometer,
     /// IMU samples (gyroscope + accelerometer, optionally magnetometer).
     Imu,
+    /// Separate gyroscope events (merged into IMU samples by [`crate::imu`]).
+    Gyroscope,
+    /// Separate magnetometer events (merged into IMU samples by [`crate::imu`]).
+    Magnetometer,
 }
 
 impl Stream {
@@ -102,7 +106,9 @@ impl Stream {
     /// slow-interval unit check.
     fn slow_interval_s(self) -> Option<f64> {
         match self {
-            Stream::Accelerometer | Stream::Imu => Some(limits::SLOW_IMU_INTERVAL_S),
+            Stream::Accelerometer | Stream::Imu | Stream::Gyroscope | Stream::Magnetometer => {
+                Some(limits::SLOW_IMU_INTERVAL_S)
+            }
             Stream::Gnss => Some(limits::SLOW_GNSS_INTERVAL_S),
             Stream::Steps => None,
         }
@@ -116,6 +122,8 @@ impl std::fmt::Display for Stream {
             Stream::Steps => "step",
             Stream::Accelerometer => "accelerometer",
             Stream::Imu => "IMU",
+            Stream::Gyroscope => "gyroscope",
+            Stream::Magnetometer => "magnetometer",
         })
     }
 }

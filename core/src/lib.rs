@@ -14,6 +14,7 @@ pub mod batch;
 pub mod calibration;
 pub mod foot;
 pub mod geo;
+pub mod imu;
 pub mod input;
 mod model_text;
 pub mod odometry;

@@ -36,16 +36,28 @@
 //! `…_UNCALIBRATED` events with Android's own bias estimate removed (raw − bias), the
 //! same quantity Android reports as calibrated; the two are never mixed within a log.
 //! Other types (WiFi, Bluetooth, …) are skipped and counted by type; so are lines whose values do not parse (counted as
-//! `malformed TYPE_…`). Nothing is dropped for being odd in time: samples out of
-//! order or with a repeated timestamp are passed on as they are, for the engine to
-//! reject and the replay to count.
+//! `malformed TYPE_…`). The three motion streams' values are read as 32-bit floats:
+//! `SensorEvent.values` is a `float[]` and the log prints each with
+//! `Float.toString`, so this recovers exactly the value the app had (and an app
+//! replaying the log through the SDK gets the same samples as this reader).
 //!
-//! IMU samples are built at the accelerometer's timestamps: the gyroscope and the
-//! magnetometer are interpolated linearly between their two events around each
-//! accelerometer sample (held up to [`MAX_HOLD_S`] beyond their first and last
-//! events). Accelerometer samples with no gyroscope event within that reach are
-//! skipped and counted (`accelerometer without gyroscope`); the magnetometer is `None`
-//! where it has none.
+//! IMU samples: the accelerometer, gyroscope and magnetometer events go, in file
+//! order (the order the app received them), through the SDK's one merge rule,
+//! [`stridekit_core::imu::ImuMerger`] with its defaults, the rule an app's
+//! `PhoneNavigator.pushSensorEventsPacked` runs: one sample per accelerometer event,
+//! the gyroscope and magnetometer interpolated linearly between their events around
+//! it (held up to `DEFAULT_MAX_HOLD_S`, 0.1 s, beyond a stream's ends and across gaps), then the
+//! end of the file releases what still waits. Accelerometer events with no
+//! gyroscope within that reach are skipped and counted (`accelerometer without
+//! gyroscope`); the magnetometer is `None` where it has none. An event the merger
+//! refuses (a repeated or earlier timestamp within its stream, a value that is not
+//! finite or out of range) is skipped and counted by the reader, by stream and reason.
+//!
+//! **Cut-off logs.** A log whose header has `startTime` must end with its `endTime`
+//! header line (as the Indoor Location Competition logs do); one without it, one that
+//! ends inside a line, or a gzip stream that ends early was cut off mid-write: the
+//! events before the cut are read and [`InertialRecording::truncated`] says so. Plain
+//! text or gzip is told by the content (gzip's magic bytes), not by the name.
 //!
 //! Rotation vector: a 4th value in −1..=1 is taken as w (API 18+ reports it in
 //! `values[3]`), otherwise (absent, or an accuracy such as 3) w = √(1 − x² − y² − z²).
@@ -73,30 +85,33 @@ use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
+use stridekit_core::imu::{ImuEvent, ImuMerger, MergeConfig, SensorKind};
+use stridekit_core::input::InputError;
+
 use crate::error::FormatError;
 use crate::inertial::{InertialRecording, InertialSample, Uncalibrated};
 
 const FORMAT: &str = "Android sensor log";
-/// A gyroscope or magnetometer reading is held this long beyond its first / last
-/// event, s (a few sample periods at 50–200 Hz).
-pub const MAX_HOLD_S: f64 = 0.1;
 /// Largest file this reader accepts, bytes (decompressed): 1 GiB.
 pub const MAX_LOG_BYTES: u64 = 1 << 30;
 
-/// One timed 3-vector.
-type Timed = (f64, [f64; 3]);
-
-/// Reads an Android sensor log (`.gz`: gzip, else plain text).
+/// Reads an Android sensor log (gzip or plain text, told by the content).
 pub fn read_android_log(path: &Path) -> Result<InertialRecording, FormatError> {
+    crate::sniff::check_file(path)?;
+    let gz = crate::sniff::file_is_gzip(path)?;
     let file = std::fs::File::open(path)?;
-    let gz = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
     let mut bytes = Vec::new();
+    let mut cut_gzip = false;
     if gz {
-        flate2::read::GzDecoder::new(file)
+        match flate2::read::GzDecoder::new(file)
             .take(MAX_LOG_BYTES + 1)
-            .read_to_end(&mut bytes)?;
+            .read_to_end(&mut bytes)
+        {
+            Ok(_) => {}
+            // A gzip stream cut short: the lines before the cut are read.
+            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => cut_gzip = true,
+            Err(e) => return Err(e.into()),
+        }
     } else {
         file.take(MAX_LOG_BYTES + 1).read_to_end(&mut bytes)?;
     }
@@ -104,7 +119,9 @@ pub fn read_android_log(path: &Path) -> Result<InertialRecording, FormatError> {
         return Err(FormatError::parse(FORMAT, "larger than 1 GiB"));
     }
     let text = String::from_utf8_lossy(&bytes);
-    parse_android_log(&log_name(path), &text)
+    let mut rec = parse_android_log(&log_name(path), &text)?;
+    rec.truncated |= cut_gzip;
+    Ok(rec)
 }
 
 /// The file name without `.gz` and `.txt`.
@@ -148,6 +165,18 @@ pub fn list_android_logs(dir: &Path) -> Result<Vec<PathBuf>, FormatError> {
     Ok(out)
 }
 
+/// `N` values of a `SensorEvent` as the app had them (`float`), widened exactly.
+fn floats<const N: usize>(fields: &[&str]) -> Option<[f64; N]> {
+    if fields.len() < N {
+        return None;
+    }
+    let mut v = [0.0; N];
+    for (x, f) in v.iter_mut().zip(fields) {
+        *x = f64::from(f.parse::<f32>().ok()?);
+    }
+    Some(v)
+}
+
 fn numbers<const N: usize>(fields: &[&str]) -> Option<[f64; N]> {
     if fields.len() < N {
         return None;
@@ -159,58 +188,168 @@ fn numbers<const N: usize>(fields: &[&str]) -> Option<[f64; N]> {
     Some(v)
 }
 
-/// Linear interpolation of a time-ordered stream at `t` (held up to `MAX_HOLD_S`
-/// beyond its ends); `cursor` moves forward between calls for increasing `t`.
-fn interpolate(stream: &[Timed], cursor: &mut usize, t: f64) -> Option<[f64; 3]> {
-    if stream.is_empty() {
-        return None;
-    }
-    // Back up if t went backwards (out-of-order input), then forward.
-    while *cursor > 0 && stream[*cursor].0 > t {
-        *cursor -= 1;
-    }
-    while *cursor + 1 < stream.len() && stream[*cursor + 1].0 <= t {
-        *cursor += 1;
-    }
-    let (t0, a) = stream[*cursor];
-    if t < t0 {
-        return (t0 - t <= MAX_HOLD_S).then_some(a);
-    }
-    match stream.get(*cursor + 1) {
-        Some(&(t1, b)) if t1 > t0 => {
-            let k = (t - t0) / (t1 - t0);
-            Some([
-                a[0] + k * (b[0] - a[0]),
-                a[1] + k * (b[1] - a[1]),
-                a[2] + k * (b[2] - a[2]),
-            ])
+/// Where a motion event of the log came from: a calibrated stream, or an
+/// uncalibrated one with Android's bias estimate removed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Source {
+    Calibrated(SensorKind),
+    Uncalibrated(SensorKind),
+}
+
+/// The reason a merger refused an event, counted by the reader.
+fn refused(kind: SensorKind, e: &InputError) -> String {
+    let stream = kind.stream();
+    match e {
+        InputError::TimeNotIncreasing { .. } if e.is_duplicate_time() => {
+            format!("{stream} stream: duplicate timestamp (equal to the previous event's)")
         }
-        _ => (t - t0 <= MAX_HOLD_S).then_some(a),
+        InputError::TimeNotIncreasing { .. } => {
+            format!("{stream} stream: timestamp before the previous event's")
+        }
+        InputError::NonFinite { field } => format!("{field} not a finite number"),
+        InputError::OutOfRange { field, .. } => format!("{field} out of range"),
+        other => format!("{stream} stream: {other}"),
     }
+}
+
+/// The events of the streams chosen (calibrated where the log has any, else the
+/// uncalibrated ones less their bias), in file order.
+fn chosen(events: &[(Source, f64, [f64; 3])]) -> impl Iterator<Item = ImuEvent> + '_ {
+    let has = |k: SensorKind| events.iter().any(|e| e.0 == Source::Calibrated(k));
+    let wanted = [
+        SensorKind::Accelerometer,
+        SensorKind::Gyroscope,
+        SensorKind::Magnetometer,
+    ]
+    .map(|k| {
+        if has(k) {
+            Source::Calibrated(k)
+        } else {
+            Source::Uncalibrated(k)
+        }
+    });
+    events
+        .iter()
+        .filter(move |e| wanted.contains(&e.0))
+        .map(|&(source, t_s, values)| {
+            let (Source::Calibrated(kind) | Source::Uncalibrated(kind)) = source;
+            ImuEvent { t_s, kind, values }
+        })
+}
+
+/// The accelerometer, gyroscope and magnetometer events of an Android sensor log's
+/// text, in file order (the streams [`parse_android_log`] merges), for replaying a
+/// log as an app receives it.
+pub fn android_motion_events(text: &str) -> Vec<ImuEvent> {
+    chosen(&parse_lines(text).events).collect()
+}
+
+/// The events of the streams chosen, through the merge rule; refused events
+/// counted in `skipped`.
+fn merge_events(
+    events: &[(Source, f64, [f64; 3])],
+    skipped: &mut BTreeMap<String, u64>,
+) -> Vec<InertialSample> {
+    let mut merger = ImuMerger::new(MergeConfig::default()).expect("the default rule is valid");
+    let mut samples = Vec::new();
+    let mut out = |s: stridekit_core::ImuSample| {
+        samples.push(InertialSample {
+            t_s: s.t_s,
+            accel_mps2: s.accel_mps2,
+            gyro_rads: s.gyro_rads,
+            mag_ut: s.mag_ut,
+        })
+    };
+    for e in chosen(events) {
+        if let Err(err) = merger.push(&e, &mut out) {
+            *skipped.entry(refused(e.kind, &err)).or_default() += 1;
+        }
+    }
+    merger.flush(&mut out);
+    let without = merger.counts().without_gyro;
+    if without > 0 {
+        *skipped
+            .entry("accelerometer without gyroscope".into())
+            .or_default() += without;
+    }
+    samples
 }
 
 /// Parse the text of an Android sensor log (see the module docs).
 pub fn parse_android_log(name: &str, text: &str) -> Result<InertialRecording, FormatError> {
+    let Lines {
+        meta,
+        mut skipped,
+        events,
+        mut truth,
+        orientation,
+        uncalibrated,
+        last_read,
+    } = parse_lines(text);
+    let has = |key: &str| meta.iter().any(|(k, _)| k == key);
+    let truncated =
+        (has("startTime") && !has("endTime")) || crate::sniff::cut_mid_row(text, last_read);
+    if !events.iter().any(|e| {
+        matches!(
+            e.0,
+            Source::Calibrated(SensorKind::Accelerometer)
+                | Source::Uncalibrated(SensorKind::Accelerometer)
+        )
+    }) {
+        return Err(FormatError::Empty);
+    }
+    truth.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let samples = merge_events(&events, &mut skipped);
+    if samples.is_empty() {
+        return Err(FormatError::parse(FORMAT, "no gyroscope events"));
+    }
+    Ok(InertialRecording {
+        name: name.to_string(),
+        placement: None,
+        samples,
+        truth,
+        orientation,
+        uncalibrated,
+        meta,
+        skipped: skipped.into_iter().collect(),
+        truncated,
+    })
+}
+
+/// What the lines of a log hold, before the merge.
+struct Lines {
+    meta: Vec<(String, String)>,
+    skipped: BTreeMap<String, u64>,
+    /// The motion events in file order (the order the app received them).
+    events: Vec<(Source, f64, [f64; 3])>,
+    truth: Vec<(f64, f64, f64)>,
+    orientation: Vec<(f64, [f64; 4])>,
+    uncalibrated: Vec<Uncalibrated>,
+    /// Whether the last non-empty line was read whole (a cut-off line is not).
+    last_read: bool,
+}
+
+fn parse_lines(text: &str) -> Lines {
     let mut meta = Vec::new();
     let mut skipped: BTreeMap<String, u64> = BTreeMap::new();
-    let mut accel: Vec<Timed> = Vec::new();
-    let mut gyro: Vec<Timed> = Vec::new();
-    let mut mag: Vec<Timed> = Vec::new();
+    let mut events: Vec<(Source, f64, [f64; 3])> = Vec::new();
     let mut truth = Vec::new();
     let mut orientation = Vec::new();
     let mut uncalibrated = Vec::new();
-    let mut accel_uncalibrated: Vec<Timed> = Vec::new();
+    let mut last_read = true;
     for line in text.lines() {
         let line = line.trim();
         if line.is_empty() {
             continue;
         }
+        last_read = false;
         if let Some(h) = line.strip_prefix('#') {
             for kv in h.split('\t') {
                 if let Some((k, v)) = kv.trim().split_once(':') {
                     meta.push((k.trim().to_string(), v.trim().to_string()));
                 }
             }
+            last_read = true;
             continue;
         }
         let fields: Vec<&str> = line.split_whitespace().collect();
@@ -227,21 +366,39 @@ pub fn parse_android_log(name: &str, text: &str) -> Result<InertialRecording, Fo
             }
         };
         let ok = match *kind {
-            "TYPE_ACCELEROMETER" => numbers::<3>(values).map(|v| accel.push((t_s, v))),
-            "TYPE_GYROSCOPE" => numbers::<3>(values).map(|v| gyro.push((t_s, v))),
-            "TYPE_MAGNETIC_FIELD" => numbers::<3>(values).map(|v| mag.push((t_s, v))),
-            "TYPE_GYROSCOPE_UNCALIBRATED" | "TYPE_MAGNETIC_FIELD_UNCALIBRATED" => {
-                numbers::<6>(values).map(|v| {
+            "TYPE_ACCELEROMETER" | "TYPE_GYROSCOPE" | "TYPE_MAGNETIC_FIELD" => floats::<3>(values)
+                .map(|v| {
+                    let k = match *kind {
+                        "TYPE_ACCELEROMETER" => SensorKind::Accelerometer,
+                        "TYPE_GYROSCOPE" => SensorKind::Gyroscope,
+                        _ => SensorKind::Magnetometer,
+                    };
+                    events.push((Source::Calibrated(k), t_s, v));
+                }),
+            "TYPE_GYROSCOPE_UNCALIBRATED"
+            | "TYPE_MAGNETIC_FIELD_UNCALIBRATED"
+            | "TYPE_ACCELEROMETER_UNCALIBRATED" => floats::<6>(values).map(|v| {
+                let (raw, bias) = ([v[0], v[1], v[2]], [v[3], v[4], v[5]]);
+                let k = match *kind {
+                    "TYPE_GYROSCOPE_UNCALIBRATED" => SensorKind::Gyroscope,
+                    "TYPE_MAGNETIC_FIELD_UNCALIBRATED" => SensorKind::Magnetometer,
+                    _ => SensorKind::Accelerometer,
+                };
+                if k != SensorKind::Accelerometer {
                     uncalibrated.push(Uncalibrated {
                         t_s,
-                        magnetometer: *kind == "TYPE_MAGNETIC_FIELD_UNCALIBRATED",
-                        raw: [v[0], v[1], v[2]],
-                        bias: [v[3], v[4], v[5]],
-                    })
-                })
-            }
-            "TYPE_ACCELEROMETER_UNCALIBRATED" => numbers::<6>(values)
-                .map(|v| accel_uncalibrated.push((t_s, [v[0] - v[3], v[1] - v[4], v[2] - v[5]]))),
+                        magnetometer: k == SensorKind::Magnetometer,
+                        raw,
+                        bias,
+                    });
+                }
+                // Raw − Android's bias estimate: what Android reports as calibrated.
+                events.push((
+                    Source::Uncalibrated(k),
+                    t_s,
+                    [0, 1, 2].map(|i| raw[i] - bias[i]),
+                ));
+            }),
             "TYPE_ROTATION_VECTOR" => numbers::<3>(values).map(|[x, y, z]| {
                 let w4 = values.get(3).and_then(|s| s.parse::<f64>().ok());
                 let w = match w4 {
@@ -265,65 +422,17 @@ pub fn parse_android_log(name: &str, text: &str) -> Result<InertialRecording, Fo
         if ok.is_none() {
             *skipped.entry(format!("malformed {kind}")).or_default() += 1;
         }
+        last_read = ok.is_some();
     }
-    // Streams the log has only uncalibrated: raw − Android's bias estimate.
-    if accel.is_empty() {
-        accel = accel_uncalibrated;
-    }
-    let corrected = |magnetometer: bool| -> Vec<Timed> {
-        uncalibrated
-            .iter()
-            .filter(|u| u.magnetometer == magnetometer)
-            .map(|u| {
-                let c = [0, 1, 2].map(|i| u.raw[i] - u.bias[i]);
-                (u.t_s, c)
-            })
-            .collect()
-    };
-    if gyro.is_empty() {
-        gyro = corrected(false);
-    }
-    if mag.is_empty() {
-        mag = corrected(true);
-    }
-    if accel.is_empty() {
-        return Err(FormatError::Empty);
-    }
-    // Streams sorted by time for the interpolation (stable: equal times keep their
-    // order). Accelerometer samples stay in file order.
-    let by_time = |a: &Timed, b: &Timed| a.0.total_cmp(&b.0);
-    gyro.sort_by(by_time);
-    mag.sort_by(by_time);
-    truth.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let (mut gc, mut mc) = (0, 0);
-    let mut samples = Vec::with_capacity(accel.len());
-    for &(t_s, a) in &accel {
-        let Some(g) = interpolate(&gyro, &mut gc, t_s) else {
-            *skipped
-                .entry("accelerometer without gyroscope".into())
-                .or_default() += 1;
-            continue;
-        };
-        samples.push(InertialSample {
-            t_s,
-            accel_mps2: a,
-            gyro_rads: g,
-            mag_ut: interpolate(&mag, &mut mc, t_s),
-        });
-    }
-    if samples.is_empty() {
-        return Err(FormatError::parse(FORMAT, "no gyroscope events"));
-    }
-    Ok(InertialRecording {
-        name: name.to_string(),
-        placement: None,
-        samples,
+    Lines {
+        meta,
+        skipped,
+        events,
         truth,
         orientation,
         uncalibrated,
-        meta,
-        skipped: skipped.into_iter().collect(),
-    })
+        last_read,
+    }
 }
 
 #[cfg(test)]
@@ -348,6 +457,11 @@ mod tests {
 1060\tTYPE_ACCELEROMETER\t0.5\t0.2\t9.8\t3\n\
 2000\tTYPE_WAYPOINT\t3.5\t2.5\n";
 
+    /// Values as the reader holds them: `SensorEvent` floats, widened.
+    fn w(v: [f32; 3]) -> [f64; 3] {
+        v.map(f64::from)
+    }
+
     #[test]
     fn reads_a_small_log() {
         let r = parse_android_log("walk", SMALL).unwrap();
@@ -355,13 +469,13 @@ mod tests {
         let s = &r.samples;
         assert_eq!(s[0].t_s, 1.0);
         assert!((s[1].t_s - 1.02).abs() < 1e-12);
-        assert_eq!(s[0].accel_mps2, [0.1, 0.2, 9.8]);
-        assert_eq!(s[1].gyro_rads, [0.03, 0.02, 0.03]);
+        assert_eq!(s[0].accel_mps2, w([0.1, 0.2, 9.8]));
+        assert_eq!(s[1].gyro_rads, w([0.03, 0.02, 0.03]));
         // Magnetometer interpolated between 1.000 and 1.040 s.
         let m = s[1].mag_ut.unwrap();
         assert!((m[0] - 11.0).abs() < 1e-9 && m[1] == 20.0);
         // Held 20 ms past the last gyro/mag event.
-        assert_eq!(s[3].gyro_rads, [0.05, 0.02, 0.03]);
+        assert_eq!(s[3].gyro_rads, w([0.05, 0.02, 0.03]));
         assert_eq!(s[3].mag_ut, Some([12.0, 20.0, -30.0]));
         assert_eq!(r.truth, vec![(1.0, 1.5, 2.5), (2.0, 3.5, 2.5)]);
         let (w, x, y, z) = (
@@ -379,6 +493,7 @@ mod tests {
         let skipped: BTreeMap<_, _> = r.skipped.iter().cloned().collect();
         assert_eq!(skipped.get("TYPE_WIFI"), Some(&1));
         assert_eq!(skipped.get("malformed TYPE_GYROSCOPE"), Some(&1));
+        assert_eq!(skipped.len(), 2, "{skipped:?}");
         let (x, y) = r.position_at(1.5);
         assert!((x - 2.5).abs() < 1e-12 && y == 2.5);
     }
@@ -390,9 +505,17 @@ mod tests {
 5\tTYPE_ACCELEROMETER\t0\t0\t9.9\n\
 5\tTYPE_ROTATION_VECTOR\t0\t0\t0.6\t0.8\t0.1\n";
         let r = parse_android_log("x", text).unwrap();
-        // Both samples at the same time: the engine rejects the second, the replay counts.
-        assert_eq!(r.samples.len(), 2);
-        assert_eq!(r.samples[0].t_s, r.samples[1].t_s);
+        // Both events at the same time: the merge rule refuses the second, the
+        // reader counts it.
+        assert_eq!(r.samples.len(), 1);
+        assert_eq!(r.samples[0].accel_mps2, [0.0, 0.0, f64::from(9.8f32)]);
+        assert_eq!(
+            r.skipped,
+            vec![(
+                "accelerometer stream: duplicate timestamp (equal to the previous event's)".into(),
+                1
+            )]
+        );
         assert_eq!(r.orientation[0].1, [0.8, 0.0, 0.0, 0.6]);
         assert!(r.samples[0].mag_ut.is_none());
     }
@@ -408,8 +531,8 @@ mod tests {
         let r = parse_android_log("x", text).unwrap();
         assert_eq!(r.samples.len(), 2);
         let s = &r.samples[0];
-        assert!(s.accel_mps2[0].abs() < 1e-12 && (s.accel_mps2[2] - 9.8).abs() < 1e-12);
-        assert!((s.gyro_rads[0] - 0.01).abs() < 1e-12);
+        assert!(s.accel_mps2[0].abs() < 1e-6 && (s.accel_mps2[2] - 9.8).abs() < 1e-6);
+        assert!((s.gyro_rads[0] - 0.01).abs() < 1e-6);
         assert_eq!(s.mag_ut, Some([10.0, 20.0, -30.0]));
         // With calibrated streams present, the uncalibrated ones do not mix in.
         let both =
@@ -443,6 +566,19 @@ mod tests {
     }
 
     #[test]
+    fn a_cut_off_log_is_flagged() {
+        // SMALL has startTime and no endTime: cut off.
+        assert!(parse_android_log("x", SMALL).unwrap().truncated);
+        let whole = format!("{SMALL}#\tendTime:2000\n");
+        assert!(!parse_android_log("x", &whole).unwrap().truncated);
+        // No header at all: only a line cut short tells.
+        let plain = "1000\tTYPE_GYROSCOPE\t0\t0\t0\n1000\tTYPE_ACCELEROMETER\t0\t0\t9.8\n";
+        assert!(!parse_android_log("x", plain).unwrap().truncated);
+        let cut = format!("{plain}1020\tTYPE_ACCELEROMETER\t0.1");
+        assert!(parse_android_log("x", &cut).unwrap().truncated);
+    }
+
+    #[test]
     fn reads_gzip_and_names_the_log() {
         use std::io::Write;
         let dir = std::env::temp_dir().join(format!("stridekit-android-{}", std::process::id()));
@@ -462,6 +598,20 @@ mod tests {
         assert_eq!(a.samples, b.samples);
         let logs = list_android_logs(&dir).unwrap();
         assert_eq!(logs.len(), 2);
+        // Gzip told by the content; a stream cut short keeps what it held.
+        let renamed = dir.join("walk1.txt");
+        std::fs::copy(&path, &renamed).unwrap();
+        assert_eq!(read_android_log(&renamed).unwrap().samples, a.samples);
+        let whole = format!("{SMALL}#\tendTime:2000\n");
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        gz.write_all(whole.as_bytes()).unwrap();
+        let bytes = gz.finish().unwrap();
+        let full = dir.join("full.txt.gz");
+        std::fs::write(&full, &bytes).unwrap();
+        assert!(!read_android_log(&full).unwrap().truncated);
+        let cut = dir.join("cut.txt.gz");
+        std::fs::write(&cut, &bytes[..bytes.len() - 10]).unwrap();
+        assert!(read_android_log(&cut).unwrap().truncated);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

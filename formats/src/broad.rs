@@ -8,7 +8,10 @@
 //! (optical orientation, sensor → East-North-Up, empty where the markers were
 //! occluded); `movement` (1 in the phases the benchmark scores).
 //!
-//! A `.gz` file is decompressed on the fly. An empty sensor cell reads as NaN (the
+//! A gzip file (told by its magic bytes) is decompressed on the fly. A file that ends
+//! inside a row, or a gzip stream cut short, was cut off mid-write: the rows before
+//! the cut are read and [`OrientationRecording::truncated`] says so. An empty sensor
+//! cell reads as NaN (the
 //! engine then rejects that one sample and a replay counts it); empty truth cells
 //! give `None`. A row with text that is not a number, too few cells or no time is
 //! skipped and counted (`unreadable`); a file with no
@@ -38,6 +41,9 @@ pub struct OrientationRecording {
     /// Rows that could not be read (too few cells, text where a number belongs, no
     /// time), skipped.
     pub unreadable: Unreadable,
+    /// The file was cut off mid-write (it ends inside a row, or its gzip stream ends
+    /// early); the rows before the cut are read.
+    pub truncated: bool,
 }
 
 impl OrientationRecording {
@@ -56,10 +62,9 @@ impl OrientationRecording {
 
 /// Reads one trial (`.csv` or `.csv.gz`).
 pub fn read_broad(path: &Path) -> Result<OrientationRecording, FormatError> {
+    crate::sniff::check_file(path)?;
+    let gz = crate::sniff::file_is_gzip(path)?;
     let file = std::fs::File::open(path)?;
-    let gz = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
     let reader: Box<dyn Read> = if gz {
         Box::new(flate2::read::GzDecoder::new(file))
     } else {
@@ -71,10 +76,12 @@ pub fn read_broad(path: &Path) -> Result<OrientationRecording, FormatError> {
 }
 
 /// Parses BROAD CSV text from any buffered reader (the name is left empty).
-pub fn parse_broad(input: impl BufRead) -> Result<OrientationRecording, FormatError> {
-    let mut lines = input.lines();
-    let header = lines.next().ok_or(FormatError::Empty)??;
-    let c = Columns(header.split(',').map(str::trim).collect());
+pub fn parse_broad(mut input: impl BufRead) -> Result<OrientationRecording, FormatError> {
+    let mut header = String::new();
+    if input.read_line(&mut header)? == 0 {
+        return Err(FormatError::Empty);
+    }
+    let c = Columns(header.trim_end().split(',').map(str::trim).collect());
     let t = c.get("t_s")?;
     let gyr = [
         c.get("gyr_x_rads")?,
@@ -103,12 +110,25 @@ pub fn parse_broad(input: impl BufRead) -> Result<OrientationRecording, FormatEr
     let width = c.0.len();
     let mut rec = OrientationRecording::default();
     let mut first_error = None;
-    for (n, line) in lines.enumerate() {
-        let line = line?;
+    let mut text = String::new();
+    let mut line_no = 1;
+    loop {
+        text.clear();
+        match input.read_line(&mut text) {
+            Ok(0) => break,
+            Ok(_) => {}
+            // A gzip stream cut short: the rows before the cut are read.
+            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => {
+                rec.truncated = true;
+                break;
+            }
+            Err(e) => return Err(e.into()),
+        }
+        line_no += 1;
+        let line = text.trim_end_matches(['\r', '\n']);
         if line.trim().is_empty() {
             continue;
         }
-        let line_no = n + 2;
         let row = || -> Result<(InertialSample, Option<[f64; 4]>, bool), FormatError> {
             let fields: Vec<&str> = line.split(',').map(str::trim).collect();
             if fields.len() < width {
@@ -173,6 +193,7 @@ pub fn parse_broad(input: impl BufRead) -> Result<OrientationRecording, FormatEr
             Err(e) => {
                 rec.unreadable.add(line_no);
                 first_error.get_or_insert(e);
+                rec.truncated |= !text.ends_with('\n');
             }
         }
     }
@@ -328,10 +349,22 @@ t_s,gyr_x_rads,gyr_y_rads,gyr_z_rads,acc_x_mps2,acc_y_mps2,acc_z_mps2,mag_x_ut,m
         };
         assert_eq!(bits(&a), bits(&b));
         assert_eq!(a.truth, b.truth);
+        assert!(!a.truncated && !b.truncated);
         assert!(matches!(
             read_broad(&dir.join("missing.csv.gz")),
-            Err(FormatError::Io(_))
+            Err(FormatError::Missing)
         ));
+        // Cut off: the gzip stream ends early; a plain file ends inside a row.
+        let whole = std::fs::read(&gz_path).unwrap();
+        let cut = dir.join("cut.csv.gz");
+        std::fs::write(&cut, &whole[..whole.len() - 12]).unwrap();
+        let r = read_broad(&cut).unwrap();
+        assert!(r.truncated && !r.is_empty());
+        let plain = dir.join("cut.csv");
+        std::fs::write(&plain, &TEXT[..TEXT.len() - 8]).unwrap();
+        let r = read_broad(&plain).unwrap();
+        assert!(r.truncated);
+        assert_eq!(r.len(), 2);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

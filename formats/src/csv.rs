@@ -74,6 +74,7 @@ pub fn read_csv_counted(text: &str) -> Result<(Vec<Record>, Cleanup), FormatErro
     let mut records = Vec::new();
     let mut unreadable = Unreadable::default();
     let mut first_error = None;
+    let mut last_read = true;
     for (line_no, line) in lines {
         let row = || -> Result<Record, FormatError> {
             let cells = split(line);
@@ -126,19 +127,24 @@ pub fn read_csv_counted(text: &str) -> Result<(Vec<Record>, Cleanup), FormatErro
         };
         // A row that cannot be read (wrong field count, not a number, no time: a
         // truncated last line, a stray note) is skipped and counted, not fatal.
-        match row() {
-            Ok(r) => records.push(r),
+        last_read = match row() {
+            Ok(r) => {
+                records.push(r);
+                true
+            }
             Err(e) => {
                 unreadable.add(line_no);
                 first_error.get_or_insert(e);
+                false
             }
-        }
+        };
     }
     if let (true, Some(e)) = (records.is_empty(), first_error) {
         return Err(e);
     }
     let (records, mut cleanup) = finish_counted(records)?;
     cleanup.unreadable = unreadable;
+    cleanup.truncated = crate::sniff::cut_mid_row(text, last_read);
     Ok((records, cleanup))
 }
 
@@ -232,6 +238,16 @@ stance_time_ms,gps_cum_distance_m\n\
         assert_eq!(
             (cleanup.unreadable.rows, cleanup.unreadable.first_line),
             (2, Some(3))
+        );
+        assert!(!cleanup.truncated, "the last row ends with a line end");
+        // A file cut inside its last row.
+        let (records, cleanup) = read_csv_counted("t_s,lat_deg,lon_deg\n1,2,3\n2,2").unwrap();
+        assert_eq!((records.len(), cleanup.truncated), (1, true));
+        assert!(
+            !read_csv_counted("t_s,lat_deg,lon_deg\n1,2,3")
+                .unwrap()
+                .1
+                .truncated
         );
         assert!(message("t_s,lat_deg,lon_deg\n,2,3\n").contains("empty time"));
         assert!(matches!(

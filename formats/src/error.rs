@@ -6,9 +6,31 @@ pub enum FormatError {
     /// The file could not be read from disk.
     #[error("I/O error: {0}")]
     Io(#[from] std::io::Error),
-    /// [`crate::read_activity`] does not know the file extension.
-    #[error("unknown activity file extension {0:?} (expected fit, tcx, gpx or csv)")]
+    /// [`crate::read_activity`] can tell the format neither from the content nor from
+    /// the file extension (given here, lower case).
+    #[error(
+        "not an activity file: neither its content nor its extension {0:?} is FIT, TCX, GPX \
+         or an activity CSV (t_s, lat_deg, lon_deg)"
+    )]
     UnknownExtension(String),
+    /// The path does not exist.
+    #[error("no such file or folder")]
+    Missing,
+    /// The path is a folder where a file is expected.
+    #[error("this is a folder, not a file")]
+    Folder,
+    /// The path is a folder, but not one of the recording folders a reader takes.
+    #[error("this is a folder without {0}")]
+    FolderWithout(&'static str),
+    /// The file holds another kind of recording than the reader reads (told from its
+    /// content, see [`crate::sniff`]).
+    #[error("its content is of another kind ({found}), not a {expected}")]
+    OtherContent {
+        /// What the file holds ([`crate::Content::name`]).
+        found: &'static str,
+        /// What the reader reads.
+        expected: &'static str,
+    },
     /// The content is malformed for its format.
     #[error("invalid {format} file: {message}")]
     Parse {

@@ -18,9 +18,10 @@ const DEG_PER_SEMICIRCLE: f64 = 180.0 / 2_147_483_648.0;
 ///
 /// `cadence` (+ `fractional_cadence`) is strides per minute and is doubled into
 /// `steps_per_min`; `enhanced_speed` / `enhanced_altitude` are preferred over `speed` /
-/// `altitude`. A file cut short in the middle of a message (a watch that lost power) keeps
-/// the records decoded before the cut; any other decoding error, CRC mismatches included,
-/// fails the whole file.
+/// `altitude`. A file cut short (a watch that lost power, a partial download: it ends
+/// inside a message or before its closing CRC) keeps the records decoded before the
+/// cut and says so in [`Cleanup::truncated`]; any other decoding error, CRC mismatches
+/// included, fails the whole file.
 ///
 /// No input panics: fitparser 0.11 adds without overflow checks in its accumulated
 /// fields (`profile/mod.rs`, "attempt to add with overflow" on crafted files in builds
@@ -58,12 +59,18 @@ fn decode(bytes: &[u8]) -> Result<(Vec<Record>, Cleanup), FormatError> {
     let mut compressed_distance = CompressedDistance::default();
     let mut records = Vec::new();
     let mut rest = bytes;
+    // The file ends where a FIT file ends: after its CRC.
+    let mut closed = false;
     while !rest.is_empty() {
         let (next, object) = match processor.deserialize_next(rest) {
             Ok(next) => next,
-            Err(e) if matches!(*e, ErrorKind::UnexpectedEof(_)) && !records.is_empty() => break,
+            Err(e) if matches!(*e, ErrorKind::UnexpectedEof(_)) && !records.is_empty() => {
+                closed = false;
+                break;
+            }
             Err(e) => return Err(fit_error(e)),
         };
+        closed = matches!(object, FitObject::Crc(_));
         match object {
             // End of one FIT file; another may be chained after it.
             FitObject::Crc(_) => {
@@ -82,7 +89,9 @@ fn decode(bytes: &[u8]) -> Result<(Vec<Record>, Cleanup), FormatError> {
         }
         rest = next;
     }
-    finish_counted(records)
+    let (records, mut cleanup) = finish_counted(records)?;
+    cleanup.truncated = !closed;
+    Ok((records, cleanup))
 }
 
 /// Distance carried in the 3-byte `compressed_speed_distance` field of foot pods: the
@@ -355,10 +364,19 @@ mod tests {
     #[test]
     fn truncated_file_keeps_complete_records() {
         let file = fit_file(&sample_data());
-        // Cut inside the last message (and drop the CRC).
-        let records = read_fit(&file[..file.len() - 6]).unwrap();
+        // Cut inside the last message (and drop the CRC): said in the clean-up.
+        let (records, cleanup) = read_fit_counted(&file[..file.len() - 6]).unwrap();
         assert_eq!(records.len(), 3);
         assert_eq!(records[1].device_distance_m, Some(3.5));
+        assert!(cleanup.truncated);
+        // Cut after the last message, before the CRC: cut all the same.
+        assert!(
+            read_fit_counted(&file[..file.len() - 2])
+                .unwrap()
+                .1
+                .truncated
+        );
+        assert!(!read_fit_counted(&file).unwrap().1.truncated);
     }
 
     #[test]

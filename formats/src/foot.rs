@@ -15,7 +15,8 @@
 //! A row whose time or sensor fields are not numbers (a truncated last line, a
 //! logger's text note) is skipped and counted in
 //! [`FootRecording::unreadable_rows`]; NaN and ∞ are numbers here and go on to the
-//! navigator, which rejects them. Also lists the trials of a folder.
+//! navigator, which rejects them. A file that ends inside a row was cut off mid-write:
+//! [`FootRecording::truncated`]. Also lists the trials of a folder.
 
 use std::path::{Path, PathBuf};
 
@@ -62,6 +63,9 @@ pub struct FootRecording {
     /// number (1-based, header = 1) of the first one.
     pub unreadable_rows: usize,
     pub first_unreadable_line: Option<usize>,
+    /// The file ends inside a row: it was cut off mid-write (the rows before the cut
+    /// are read).
+    pub truncated: bool,
 }
 
 impl FootRecording {
@@ -145,6 +149,7 @@ fn layout(header: &[String]) -> Result<Layout, FormatError> {
 
 /// Reads one recording.
 pub fn read_foot_csv(path: &Path) -> Result<FootRecording, FormatError> {
+    crate::sniff::check_file(path)?;
     let text = std::fs::read_to_string(path)?;
     let name = path
         .file_stem()
@@ -184,6 +189,7 @@ pub fn parse_foot_csv(text: &str, name: String) -> Result<FootRecording, FormatE
             .collect(),
         ..Default::default()
     };
+    let mut last_read = true;
     for (ln, line) in lines.enumerate() {
         if line.trim().is_empty() {
             continue;
@@ -204,6 +210,7 @@ pub fn parse_foot_csv(text: &str, name: String) -> Result<FootRecording, FormatE
             }
             Some((t, a, w, g, l))
         })();
+        last_read = row.is_some();
         let Some((t, a, w, g, l)) = row else {
             rec.unreadable_rows += 1;
             rec.first_unreadable_line.get_or_insert(ln + 2);
@@ -222,6 +229,7 @@ pub fn parse_foot_csv(text: &str, name: String) -> Result<FootRecording, FormatE
     if rec.is_empty() {
         return Err(FormatError::Empty);
     }
+    rec.truncated = crate::sniff::cut_mid_row(text, last_read);
     Ok(rec)
 }
 
@@ -260,6 +268,9 @@ mod tests {
         assert!(r.truth_m.is_none());
         assert_eq!(r.unreadable_rows, 1);
         assert_eq!(r.first_unreadable_line, Some(5));
+        assert!(!r.truncated, "a short row with its line end is not a cut");
+        let cut = parse_foot_csv(text.trim_end(), "walk".into()).unwrap();
+        assert!(cut.truncated);
     }
 
     #[test]

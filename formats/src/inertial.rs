@@ -48,6 +48,9 @@ pub struct InertialRecording {
     pub meta: Vec<(String, String)>,
     /// Lines or events the reader skipped, by reason, with counts.
     pub skipped: Vec<(String, u64)>,
+    /// The file was cut off mid-write (Android logs: see [`crate::read_android_log`]);
+    /// what came before the cut is read.
+    pub truncated: bool,
 }
 
 impl InertialRecording {
@@ -176,19 +179,36 @@ pub(crate) fn parse_rows(
     Ok((samples, truth, skipped))
 }
 
-/// Reads a RIDI or RoNIN-export recording or an Android sensor log: a `.txt` or
-/// `.txt.gz` file is an Android sensor log ([`crate::android`]); a `.csv` whose header
-/// has `time_s` is a RoNIN export, one with `time` a RIDI file; a directory holding
-/// `processed/data.csv` is a RIDI sequence.
+/// Reads a RIDI or RoNIN-export recording or an Android sensor log: a file whose
+/// content is an Android sensor log ([`crate::sniff`]; plain or gzip, whatever its
+/// name) is read by [`crate::android`]; a CSV whose header has `time_s` is a RoNIN
+/// export, one with `time` a RIDI file; a directory holding `processed/data.csv` is a
+/// RIDI sequence.
 pub fn read_inertial(path: &Path) -> Result<InertialRecording, FormatError> {
-    if crate::android::is_android_log(path) {
-        return crate::android::read_android_log(path);
+    if path.is_file() {
+        use crate::Content;
+        match crate::sniff::sniff(path)?.content {
+            Content::AndroidLog => return crate::android::read_android_log(path),
+            Content::Ridi | Content::Ronin | Content::Unknown => {}
+            other => {
+                return Err(FormatError::OtherContent {
+                    found: other.name(),
+                    expected: "phone recording (Android sensor log, RIDI or RoNIN CSV)",
+                })
+            }
+        }
+    }
+    if path.is_dir() && !path.join("processed").join("data.csv").is_file() {
+        return Err(FormatError::FolderWithout(
+            "processed/data.csv (a RIDI sequence folder has one)",
+        ));
     }
     let file = if path.is_dir() {
         path.join("processed").join("data.csv")
     } else {
         path.to_path_buf()
     };
+    crate::sniff::check_file(&file)?;
     let text = std::fs::read_to_string(&file)?;
     let first = text.lines().next().unwrap_or("");
     let name = if path.is_dir() { path } else { file.as_path() }

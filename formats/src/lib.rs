@@ -22,12 +22,15 @@ mod oxford;
 mod record;
 mod ridi;
 mod ronin;
+mod sniff;
 mod tcx;
 mod xml;
 
 use std::path::Path;
 
-pub use crate::android::{is_android_log, list_android_logs, parse_android_log, read_android_log};
+pub use crate::android::{
+    android_motion_events, is_android_log, list_android_logs, parse_android_log, read_android_log,
+};
 pub use crate::broad::{list_broad_trials, parse_broad, read_broad, OrientationRecording};
 pub use crate::csv::{read_csv, read_csv_counted};
 pub use crate::data::{data_dir, DATA_ENV_VAR};
@@ -45,38 +48,104 @@ pub use crate::oxford::{
 pub use crate::record::{Activity, Cleanup, Record};
 pub use crate::ridi::{parse_ridi_csv, ridi_placement};
 pub use crate::ronin::parse_ronin_csv;
+pub use crate::sniff::{check_file, sniff, sniff_bytes, Content, Sniffed};
 pub use crate::tcx::{read_tcx, read_tcx_counted};
 
-/// Reads an activity file, choosing the reader from the file extension (case-insensitive):
-/// `fit`, `tcx`, `gpx` or `csv`. The activity name is the file stem.
+/// Reads an activity file: FIT, TCX, GPX or the activity CSV, told from the content
+/// ([`sniff`]); the extension (`fit`, `tcx`, `gpx`, `csv`, case-insensitive) decides
+/// only when the content does not (then the reader of that format says what is
+/// wrong). A gzip-compressed file (e.g. Strava's `.fit.gz`) is decompressed. The
+/// activity name is the file name without its extensions.
 pub fn read_activity(path: &Path) -> Result<Activity, FormatError> {
-    let extension = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase())
-        .unwrap_or_default();
-    let (records, cleanup) = match extension.as_str() {
-        "fit" => read_fit_counted(&std::fs::read(path)?)?,
-        "tcx" => read_tcx_counted(&read_text(path)?)?,
-        "gpx" => read_gpx_counted(&read_text(path)?)?,
-        "csv" => read_csv_counted(&read_text(path)?)?,
-        _ => return Err(FormatError::UnknownExtension(extension)),
+    let sniffed = sniff(path)?;
+    let extension = activity_extension(path);
+    let content = match sniffed.content {
+        c if c.is_activity() => c,
+        Content::Unknown => match extension.as_str() {
+            "fit" => Content::Fit,
+            "tcx" => Content::Tcx,
+            "gpx" => Content::Gpx,
+            "csv" => Content::ActivityCsv,
+            _ => return Err(FormatError::UnknownExtension(extension)),
+        },
+        other => {
+            return Err(FormatError::OtherContent {
+                found: other.name(),
+                expected: "activity file (FIT, TCX, GPX or an activity CSV)",
+            })
+        }
     };
-    let name = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let bytes = read_bytes(path, sniffed.gzip)?;
+    let text = || String::from_utf8_lossy(&bytes);
+    let (records, cleanup) = match content {
+        Content::Fit => read_fit_counted(&bytes)?,
+        Content::Tcx => read_tcx_counted(&text())?,
+        Content::Gpx => read_gpx_counted(&text())?,
+        _ => read_csv_counted(&text())?,
+    };
     Ok(Activity {
-        name,
+        name: activity_name(path),
         records,
         cleanup,
     })
 }
 
-/// Reads a text file; bytes that are not UTF-8 (seen in names and notes of some exports)
-/// are replaced rather than rejected, since the numeric fields are ASCII.
-fn read_text(path: &Path) -> Result<String, FormatError> {
-    let bytes = std::fs::read(path)?;
-    Ok(String::from_utf8_lossy(&bytes).into_owned())
+/// Largest activity file read, bytes (decompressed): 1 GiB.
+const MAX_ACTIVITY_BYTES: u64 = 1 << 30;
+
+/// The extension that names the format, lower case (`run.fit.gz` → `fit`).
+fn activity_extension(path: &Path) -> String {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    let name = name.strip_suffix(".gz").unwrap_or(&name);
+    Path::new(name)
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// The file name without the format's extension (and `.gz`).
+fn activity_name(path: &Path) -> String {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let name = match name.len().checked_sub(3) {
+        Some(k) if name.is_char_boundary(k) && name[k..].eq_ignore_ascii_case(".gz") => {
+            name[..k].to_string()
+        }
+        _ => name,
+    };
+    Path::new(&name)
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// The file's bytes, decompressed when `gzip`. A gzip stream cut short gives the bytes
+/// it held (the reader of the format then finds the cut).
+fn read_bytes(path: &Path, gzip: bool) -> Result<Vec<u8>, FormatError> {
+    use std::io::Read;
+    let file = std::fs::File::open(path)?;
+    let mut bytes = Vec::new();
+    let read = if gzip {
+        flate2::read::GzDecoder::new(file)
+            .take(MAX_ACTIVITY_BYTES + 1)
+            .read_to_end(&mut bytes)
+    } else {
+        file.take(MAX_ACTIVITY_BYTES + 1).read_to_end(&mut bytes)
+    };
+    match read {
+        Ok(_) => {}
+        Err(e) if gzip && e.kind() == std::io::ErrorKind::UnexpectedEof => {}
+        Err(e) => return Err(e.into()),
+    }
+    if bytes.len() as u64 > MAX_ACTIVITY_BYTES {
+        return Err(FormatError::parse("activity", "larger than 1 GiB"));
+    }
+    Ok(bytes)
 }
 
 #[cfg(test)]
@@ -101,7 +170,18 @@ mod tests {
         ));
         assert!(matches!(
             read_activity(&dir.join("missing.fit")),
-            Err(FormatError::Io(_))
+            Err(FormatError::Missing)
+        ));
+        assert!(matches!(read_activity(&dir), Err(FormatError::Folder)));
+        // The content decides: a CSV named .gpx, an Oxford trace named .csv.
+        let renamed = dir.join("run.gpx");
+        std::fs::write(&renamed, "t_s,lat_deg,lon_deg\n1,2,3\n").unwrap();
+        assert_eq!(read_activity(&renamed).unwrap().name, "run");
+        let oxford = dir.join("my_walk.csv");
+        std::fs::write(&oxford, "263239144953734,2,1.94,5.16,10.16\n").unwrap();
+        assert!(matches!(
+            read_activity(&oxford),
+            Err(FormatError::OtherContent { found, .. }) if found.contains("Oxford")
         ));
         std::fs::remove_dir_all(&dir).unwrap();
     }

@@ -249,20 +249,26 @@ pub struct OxfordAccelRows {
     /// Rows that are not a timestamp, an accuracy flag and three numbers (a header, a
     /// truncated last line, garbage), skipped.
     pub unreadable: Unreadable,
+    /// The file ends inside a row: it was cut off mid-write (the rows before the cut
+    /// are read).
+    pub truncated: bool,
 }
 
 /// Every row of an Oxford-format `accelerometer.csv` (no header: timestamp ns, accuracy
 /// flag, ax, ay, az in m/s²) in file order, as recorded: unlike [`read_oxford_trace`],
 /// rows with non-finite values or timestamps that repeat or go backwards are kept, so
 /// a replay can skip and count them. A row that is not five numbers is skipped and
-/// counted; a file with no readable row is [`FormatError::Empty`].
+/// counted; a file with no readable row is [`FormatError::Empty`]; a file that ends
+/// inside a row is flagged [`OxfordAccelRows::truncated`].
 pub fn read_oxford_accel_raw(path: &Path) -> Result<OxfordAccelRows, FormatError> {
+    crate::sniff::check_file(path)?;
     let text = std::fs::read_to_string(path)?;
     let file = "accelerometer.csv";
     let mut out = OxfordAccelRows {
         samples: Vec::with_capacity(text.len() / 40),
         ..Default::default()
     };
+    let mut last_read = true;
     for (i, line) in text.lines().enumerate() {
         if line.trim().is_empty() {
             continue;
@@ -280,14 +286,21 @@ pub fn read_oxford_accel_raw(path: &Path) -> Result<OxfordAccelRows, FormatError
                 accel_mps2: a,
             })
         };
-        match row() {
-            Ok(a) => out.samples.push(a),
-            Err(_) => out.unreadable.add(i + 1),
-        }
+        last_read = match row() {
+            Ok(a) => {
+                out.samples.push(a);
+                true
+            }
+            Err(_) => {
+                out.unreadable.add(i + 1);
+                false
+            }
+        };
     }
     if out.samples.is_empty() {
         return Err(FormatError::Empty);
     }
+    out.truncated = crate::sniff::cut_mid_row(&text, last_read);
     Ok(out)
 }
 

@@ -131,8 +131,8 @@ pub struct Cleanup {
     /// Rows a text reader could not read (CSV: wrong field count, not a number, no
     /// time), skipped.
     pub unreadable: Unreadable,
-    /// The file was cut off (XML not closed) and was read up to its last complete
-    /// trackpoint.
+    /// The file was cut off (XML not closed, a FIT file without its closing CRC, a CSV
+    /// ending inside a row) and was read up to its last complete record.
     pub truncated: bool,
 }
 
@@ -141,7 +141,7 @@ impl Cleanup {
     pub fn reasons(&self) -> Vec<(String, u64)> {
         [
             (
-                "file cut off mid-write, read up to its last complete trackpoint".into(),
+                "file cut off mid-write, read up to its last complete record".into(),
                 u64::from(self.truncated),
             ),
             (

@@ -28,6 +28,7 @@ fn every_indoor_walk_reads() {
         assert!(r.samples.iter().all(|s| s.mag_ut.is_some()), "{}", r.name);
         assert!(r.orientation.len() + 10 >= r.samples.len(), "{}", r.name);
         assert!(r.truth.len() >= 2, "{}", r.name);
+        assert!(!r.truncated, "{}: whole logs end with endTime", r.name);
         let span = r.samples.last().unwrap().t_s - r.samples[0].t_s;
         let rate = (r.samples.len() - 1) as f64 / span;
         assert!((40.0..60.0).contains(&rate), "{}: {rate} Hz", r.name);

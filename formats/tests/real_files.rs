@@ -288,6 +288,10 @@ fn every_original_file_is_covered() {
     names.sort();
     let source = include_str!("real_files.rs");
     for name in &names {
+        // Whole files: none is taken for one cut off mid-write.
+        let activity = read_activity(&pace.join("original").join(name))
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(!activity.cleanup.truncated, "{name} read as cut off");
         assert!(
             source.contains(&format!("\"{name}\"")),
             "{name} has no comparison test"

@@ -78,6 +78,7 @@ targets! {
     "packed_pace_step_counts" => packed::pace_step_counts,
     "packed_pace_accel" => packed::pace_accel,
     "packed_navigator_imu" => packed::navigator_imu,
+    "packed_navigator_events" => packed::navigator_events,
     "packed_odometry_imu" => packed::odometry_imu,
     "packed_orientation_imu" => packed::orientation_imu,
     "packed_placement_accel" => packed::placement_accel,

@@ -25,9 +25,11 @@ enum Field {
     Value(f64, f64),
     /// A cumulative step count (u64 LE).
     Count,
+    /// An Android sensor type (i64 LE): mostly 1, 4, 2, sometimes any byte.
+    Sensor,
 }
 
-use Field::{Count, Time, Value as V};
+use Field::{Count, Sensor, Time, Value as V};
 
 const FIX: &[Field] = &[
     Time(1.0),
@@ -53,6 +55,8 @@ const IMU: &[Field] = &[
     V(0.0, 5.0),
     V(-40.0, 5.0),
 ];
+/// A separate sensor event (`stridekit::packed`): `t_s`, sensor type, x y z.
+const EVENT: &[Field] = &[Time(0.004), Sensor, V(0.0, 3.0), V(0.0, 3.0), V(9.81, 3.0)];
 /// The 6-axis IMU record (foot): `t_s`, accel xyz, gyro xyz.
 const FOOT: &[Field] = &[
     Time(0.005),
@@ -82,6 +86,17 @@ fn encode(data: &[u8], layout: &[Field]) -> Vec<u8> {
             let v = match *f {
                 Time(dt) => b.time(&mut t, dt),
                 V(c, s) => b.value(c, s),
+                Sensor => {
+                    let k = b.u8();
+                    let code: i64 = match k % 8 {
+                        0..=2 => 1,
+                        3 | 4 => 4,
+                        5 | 6 => 2,
+                        _ => i64::from(k),
+                    };
+                    out.extend_from_slice(&code.to_le_bytes());
+                    continue;
+                }
                 Count => {
                     count = match b.u8() {
                         255 => u64::from(b.u8()) << 40,
@@ -132,6 +147,17 @@ pub fn pace_accel(data: &[u8]) {
 pub fn navigator_imu(data: &[u8]) {
     let n = PhoneNavigator::with_defaults();
     typed("navigator imu", n.push_imu_packed(encode(data, IMU)));
+    assert!(PhoneNavigator::restore(n.snapshot()).is_ok());
+}
+
+pub fn navigator_events(data: &[u8]) {
+    let n = PhoneNavigator::with_defaults();
+    typed(
+        "navigator events",
+        n.push_sensor_events_packed(encode(data, EVENT)),
+    );
+    assert!(PhoneNavigator::restore(n.snapshot()).is_ok());
+    typed("navigator events flushed", n.flush_sensor_events());
     assert!(PhoneNavigator::restore(n.snapshot()).is_ok());
 }
 

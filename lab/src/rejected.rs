@@ -1,6 +1,9 @@
 //! Counting the samples a replay's engine rejects, by reason, for the summary a replay
-//! prints on stderr (a real recording is replayed with its bad samples skipped, not
-//! aborted; see docs/api.md, "Replaying recordings").
+//! prints (a real recording is replayed with its bad samples skipped, not aborted; see
+//! docs/api.md, "Replaying recordings"). Refusals for a stream's units (timestamps not
+//! in seconds, accelerations in g) count once per stream, naming the unit the first
+//! refusal named: later intervals, measured from the last accepted sample, would name
+//! others.
 
 use std::collections::BTreeMap;
 
@@ -15,6 +18,37 @@ use stridekit_core::PaceError;
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Rejected {
     by_reason: BTreeMap<String, u64>,
+    /// Refusals for a stream's units, by stream name (`GNSS`, `step`, `accelerometer`,
+    /// `IMU`).
+    units: BTreeMap<String, UnitRefusal>,
+}
+
+/// The samples of one stream refused for their units.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnitRefusal {
+    pub samples: u64,
+    /// What the first refusal said, e.g. `GNSS timestamps are not seconds: they look
+    /// like milliseconds (divide by 1000)`.
+    pub message: String,
+}
+
+/// The stream a unit refusal is about and what it says; `None` for other errors.
+/// `accel_stream` names the stream accelerations come in (`accelerometer`, `IMU`).
+pub fn unit_refusal(e: &InputError, accel_stream: &str) -> Option<(String, String)> {
+    match e {
+        InputError::TimeUnit { stream, likely, .. } => Some((
+            stream.to_string(),
+            format!(
+                "{stream} timestamps are not seconds: they look like {likely} (divide by {})",
+                likely.per_second()
+            ),
+        )),
+        InputError::AccelerationInG { .. } => Some((
+            accel_stream.to_string(),
+            "accelerations look like g, not m/s² (multiply by 9.80665)".into(),
+        )),
+        _ => None,
+    }
 }
 
 /// The reason a sample was refused at the door, without the sample's own values, so
@@ -58,7 +92,7 @@ pub fn nav_reason(e: &NavError) -> String {
 
 impl Rejected {
     pub fn total(&self) -> u64 {
-        self.by_reason.values().sum()
+        self.by_reason.values().sum::<u64>() + self.units.values().map(|u| u.samples).sum::<u64>()
     }
 
     /// A sample skipped for a reason of the replay's own (e.g. no rotation vector).
@@ -66,9 +100,26 @@ impl Rejected {
         *self.by_reason.entry(reason).or_insert(0) += 1;
     }
 
-    /// A sample refused at the door (see [`input_reason`]).
+    /// A sample refused at the door (see [`input_reason`]); accelerations come in the
+    /// accelerometer stream.
     pub fn input(&mut self, e: &InputError) {
-        self.add(input_reason(e));
+        self.input_in(e, "accelerometer");
+    }
+
+    /// [`Rejected::input`], accelerations coming in `accel_stream`.
+    pub fn input_in(&mut self, e: &InputError, accel_stream: &str) {
+        match unit_refusal(e, accel_stream) {
+            Some((stream, message)) => {
+                self.units
+                    .entry(stream)
+                    .or_insert(UnitRefusal {
+                        samples: 0,
+                        message,
+                    })
+                    .samples += 1;
+            }
+            None => self.add(input_reason(e)),
+        }
     }
 
     pub fn pace(&mut self, e: &PaceError) {
@@ -87,29 +138,49 @@ impl Rejected {
 
     pub fn ahrs(&mut self, e: &AhrsError) {
         match e {
-            AhrsError::Input(i) => self.input(i),
+            AhrsError::Input(i) => self.input_in(i, "IMU"),
             other => self.add(other.to_string()),
         }
     }
 
     pub fn odometry(&mut self, e: &OdometryError) {
         match e {
-            OdometryError::Input(i) => self.input(i),
+            OdometryError::Input(i) => self.input_in(i, "IMU"),
             other => self.add(other.to_string()),
         }
     }
 
-    /// The counts by reason.
+    /// A sample the phone navigator refused.
+    pub fn nav(&mut self, e: &NavError) {
+        match e {
+            NavError::Input(i) => self.input_in(i, "IMU"),
+            other => self.add(other.to_string()),
+        }
+    }
+
+    /// The counts by reason, unit refusals not included (see
+    /// [`Rejected::unit_refusals`]).
     pub fn counts(&self) -> &BTreeMap<String, u64> {
         &self.by_reason
     }
 
-    /// One line per reason, e.g. `  skipped 205: duplicate timestamp (...)`.
+    /// The refusals for a stream's units, by stream.
+    pub fn unit_refusals(&self) -> &BTreeMap<String, UnitRefusal> {
+        &self.units
+    }
+
+    /// One line per reason, e.g. `  skipped 205: duplicate timestamp (...)`; one per
+    /// stream refused for its units, naming the unit.
     pub fn report(&self) -> String {
-        self.by_reason
+        let units = self
+            .units
+            .values()
+            .map(|u| format!("  skipped {}: {}\n", u.samples, u.message));
+        let others = self
+            .by_reason
             .iter()
-            .map(|(r, n)| format!("  skipped {n}: {r}\n"))
-            .collect()
+            .map(|(r, n)| format!("  skipped {n}: {r}\n"));
+        units.chain(others).collect()
     }
 }
 
@@ -145,5 +216,34 @@ mod tests {
             text.contains("skipped 1: accel_x_mps2 not a finite number"),
             "{text}"
         );
+    }
+
+    #[test]
+    fn unit_refusals_count_once_per_stream_naming_the_first_unit() {
+        use stridekit_core::input::LikelyTimeUnit;
+        let mut r = Rejected::default();
+        for likely in [
+            LikelyTimeUnit::Milliseconds,
+            LikelyTimeUnit::Microseconds,
+            LikelyTimeUnit::Microseconds,
+        ] {
+            r.pace(&PaceError::Input(InputError::TimeUnit {
+                stream: Stream::Gnss,
+                t_s: 3000.0,
+                interval_s: 1000.0,
+                likely,
+            }));
+        }
+        r.ahrs(&AhrsError::Input(InputError::AccelerationInG {
+            mean_magnitude: 1.0,
+        }));
+        assert_eq!(r.total(), 4);
+        assert_eq!(
+            r.report(),
+            "  skipped 3: GNSS timestamps are not seconds: they look like milliseconds (divide by 1000)\n\
+             \x20 skipped 1: accelerations look like g, not m/s² (multiply by 9.80665)\n"
+        );
+        assert_eq!(r.unit_refusals()["IMU"].samples, 1);
+        assert!(r.counts().is_empty());
     }
 }

@@ -120,6 +120,41 @@ pub fn min_sec(minutes: f64) -> String {
     format!("{}:{:02}", s / 60, (s % 60).abs())
 }
 
+/// A line of report text as HTML: `&`, `<`, `>` escaped, `` `code` `` as `<code>`,
+/// `**bold**` as `<strong>` (the two inline marks the reports' Markdown uses).
+pub fn inline_html(text: &str) -> String {
+    let escaped = text
+        .replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;");
+    let mut out = String::with_capacity(escaped.len());
+    let (mut code, mut bold) = (false, false);
+    let mut rest = escaped.as_str();
+    while let Some(c) = rest.chars().next() {
+        if !code && rest.starts_with("**") {
+            out.push_str(if bold { "</strong>" } else { "<strong>" });
+            bold = !bold;
+            rest = &rest[2..];
+            continue;
+        }
+        if c == '`' {
+            out.push_str(if code { "</code>" } else { "<code>" });
+            code = !code;
+        } else {
+            out.push(c);
+        }
+        rest = &rest[c.len_utf8()..];
+    }
+    // An unpaired mark is closed rather than left open.
+    if code {
+        out.push_str("</code>");
+    }
+    if bold {
+        out.push_str("</strong>");
+    }
+    out
+}
+
 /// Why a chart could not be written.
 #[derive(Debug)]
 pub enum ReportError {
@@ -472,6 +507,16 @@ fn widen(range: (f64, f64), span: f64) -> (f64, f64) {
 mod tests {
     use super::*;
     use std::path::PathBuf;
+
+    #[test]
+    fn inline_marks_become_html() {
+        assert_eq!(
+            inline_html("**Next** via `PaceTracker.calibration()` & <b>"),
+            "<strong>Next</strong> via <code>PaceTracker.calibration()</code> &amp; &lt;b&gt;"
+        );
+        assert_eq!(inline_html("`a**b`"), "<code>a**b</code>");
+        assert_eq!(inline_html("open `x"), "open <code>x</code>");
+    }
 
     /// A fresh directory under the system temp dir, removed on drop.
     struct TempDir(PathBuf);

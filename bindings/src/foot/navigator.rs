@@ -57,7 +57,7 @@ impl FootNavigator {
             |r: stridekit_core::batch::Rejected<FootError>| {
                 rejected.push(FootRejectedSample {
                     index: i32::try_from(r.index).unwrap_or(i32::MAX),
-                    description: r.error.to_string(),
+                    reason: r.error.to_string(),
                     error: r.error,
                 })
             },

@@ -174,8 +174,9 @@ pub struct FootRejectedSample {
     /// Position of the sample in the batch (record in a packed buffer), from 0.
     pub index: i32,
     pub error: FootError,
-    /// The same as a sentence, for logs.
-    pub description: String,
+    /// The same as a sentence, for logs (the field every engine's rejected sample
+    /// has: `reason`).
+    pub reason: String,
 }
 
 /// What a batch push produced.

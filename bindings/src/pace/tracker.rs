@@ -17,8 +17,9 @@ pub struct RejectedSample {
     pub index: i32,
     /// Why it was rejected.
     pub error: PaceError,
-    /// The same as a sentence, for logs.
-    pub description: String,
+    /// The same as a sentence, for logs (the field every engine's rejected sample
+    /// has: `reason`).
+    pub reason: String,
 }
 
 /// What a batch push produced.
@@ -80,7 +81,7 @@ impl PaceTracker {
             |r: stridekit_core::batch::Rejected<PaceError>| {
                 rejected.push(RejectedSample {
                     index: i32::try_from(r.index).unwrap_or(i32::MAX),
-                    description: r.error.to_string(),
+                    reason: r.error.to_string(),
                     error: r.error,
                 })
             },

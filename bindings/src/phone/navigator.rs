@@ -11,7 +11,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use stridekit_core::pdr as core;
 
 use crate::pace::types::GnssFix;
-use crate::packed::imu_samples;
+use crate::packed::{imu_samples, sensor_events};
 
 crate::error::engine_error! {
     /// Why the navigator rejected an input, a buffer or a snapshot (Kotlin
@@ -55,11 +55,12 @@ impl From<core::NavError> for NavError {
             core::NavError::Attitude { .. } => Self::InvalidImuSample {
                 reason: e.to_string(),
             },
-            core::NavError::Ahrs(_) | core::NavError::Steps(_) | core::NavError::StepLength(_) => {
-                Self::InvalidConfig {
-                    reason: e.to_string(),
-                }
-            }
+            core::NavError::Ahrs(_)
+            | core::NavError::Steps(_)
+            | core::NavError::StepLength(_)
+            | core::NavError::Merge(_) => Self::InvalidConfig {
+                reason: e.to_string(),
+            },
         }
     }
 }
@@ -153,6 +154,60 @@ pub(crate) fn push_each<S, E: crate::error::InputCause>(
         accepted: i32::try_from(accepted).unwrap_or(i32::MAX),
         produced,
         rejected,
+    }
+}
+
+/// Why a sensor event of a packed batch was refused: the navigator's reason, or a
+/// sensor type it does not take.
+enum EventError {
+    Nav(core::NavError),
+    UnknownSensor(i64),
+}
+
+impl std::fmt::Display for EventError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Nav(e) => e.fmt(f),
+            Self::UnknownSensor(code) => write!(
+                f,
+                "sensor_type {code} is not an accelerometer (1), magnetometer (2) or gyroscope (4)"
+            ),
+        }
+    }
+}
+
+impl crate::error::InputCause for EventError {
+    fn input(&self) -> Option<&stridekit_core::input::InputError> {
+        match self {
+            Self::Nav(e) => e.input(),
+            Self::UnknownSensor(_) => None,
+        }
+    }
+}
+
+/// What the merge of separate sensor events did so far (core `MergeCounts`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, uniffi::Record)]
+pub struct SensorEventCounts {
+    /// IMU samples merged and pushed.
+    pub samples: i64,
+    /// Accelerometer events dropped: no gyroscope event within 0.1 s.
+    pub without_gyro: i64,
+    /// Events lost to a full queue (a stream far behind at a very high rate).
+    pub overflow: i64,
+    /// Merged samples the navigator refused (IMU samples also pushed directly, out
+    /// of order with the events).
+    pub refused: i64,
+}
+
+impl From<stridekit_core::imu::MergeCounts> for SensorEventCounts {
+    fn from(c: stridekit_core::imu::MergeCounts) -> Self {
+        let n = |v: u64| i64::try_from(v).unwrap_or(i64::MAX);
+        Self {
+            samples: n(c.samples),
+            without_gyro: n(c.without_gyro),
+            overflow: n(c.overflow),
+            refused: n(c.refused),
+        }
     }
 }
 
@@ -353,6 +408,13 @@ pub struct NavigatorConfig {
     /// (10 s).
     #[uniffi(default = true)]
     pub gyro_calibrated: bool,
+    /// How long, in event time, a sample waits for the gyroscope and magnetometer
+    /// events around an accelerometer event (`pushSensorEventsPacked`), seconds
+    /// (0–10): sensor batches delivered later than this lose their exact pairing. The
+    /// default suits `maxReportLatencyUs` up to 0.5 s; set it to the latency you
+    /// register with when larger (docs/api.md, "Separate sensor events").
+    #[uniffi(default = 0.5)]
+    pub max_event_delay_s: f64,
 }
 
 impl From<&core::NavigatorConfig> for NavigatorConfig {
@@ -371,6 +433,7 @@ impl From<&core::NavigatorConfig> for NavigatorConfig {
             prior_pendulum_k: c.step_length.prior_pendulum_k,
             max_fix_accuracy_m: c.step_length.max_accuracy_m,
             gyro_calibrated: c.gyro_calibrated,
+            max_event_delay_s: c.merge.max_delay_s,
         }
     }
 }
@@ -402,6 +465,10 @@ impl TryFrom<NavigatorConfig> for core::NavigatorConfig {
                 ..base.step_length
             },
             gyro_calibrated: c.gyro_calibrated,
+            merge: stridekit_core::imu::MergeConfig {
+                max_delay_s: c.max_event_delay_s,
+                ..base.merge
+            },
         })
     }
 }
@@ -536,6 +603,69 @@ impl PhoneNavigator {
         })
     }
 
+    /// Push separate sensor events packed as 40-byte little-endian records `t_s`
+    /// (f64, s), `sensor_type` (i64: Android's `Sensor.TYPE_ACCELEROMETER` 1,
+    /// `TYPE_MAGNETIC_FIELD` 2, `TYPE_GYROSCOPE` 4), `x, y, z` (f64: m/s², µT, rad/s)
+    /// (`packImuEvents` builds them): each stream with its own times, in any
+    /// interleaving. They are merged into IMU samples by the SDK's one rule (one per
+    /// accelerometer event, gyroscope and magnetometer interpolated; docs/api.md,
+    /// "Separate sensor events"), each pushed as by `pushImuPacked`. `accepted`
+    /// counts events, `produced` the samples merged and pushed during the call;
+    /// rejected events are reported by index. Samples wait for the other streams'
+    /// later events: `flushSensorEvents()` releases them at the end.
+    pub fn push_sensor_events_packed(&self, data: Vec<u8>) -> Result<ImuBatchResult, NavError> {
+        guard(|| {
+            let events =
+                sensor_events(&data).map_err(|reason| NavError::InvalidBuffer { reason })?;
+            let mut nav = self.lock();
+            let mut steps = Vec::new();
+            let mut placed = nav.recent_steps().1;
+            let before = nav.merge_counts().samples;
+            let b = push_each(events, |e| {
+                let pushed = match e {
+                    Ok(e) => nav.push_event(&e).map(|()| false).map_err(EventError::Nav),
+                    Err(code) => Err(EventError::UnknownSensor(code)),
+                };
+                collect_new_steps(&nav, &mut placed, &mut steps);
+                pushed
+            });
+            let produced = nav.merge_counts().samples - before;
+            Ok(ImuBatchResult {
+                accepted: b.accepted,
+                produced: i32::try_from(produced).unwrap_or(i32::MAX),
+                steps,
+                rejected: b.rejected,
+                latest: nav.estimate().map(Into::into),
+            })
+        })
+    }
+
+    /// Push the IMU samples still waiting for later gyroscope or magnetometer
+    /// events (`pushSensorEventsPacked`), with what those streams have: when the
+    /// sensors stop (end of a session, before a final estimate). Events pushed
+    /// afterwards merge as before.
+    pub fn flush_sensor_events(&self) -> ImuBatchResult {
+        let mut nav = self.lock();
+        let mut steps = Vec::new();
+        let mut placed = nav.recent_steps().1;
+        let before = nav.merge_counts().samples;
+        nav.flush_events();
+        collect_new_steps(&nav, &mut placed, &mut steps);
+        let produced = nav.merge_counts().samples - before;
+        ImuBatchResult {
+            accepted: 0,
+            produced: i32::try_from(produced).unwrap_or(i32::MAX),
+            steps,
+            rejected: Vec::new(),
+            latest: nav.estimate().map(Into::into),
+        }
+    }
+
+    /// What the sensor-event merge did so far (`pushSensorEventsPacked`).
+    pub fn sensor_event_counts(&self) -> SensorEventCounts {
+        self.lock().merge_counts().into()
+    }
+
     /// Push one GNSS fix: anchors the local frame (first fix), corrects position,
     /// calibrates step length and walking direction.
     pub fn push_fix(&self, fix: GnssFix) -> Result<NavEstimate, NavError> {
@@ -588,6 +718,103 @@ mod tests {
             Err(NavError::InvalidConfig { reason }) => assert!(!reason.is_empty()),
             other => panic!("expected InvalidConfig, got {other:?}"),
         }
+    }
+
+    #[test]
+    fn sensor_events_merge_into_the_samples_a_packed_imu_push_takes() {
+        use crate::packed::{pack_imu_events, pack_imu_samples, ImuEvent};
+        let samples: Vec<crate::ImuSample> = (0..1500)
+            .map(|i| {
+                let t = f64::from(i) * 0.01;
+                crate::ImuSample {
+                    t_s: t,
+                    accel_x_mps2: 0.5 * (11.0 * t).sin(),
+                    accel_y_mps2: 0.3 * (6.0 * t).sin(),
+                    accel_z_mps2: 9.81 + 2.0 * (11.0 * t).sin(),
+                    gyro_x_rads: 0.01,
+                    gyro_y_rads: 0.0,
+                    gyro_z_rads: 0.1 * t.sin(),
+                    mag_x_ut: Some(20.0),
+                    mag_y_ut: Some(0.0),
+                    mag_z_ut: Some(-40.0),
+                }
+            })
+            .collect();
+        let direct = PhoneNavigator::with_defaults();
+        direct
+            .push_imu_packed(pack_imu_samples(samples.clone()))
+            .unwrap();
+        // The same samples as separate events, the gyroscope and magnetometer 100 ms
+        // late, one of an unknown sensor among them.
+        let mut events = Vec::new();
+        for (i, s) in samples.iter().enumerate() {
+            events.push(ImuEvent {
+                t_s: s.t_s,
+                sensor_type: 1,
+                x: s.accel_x_mps2,
+                y: s.accel_y_mps2,
+                z: s.accel_z_mps2,
+            });
+            if i >= 10 {
+                let late = &samples[i - 10];
+                events.push(ImuEvent {
+                    t_s: late.t_s,
+                    sensor_type: 4,
+                    x: late.gyro_x_rads,
+                    y: late.gyro_y_rads,
+                    z: late.gyro_z_rads,
+                });
+                events.push(ImuEvent {
+                    t_s: late.t_s,
+                    sensor_type: 2,
+                    x: 20.0,
+                    y: 0.0,
+                    z: -40.0,
+                });
+            }
+        }
+        for late in &samples[samples.len() - 10..] {
+            events.push(ImuEvent {
+                t_s: late.t_s,
+                sensor_type: 4,
+                x: late.gyro_x_rads,
+                y: late.gyro_y_rads,
+                z: late.gyro_z_rads,
+            });
+        }
+        events.insert(
+            7,
+            ImuEvent {
+                sensor_type: 5,
+                ..events[6]
+            },
+        );
+        let nav = PhoneNavigator::with_defaults();
+        let mut rejected = Vec::new();
+        for chunk in events.chunks(1000) {
+            let r = nav
+                .push_sensor_events_packed(pack_imu_events(chunk.to_vec()))
+                .unwrap();
+            rejected.extend(r.rejected);
+        }
+        let end = nav.flush_sensor_events();
+        assert_eq!(rejected.len(), 1);
+        assert_eq!(rejected[0].index, 7);
+        assert!(matches!(
+            rejected[0].error,
+            crate::error::SampleError::Other { .. }
+        ));
+        assert!(
+            end.produced > 0,
+            "the last samples waited for their gyroscope"
+        );
+        assert_eq!(nav.estimate(), direct.estimate());
+        let counts = nav.sensor_event_counts();
+        assert_eq!((counts.samples, counts.without_gyro), (1500, 0));
+        assert!(matches!(
+            nav.push_sensor_events_packed(vec![0; 39]),
+            Err(NavError::InvalidBuffer { .. })
+        ));
     }
 
     #[test]

@@ -1,6 +1,8 @@
 //! `PhoneOdometry` at the FFI: learned phone inertial odometry, RIDI-style (core:
 //! `stridekit_core::odometry`; method, measured accuracy and limits in
-//! `docs/odometry-pipeline.md` — the shipped regressors are trained on the simulator).
+//! `docs/odometry-pipeline.md`). **Experimental**: on 287 real indoor walks
+//! `PhoneNavigator` is more accurate (median ATE 1.18 m against 1.47 m leave one floor
+//! out); the shipped model is trained on those hand-held walks (docs/odometry.md).
 //!
 //! IMU samples cross the FFI packed, in the same 80-byte little-endian layout as
 //! `PhoneNavigator` ([`crate::phone::navigator`]): ten f64 `t_s, gyro_x, gyro_y, gyro_z
@@ -182,6 +184,9 @@ pub struct OdometryBatchResult {
 }
 
 /// Learned phone inertial odometry. Safe to call from several threads.
+/// Learned phone inertial odometry. Experimental: for positions from a phone use
+/// `PhoneNavigator`, more accurate on real walks (docs/odometry.md). The shipped model
+/// is trained on real hand-held walks; other placements use its general regressor.
 #[derive(Debug, uniffi::Object)]
 pub struct PhoneOdometry {
     inner: Mutex<core::PhoneOdometry>,

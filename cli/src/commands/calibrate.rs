@@ -42,7 +42,7 @@ pub enum Calibrate {
         #[arg(long, value_name = "FILE")]
         out: PathBuf,
         /// Sensor axes spec, as for `stridekit foot`.
-        #[arg(long, value_name = "SPEC")]
+        #[arg(long, value_name = "SPEC", value_parser = super::replay::axes_spec)]
         axes: Option<String>,
         /// The IMU profile, as for `stridekit foot`.
         #[arg(long, value_enum)]
@@ -74,7 +74,7 @@ impl From<Model> for StepLengthModel {
     }
 }
 
-pub fn run(c: Calibrate) -> Result<(), String> {
+pub fn run(c: Calibrate) -> Result<(), crate::outcome::Failure> {
     match c {
         Calibrate::Foot {
             files,

@@ -6,7 +6,8 @@ use std::path::PathBuf;
 use clap::{ArgGroup, Subcommand};
 use stridekit_core::PaceConfig;
 
-use super::{data_dir, name_value};
+use super::{data_dir, orientation_setting, pace_setting, positive};
+use crate::outcome::Failure;
 
 #[derive(Debug, Subcommand)]
 pub enum Eval {
@@ -23,7 +24,7 @@ pub enum Eval {
         seeds: u64,
         /// Change a parameter of the default filter (AdaptiveParams names), for
         /// sensitivity checks; repeatable.
-        #[arg(long = "set", value_name = "NAME=VALUE", value_parser = name_value)]
+        #[arg(long = "set", value_name = "NAME=VALUE", value_parser = pace_setting)]
         set: Vec<(String, f64)>,
     },
     /// Step counting on the Oxford Step Counter traces.
@@ -98,10 +99,10 @@ pub enum Eval {
         data: Option<PathBuf>,
         /// Neutralise features (ablation; comma-separated names from
         /// core/src/placement/features.rs).
-        #[arg(long, value_name = "NAME,NAME")]
+        #[arg(long, value_name = "NAME,NAME", value_parser = feature_names)]
         drop: Option<String>,
         /// Training penalty.
-        #[arg(long, value_name = "X")]
+        #[arg(long, value_name = "X", value_parser = positive)]
         l2: Option<f64>,
         /// Add the same protocol for a small MLP (comparison only, not shipped).
         #[arg(long)]
@@ -134,7 +135,7 @@ pub enum Eval {
         imu_only: bool,
         /// Change a setting of the default filter (DecoupledSettings names);
         /// repeatable.
-        #[arg(long = "set", value_name = "NAME=VALUE", value_parser = name_value)]
+        #[arg(long = "set", value_name = "NAME=VALUE", value_parser = orientation_setting)]
         set: Vec<(String, f64)>,
         /// Score only the default filter.
         #[arg(long)]
@@ -142,7 +143,21 @@ pub enum Eval {
     },
 }
 
-pub fn run(e: Eval) -> Result<(), String> {
+/// `--drop`: comma-separated placement feature names (checked by clap: exit 2).
+fn feature_names(s: &str) -> Result<String, String> {
+    use stridekit_core::placement::FEATURE_NAMES;
+    for n in s.split(',') {
+        if !FEATURE_NAMES.contains(&n.trim()) {
+            return Err(format!(
+                "unknown feature {n:?}; features: {}",
+                FEATURE_NAMES.join(" ")
+            ));
+        }
+    }
+    Ok(s.to_string())
+}
+
+pub fn run(e: Eval) -> Result<(), Failure> {
     let text = match e {
         Eval::Pace { data, seeds, set } => {
             let mut default = PaceConfig::default();
@@ -151,7 +166,7 @@ pub fn run(e: Eval) -> Result<(), String> {
                     .adaptive
                     .set(k, *v)
                     .and_then(|_| default.validate())
-                    .map_err(|e| e.to_string())?;
+                    .map_err(|e| crate::outcome::usage("--set", e))?;
             }
             let (table, _) = stridekit_lab::pace_eval::simulator_table(seeds, default);
             println!("{table}");

@@ -1,6 +1,9 @@
-//! The command line: clap derive, one module per command group. Bad flags or values
-//! exit 2 with clap's message; a command that fails exits 1 with `error: …`; a closed
-//! output pipe (`stridekit demo | head -1`) ends the command quietly.
+//! The command line: clap derive, one module per command group. Exit status (see
+//! `crate::outcome`): bad flags or values exit 2 with clap's message (values checked
+//! after parsing go through [`Failure::Usage`], printed the same way); a command that
+//! fails or whose replay produced nothing usable exits 1 with `error: …`; a closed
+//! output pipe (`stridekit demo | head -1`, `stridekit pace FILE --out - | head -1`)
+//! ends the command quietly with 0.
 
 mod calibrate;
 mod demo;
@@ -12,9 +15,9 @@ mod train;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-#[cfg(test)]
-use clap::CommandFactory;
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
+
+use crate::outcome::{Failure, EXIT_FAILED};
 
 /// stridekit: running pace, orientation and pedestrian navigation from phone, watch
 /// and foot-pod sensors.
@@ -23,7 +26,12 @@ use clap::{Parser, Subcommand};
 /// replay your own recordings with `pace`, `steps`, `foot`, `pdr`, `orientation` or
 /// `odometry`; measure the engines on the shared data sets with `eval …`.
 #[derive(Debug, Parser)]
-#[command(name = "stridekit", version, arg_required_else_help = true)]
+#[command(
+    name = "stridekit",
+    version,
+    arg_required_else_help = true,
+    after_help = EXIT_CODES
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -50,12 +58,19 @@ pub enum Command {
     Soak(soak::SoakArgs),
 }
 
+/// The exit codes, as `--help` and the replays' help texts give them.
+pub const EXIT_CODES: &str = "Exit status: 0 a usable result (warnings, e.g. a file cut \
+off mid-write, may have been printed); 1 the input could not be read, or the replay \
+produced nothing usable (every sample refused, a stream refused for its units, no \
+step, stride or estimate); 2 a bad flag or value. A closed output pipe (`| head`) \
+ends quietly with 0.";
+
 /// Parse the command line and run it.
 pub fn main() -> ExitCode {
     quiet_broken_pipe();
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Demo(a) => demo::run(a),
+        Command::Demo(a) => demo::run(a).map_err(Failure::from),
         Command::Pace(a) => replay::pace(a),
         Command::Steps(a) => replay::steps(a),
         Command::Foot(a) => replay::foot(a),
@@ -65,15 +80,23 @@ pub fn main() -> ExitCode {
         Command::Calibrate(c) => calibrate::run(c),
         Command::Eval(e) => eval::run(e),
         Command::Train(t) => train::run(t),
-        Command::Soak(a) => soak::run(a),
+        Command::Soak(a) => soak::run(a).map_err(Failure::from),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
+        Ok(()) | Err(Failure::ClosedPipe) => ExitCode::SUCCESS,
+        Err(Failure::Failed(e)) => {
             eprintln!("error: {e}");
-            ExitCode::FAILURE
+            ExitCode::from(EXIT_FAILED)
         }
+        Err(Failure::Usage(e)) => usage_exit(&e),
     }
+}
+
+/// A bad value found after parsing: clap's message and exit status (2).
+fn usage_exit(message: &str) -> ! {
+    Cli::command()
+        .error(clap::error::ErrorKind::ValueValidation, message)
+        .exit()
 }
 
 /// The command line as typed (recorded in the model files the trainers write).
@@ -94,6 +117,51 @@ fn data_dir(explicit: Option<PathBuf>, sub: &str, what: &str) -> Result<PathBuf,
         Ok(dir)
     } else {
         Err(format!("{what} not found in {}", dir.display()))
+    }
+}
+
+/// `NAME=VALUE` of `eval pace --set`: an `AdaptiveParams` name and a value the default
+/// configuration accepts (checked by clap: exit 2).
+fn pace_setting(s: &str) -> Result<(String, f64), String> {
+    let (k, v) = name_value(s)?;
+    let mut c = stridekit_core::PaceConfig::default();
+    c.adaptive
+        .set(&k, v)
+        .and_then(|_| c.validate())
+        .map_err(|e| e.to_string())?;
+    Ok((k, v))
+}
+
+/// `NAME=VALUE` of `eval orientation --set`: a `DecoupledSettings` name and a value
+/// the default filter accepts (checked by clap: exit 2).
+fn orientation_setting(s: &str) -> Result<(String, f64), String> {
+    let (k, v) = name_value(s)?;
+    let mut settings = stridekit_core::AhrsSettings::default();
+    stridekit_lab::orientation::eval::set_decoupled(&mut settings, &k, v)?;
+    Ok((k, v))
+}
+
+/// A finite number above zero.
+fn positive(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("{s} is not a number above 0")),
+    }
+}
+
+/// A finite number, zero or above.
+fn non_negative(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("{s} is not a number of 0 or above")),
+    }
+}
+
+/// A count of 1 or more.
+fn at_least_one(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(v) if v >= 1 => Ok(v),
+        _ => Err(format!("{s} is not a whole number of 1 or more")),
     }
 }
 
@@ -162,6 +230,19 @@ mod tests {
             &["eval", "pdr", "--sim", "--data", "d"],
             &["eval", "foot", "--tune", "--diagnose"],
             &["eval", "bogus"],
+            // Values checked by clap (exit 2), not later by the command (exit 1).
+            &["foot", "f.csv", "--axes", "xyz"],
+            &["foot", "f.csv", "--gyro-range", "-3"],
+            &["calibrate", "foot", "f.csv", "--out", "x", "--axes", "xyz"],
+            &["eval", "pace", "--set", "no_such_param=1"],
+            &["eval", "orientation", "--set", "no_such_setting=1"],
+            &["eval", "placement", "--drop", "no_such_feature"],
+            &["eval", "placement", "--l2", "-1"],
+            &["train", "zupt", "--split", "3/2"],
+            &["train", "odometry", "--window", "0"],
+            &["train", "odometry", "--lambda", "nan"],
+            &["odometry", "sim:x:in_hand"],
+            &["odometry", "sim:1:nowhere"],
         ] {
             let e = parse(bad).expect_err(&bad.join(" "));
             assert_eq!(e.exit_code(), 2, "{}", bad.join(" "));

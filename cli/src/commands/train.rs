@@ -4,7 +4,8 @@ use std::path::PathBuf;
 
 use clap::{ArgGroup, Subcommand};
 
-use super::{command_line, data_dir};
+use super::{at_least_one, command_line, data_dir, non_negative};
+use crate::outcome::{usage, Failure};
 use crate::output::OutFile;
 
 #[derive(Debug, Subcommand)]
@@ -22,7 +23,7 @@ pub enum Train {
         #[arg(long, value_name = "A,B,...")]
         trials: Option<String>,
         /// Leave out fold K of N (by position modulo N).
-        #[arg(long, value_name = "K/N")]
+        #[arg(long, value_name = "K/N", value_parser = split_spec)]
         split: Option<String>,
         /// The model file to write.
         #[arg(long, value_name = "FILE", default_value = "zupt_svm_v1.txt")]
@@ -43,9 +44,11 @@ pub enum Train {
     /// Train the learned phone odometry.
     ///
     /// Fit the learned phone odometry (a velocity regressor per placement and a general
-    /// one) on simulated walks, RIDI sequences or RoNIN CSV exports; write a model file
-    /// (format v1, see core/src/odometry/model.rs).
-    #[command(group(ArgGroup::new("source").args(["sim_seeds", "ridi", "ronin"])))]
+    /// one) on simulated walks, RIDI sequences, RoNIN CSV exports or real indoor walks
+    /// with surveyed waypoints (Android sensor logs); write a model file (format v2, see
+    /// core/src/odometry/model.rs). The shipped model: `--android
+    /// ../shared/data/phone-indoor --out core/models/odometry_v1.txt`.
+    #[command(group(ArgGroup::new("source").args(["sim_seeds", "ridi", "ronin", "android"])))]
     Odometry {
         /// Simulated walks per placement (the default source, 8 walks).
         #[arg(long, value_name = "N")]
@@ -56,19 +59,53 @@ pub enum Train {
         /// RoNIN CSV exports in DIR.
         #[arg(long, value_name = "DIR")]
         ronin: Option<PathBuf>,
+        /// Android sensor logs with surveyed waypoints in DIR (e.g.
+        /// ../shared/data/phone-indoor, which trained the shipped model): trains the
+        /// general and in_hand regressors on every walk, and measures the model on them
+        /// (fitted) and leave one floor out; both figures go into the model's comments.
+        #[arg(long, value_name = "DIR")]
+        android: Option<PathBuf>,
         /// The model file to write.
         #[arg(long, value_name = "FILE", default_value = "odometry_v1.txt")]
         out: PathBuf,
         /// Feature window, samples.
-        #[arg(long, value_name = "SAMPLES")]
+        #[arg(long, value_name = "SAMPLES", value_parser = at_least_one)]
         window: Option<usize>,
         /// Ridge penalty.
-        #[arg(long, value_name = "L")]
+        #[arg(long, value_name = "L", value_parser = non_negative)]
         lambda: Option<f64>,
     },
 }
 
-pub fn run(t: Train) -> Result<(), String> {
+/// `--split K/N` (checked by clap: exit 2).
+fn split_spec(s: &str) -> Result<String, String> {
+    stridekit_lab::foot::train_zupt::parse_split(s)?;
+    Ok(s.to_string())
+}
+
+/// `--trials`: every name is a trial of `dir` (a bad name exits 2).
+fn check_trials(dir: &std::path::Path, list: &str) -> Result<(), Failure> {
+    let have: Vec<String> = stridekit_formats::list_foot_trials(dir)
+        .map_err(|e| format!("{}: {e}", dir.display()))?
+        .iter()
+        .filter_map(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .collect();
+    let missing: Vec<&str> = list
+        .split(',')
+        .map(str::trim)
+        .filter(|n| !have.iter().any(|h| h == n))
+        .collect();
+    if missing.is_empty() {
+        Ok(())
+    } else {
+        Err(usage(
+            "--trials",
+            format!("no trial {} in {}", missing.join(", "), dir.display()),
+        ))
+    }
+}
+
+pub fn run(t: Train) -> Result<(), Failure> {
     let text = match t {
         Train::Zupt {
             data,
@@ -77,6 +114,9 @@ pub fn run(t: Train) -> Result<(), String> {
             out,
         } => {
             let d = data_dir(data, "foot/pyshoe-vicon", "foot trials")?;
+            if let Some(list) = &trials {
+                check_trials(&d, list)?;
+            }
             let out = OutFile::prepare(&out, "txt")?;
             stridekit_lab::foot::train_zupt::run(
                 &d,
@@ -95,6 +135,7 @@ pub fn run(t: Train) -> Result<(), String> {
             sim_seeds,
             ridi,
             ronin,
+            android,
             out,
             window,
             lambda,
@@ -114,7 +155,20 @@ pub fn run(t: Train) -> Result<(), String> {
                 params.lambda = l;
             }
             let out = OutFile::prepare(&out, "txt")?;
-            stridekit_lab::odometry::commands::train(src, params, &out.path, &command_line())?
+            match android {
+                Some(dir) => stridekit_lab::pdr::odometry::train_command(
+                    &dir,
+                    params,
+                    &out.path,
+                    &command_line(),
+                )?,
+                None => stridekit_lab::odometry::commands::train(
+                    src,
+                    params,
+                    &out.path,
+                    &command_line(),
+                )?,
+            }
         }
     };
     println!("{text}");

@@ -5,6 +5,7 @@
 //! strapdown mechanisation in a local level ENU frame and a 15-state error-state
 //! Kalman filter with zero-velocity updates. See `docs/foot.md`.
 
+mod ceiling;
 mod clip;
 mod config;
 mod detect;
@@ -15,6 +16,10 @@ mod navigator;
 mod svm;
 mod types;
 
+pub use ceiling::{
+    GyroCeiling, GyroCeilingDetector, ABOVE_SHARE, FLAT_SHARE, LEVEL_SHARE, MIN_CEILING_RADS,
+    MIN_FLAT_SAMPLES, MIN_FLAT_TOPS, SHARPNESS,
+};
 pub use config::{
     Correction, FootConfig, GyroTiming, LEVEL_STRIDE_MAX_GRADE, MAX_ACCEL_ALIGNMENT_RAD,
     MAX_LEVEL_STRIDE_GRADE, ZUPT_GATE_NIS,

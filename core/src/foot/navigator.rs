@@ -31,7 +31,7 @@ use std::sync::Arc;
 
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
-use super::clip::AxisClip;
+use super::clip::{AxisClip, AT_RANGE};
 use super::config::{Correction, FootConfig, GyroTiming, MAX_DETECTOR_WINDOW};
 use super::detect::{
     AdaptiveShoe, AdaptiveThresholds, FixedThresholds, ShoeDetector, SvmAdaptive, WindowStats,
@@ -576,10 +576,6 @@ impl FootNavigator {
 fn level_stride(max_grade: Option<f64>, climb_m: f64, length_m: f64) -> bool {
     max_grade.is_some_and(|g| climb_m.abs() <= g * length_m)
 }
-
-/// A sample at this share of a configured sensor range or more is at the range
-/// (saturated; on a gyroscope axis, clipped).
-const AT_RANGE: f64 = 0.99;
 
 #[inline]
 fn saturated(v: &[f64; 3], range: Option<f64>) -> bool {

@@ -1,5 +1,6 @@
 //! Learned phone inertial odometry (method 4 of docs/architecture.md, a RIDI-style pipeline:
-//! Yan, Shan, Furukawa, "RIDI: Robust IMU Double Integration", ECCV 2018).
+//! Yan, Shan, Furukawa, "RIDI: Robust IMU Double Integration", ECCV 2018). Experimental:
+//! on real indoor walks the PDR (`pdr::PhoneNavigator`) is more accurate (docs/odometry.md).
 //!
 //! Data flows one way, one small stage per file:
 //! - `sample`: the IMU sample and the checks at the door;

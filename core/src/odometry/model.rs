@@ -230,7 +230,10 @@ impl OdometryModel {
     }
 
     /// The model shipped in `core/models/odometry_v1.txt` (file format version 2; the
-    /// file name is historical).
+    /// file name is historical): trained on 287 real hand-held indoor walks (`stridekit
+    /// train odometry --android`), the general and in-hand regressors; its comment
+    /// lines hold the command and its fitted and leave-one-floor-out figures.
+    /// Experimental: the PDR (`pdr::PhoneNavigator`) is more accurate on those walks.
     pub fn shipped() -> Self {
         Self::parse(SHIPPED).expect("the shipped odometry model parses")
     }

@@ -24,12 +24,15 @@
 //! trajectory at step times). A personal [`PdrCalibration`] (step-length model,
 //! carrying) can be loaded and is kept in the snapshot; the orientation can come
 //! from outside ([`PhoneNavigator::push_imu_with_attitude`]) instead of the AHRS.
+//! Separate accelerometer, gyroscope and magnetometer events (what a phone delivers)
+//! go in through [`PhoneNavigator::push_event`], merged by [`crate::imu::ImuMerger`].
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::ahrs::{Ahrs, AhrsError, AhrsSettings, EarthFrame, ImuSample};
 use crate::batch::{self, Batch};
 use crate::geo::LocalFrame;
+use crate::imu::{ImuEvent, ImuMerger, MergeConfig, MergeCounts, MergeError, SensorKind};
 use crate::input::{self, InputError, Stream, TimeGuard};
 use crate::pace::GnssFix;
 use crate::signal::Ring;
@@ -43,11 +46,12 @@ use super::heading::WalkingDirection;
 use super::vertical::VerticalHistory;
 
 const SNAPSHOT_KIND: u8 = 5;
-/// Version 7: the walking direction's `gyro_calibrated` flag (6: the vertical history
+/// Version 8: the event merger (7: the walking direction's `gyro_calibrated` flag;
+/// 6: the vertical history
 /// and each step's vertical displacement; 5: gait initiation in the step-length state;
 /// 4: the input layer's time state per stream; 3 added the attitude history, deferred
 /// and recent steps).
-const SNAPSHOT_VERSION: u16 = 7;
+const SNAPSHOT_VERSION: u16 = 8;
 /// Steps waiting for the carrying to be known, and recent placed steps kept.
 const DEFERRED_STEPS: usize = 32;
 pub const RECENT_STEPS: usize = 32;
@@ -98,6 +102,19 @@ pub enum NavError {
     /// A snapshot could not be restored.
     #[error("cannot restore navigator snapshot: {0}")]
     Snapshot(#[from] SnapshotError),
+    /// The event merger's settings are not usable.
+    #[error(transparent)]
+    Merge(MergeError),
+}
+
+impl From<MergeError> for NavError {
+    fn from(e: MergeError) -> Self {
+        match e {
+            MergeError::Input(e) => Self::Input(e),
+            MergeError::Snapshot(s) => Self::Snapshot(s),
+            e => Self::Merge(e),
+        }
+    }
 }
 
 impl From<AhrsError> for NavError {
@@ -143,6 +160,8 @@ pub struct NavigatorConfig {
     /// 120 s) and the field's disturbances indoors stay out of it; `false` for a raw
     /// gyroscope, whose drift needs the fast loop (10 s). Default `true`.
     pub gyro_calibrated: bool,
+    /// How separate sensor events ([`PhoneNavigator::push_event`]) become IMU samples.
+    pub merge: MergeConfig,
 }
 
 impl Default for NavigatorConfig {
@@ -157,6 +176,7 @@ impl Default for NavigatorConfig {
             step_length_model: StepLengthModel::Pendulum,
             step_length: StepLengthConfig::default(),
             gyro_calibrated: true,
+            merge: MergeConfig::default(),
         }
     }
 }
@@ -247,6 +267,8 @@ pub struct PhoneNavigator {
     placed: u64,
     /// The personal calibration loaded, if any.
     calibration: Option<PdrCalibration>,
+    /// Separate sensor events to IMU samples ([`Self::push_event`]).
+    merger: ImuMerger,
 }
 
 /// The start of a GNSS stretch (see `observe_course`); all NaN before the first.
@@ -304,6 +326,7 @@ impl PhoneNavigator {
             recent: Ring::new(),
             placed: 0,
             calibration: None,
+            merger: ImuMerger::new(config.merge)?,
         })
     }
 
@@ -410,6 +433,57 @@ impl PhoneNavigator {
         }
         let q = UnitQuaternion::new_normalize(Quaternion::new(w, x, y, z));
         self.advance(s, Some(q))
+    }
+
+    /// One sensor event (accelerometer, gyroscope or magnetometer, each with its own
+    /// time): merged into IMU samples by the rule of [`crate::imu`], each pushed as
+    /// by [`push_imu`](Self::push_imu) as soon as it is complete. A refused event
+    /// (bad value, time not increasing within its stream, an accelerometer in g, an
+    /// accelerometer event before an IMU sample pushed directly) changes nothing.
+    pub fn push_event(&mut self, e: &ImuEvent) -> Result<(), NavError> {
+        if e.kind == SensorKind::Accelerometer {
+            self.imu_time.check(e.t_s)?;
+            self.detector.check_sample(e.t_s, e.values)?;
+        }
+        self.merger.check(e)?;
+        self.with_merger(|m, push| m.push(e, push))?;
+        Ok(())
+    }
+
+    /// Push every IMU sample the merger still holds back (waiting for later
+    /// gyroscope or magnetometer events): the end of a recording, a session that
+    /// stops. Events pushed afterwards merge as before.
+    pub fn flush_events(&mut self) {
+        self.with_merger(|m, push| {
+            m.flush(push);
+            Ok(())
+        })
+        .expect("flush refuses nothing");
+    }
+
+    /// What the event merger did so far.
+    pub fn merge_counts(&self) -> MergeCounts {
+        self.merger.counts()
+    }
+
+    /// Run `f` on the merger with a sink that pushes each released sample; samples
+    /// the navigator refuses (an app that mixes direct IMU samples with events) are
+    /// counted in [`MergeCounts::refused`].
+    fn with_merger<R>(
+        &mut self,
+        f: impl FnOnce(&mut ImuMerger, &mut dyn FnMut(ImuSample)) -> Result<R, InputError>,
+    ) -> Result<R, InputError> {
+        // The merger is moved out for the call (its placeholder holds no memory).
+        let mut merger = std::mem::take(&mut self.merger);
+        let mut refused = 0;
+        let r = f(&mut merger, &mut |s| {
+            if self.push_imu(&s).is_err() {
+                refused += 1;
+            }
+        });
+        merger.count_refused(refused);
+        self.merger = merger;
+        r
     }
 
     /// Detector, walking direction and steps for an accepted sample with its

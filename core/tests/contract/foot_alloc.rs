@@ -78,3 +78,20 @@ fn pushing_samples_does_not_allocate() {
         }
     }
 }
+
+#[test]
+fn the_gyroscope_ceiling_detector_does_not_allocate() {
+    use stridekit_core::foot::GyroCeilingDetector;
+    let sim = simulate_foot(&FootScenario::walk(31, 1));
+    let mut d = GyroCeilingDetector::new();
+    let (n, found) = allocations_in(|| {
+        for s in &sim.samples {
+            // Clipped at 4 rad/s, so that flat tops are found and grouped too.
+            d.push(s.gyro_rads.map(|w| w.clamp(-4.0, 4.0)));
+        }
+        d.push([f64::NAN, 0.0, 0.0]);
+        d.ceiling()
+    });
+    assert_eq!(n, 0, "allocations in the ceiling detector");
+    assert!(found.is_some(), "the clipped walk has a ceiling");
+}

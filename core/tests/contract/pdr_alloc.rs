@@ -125,3 +125,43 @@ fn calibrated_and_external_attitude_paths_do_not_allocate() {
         assert_eq!(n, 0, "external {external}: allocations on the sample path");
     }
 }
+
+/// Separate sensor events (`push_event`), delivered in late 200 ms FIFO bursts: the
+/// merger's queues are allocated at construction, nothing per event.
+#[test]
+fn navigator_does_not_allocate_per_sensor_event() {
+    use stridekit_core::imu::{ImuEvent, SensorKind};
+    let sim = simulate_phone(&PhoneScenario::walk(5, PhonePlacement::InHand, 1.4, 60.0));
+    let mut events = Vec::with_capacity(sim.samples.len() * 3);
+    for s in &sim.samples {
+        for (kind, values, late) in [
+            (SensorKind::Accelerometer, s.accel_mps2, 0),
+            (SensorKind::Gyroscope, s.gyro_radps, 1),
+            (SensorKind::Magnetometer, s.mag_ut, 1),
+        ] {
+            let burst = (s.t_s / 0.2).floor() as i64 + late;
+            events.push((
+                burst,
+                ImuEvent {
+                    t_s: s.t_s,
+                    kind,
+                    values,
+                },
+            ));
+        }
+    }
+    events.sort_by_key(|e| e.0);
+    let mut nav = PhoneNavigator::new(NavigatorConfig::default()).unwrap();
+    let (n, steps) = allocations_in(|| {
+        for (_, e) in &events {
+            nav.push_event(e).unwrap();
+        }
+        nav.flush_events();
+        // A refused event too.
+        assert!(nav.push_event(&events[0].1).is_err());
+        nav.estimate().expect("an estimate").steps
+    });
+    assert!(steps > 50, "{steps} steps");
+    assert_eq!(nav.merge_counts().samples, sim.samples.len() as u64);
+    assert_eq!(n, 0, "allocations on the event path");
+}

@@ -5,7 +5,8 @@
 use std::sync::Arc;
 use stridekit_core::foot::{
     AdaptiveShoe, AdaptiveThresholds, FixedThresholds, FootConfig, FootError, FootEstimate,
-    FootNavigator, ShoeDetector, SvmAdaptive, SvmModel, WindowStats, ZeroVelocityDetector,
+    FootNavigator, GyroCeilingDetector, ShoeDetector, SvmAdaptive, SvmModel, WindowStats,
+    ZeroVelocityDetector, FLAT_SHARE,
 };
 
 use stridekit_core::snapshot::SnapshotError;
@@ -888,4 +889,22 @@ fn a_clipped_gyroscope_gets_the_rotation_above_its_ceiling_back() {
         assert_eq!(a.push(s).unwrap(), b.push(s).unwrap());
     }
     assert_eq!(nav.config().gyro_range_rads, Some(ceiling / 0.995));
+    // The data say so themselves: the clipped walk has a ceiling (on the pitch axis,
+    // at the clip), the clean one, whose smooth swing peaks go 10 % higher, has none.
+    let detect = |sim: &SimulatedFoot| {
+        let mut d = GyroCeilingDetector::new();
+        for s in &sim.samples {
+            d.push(s.gyro_rads);
+        }
+        d
+    };
+    let found = detect(&clipped).ceiling().expect("clipping detected");
+    assert_eq!(found.axis, 1, "{found:?}");
+    assert!(
+        (found.ceiling_rads - ceiling).abs() <= FLAT_SHARE * ceiling,
+        "{found:?} against {ceiling}"
+    );
+    let clean_detector = detect(&clean);
+    assert_eq!(clean_detector.ceiling(), None);
+    assert!(clean_detector.peak_rads() > found.range_rads());
 }

@@ -6,6 +6,7 @@ mod common;
 
 mod adversarial_phone;
 mod ahrs;
+mod imu_merge;
 mod odometry;
 mod pdr;
 mod pdr_accuracy;

@@ -112,7 +112,7 @@ public final class PacePipeline: @unchecked Sendable {
         do {
             let result = try push()
             for e in result.estimates { continuation.yield(e) }
-            for r in result.rejected { onProblem("sample \(r.index): \(r.description)") }
+            for r in result.rejected { onProblem("sample \(r.index): \(r.reason)") }
         } catch {
             // Only a malformed buffer (a bug here) or an internal error of the SDK.
             onProblem("batch not pushed: \(error)")

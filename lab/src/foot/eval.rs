@@ -141,8 +141,51 @@ pub fn base_config() -> FootConfig {
 /// plateau of 9.12–9.22 rad/s (its largest magnitude, held by 4–48 samples within
 /// 0.05 rad/s of it), so the ceiling is about 9.13 rad/s ≈ 99 % of 9.2 rad/s. A
 /// property of the device read off the raw samples, like a data sheet's range, not a
-/// fitted setting (docs/foot.md, "Gyroscope clipping").
+/// fitted setting (docs/foot.md, "Gyroscope clipping"). The evaluation gives it to
+/// every trial (one device); [`gyro_range_note`] prints what the ceiling detector
+/// finds per trial beside it. `stridekit foot` does not assume it: it detects.
 pub const UOFT_GYRO_RANGE_RADS: f64 = 9.2;
+
+/// One paragraph: the device range the evaluation uses, and the ceilings the data show
+/// (`GyroCeilingDetector`, per trial and over all trials as one device).
+fn gyro_range_note(trials: &[Trial]) -> String {
+    use crate::foot::device::{evidence, side_name};
+    let mut found = Vec::new();
+    for t in trials {
+        if let Some(c) = evidence(&[&t.rec]).ceiling {
+            found.push((side_name(&c), c.ceiling_rads));
+        }
+    }
+    let mut sides: Vec<&str> = found.iter().map(|(s, _)| s.as_str()).collect();
+    sides.sort_unstable();
+    sides.dedup();
+    let (lo, hi) = found
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), (_, c)| {
+            (l.min(*c), h.max(*c))
+        });
+    let all = evidence(&trials.iter().map(|t| &t.rec).collect::<Vec<_>>());
+    let pooled: Vec<String> = all
+        .ceilings
+        .iter()
+        .map(|c| {
+            format!(
+                "{} {:.2} rad/s ({} flat tops)",
+                side_name(c),
+                c.ceiling_rads,
+                c.flat_tops
+            )
+        })
+        .collect();
+    format!(
+        "Gyroscope: range {UOFT_GYRO_RANGE_RADS} rad/s for every trial (the UofT MicroStrain, one device; clipped swing peaks repaired). The ceiling detector (`GyroCeilingDetector`, what `stridekit foot` uses when no range is given) finds clipping on {} of {} trials ({}; lowest flat-top samples {}), and over all trials as one device on {}.\n\n",
+        found.len(),
+        trials.len(),
+        if sides.is_empty() { "none".to_string() } else { format!("sensor {}", sides.join(", ")) },
+        if found.is_empty() { "—".to_string() } else { format!("{lo:.2}–{hi:.2} rad/s") },
+        if pooled.is_empty() { "no axis".to_string() } else { pooled.join(", ") },
+    )
+}
 
 fn with(name: &str, detector: ZeroVelocityDetector) -> Method {
     Method {
@@ -846,6 +889,7 @@ pub fn run(dir: &Path) -> Result<String, String> {
             format!(" Not better mirrored: {}.", not_mirrored.join(", "))
         }
     ));
+    out.push_str(&gyro_range_note(&trials));
     out.push_str(&format!(
         "Gait per sample from the truth: horizontal foot path over ±0.5 s / 1 s > {RUN_SPEED_MPS} m/s = run, else walk; the stairs/crawling session {OTHER_PREFIX}* = other (see its height range, stance tilt and mean speed). Split: even positions in name order = training (defaults chosen there), odd = held-out.\n\n"
     ));

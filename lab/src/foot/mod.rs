@@ -3,6 +3,7 @@
 //! trainer (`train zupt`) that produced the shipped model.
 
 pub mod alignment;
+pub mod device;
 pub mod diagnose;
 pub mod eval;
 pub mod sessions;
@@ -22,6 +23,10 @@ pub struct Skipped {
     pub out_of_range: usize,
     /// Rejected before alignment as accelerations in g.
     pub in_g: usize,
+    /// Timestamps not in seconds (milliseconds, nanoseconds), and what the first such
+    /// refusal said (the unit it names).
+    pub time_unit: usize,
+    pub time_unit_message: Option<String>,
     pub other: usize,
     /// Index of the first skipped sample and its error.
     pub first: Option<(usize, String)>,
@@ -36,6 +41,13 @@ impl Skipped {
             FootError::Input(I::NonFinite { .. }) => self.non_finite += 1,
             FootError::Input(I::OutOfRange { .. }) => self.out_of_range += 1,
             FootError::Input(I::AccelerationInG { .. }) => self.in_g += 1,
+            FootError::Input(i @ I::TimeUnit { .. }) => {
+                self.time_unit += 1;
+                if self.time_unit_message.is_none() {
+                    self.time_unit_message =
+                        crate::rejected::unit_refusal(i, "IMU").map(|(_, m)| m);
+                }
+            }
             _ => self.other += 1,
         }
         self.first.get_or_insert_with(|| (index, e.to_string()));
@@ -47,6 +59,7 @@ impl Skipped {
             + self.non_finite
             + self.out_of_range
             + self.in_g
+            + self.time_unit
             + self.other
     }
 
@@ -58,6 +71,12 @@ impl Skipped {
             (self.non_finite, "NaN or infinite value"),
             (self.out_of_range, "value out of range"),
             (self.in_g, "accelerations in g, not m/s²"),
+            (
+                self.time_unit,
+                self.time_unit_message
+                    .as_deref()
+                    .unwrap_or("timestamps not in seconds"),
+            ),
             (self.other, "other"),
         ]
         .iter()

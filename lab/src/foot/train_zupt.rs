@@ -396,6 +396,15 @@ pub fn train(
 }
 
 /// Which trials a `--trials` / `--split` option selects for training.
+/// `K/N` of `--split`: fold K of N, 1 ≤ K ≤ N, N ≥ 2.
+pub fn parse_split(split: &str) -> Result<(usize, usize), String> {
+    split
+        .split_once('/')
+        .and_then(|(k, n)| Some((k.parse::<usize>().ok()?, n.parse::<usize>().ok()?)))
+        .filter(|&(k, n)| n >= 2 && (1..=n).contains(&k))
+        .ok_or_else(|| "--split takes K/N with 1 ≤ K ≤ N, N ≥ 2".to_string())
+}
+
 pub fn select<'a>(
     trials: &'a [Trial],
     list: Option<&str>,
@@ -417,11 +426,7 @@ pub fn select<'a>(
         return Ok(sel);
     }
     if let Some(split) = split {
-        let (k, n) = split
-            .split_once('/')
-            .and_then(|(k, n)| Some((k.parse::<usize>().ok()?, n.parse::<usize>().ok()?)))
-            .filter(|&(k, n)| n >= 2 && (1..=n).contains(&k))
-            .ok_or("--split takes K/N with 1 ≤ K ≤ N, N ≥ 2")?;
+        let (k, n) = parse_split(split)?;
         return Ok(trials
             .iter()
             .enumerate()

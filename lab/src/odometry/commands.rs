@@ -43,6 +43,20 @@ fn sim_from_name(s: &str) -> Option<PhonePlacement> {
     PhonePlacement::ALL.into_iter().find(|&p| sim_name(p) == s)
 }
 
+/// `SEED[:PLACEMENT]`, the part after `sim:` of a simulated walk's name (placement
+/// `in_hand` when none is given).
+pub fn parse_sim_spec(spec: &str) -> Result<(u64, PhonePlacement), String> {
+    let (seed, place) = spec.split_once(':').unwrap_or((spec, "in_hand"));
+    let seed: u64 = seed
+        .parse()
+        .map_err(|_| format!("bad seed {seed:?} in sim:{spec} (sim:SEED:PLACEMENT)"))?;
+    let p = sim_from_name(place).ok_or_else(|| {
+        let names: Vec<&str> = PhonePlacement::ALL.into_iter().map(sim_name).collect();
+        format!("unknown placement {place} (one of {})", names.join(", "))
+    })?;
+    Ok((seed, p))
+}
+
 /// Placement class of a recording: a model-file name (`pocket`, …) or a simulator
 /// placement name (`front_pocket`, as the RIDI reader guesses).
 fn placement_of(rec: &Recording) -> Option<Placement> {
@@ -417,15 +431,23 @@ pub fn eval(model: Option<&Path>, seeds: u64, placement_known: bool) -> Result<S
 pub fn replay(file: &str, model: Option<&Path>, svg: &Path) -> Result<String, String> {
     let model = load_model(model)?;
     let rec = if let Some(spec) = file.strip_prefix("sim:") {
-        let (seed, place) = spec.split_once(':').unwrap_or((spec, "in_hand"));
-        let seed: u64 = seed.parse().map_err(|_| format!("bad seed in {file}"))?;
-        let p = sim_from_name(place).ok_or_else(|| format!("unknown placement {place}"))?;
+        let (seed, p) = parse_sim_spec(spec)?;
         from_sim(&simulate_phone(&sim_scenario(seed, p)), p)
     } else {
-        read_inertial(Path::new(file)).map_err(|e| e.to_string())?
+        read_inertial(Path::new(file)).map_err(|e| format!("{file}: {e}"))?
     };
     let samples = samples_of(&rec);
     let mut tracks = run_methods(&samples, &RecTruth(&rec), &model, source_of(&rec));
+    if tracks.truth.is_empty() {
+        let mut why = format!(
+            "{file}: no estimate from {} samples (the odometry needs a few seconds of IMU samples in m/s² and rad/s)",
+            samples.len()
+        );
+        if tracks.rejected.total() > 0 {
+            why += &format!("; rejected:\n{}", tracks.rejected.report().trim_end());
+        }
+        return Err(why);
+    }
     let has_mag = samples.iter().all(|s| s.mag_ut.is_some());
     let mut note = String::new();
     if !has_mag || !file.starts_with("sim:") {
@@ -475,6 +497,15 @@ pub fn replay(file: &str, model: Option<&Path>, svg: &Path) -> Result<String, St
         samples.len(),
         tracks.truth.len()
     );
+    let _ = writeln!(
+        out,
+        "model: {}; the learned odometry is experimental: on real walks the PDR (`stridekit pdr FILE`) is more accurate (docs/odometry.md)",
+        model
+            .comments
+            .iter()
+            .find_map(|c| c.strip_prefix("trained by: "))
+            .unwrap_or("no training command in its comments")
+    );
     out.push_str(&note);
     if tracks.rejected.total() == 0 {
         out.push_str("rejected samples: none\n");
@@ -484,6 +515,12 @@ pub fn replay(file: &str, model: Option<&Path>, svg: &Path) -> Result<String, St
     }
     for (why, n) in &rec.skipped {
         let _ = writeln!(out, "  skipped by the reader {n}: {why}");
+    }
+    if rec.truncated {
+        let _ = writeln!(
+            out,
+            "warning: {file} was cut off mid-write: read up to its last complete record"
+        );
     }
     for (k, (a, r)) in tracks.scores().iter().enumerate() {
         let _ = writeln!(out, "{:<30} ATE {a:8.2} m  RTE {r:8.2} m", METHODS[k]);

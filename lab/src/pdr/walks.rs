@@ -2,7 +2,6 @@
 //! and replaying one through `PhoneNavigator` into a track. Shared by `stridekit pdr`,
 //! `stridekit calibrate pdr` and `stridekit eval pdr`.
 
-use std::collections::BTreeMap;
 use std::path::Path;
 
 use stridekit_core::ahrs::ImuSample;
@@ -86,7 +85,7 @@ pub struct Replay {
     pub live: Vec<TrackPoint>,
     pub steps: Vec<StepRow>,
     /// Rejected samples by reason.
-    pub rejected: BTreeMap<String, u64>,
+    pub rejected: crate::rejected::Rejected,
 }
 
 /// How a walk is replayed.
@@ -135,7 +134,7 @@ pub fn replay(rec: &InertialRecording, o: &ReplayOptions) -> Result<Replay, Stri
         });
     }
     let mut placed = 0u64;
-    let mut rejected = BTreeMap::new();
+    let mut rejected = crate::rejected::Rejected::default();
     for s in &rec.samples {
         let imu = ImuSample {
             t_s: s.t_s,
@@ -151,9 +150,7 @@ pub fn replay(rec: &InertialRecording, o: &ReplayOptions) -> Result<Replay, Stri
             match rv.get(ri) {
                 Some((t, q)) if (s.t_s - t).abs() <= 0.1 => nav.push_imu_with_attitude(&imu, *q),
                 _ => {
-                    *rejected
-                        .entry("no rotation vector".to_string())
-                        .or_default() += 1;
+                    rejected.add("no rotation vector".to_string());
                     continue;
                 }
             }
@@ -161,7 +158,7 @@ pub fn replay(rec: &InertialRecording, o: &ReplayOptions) -> Result<Replay, Stri
             nav.push_imu(&imu)
         };
         if let Err(e) = pushed {
-            *rejected.entry(crate::rejected::nav_reason(&e)).or_default() += 1;
+            rejected.nav(&e);
             continue;
         }
         let Some(e) = nav.estimate() else { continue };

@@ -35,6 +35,7 @@ impl PhoneNavigator {
             recent,
             placed,
             calibration,
+            merger,
         } = self;
         let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
         w.bytes(&ahrs.snapshot());
@@ -101,6 +102,7 @@ impl PhoneNavigator {
             }
             None => w.bool(false),
         }
+        w.bytes(&merger.snapshot());
         w.finish()
     }
 
@@ -142,6 +144,7 @@ impl PhoneNavigator {
         } else {
             None
         };
+        let merger = ImuMerger::restore(r.bytes()?)?;
         r.end()?;
         let newest = imu_time
             .last_t_s()
@@ -169,6 +172,7 @@ impl PhoneNavigator {
             step_length_model: lengths.model(),
             step_length: *lengths.config(),
             gyro_calibrated: direction.gyro_calibrated(),
+            merge: *merger.config(),
         };
         Ok(Self {
             config,
@@ -194,6 +198,7 @@ impl PhoneNavigator {
             recent,
             placed,
             calibration,
+            merger,
         })
     }
 }

@@ -71,7 +71,10 @@ class StrideSensors(
         sensorManager.registerListener(this, sensor, period, maxReportLatencyUs, handler)
     }
 
-    /** Unregister every sensor (location updates: `locationManager.removeUpdates(locationListener)`). */
+    /**
+     * Unregister every sensor (location updates: `locationManager.removeUpdates(locationListener)`).
+     * Then `NavigatorSession.finish()` pushes what the event merge still holds back.
+     */
     fun stop() = sensorManager.unregisterListener(this)
 
     override fun onSensorChanged(event: SensorEvent) {
@@ -92,10 +95,26 @@ class StrideSensors(
         @JvmStatic
         fun bootEpochMs(): Long = System.currentTimeMillis() - SystemClock.elapsedRealtime()
 
+        /**
+         * When a Location was measured, on the elapsedRealtime clock (ns). Locations
+         * from GNSS carry `elapsedRealtimeNanos`; one without it (0: a mock provider,
+         * a Location built by hand or parcelled from old code) is placed by its
+         * wall-clock age (`now − Location.time`), or at its arrival when it has no
+         * time either, never in the future.
+         */
+        @JvmStatic
+        fun Location.elapsedNanos(): Long {
+            if (elapsedRealtimeNanos > 0L) return elapsedRealtimeNanos
+            val now = SystemClock.elapsedRealtimeNanos()
+            if (time <= 0L) return now
+            val ageMs = (System.currentTimeMillis() - time).coerceAtLeast(0L)
+            return (now - ageMs * 1_000_000L).coerceAtLeast(0L)
+        }
+
         /** A Location in stridekit's units; absent optionals stay null. */
         @JvmStatic
         fun Location.toSample(): LocationSample = LocationSample(
-            elapsedNs = elapsedRealtimeNanos,
+            elapsedNs = elapsedNanos(),
             latDeg = latitude,
             lonDeg = longitude,
             altM = if (hasAltitude()) altitude else null,

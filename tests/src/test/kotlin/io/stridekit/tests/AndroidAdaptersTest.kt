@@ -9,13 +9,15 @@ import io.stridekit.PhoneNavigator
 import io.stridekit.StepSample
 import io.stridekit.android.common.AccelBatcher
 import io.stridekit.android.common.FixBatcher
-import io.stridekit.android.common.ImuMerger
 import io.stridekit.android.common.LocationSample
 import io.stridekit.android.common.NavigatorSession
 import io.stridekit.android.common.PaceSession
 import io.stridekit.android.common.PackedBuffer
 import io.stridekit.android.common.SensorClock
+import io.stridekit.android.common.SensorEventBatcher
 import io.stridekit.android.common.StepCountBatcher
+import io.stridekit.ImuEvent
+import io.stridekit.packImuEvents
 import kotlinx.coroutines.CompletableDeferred
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.channels.Channel
@@ -88,26 +90,25 @@ class AndroidAdaptersTest {
     }
 
     @Test
-    fun `the IMU merger holds gyro and magnetometer samples`() {
-        val m = ImuMerger(maxGyroAgeS = 0.05, maxMagAgeS = 0.5)
-        assertTrue(!m.onAccel(0.0, 0.0, 0.0, 9.8), "no gyroscope yet")
-        assertEquals(1, m.droppedNoGyro)
-        m.onGyro(0.004, 0.1, 0.2, 0.3)
-        assertTrue(m.onAccel(0.01, 1.0, 2.0, 9.8)) // no magnetometer yet: NaN
-        m.onMag(0.012, 20.0, 0.0, -40.0)
-        assertTrue(m.onAccel(0.02, 1.5, 2.5, 9.7))
-        assertTrue(!m.onAccel(0.1, 1.0, 1.0, 9.8), "gyro 96 ms old")
-        m.onGyro(0.6, -0.1, -0.2, -0.3)
-        assertTrue(m.onAccel(0.61, 0.0, 0.0, 9.8)) // magnetometer 598 ms old: NaN
-        assertEquals(3, m.buffer.size)
-        val b = ByteBuffer.wrap(m.buffer.drain()).order(ByteOrder.LITTLE_ENDIAN)
-        val r = List(3) { List(10) { b.getDouble() } }
-        // The 9-axis layout: t_s, accel xyz, gyro xyz, mag xyz.
-        assertEquals(listOf(0.01, 1.0, 2.0, 9.8, 0.1, 0.2, 0.3), r[0].take(7))
-        assertTrue(r[0].drop(7).all { it.isNaN() })
-        assertEquals(listOf(0.02, 1.5, 2.5, 9.7, 0.1, 0.2, 0.3, 20.0, 0.0, -40.0), r[1])
-        assertEquals(listOf(0.61, 0.0, 0.0, 9.8, -0.1, -0.2, -0.3), r[2].take(7))
-        assertTrue(r[2].drop(7).all { it.isNaN() })
+    fun `the sensor-event batcher writes the 40-byte layout and drops what goes back in time`() {
+        val b = SensorEventBatcher()
+        assertTrue(b.add(0.01, PackedBuffer.TYPE_ACCELEROMETER, 1.0, 2.0, 9.8))
+        assertTrue(b.add(0.004, PackedBuffer.TYPE_GYROSCOPE, 0.1, 0.2, 0.3))
+        assertTrue(b.add(0.012, PackedBuffer.TYPE_MAGNETIC_FIELD, 20.0, 0.0, -40.0))
+        assertTrue(!b.add(0.01, PackedBuffer.TYPE_ACCELEROMETER, 1.0, 2.0, 9.8), "repeated time")
+        assertEquals(1L, b.droppedOutOfOrder)
+        assertFailsWith<IllegalArgumentException> { b.add(0.02, 5L, 0.0, 0.0, 0.0) }
+        val bytes = b.buffer.drain()
+        // The Rust pack helper writes the same bytes.
+        assertContentEquals(
+            packImuEvents(listOf(
+                ImuEvent(0.01, 1, 1.0, 2.0, 9.8), ImuEvent(0.004, 4, 0.1, 0.2, 0.3), ImuEvent(0.012, 2, 20.0, 0.0, -40.0),
+            )),
+            bytes,
+        )
+        val r = ByteBuffer.wrap(bytes).order(ByteOrder.LITTLE_ENDIAN)
+        assertEquals(0.01, r.getDouble())
+        assertEquals(1L, r.getLong())
     }
 
     /** The simulated run as Android delivers it: step-counter Floats and locations, in time order. */
@@ -207,17 +208,20 @@ class AndroidAdaptersTest {
                     session.onLocation(LocationSample(ns(t + 0.005), 46.5 + t * 1e-5, 6.6, horizontalAccuracyM = 5.0))
                 }
             }
-            session.flush()
+            session.finish()
             val last = withTimeout(5_000) { session.estimates.first() }
             job.cancel()
             val received = generateSequence { all.tryReceive().getOrNull() }.toList()
-            // One estimate per 50-record batch and per fix: 90. The flow drops the oldest
-            // beyond its buffer of 64 when the collector falls behind (a loaded
-            // machine), so only the newest 65 are certain.
-            assertTrue(received.size in 65..90, "estimates received: ${received.size}")
+            // One estimate per 50-event batch (7 500 events) and per fix, and one at the
+            // end: 181. The flow drops the oldest beyond its buffer of 64 when the
+            // collector falls behind (a loaded machine), so only the newest 65 are certain.
+            assertTrue(received.size in 65..181, "estimates received: ${received.size}")
             assertTrue(last.steps > 20L, "steps detected: ${last.steps}")
             assertEquals(nav.estimate(), last)
-            assertEquals(0, session.merger.droppedNoGyro.toInt())
+            val counts = nav.sensorEventCounts()
+            assertEquals(0L, counts.withoutGyro)
+            assertEquals(3_000L, counts.samples)
+            assertEquals(0L, session.droppedOutOfOrder)
         }
     }
 }

@@ -104,7 +104,7 @@ class ErrorsTest {
             assertEquals(listOf(1, 3), r.rejected.map { it.index })
             assertTrue(r.rejected[0].error is PaceException.NonFinite)
             assertTrue(r.rejected[1].error is PaceException.TimeNotIncreasing)
-            assertEquals(r.rejected[1].error.toString(), r.rejected[1].description)
+            assertEquals(r.rejected[1].error.toString(), r.rejected[1].reason)
             assertEquals(listOf(1.0, 3.0, 4.0), r.estimates.map { it.tS })
             assertEquals(t.estimate(), r.latest)
         }

@@ -221,7 +221,7 @@ class FootTest {
             assertEquals(listOf(10, 20), r.rejected.map { it.index })
             assertTrue(r.rejected[0].error is FootException.NonFinite, "${r.rejected[0].error}")
             assertTrue(r.rejected[1].error is FootException.TimeNotIncreasing, "${r.rejected[1].error}")
-            assertTrue(r.rejected[1].description.contains("not after"), r.rejected[1].description)
+            assertTrue(r.rejected[1].reason.contains("not after"), r.rejected[1].reason)
             assertEquals(r.latest, nav.estimate())
         }
 

@@ -444,7 +444,7 @@ class StressTest {
 
             fun pushed(n: Int, r: io.stridekit.BatchResult) = Pushed(
                 n, r.rejected.map { it.index.toInt() },
-                r.rejected.filter { it.error is PaceException.Internal }.map { it.description },
+                r.rejected.filter { it.error is PaceException.Internal }.map { it.reason },
                 listOf(r.estimates, r.latest),
             )
             val failures = stress(
@@ -656,7 +656,7 @@ class StressTest {
             // sampleRateHz() is 0 until the alignment measured it: push 200 Hz (as FootTest).
             val dt = 0.005
             val foot = StreamClock(T0, dt)
-            assertNoRejections(o.pushPacked(validFoot(T0, 1, dt), FootOutput.ALL).rejected.map { it.description }, "warm-up")
+            assertNoRejections(o.pushPacked(validFoot(T0, 1, dt), FootOutput.ALL).rejected.map { it.reason }, "warm-up")
             foot.accepted(T0)
             val outputs = FootOutput.entries
             val failures = stress(
@@ -667,7 +667,7 @@ class StressTest {
                             val res = o.pushPacked(b, outputs[r.nextInt(outputs.size)])
                             Pushed(
                                 b.size / 56, res.rejected.map { it.index.toInt() },
-                                res.rejected.filter { it.error is FootException.Internal }.map { it.description },
+                                res.rejected.filter { it.error is FootException.Internal }.map { it.reason },
                                 listOf(res.estimates, res.latest),
                             )
                         },

@@ -66,6 +66,12 @@ class PackedBuffer(val recordBytes: Int, initialRecords: Int = 64) {
         const val FIX_BYTES = 56
         /** `t_s, accel xyz, gyro xyz, mag xyz` (mag NaN = none): `pushImuPacked` of `PhoneNavigator`, `PhoneOdometry`, `OrientationFilter`. */
         const val IMU_BYTES = 80
+        /** `t_s` (f64), `sensor_type` (i64, Android `Sensor.TYPE_*`), `x, y, z` (f64): `PhoneNavigator.pushSensorEventsPacked`. */
+        const val SENSOR_EVENT_BYTES = 40
+        /** `Sensor.TYPE_ACCELEROMETER`, `TYPE_MAGNETIC_FIELD`, `TYPE_GYROSCOPE` (the codes of the 40-byte events). */
+        const val TYPE_ACCELEROMETER = 1L
+        const val TYPE_MAGNETIC_FIELD = 2L
+        const val TYPE_GYROSCOPE = 4L
     }
 }
 
@@ -122,6 +128,35 @@ class StepCountBatcher {
         require(steps >= 0) { "step counts are never negative" }
         if (!order.accept(tS)) return false
         buffer.begin().f64(tS).u64(steps).end()
+        return true
+    }
+}
+
+/**
+ * Packs separate accelerometer, gyroscope and magnetometer events as they arrive
+ * (40-byte records) for `PhoneNavigator.pushSensorEventsPacked`, which merges them
+ * by the SDK's one rule (stridekit_core::imu: the same as `stridekit pdr` reading an
+ * Android log). Each sensor's events must increase in time; an event that does not
+ * is dropped here and counted per sensor (the navigator would refuse it).
+ */
+class SensorEventBatcher {
+    val buffer = PackedBuffer(PackedBuffer.SENSOR_EVENT_BYTES, initialRecords = 256)
+    private val accel = Monotonic()
+    private val gyro = Monotonic()
+    private val mag = Monotonic()
+
+    /** Events dropped because their sensor's time did not increase. */
+    val droppedOutOfOrder: Long get() = accel.dropped + gyro.dropped + mag.dropped
+
+    fun add(tS: Double, sensorType: Long, x: Double, y: Double, z: Double): Boolean {
+        val order = when (sensorType) {
+            PackedBuffer.TYPE_ACCELEROMETER -> accel
+            PackedBuffer.TYPE_GYROSCOPE -> gyro
+            PackedBuffer.TYPE_MAGNETIC_FIELD -> mag
+            else -> throw IllegalArgumentException("sensor type $sensorType: 1, 2 or 4")
+        }
+        if (!order.accept(tS)) return false
+        buffer.begin().f64(tS).u64(sensorType).f64(x).f64(y).f64(z).end()
         return true
     }
 }
