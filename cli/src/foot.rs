@@ -19,7 +19,7 @@
 //! common in logs of a fast sensor on a coarse clock).
 //!
 //! When the file has truth columns (`gt_x_m gt_y_m gt_z_m`, e.g. the pyshoe VICON
-//! trials), the truth is mirrored as `eval foot` does (see `eval_foot::mirror_truth`)
+//! trials), the truth is mirrored as `eval foot` does (see `stridekit_lab::foot::eval::mirror_truth`)
 //! and then carried into the estimate's ENU frame by the best rotation about the
 //! vertical + translation, so that the `gt_*` columns and the plots compare directly.
 //!
@@ -44,6 +44,7 @@ use stridekit_lab::foot::device::{evidence, Evidence};
 use stridekit_lab::foot::eval::{align, replay_counted, Method, Trial};
 use stridekit_lab::report::{line_chart, track_chart, Chart, Series, Style};
 
+use crate::commands::foot::{FootArgs, Imu};
 use crate::outcome::{write_error, Failure};
 use crate::output::{say, Sink};
 
@@ -60,16 +61,10 @@ const PLOT_POINTS: usize = 4000;
 /// Below this distance walked, m, the loop closure is given without a percentage.
 const MIN_WALKED_M: f64 = 0.01;
 
-/// Which IMU the recording comes from (`--imu`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ImuProfile {
-    /// [`FootConfig::default`]: consumer MEMS, gyro bias from the start rest.
-    Consumer,
-    /// [`FootConfig::calibrated_imu`]: factory-calibrated IMU (the UofT MicroStrain).
-    Calibrated,
-}
-
-impl ImuProfile {
+/// What `--imu` names: [`FootConfig::default`] for consumer MEMS (gyro bias from the
+/// start rest), [`FootConfig::calibrated_imu`] for a factory-calibrated IMU (the UofT
+/// MicroStrain).
+impl Imu {
     fn name(self) -> &'static str {
         match self {
             Self::Consumer => "consumer",
@@ -82,26 +77,6 @@ impl ImuProfile {
             Self::Calibrated => FootConfig::calibrated_imu(),
         }
     }
-}
-
-/// Options of `stridekit foot`.
-#[derive(Clone, Debug, Default)]
-pub struct FootArgs {
-    pub file: PathBuf,
-    /// Where the trajectory CSV goes (the SVGs next to a file).
-    pub sink: Sink,
-    /// Drive the updates with this stance label column (`zv_NAME`).
-    pub labels: Option<String>,
-    /// Sensor axes spec (`frd`, `flu`, `x,-y,-z`, …).
-    pub axes: Option<String>,
-    pub imu: Option<ImuProfile>,
-    /// A device calibration written by `stridekit calibrate foot`.
-    pub calibration: Option<PathBuf>,
-    /// Turn off the level-floor constraint (`FootConfig::level_stride_max_grade`).
-    pub no_level_floor: bool,
-    /// The gyroscope's range, rad/s (`FootConfig::gyro_range_rads`); `None`: the
-    /// layout's default.
-    pub gyro_range_rads: Option<f64>,
 }
 
 /// The navigator configuration for a recording of `format` under `args`, given what
@@ -131,11 +106,11 @@ pub fn config_for(
     let (imu, imu_why) = match args.imu {
         Some(imu) => (imu, "given"),
         None if device.uoft_vicon_set => (
-            ImuProfile::Calibrated,
+            Imu::Calibrated,
             "the UofT VICON set's factory-calibrated MicroStrain: the file has the set's label columns",
         ),
         None => (
-            ImuProfile::Consumer,
+            Imu::Consumer,
             "the SDK default for an IMU not known by name; --imu calibrated for a factory-calibrated one",
         ),
     };
@@ -238,7 +213,7 @@ pub fn calibrate(
     files: &[PathBuf],
     out: &Path,
     axes: Option<String>,
-    imu: Option<ImuProfile>,
+    imu: Option<Imu>,
 ) -> Result<String, String> {
     let mut walks = Vec::new();
     let mut config: Option<FootConfig> = None;
@@ -368,7 +343,7 @@ fn plot_stances(path: &Path, fit: &stridekit_lab::foot::alignment::LevelFit) -> 
     .map_err(|e| format!("{}: {e}", path.display()))
 }
 
-pub fn run(args: &FootArgs) -> Result<(), Failure> {
+pub fn run(args: &FootArgs, sink: &Sink) -> Result<(), Failure> {
     let file = &args.file;
     let what = |e| crate::input::read_error(file, e, EXPECTS);
     match stridekit_formats::sniff(file).map_err(what)?.content {
@@ -389,8 +364,7 @@ pub fn run(args: &FootArgs) -> Result<(), Failure> {
         stridekit_lab::foot::eval::mirror_truth(t);
     }
     if let Some(l) = args
-        .labels
-        .as_deref()
+        .label_column()
         .filter(|l| !["best", "runner-up"].contains(l))
     {
         if rec.label(l).is_none() {
@@ -421,7 +395,7 @@ pub fn run(args: &FootArgs) -> Result<(), Failure> {
     let m = Method {
         name: "replay".into(),
         config,
-        labels: args.labels.clone(),
+        labels: args.label_column().map(str::to_string),
     };
     let replayed = replay_counted(&trial, &m)?;
     let est = &replayed.estimates;
@@ -479,8 +453,8 @@ pub fn run(args: &FootArgs) -> Result<(), Failure> {
         g.iter().map(|p| into_estimate_frame(th, tr, *p)).collect()
     });
 
-    write_csv(&args.sink, est, truth.as_deref())?;
-    let plots = args.sink.path().map(svg_paths);
+    write_csv(sink, est, truth.as_deref())?;
+    let plots = sink.path().map(svg_paths);
     if let Some((top, height)) = &plots {
         plot(
             top,
@@ -583,7 +557,7 @@ pub fn run(args: &FootArgs) -> Result<(), Failure> {
     match &plots {
         Some((top, height)) => say!(
             "  trajectory in {}, plots in {} and {}",
-            args.sink.name(),
+            sink.name(),
             top.display(),
             height.display()
         ),
@@ -861,7 +835,7 @@ mod tests {
         assert_eq!(rec.unreadable_rows, 1);
         let args = FootArgs {
             file: file.clone(),
-            sink: Sink::from_arg(&dir.join("walk_out.csv"), "csv").unwrap(),
+            out: dir.join("walk_out.csv"),
             axes: Some("flu".into()),
             ..Default::default()
         };
@@ -904,7 +878,7 @@ mod tests {
             last.distance_m
         );
         // The command itself runs end to end.
-        run(&args).unwrap();
+        run(&args, &Sink::from_arg(&args.out, "csv").unwrap()).unwrap();
         assert!(dir.join("walk_out.svg").exists());
         std::fs::remove_dir_all(&dir).ok();
     }
@@ -941,14 +915,14 @@ mod tests {
         assert!((a[1] - truth).abs() < 0.003, "{a:?}");
         let args = FootArgs {
             file: file.clone(),
-            sink: Sink::from_arg(&dir.join("out.csv"), "csv").unwrap(),
+            out: dir.join("out.csv"),
             calibration: Some(cal.clone()),
             ..Default::default()
         };
         let (config, described) = config_for(&args, FootFormat::Xio, &Evidence::default()).unwrap();
         assert_eq!(config.accel_alignment_rad, a);
         assert!(described.contains("accelerometer alignment"), "{described}");
-        run(&args).unwrap();
+        run(&args, &Sink::from_arg(&args.out, "csv").unwrap()).unwrap();
         std::fs::write(&cal, "not a calibration\n").unwrap();
         let e = config_for(&args, FootFormat::Xio, &Evidence::default()).unwrap_err();
         assert!(e.contains("imu.cal"), "{e}");
@@ -1032,7 +1006,7 @@ mod tests {
         assert_eq!(device.ceiling, None);
         let args = FootArgs {
             file: file.clone(),
-            sink: Sink::from_arg(&dir.join("out.csv"), "csv").unwrap(),
+            out: dir.join("out.csv"),
             ..Default::default()
         };
         let (config, described) = config_for(&args, wide.format, &device).unwrap();
@@ -1052,7 +1026,7 @@ mod tests {
         .unwrap();
         assert_eq!(config.gyro_range_rads, Some(9.2));
         assert!(described.contains("above the given range"), "{described}");
-        run(&args).unwrap();
+        run(&args, &Sink::from_arg(&args.out, "csv").unwrap()).unwrap();
         std::fs::remove_dir_all(&dir).ok();
     }
 

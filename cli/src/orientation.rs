@@ -12,7 +12,7 @@
 //! refused for its units) exits 1.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use stridekit_core::ahrs::{Ahrs, AhrsFlags, AhrsSettings};
 use stridekit_formats::{read_android_log, read_broad, Content, FootFormat};
@@ -21,21 +21,12 @@ use stridekit_lab::orientation::metric::{error_angles, ErrorSums};
 use stridekit_lab::rejected::Rejected;
 use stridekit_lab::report::{line_chart, Chart, Series, Style, YFormat};
 
+use crate::commands::orientation::OrientationArgs;
 use crate::outcome::{check_usable, write_error, Failure};
 use crate::output::{say, Sink};
 
 /// What `stridekit orientation` reads, for messages.
 const EXPECTS: &str = "an IMU recording (a BROAD CSV, plain or gzip, or an Android sensor log)";
-
-/// Options of `stridekit orientation`.
-#[derive(Clone, Debug)]
-pub struct OrientationArgs {
-    pub file: PathBuf,
-    /// Where the CSV goes (the chart beside a file).
-    pub sink: Sink,
-    /// Ignore the magnetometer (heading relative to the start).
-    pub imu_only: bool,
-}
 
 /// Seconds of an Android log not compared with the rotation vector while both settle.
 const ANDROID_SETTLE_S: f64 = 5.0;
@@ -52,7 +43,7 @@ struct Row {
     reference: Option<[f64; 4]>,
 }
 
-pub fn run(args: &OrientationArgs) -> Result<(), Failure> {
+pub fn run(args: &OrientationArgs, sink: &Sink) -> Result<(), Failure> {
     let what = |e| crate::input::read_error(&args.file, e, EXPECTS);
     let android = match stridekit_formats::sniff(&args.file).map_err(what)?.content {
         Content::AndroidLog => true,
@@ -112,9 +103,9 @@ pub fn run(args: &OrientationArgs) -> Result<(), Failure> {
         crate::input::warn_truncated(&args.file);
     }
     let mut ahrs = Ahrs::new(AhrsSettings::default()).map_err(|e| e.to_string())?;
-    let sink_name = args.sink.name();
+    let sink_name = sink.name();
     let io = write_error(&sink_name);
-    let mut w = args.sink.open()?;
+    let mut w = sink.open()?;
     write!(w, "t_s,qw,qx,qy,qz").map_err(&io)?;
     for name in AhrsFlags::NAMES {
         write!(w, ",{name}").map_err(&io)?;
@@ -173,7 +164,7 @@ pub fn run(args: &OrientationArgs) -> Result<(), Failure> {
     }
     w.flush().map_err(&io)?;
     drop(w);
-    let svg = args.sink.beside("svg");
+    let svg = sink.beside("svg");
     let reference_name = if android {
         "Android's rotation vector"
     } else {

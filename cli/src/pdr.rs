@@ -20,29 +20,17 @@
 //! (or whose IMU stream was refused for its units) exits 1.
 
 use std::io::Write;
-use std::path::PathBuf;
 
 use stridekit_lab::pdr::metrics::{apply_rigid, best_rigid, evaluate, track_at};
 use stridekit_lab::pdr::walks::{load_walk, replay, ReplayOptions};
 use stridekit_lab::report::{track_chart, Series, Style};
 
 use crate::basis::{PDR_CALIBRATED, PDR_PRIOR};
+use crate::commands::pdr::PdrArgs;
 use crate::outcome::{check_usable, write_error, Failure};
 use crate::output::{say, Sink};
 
-/// Options of `stridekit pdr`.
-#[derive(Clone, Debug)]
-pub struct PdrArgs {
-    pub file: PathBuf,
-    /// Where the trajectory CSV goes (the SVG beside a file).
-    pub sink: Sink,
-    pub calibration: Option<PathBuf>,
-    pub no_mag: bool,
-    /// The gyroscope is raw (`NavigatorConfig::gyro_calibrated` false).
-    pub raw_gyro: bool,
-}
-
-pub fn run(a: &PdrArgs) -> Result<(), Failure> {
+pub fn run(a: &PdrArgs, sink: &Sink) -> Result<(), Failure> {
     let walk = load_walk(&a.file)?;
     if walk.rec.truncated {
         crate::input::warn_truncated(&a.file);
@@ -64,15 +52,15 @@ pub fn run(a: &PdrArgs) -> Result<(), Failure> {
         ..Default::default()
     };
     let r = replay(&walk.rec, &o)?;
-    write_csv(&a.sink, &r.steps)?;
-    let svg = a.sink.beside("svg");
+    write_csv(sink, &r.steps)?;
+    let svg = sink.beside("svg");
     let mut summary = format!(
         "{}: {} samples, {} steps, {:.1} m walked; trajectory {} ({} rows){}\n",
         walk.rec.name,
         walk.rec.samples.len(),
         r.steps.len(),
         r.steps.last().map_or(0.0, |s| s.distance_m),
-        a.sink.name(),
+        sink.name(),
         r.steps.len(),
         svg.as_ref()
             .map(|s| format!(", plot {}", s.display()))

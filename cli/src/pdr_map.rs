@@ -16,7 +16,7 @@
 //! floor (global localisation, said in the summary).
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::Path;
 use std::sync::Arc;
 
 use stridekit_core::map::MapConfig;
@@ -27,32 +27,22 @@ use stridekit_lab::pdr::metrics::track_at;
 use stridekit_lab::pdr::walks::load_walk;
 
 use crate::basis::PDR_PRIOR;
+use crate::commands::pdr::PdrArgs;
 use crate::outcome::{write_error, Failure};
 use crate::output::{say, Sink};
 
-/// Options of `stridekit pdr --map`.
-#[derive(Clone, Debug)]
-pub struct MapArgs {
-    pub file: PathBuf,
-    /// Where the CSV goes (the SVG beside a file).
-    pub sink: Sink,
-    /// A floor folder (`geojson_map.json`, `floor_info.json`, `floor_image.png`) or
-    /// one GeoJSON file.
-    pub map: PathBuf,
-    /// Start `(x, y, σ)` in plan metres.
-    pub start: Option<(f64, f64, Option<f64>)>,
-}
-
-pub fn run(a: &MapArgs) -> Result<(), Failure> {
+/// `stridekit pdr FILE --map FLOORDIR|FILE`: `map` is a floor folder
+/// (`geojson_map.json`, `floor_info.json`, `floor_image.png`) or one GeoJSON file.
+pub fn run(a: &PdrArgs, map: &Path, sink: &Sink) -> Result<(), Failure> {
     let walk = load_walk(&a.file)?;
     if walk.rec.truncated {
         crate::input::warn_truncated(&a.file);
     }
-    let plan_file = read_floor_plan(&a.map).map_err(|e| format!("{}: {e}", a.map.display()))?;
+    let plan_file = read_floor_plan(map).map_err(|e| format!("{}: {e}", map.display()))?;
     let plan = Arc::new(
         plan_file
             .build()
-            .map_err(|e| format!("{}: {e}", a.map.display()))?,
+            .map_err(|e| format!("{}: {e}", map.display()))?,
     );
     let wp = &walk.rec.truth;
     let (start, said) = match (a.start, wp.first()) {
@@ -76,12 +66,12 @@ pub fn run(a: &MapArgs) -> Result<(), Failure> {
         start,
         &[],
     )?;
-    write_csv(&a.sink, &r)?;
-    let svg = a.sink.beside("svg");
-    let image = if a.map.is_dir() {
-        a.map.join("floor_image.png")
+    write_csv(sink, &r)?;
+    let svg = sink.beside("svg");
+    let image = if map.is_dir() {
+        map.join("floor_image.png")
     } else {
-        a.map.with_file_name("floor_image.png")
+        map.with_file_name("floor_image.png")
     };
     let pts = |t: &[stridekit_lab::pdr::metrics::TrackPoint]| -> Vec<(f64, f64)> {
         t.iter().map(|p| (p.x_m, p.y_m)).collect()
@@ -130,7 +120,7 @@ pub fn run(a: &MapArgs) -> Result<(), Failure> {
         walk.rec.name,
         walk.rec.samples.len(),
         plan.floor(),
-        a.map.display(),
+        map.display(),
         plan.walls().len(),
         plan_file.geometry.walkable.len() + plan_file.geometry.obstacles.len(),
         if plan_file.skipped_features > 0 {
@@ -141,7 +131,7 @@ pub fn run(a: &MapArgs) -> Result<(), Failure> {
         } else {
             String::new()
         },
-        a.sink.name(),
+        sink.name(),
         r.rows.len(),
         svg.as_ref()
             .map(|s| format!(", plot {}", s.display()))

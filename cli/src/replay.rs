@@ -16,6 +16,7 @@ use stridekit_lab::rejected::Rejected;
 use stridekit_lab::report::{line_chart, Band, Chart, Series, Style, YFormat};
 
 use crate::basis::{share_pct, PACE_CALIBRATED, PACE_PRIOR};
+use crate::commands::pace::PaceArgs;
 use crate::outcome::{check_usable, write_error, Failure};
 use crate::output::{say, Sink};
 
@@ -25,33 +26,24 @@ const NO_FIX_S: f64 = 5.0;
 /// What `stridekit pace` reads, for messages.
 pub const EXPECTS: &str = "one activity file (FIT, TCX, GPX or an activity CSV)";
 
-/// How a file is replayed.
-#[derive(Clone, Debug)]
-pub struct Options<'a> {
-    /// Where the CSV goes (a speed chart beside a file, same name with `.svg`).
-    pub sink: &'a Sink,
-    /// Leave out every GNSS fix (a treadmill replay).
-    pub no_gnss: bool,
-    /// The calibration file the configuration was given, for the summary.
-    pub calibration: Option<&'a Path>,
-}
-
-/// Replays `path`; returns the tracker as the replay left it.
-pub fn run(path: &Path, config: PaceConfig, options: &Options) -> Result<PaceTracker, Failure> {
+/// Replays `a.file` with `config` (made from `a`), the CSV to `sink`; returns the
+/// tracker as the replay left it.
+pub fn run(a: &PaceArgs, config: PaceConfig, sink: &Sink) -> Result<PaceTracker, Failure> {
+    let path = a.file.as_path();
     let activity = stridekit_formats::read_activity(path)
         .map_err(|e| crate::input::read_error(path, e, EXPECTS))?;
     if activity.cleanup.truncated {
         crate::input::warn_truncated(path);
     }
     let mut p = prepare(&activity);
-    if options.no_gnss {
+    if a.no_gnss {
         p.samples.retain(|s| !matches!(s, PaceSample::Fix(_)));
         p.track.clear();
     }
     let mut tracker = PaceTracker::new(config).map_err(|e| e.to_string())?;
-    let sink_name = options.sink.name();
+    let sink_name = sink.name();
     let io = write_error(&sink_name);
-    let mut out = options.sink.open()?;
+    let mut out = sink.open()?;
     // (minutes, speed m/s) of the rows written.
     let mut speed_series: Vec<(f64, f64)> = Vec::new();
     out.write_all(b"t_s,t_unix_s,speed_mps,pace_s_per_km,pace_min_per_km,speed_std_mps,cadence_spm,step_length_m,gnss_weight,distance_m,source\n").map_err(&io)?;
@@ -91,8 +83,8 @@ pub fn run(path: &Path, config: PaceConfig, options: &Options) -> Result<PaceTra
     }
     out.flush().map_err(&io)?;
     drop(out);
-    if let Some(svg) = options.sink.beside("svg") {
-        speed_chart(&svg, &activity, &p, speed_series, options.no_gnss)?;
+    if let Some(svg) = sink.beside("svg") {
+        speed_chart(&svg, &activity, &p, speed_series, a.no_gnss)?;
         say!("speed chart: {}", svg.display());
     }
     let distance_m = tracker.estimate().map_or(0.0, |e| e.distance_m);
@@ -122,7 +114,7 @@ pub fn run(path: &Path, config: PaceConfig, options: &Options) -> Result<PaceTra
         say!("  reader {n}: {why}");
     }
     if distance_m > 0.0 {
-        say!("{}", rests_on(&tracker, &p, moving_s, options));
+        say!("{}", rests_on(&tracker, &p, moving_s, a));
         if let Some(device_m) = device_distance_m(&activity) {
             say!(
                 "  the file's own distance (the device's: GNSS or a foot pod): {device_m:.0} m; \
@@ -152,7 +144,7 @@ fn rests_on(
     tracker: &PaceTracker,
     p: &stridekit_lab::activity::Prepared,
     elapsed_s: f64,
-    options: &Options,
+    a: &PaceArgs,
 ) -> String {
     let covered_s: f64 = p
         .track
@@ -161,7 +153,7 @@ fn rests_on(
         .filter(|&gap| gap <= NO_FIX_S)
         .sum();
     let gnss = match p.track.len() {
-        0 if options.no_gnss => "no GNSS (--no-gnss)".to_string(),
+        0 if a.no_gnss => "no GNSS (--no-gnss)".to_string(),
         0 => "no GNSS (the file has no position)".to_string(),
         n => format!(
             "GNSS ({n} fixes, covering {:.0} % of the time)",
@@ -171,7 +163,7 @@ fn rests_on(
     if !p.has_steps {
         return format!("  rests on: {gnss} alone (no step data)");
     }
-    let length = match (options.calibration, tracker.config().mode) {
+    let length = match (a.calibration.as_deref(), tracker.config().mode) {
         (Some(f), _) => format!(
             "the imported calibration {} ({PACE_CALIBRATED})",
             f.display()

@@ -12,7 +12,7 @@
 //! with no step (or whose stream was refused for its units) exits 1.
 
 use std::io::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use stridekit_core::stepdetect::{StepDetector, StepDetectorConfig, StepEvent};
 use stridekit_formats::Content;
@@ -20,19 +20,13 @@ use stridekit_formats::Content;
 use stridekit_lab::rejected::Rejected;
 
 use crate::basis::STEPS_DETECTOR;
+use crate::commands::steps::StepsArgs;
 use crate::outcome::{check_usable, write_error, Failure};
 use crate::output::{say, Sink};
 
 /// What `stridekit steps` reads, for messages.
 const EXPECTS: &str = "an accelerometer recording (an Oxford Step Counter trace folder, an \
      Oxford accelerometer CSV: ns, accuracy, ax, ay, az in m/s², or an Android sensor log)";
-
-/// Options of `stridekit steps`.
-pub struct StepsArgs {
-    pub file: PathBuf,
-    /// Where the CSV goes (the chart beside a file).
-    pub sink: Sink,
-}
 
 /// Accelerometer samples in file order, on the recording's own clock.
 pub struct AccelRecording {
@@ -174,7 +168,7 @@ fn cadence_spm(t_s: &[f64], i: usize) -> Option<f64> {
     (k > 0).then(|| 60.0 * k as f64 / (t_s[i] - t_s[i - k]))
 }
 
-pub fn run(args: &StepsArgs) -> Result<(), Failure> {
+pub fn run(args: &StepsArgs, sink: &Sink) -> Result<(), Failure> {
     let rec = read_recording(&args.file)?;
     if rec.truncated {
         crate::input::warn_truncated(&args.file);
@@ -192,9 +186,9 @@ pub fn run(args: &StepsArgs) -> Result<(), Failure> {
             steps.push(e);
         }
     }
-    let sink_name = args.sink.name();
+    let sink_name = sink.name();
     let io = write_error(&sink_name);
-    let mut w = args.sink.open()?;
+    let mut w = sink.open()?;
     writeln!(w, "t_s,step,cadence_spm,interval_s").map_err(&io)?;
     let times: Vec<f64> = steps.iter().map(|e| e.t_s).collect();
     for (i, e) in steps.iter().enumerate() {
@@ -210,7 +204,7 @@ pub fn run(args: &StepsArgs) -> Result<(), Failure> {
     }
     w.flush().map_err(&io)?;
     drop(w);
-    if let Some(svg) = args.sink.beside("svg") {
+    if let Some(svg) = sink.beside("svg") {
         cadence_chart(&svg, &args.file, &times, rec.reference_steps.as_deref())?;
     }
     let span = match (rec.samples.first(), rec.samples.last()) {
@@ -296,10 +290,13 @@ mod tests {
             vec![("unreadable row (first at line 3005)".to_string(), 2)]
         );
         let out = dir.join("steps.csv");
-        run(&StepsArgs {
-            file: dir.clone(),
-            sink: Sink::from_arg(&out, "csv").unwrap(),
-        })
+        run(
+            &StepsArgs {
+                file: dir.clone(),
+                out: out.clone(),
+            },
+            &Sink::from_arg(&out, "csv").unwrap(),
+        )
         .unwrap();
         let rows = std::fs::read_to_string(&out).unwrap();
         let n = rows.lines().count() - 1;

@@ -9,6 +9,7 @@
 //! on bad input. Every engine can be snapshotted to bytes and restored.
 
 pub mod ahrs;
+pub mod angle;
 pub mod batch;
 pub mod calibration;
 pub mod foot;
@@ -16,14 +17,17 @@ pub mod geo;
 pub mod imu;
 pub mod input;
 pub mod map;
+mod model_text;
 pub mod odometry;
 pub mod pace;
 pub mod pdr;
 pub mod placement;
 pub mod signal;
 pub mod snapshot;
+pub mod stats;
 pub mod stepdetect;
 pub mod steplength;
+pub mod vec3;
 
 // What apps use, at the crate root: each engine with its configuration, sample,
 // estimate and error (the domain modules hold the rest of their surface).

@@ -32,10 +32,24 @@ pub fn ridi_placement(name: &str) -> Option<String> {
 
 /// Parse the text of a `processed/data.csv`.
 pub fn parse_ridi_csv(name: &str, text: &str) -> Result<InertialRecording, FormatError> {
-    let (samples, truth, skipped) = parse_rows(FORMAT, text, "time", 1e-9)?;
+    parse_layout(FORMAT, name, ridi_placement(name), text, "time", 1e-9)
+}
+
+/// A recording named `name` in the RIDI column layout (RoNIN's export uses it too:
+/// the two differ only in the time column, its unit in seconds, and what the name
+/// tells of the placement).
+pub(crate) fn parse_layout(
+    format: &'static str,
+    name: &str,
+    placement: Option<String>,
+    text: &str,
+    time_column: &'static str,
+    time_scale: f64,
+) -> Result<InertialRecording, FormatError> {
+    let (samples, truth, skipped) = parse_rows(format, text, time_column, time_scale)?;
     Ok(InertialRecording {
         name: name.to_string(),
-        placement: ridi_placement(name),
+        placement,
         samples,
         truth,
         skipped,

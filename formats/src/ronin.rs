@@ -15,21 +15,13 @@
 //! column `placement` is not read; the placement is unknown (`None`).
 
 use crate::error::FormatError;
-use crate::inertial::{parse_rows, InertialRecording};
+use crate::inertial::InertialRecording;
 
 const FORMAT: &str = "RoNIN CSV export";
 
 /// Parse the text of a RoNIN CSV export.
 pub fn parse_ronin_csv(name: &str, text: &str) -> Result<InertialRecording, FormatError> {
-    let (samples, truth, skipped) = parse_rows(FORMAT, text, "time_s", 1.0)?;
-    Ok(InertialRecording {
-        name: name.to_string(),
-        placement: None,
-        samples,
-        truth,
-        skipped,
-        ..Default::default()
-    })
+    crate::ridi::parse_layout(FORMAT, name, None, text, "time_s", 1.0)
 }
 
 #[cfg(test)]

@@ -1,5 +1,7 @@
 //! Real activity records → pace samples (clean, or with injected GNSS degradation).
 
+use std::path::{Path, PathBuf};
+
 use crate::pace::{degrade_track, TrackPoint};
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::input;
@@ -112,4 +114,23 @@ pub fn degraded(p: &Prepared, seed: u64) -> (Vec<PaceSample>, Vec<Zone>) {
         }
     }
     (out, zones)
+}
+
+/// The activity files (FIT, TCX, GPX by extension, any case) directly in `dir`, sorted.
+pub fn activity_files(dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| format!("cannot read {}: {e}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            matches!(
+                p.extension()
+                    .and_then(|e| e.to_str())
+                    .map(|e| e.to_ascii_lowercase())
+                    .as_deref(),
+                Some("fit" | "tcx" | "gpx")
+            )
+        })
+        .collect();
+    files.sort();
+    Ok(files)
 }

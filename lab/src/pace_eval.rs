@@ -106,20 +106,7 @@ pub fn simulator_table(seeds: u64, default: PaceConfig) -> (String, Vec<Scores>)
 
 /// Real-run table: every activity file in `dir` (fit/tcx/gpx) with GNSS and cadence.
 pub fn real_table(dir: &Path, default: PaceConfig) -> Result<String, String> {
-    let mut files: Vec<_> = std::fs::read_dir(dir)
-        .map_err(|e| format!("cannot read {}: {e}", dir.display()))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| {
-            matches!(
-                p.extension()
-                    .and_then(|e| e.to_str())
-                    .map(|e| e.to_ascii_lowercase())
-                    .as_deref(),
-                Some("fit" | "tcx" | "gpx")
-            )
-        })
-        .collect();
-    files.sort();
+    let files = crate::activity::activity_files(dir)?;
     let mut out = String::new();
     let _ = writeln!(
         out,

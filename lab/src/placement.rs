@@ -77,22 +77,7 @@ pub fn train(
         .iter()
         .map(|(f, p)| (scratch.standardise(f), p.index()))
         .collect();
-    let mut count = [0usize; CLASSES];
-    for (_, c) in &z {
-        count[*c] += 1;
-    }
-    let present = count.iter().filter(|&&c| c > 0).count() as f64;
-    // Sample weight: each present class sums to 1 / present.
-    let cw: Vec<f64> = count
-        .iter()
-        .map(|&c| {
-            if c > 0 {
-                1.0 / (present * c as f64)
-            } else {
-                0.0
-            }
-        })
-        .collect();
+    let (count, cw) = class_weights(z.iter().map(|(_, c)| *c));
 
     type W = [[f64; FEATURES + 1]; CLASSES];
     let mut w: W = [[0.0; FEATURES + 1]; CLASSES];
@@ -159,6 +144,27 @@ pub fn train(
 }
 
 /// Fraction of windows whose most probable class is the label.
+/// Samples per class, and the class-balanced sample weights: the samples of each
+/// class present sum to 1 / (classes present).
+pub(crate) fn class_weights(classes: impl Iterator<Item = usize>) -> ([usize; CLASSES], Vec<f64>) {
+    let mut count = [0usize; CLASSES];
+    for c in classes {
+        count[c] += 1;
+    }
+    let present = count.iter().filter(|&&c| c > 0).count() as f64;
+    let weights = count
+        .iter()
+        .map(|&c| {
+            if c > 0 {
+                1.0 / (present * c as f64)
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    (count, weights)
+}
+
 pub fn accuracy(model: &PlacementModel, data: &[(Features, Placement)]) -> f64 {
     if data.is_empty() {
         return f64::NAN;

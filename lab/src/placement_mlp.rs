@@ -67,21 +67,7 @@ pub fn train(data: &[(Features, Placement)], l2: f64) -> Result<Mlp, String> {
         .iter()
         .map(|(f, p)| (scale.standardise(f), p.index()))
         .collect();
-    let mut count = [0usize; CLASSES];
-    for (_, c) in &z {
-        count[*c] += 1;
-    }
-    let present = count.iter().filter(|&&c| c > 0).count() as f64;
-    let cw: Vec<f64> = count
-        .iter()
-        .map(|&c| {
-            if c > 0 {
-                1.0 / (present * c as f64)
-            } else {
-                0.0
-            }
-        })
-        .collect();
+    let (count, cw) = crate::placement::class_weights(z.iter().map(|(_, c)| *c));
     let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
     let mut rnd = move || {
         seed ^= seed << 13;

@@ -3,7 +3,7 @@
 //! on real runs (cadence only).
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use crate::steplength::{
     carried_outage, mixes, run_cases, scenario, tracker_outage, Case, CARRIED_WARM_UP_S, OUTAGE_S,
@@ -363,20 +363,7 @@ fn outage_distance(
 
 /// The real-run table for the activity files in `dir`.
 pub fn real_table(dir: &Path) -> Result<String, String> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|e| format!("cannot read {}: {e}", dir.display()))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| {
-            matches!(
-                p.extension()
-                    .and_then(|e| e.to_str())
-                    .map(|e| e.to_ascii_lowercase())
-                    .as_deref(),
-                Some("fit" | "tcx" | "gpx")
-            )
-        })
-        .collect();
-    files.sort();
+    let files = crate::activity::activity_files(dir)?;
     // Records come every 1–3 s in these files and carry no accuracy: fixes up to
     // 5 s apart still locate steps.
     let config = StepLengthConfig {

@@ -42,11 +42,11 @@ pub enum Calibrate {
         #[arg(long, value_name = "FILE")]
         out: PathBuf,
         /// Sensor axes spec, as for `stridekit foot`.
-        #[arg(long, value_name = "SPEC", value_parser = super::replay::axes_spec)]
+        #[arg(long, value_name = "SPEC", value_parser = super::foot::axes_spec)]
         axes: Option<String>,
         /// The IMU profile, as for `stridekit foot`.
         #[arg(long, value_enum)]
-        imu: Option<super::replay::Imu>,
+        imu: Option<super::foot::Imu>,
     },
 }
 
@@ -83,7 +83,7 @@ pub fn run(c: Calibrate) -> Result<(), crate::outcome::Failure> {
             imu,
         } => {
             let out = OutFile::prepare(&out, "")?;
-            let text = crate::foot::calibrate(&files, &out.path, axes, imu.map(Into::into))?;
+            let text = crate::foot::calibrate(&files, &out.path, axes, imu)?;
             print!("{text}");
             eprintln!("{}", out.wrote());
             Ok(())

@@ -8,8 +8,13 @@
 mod calibrate;
 mod demo;
 mod eval;
-mod replay;
+pub(crate) mod foot;
+mod odometry;
+pub(crate) mod orientation;
+pub(crate) mod pace;
+pub(crate) mod pdr;
 mod soak;
+pub(crate) mod steps;
 mod train;
 
 use std::path::PathBuf;
@@ -40,12 +45,12 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     Demo(demo::DemoArgs),
-    Pace(replay::PaceArgs),
-    Steps(replay::StepsArgs),
-    Foot(replay::FootArgs),
-    Pdr(replay::PdrArgs),
-    Orientation(replay::OrientationArgs),
-    Odometry(replay::OdometryArgs),
+    Pace(pace::PaceArgs),
+    Steps(steps::StepsArgs),
+    Foot(foot::FootArgs),
+    Pdr(pdr::PdrArgs),
+    Orientation(orientation::OrientationArgs),
+    Odometry(odometry::OdometryArgs),
     /// Learn a personal calibration from recordings.
     #[command(subcommand)]
     Calibrate(calibrate::Calibrate),
@@ -71,12 +76,12 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo(a) => demo::run(a).map_err(Failure::from),
-        Command::Pace(a) => replay::pace(a),
-        Command::Steps(a) => replay::steps(a),
-        Command::Foot(a) => replay::foot(a),
-        Command::Pdr(a) => replay::pdr(a),
-        Command::Orientation(a) => replay::orientation(a),
-        Command::Odometry(a) => replay::odometry(a),
+        Command::Pace(a) => pace::run(a),
+        Command::Steps(a) => steps::run(a),
+        Command::Foot(a) => foot::run(a),
+        Command::Pdr(a) => pdr::run(a),
+        Command::Orientation(a) => orientation::run(a),
+        Command::Odometry(a) => odometry::run(a),
         Command::Calibrate(c) => calibrate::run(c),
         Command::Eval(e) => eval::run(e),
         Command::Train(t) => train::run(t),

@@ -83,6 +83,8 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 pub const MAX_CORRECTION_DT_S: f64 = 0.1;
 /// Above this half-angle² per sample, gyroscope integration is exact (0.1 rad turn).
 const EXACT_HALF_ANGLE2: f64 = 0.05 * 0.05;
+/// Below this |ε| (|q|² − 1 before renormalising) the inverse norm is a series.
+const SERIES_MAX_EPS: f64 = 1e-2;
 /// A gyroscope axis beyond this share of the range has clipped.
 pub(crate) const GYRO_CLIP_SHARE: f64 = 0.98;
 /// Time constant of the learned Earth field, s, and during initialisation.
@@ -247,8 +249,41 @@ impl Madgwick {
             angular_rate_recovery: self.flags.angular_rate_recovery,
             ..AhrsFlags::default()
         };
+        // Flags go in and out by value: they stay in registers.
+        flags = self.recover_angular_rate(s, &gyro, flags);
+        flags = self.ramp_gain(s, dt, flags);
+        let w;
+        (w, flags) = self.unbiased_gyro(s, dt, gyro, a_norm, flags);
+        let q = self.q.get();
+        let up = up_in_body(&q);
+        // ∇/2 of the accelerometer's and the magnetometer's misfits.
+        let mut grad = [0.0; 4];
+        if a_norm > MIN_VECTOR_NORM {
+            (grad, flags) = self.accel_gradient(s, dt, &q, &up, a, a2, a_norm, grad, flags);
+        } else {
+            flags.accel_rejected = true;
+        }
+        if let Some(m) = mag {
+            (grad, flags) = self.add_mag_gradient(s, dt, &q, &up, m, grad, flags);
+        }
+        let p = propagate(&q, &w, dt);
+        self.q.set(gradient_step(
+            &p,
+            &grad,
+            self.gain * min(dt, MAX_CORRECTION_DT_S),
+        ));
+        self.flags = flags;
+        flags
+    }
 
-        // Angular rate recovery: a clipped gyroscope restarts the initialisation phase.
+    /// Angular rate recovery: a clipped gyroscope restarts the initialisation phase.
+    #[inline(always)]
+    fn recover_angular_rate(
+        &mut self,
+        s: &AhrsSettings,
+        gyro: &[f64; 3],
+        mut flags: AhrsFlags,
+    ) -> AhrsFlags {
         if (gyro[0].abs() > self.gyro_clip_rads)
             | (gyro[1].abs() > self.gyro_clip_rads)
             | (gyro[2].abs() > self.gyro_clip_rads)
@@ -259,6 +294,12 @@ impl Madgwick {
             self.accel_rec = Recovery::default();
             self.mag_rec = Recovery::default();
         }
+        flags
+    }
+
+    /// While initialising, the gain ramps down to the nominal one.
+    #[inline(always)]
+    fn ramp_gain(&mut self, s: &AhrsSettings, dt: f64, mut flags: AhrsFlags) -> AhrsFlags {
         if flags.initialising {
             self.gain -= self.ramp_rate * dt;
             if self.gain <= s.gain {
@@ -267,8 +308,19 @@ impl Madgwick {
                 flags.angular_rate_recovery = false;
             }
         }
+        flags
+    }
 
-        // Gyroscope bias.
+    /// The gyroscope minus its estimated bias (learned at rest).
+    #[inline(always)]
+    fn unbiased_gyro(
+        &mut self,
+        s: &AhrsSettings,
+        dt: f64,
+        gyro: [f64; 3],
+        a_norm: f64,
+        mut flags: AhrsFlags,
+    ) -> ([f64; 3], AhrsFlags) {
         let mut w = gyro;
         if s.bias_estimation {
             let b = &self.bias.bias_rads;
@@ -276,137 +328,108 @@ impl Madgwick {
             let still = (a_norm - s.gravity_mps2).abs() < STILL_ACCEL_MPS2;
             flags.bias_learning = self.bias.update(&w, dt, still);
         }
+        (w, flags)
+    }
 
-        let [qw, qx, qy, qz] = self.q.get();
-        let (mut sw, mut sx, mut sy, mut sz) = (0.0, 0.0, 0.0, 0.0);
-
-        // Up in the body frame as the estimate sees it (third row of R(q)).
-        let vx = 2.0 * (qx * qz - qw * qy);
-        let vy = 2.0 * (qw * qx + qy * qz);
-        let vz = 2.0 * (0.5 - qx * qx - qy * qy);
-
-        // Accelerometer: misfit between the estimated and the measured up direction.
-        if a_norm > MIN_VECTOR_NORM {
-            // 1/|a| as |a|/|a|²: root and division in parallel.
-            let inv = a_norm * (1.0 / a2);
-            let f1 = vx - a[0] * inv;
-            let f2 = vy - a[1] * inv;
-            let f3 = vz - a[2] * inv;
-            let bad = !flags.initialising
-                & (((a_norm - s.gravity_mps2).abs() > s.accel_rejection_mps2)
-                    | (f1 * f1 + f2 * f2 + f3 * f3 > self.accel_err2_limit));
-            let (use_it, _) = self.accel_rec.step(bad, dt, s.recovery_trigger_period_s);
-            flags.accel_recovery = self.accel_rec.recovering;
-            flags.accel_rejected = !use_it;
-            // ∇/2 = ½ J_gᵀ f_g (the step is normalised: common factors drop out).
-            if use_it {
-                sw = qx * f2 - qy * f1;
-                sx = qz * f1 + qw * f2 - 2.0 * qx * f3;
-                sy = qz * f2 - qw * f1 - 2.0 * qy * f3;
-                sz = qx * f1 + qy * f2;
-            }
-        } else {
-            flags.accel_rejected = true;
+    /// Accelerometer: misfit between the estimated and the measured up direction; its
+    /// gradient (½ J_gᵀ f_g; the step is normalised: common factors drop out) replaces
+    /// `grad` when the sample is used.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn accel_gradient(
+        &mut self,
+        s: &AhrsSettings,
+        dt: f64,
+        q: &Quat,
+        up: &[f64; 3],
+        a: &[f64; 3],
+        a2: f64,
+        a_norm: f64,
+        mut grad: Quat,
+        mut flags: AhrsFlags,
+    ) -> (Quat, AhrsFlags) {
+        let [qw, qx, qy, qz] = *q;
+        let [vx, vy, vz] = *up;
+        // 1/|a| as |a|/|a|²: root and division in parallel.
+        let inv = a_norm * (1.0 / a2);
+        let f1 = vx - a[0] * inv;
+        let f2 = vy - a[1] * inv;
+        let f3 = vz - a[2] * inv;
+        let bad = !flags.initialising
+            & (((a_norm - s.gravity_mps2).abs() > s.accel_rejection_mps2)
+                | (f1 * f1 + f2 * f2 + f3 * f3 > self.accel_err2_limit));
+        let (use_it, _) = self.accel_rec.step(bad, dt, s.recovery_trigger_period_s);
+        flags.accel_recovery = self.accel_rec.recovering;
+        flags.accel_rejected = !use_it;
+        if use_it {
+            grad = [
+                qx * f2 - qy * f1,
+                qz * f1 + qw * f2 - 2.0 * qx * f3,
+                qz * f2 - qw * f1 - 2.0 * qy * f3,
+                qx * f1 + qy * f2,
+            ];
         }
+        (grad, flags)
+    }
 
-        // Magnetometer: misfit between the estimated and the measured field direction.
-        if let Some(m) = mag {
-            let m2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
-            if m2 > MIN_VECTOR_NORM * MIN_VECTOR_NORM {
-                let m_norm = m2.sqrt();
-                let inv = m_norm * (1.0 / m2);
-                let (mx, my, mz) = (m[0] * inv, m[1] * inv, m[2] * inv);
-                // The unit field in the earth frame, h = q ⊗ m̂ ⊗ q*, enters only as
-                // its up component (up-in-body · m̂) and its horizontal magnitude,
-                // √(1 − h_z²) since |h| = 1: the reference b = (b_x, 0, b_z) without
-                // rotating the whole vector.
-                let bz = vx * mx + vy * my + vz * mz;
-                let bx2 = 1.0 - bz * bz;
-                let bx = max(bx2, 0.0).sqrt();
-                let [rx, rz, rn] = self.mag_ref_ut;
-                let bad = !flags.initialising
-                    & self.mag_ref_valid
-                    & (((m_norm - rn).abs() > s.mag_rejection_ut)
-                        | (bx * rx + bz * rz < self.mag_cos_dip_limit));
-                let (use_it, started) = self.mag_rec.step(bad, dt, s.recovery_trigger_period_s);
-                flags.mag_recovery = self.mag_rec.recovering;
-                if started || !self.mag_ref_valid {
-                    self.mag_ref_ut = [bx, bz, m_norm];
-                    self.mag_ref_valid = true;
-                }
-                if use_it {
-                    let k = if flags.initialising {
-                        min(dt * (1.0 / MAG_REF_INIT_TAU_S), 1.0)
-                    } else {
-                        min(dt * (1.0 / MAG_REF_TAU_S), 1.0)
-                    };
-                    let r = &mut self.mag_ref_ut;
-                    r[0] += k * (bx - r[0]);
-                    r[1] += k * (bz - r[1]);
-                    r[2] += k * (m_norm - r[2]);
-                    // ∇/2 += ½ J_bᵀ f_b = P + b_x·Q: the root b_x enters last.
-                    let v = [vx, vy, vz];
-                    let (gp, gq) = mag_gradient(&[qw, qx, qy, qz], &v, &[mx, my, mz], bz, bx2);
-                    sw = (sw + gp[0]) + bx * gq[0];
-                    sx = (sx + gp[1]) + bx * gq[1];
-                    sy = (sy + gp[2]) + bx * gq[2];
-                    sz = (sz + gp[3]) + bx * gq[3];
-                } else {
-                    flags.mag_rejected = true;
-                }
-            }
+    /// Magnetometer: misfit between the estimated and the measured field direction,
+    /// gated by the learned field; its gradient is added to `grad` when used.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn add_mag_gradient(
+        &mut self,
+        s: &AhrsSettings,
+        dt: f64,
+        q: &Quat,
+        up: &[f64; 3],
+        m: &[f64; 3],
+        mut grad: Quat,
+        mut flags: AhrsFlags,
+    ) -> (Quat, AhrsFlags) {
+        let m2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
+        if m2 <= MIN_VECTOR_NORM * MIN_VECTOR_NORM {
+            return (grad, flags);
         }
-
-        // Gyroscope propagation with the half-angle vector ½ ω dt.
-        let hdt = 0.5 * dt;
-        let (hx, hy, hz) = (w[0] * hdt, w[1] * hdt, w[2] * hdt);
-        let h2 = hx * hx + hy * hy + hz * hz;
-        let [p0, p1, p2, p3] = if h2 < EXACT_HALF_ANGLE2 {
-            // q + q ⊗ (0, ½ ω dt): first order, as the paper.
-            [
-                qw - qx * hx - qy * hy - qz * hz,
-                qx + qw * hx + qy * hz - qz * hy,
-                qy + qw * hy - qx * hz + qz * hx,
-                qz + qw * hz + qx * hy - qy * hx,
-            ]
+        let m_norm = m2.sqrt();
+        let inv = m_norm * (1.0 / m2);
+        let (mx, my, mz) = (m[0] * inv, m[1] * inv, m[2] * inv);
+        let [vx, vy, vz] = *up;
+        // The unit field in the earth frame, h = q ⊗ m̂ ⊗ q*, enters only as its up
+        // component (up-in-body · m̂) and its horizontal magnitude, √(1 − h_z²) since
+        // |h| = 1: the reference b = (b_x, 0, b_z) without rotating the whole vector.
+        let bz = vx * mx + vy * my + vz * mz;
+        let bx2 = 1.0 - bz * bz;
+        let bx = max(bx2, 0.0).sqrt();
+        let [rx, rz, rn] = self.mag_ref_ut;
+        let bad = !flags.initialising
+            & self.mag_ref_valid
+            & (((m_norm - rn).abs() > s.mag_rejection_ut)
+                | (bx * rx + bz * rz < self.mag_cos_dip_limit));
+        let (use_it, started) = self.mag_rec.step(bad, dt, s.recovery_trigger_period_s);
+        flags.mag_recovery = self.mag_rec.recovering;
+        if started || !self.mag_ref_valid {
+            self.mag_ref_ut = [bx, bz, m_norm];
+            self.mag_ref_valid = true;
+        }
+        if !use_it {
+            flags.mag_rejected = true;
+            return (grad, flags);
+        }
+        let k = if flags.initialising {
+            min(dt * (1.0 / MAG_REF_INIT_TAU_S), 1.0)
         } else {
-            exact_propagation(&[qw, qx, qy, qz], hx, hy, hz, h2)
+            min(dt * (1.0 / MAG_REF_TAU_S), 1.0)
         };
-
-        // Normalised gradient step, scaled by gain and (bounded) interval.
-        let n2 = sw * sw + sx * sx + sy * sy + sz * sz;
-        let step = self.gain * min(dt, MAX_CORRECTION_DT_S);
-        // β·dt/|∇| written as β·dt·|∇|/|∇|²: the square root and the division then
-        // run in parallel instead of one after the other (this is on the critical
-        // path from one sample's q to the next).
-        let (c, step2) = if n2 > 0.0 {
-            ((step / n2) * n2.sqrt(), step * step)
-        } else {
-            (0.0, 0.0)
-        };
-        let nw = p0 - c * sw;
-        let nx = p1 - c * sx;
-        let ny = p2 - c * sy;
-        let nz = p3 - c * sz;
-        // Renormalise. |q|² stays close to 1: first-order integration adds (½|ω|dt)²
-        // and the step, which has a radial part, changes it by ~2β·dt (≤ 1e-2 at
-        // β = 1, 100 Hz). There the Taylor series of 1/√(1+ε) to second order,
-        // 1 − ε/2 + 3ε²/8 (error ≤ 5/16·|ε|³ ≈ 3e-7, corrected again next sample),
-        // gives the same direction without a square root and a division on the
-        // chain that carries q from sample to sample. Larger deviations take the
-        // exact path. ε = |p − c∇|² − 1 = (|p|² − 1 + c²|∇|²) − 2c·p·∇ with
-        // c²|∇|² = (β·dt)²: everything but the last product is known before c.
-        let pp = p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3;
-        let ps = p0 * sw + p1 * sx + p2 * sy + p3 * sz;
-        let eps = ((pp - 1.0) + step2) - 2.0 * c * ps;
-        let inv = if eps.abs() < 1e-2 {
-            (1.0 - 0.5 * eps) + 0.375 * (eps * eps)
-        } else {
-            exact_inverse_norm(eps)
-        };
-        self.q.set([nw * inv, nx * inv, ny * inv, nz * inv]);
-        self.flags = flags;
-        flags
+        let r = &mut self.mag_ref_ut;
+        r[0] += k * (bx - r[0]);
+        r[1] += k * (bz - r[1]);
+        r[2] += k * (m_norm - r[2]);
+        // ∇/2 += ½ J_bᵀ f_b = P + b_x·Q: the root b_x enters last.
+        let (gp, gq) = mag_gradient(q, up, &[mx, my, mz], bz, bx2);
+        for i in 0..4 {
+            grad[i] = (grad[i] + gp[i]) + bx * gq[i];
+        }
+        (grad, flags)
     }
 
     /// State after the settings, in the order of snapshot format 1 (q … still time).
@@ -511,6 +534,76 @@ fn initial_orientation(
     };
     let q_out = quat::from_euler(roll, pitch, 0.0);
     quat::mul(&quat::conj(&c), &q_out)
+}
+
+/// Up in the body frame as the estimate `q` sees it (third row of R(q)).
+#[inline(always)]
+fn up_in_body(q: &Quat) -> [f64; 3] {
+    let [qw, qx, qy, qz] = *q;
+    [
+        2.0 * (qx * qz - qw * qy),
+        2.0 * (qw * qx + qy * qz),
+        2.0 * (0.5 - qx * qx - qy * qy),
+    ]
+}
+
+/// Gyroscope propagation of `q` by the rate `w` over `dt`, with the half-angle vector
+/// ½ ω dt: first order (q + q ⊗ (0, ½ ω dt), as the paper) for small turns, exact
+/// beyond.
+#[inline(always)]
+fn propagate(q: &Quat, w: &[f64; 3], dt: f64) -> Quat {
+    let [qw, qx, qy, qz] = *q;
+    let hdt = 0.5 * dt;
+    let (hx, hy, hz) = (w[0] * hdt, w[1] * hdt, w[2] * hdt);
+    let h2 = hx * hx + hy * hy + hz * hz;
+    if h2 < EXACT_HALF_ANGLE2 {
+        [
+            qw - qx * hx - qy * hy - qz * hz,
+            qx + qw * hx + qy * hz - qz * hy,
+            qy + qw * hy - qx * hz + qz * hx,
+            qz + qw * hz + qx * hy - qy * hx,
+        ]
+    } else {
+        exact_propagation(q, hx, hy, hz, h2)
+    }
+}
+
+/// The normalised gradient step of `step` (β·bounded dt) from the propagated `p`
+/// along −∇ (`grad` = ∇/2), renormalised.
+#[inline(always)]
+fn gradient_step(p: &Quat, grad: &Quat, step: f64) -> Quat {
+    let [p0, p1, p2, p3] = *p;
+    let [sw, sx, sy, sz] = *grad;
+    let n2 = sw * sw + sx * sx + sy * sy + sz * sz;
+    // β·dt/|∇| written as β·dt·|∇|/|∇|²: the square root and the division then run in
+    // parallel instead of one after the other (this is on the critical path from one
+    // sample's q to the next).
+    let (c, step2) = if n2 > 0.0 {
+        ((step / n2) * n2.sqrt(), step * step)
+    } else {
+        (0.0, 0.0)
+    };
+    let nw = p0 - c * sw;
+    let nx = p1 - c * sx;
+    let ny = p2 - c * sy;
+    let nz = p3 - c * sz;
+    // Renormalise. |q|² stays close to 1: first-order integration adds (½|ω|dt)² and
+    // the step, which has a radial part, changes it by ~2β·dt (≤ 1e-2 at β = 1,
+    // 100 Hz). There the Taylor series of 1/√(1+ε) to second order,
+    // 1 − ε/2 + 3ε²/8 (error ≤ 5/16·|ε|³ ≈ 3e-7, corrected again next sample), gives
+    // the same direction without a square root and a division on the chain that
+    // carries q from sample to sample. Larger deviations take the exact path.
+    // ε = |p − c∇|² − 1 = (|p|² − 1 + c²|∇|²) − 2c·p·∇ with c²|∇|² = (β·dt)²:
+    // everything but the last product is known before c.
+    let pp = p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3;
+    let ps = p0 * sw + p1 * sx + p2 * sy + p3 * sz;
+    let eps = ((pp - 1.0) + step2) - 2.0 * c * ps;
+    let inv = if eps.abs() < SERIES_MAX_EPS {
+        (1.0 - 0.5 * eps) + 0.375 * (eps * eps)
+    } else {
+        exact_inverse_norm(eps)
+    };
+    [nw * inv, nx * inv, ny * inv, nz * inv]
 }
 
 /// Madgwick's algebraic magnetometer gradient ½ J_bᵀ f_b, regrouped as P + b_x·Q so
@@ -633,5 +726,34 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The first-order propagation agrees with the exact one for small turns, and the
+    /// gradient step returns a unit quaternion moved against the gradient.
+    #[test]
+    fn propagation_and_gradient_step() {
+        let q = quat::normalised([0.9, 0.1, -0.2, 0.3]);
+        let w = [0.5, -0.3, 0.2];
+        let small = propagate(&q, &w, 0.01);
+        let (hx, hy, hz) = (0.0025, -0.0015, 0.001);
+        let exact = exact_propagation(&q, hx, hy, hz, hx * hx + hy * hy + hz * hz);
+        let n: f64 = exact.iter().map(|c| c * c).sum::<f64>().sqrt();
+        for k in 0..4 {
+            assert!(
+                (small[k] - exact[k] * n).abs() < 1e-5,
+                "{small:?} {exact:?}"
+            );
+        }
+        let grad = [0.1, 0.0, 0.0, 0.0];
+        let stepped = gradient_step(&q, &grad, 0.01);
+        let n2: f64 = stepped.iter().map(|c| c * c).sum();
+        assert!((n2 - 1.0).abs() < 1e-6, "{n2}");
+        assert!(stepped[0] < q[0]);
+        assert_eq!(gradient_step(&q, &[0.0; 4], 0.01), {
+            let pp: f64 = q.iter().map(|c| c * c).sum();
+            let eps = pp - 1.0;
+            let inv = (1.0 - 0.5 * eps) + 0.375 * (eps * eps);
+            q.map(|c| c * inv)
+        });
     }
 }

@@ -26,6 +26,7 @@ mod decoupled;
 mod door;
 mod engine;
 mod error;
+pub(crate) mod field;
 mod flags;
 mod frame;
 mod madgwick;

@@ -49,6 +49,7 @@ use crate::batch::{self, Batch, Counts};
 use crate::input::{self, AccelUnits, Stream, TimeGuard};
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
+use crate::vec3;
 
 /// Capacity of the sliding-maximum queue of the gait window.
 const GAIT_CAP: usize = 1024;
@@ -210,7 +211,7 @@ impl FootNavigator {
         let dt = self.time.check(s.t_s)?;
         input::accel(&s.accel_mps2)?;
         input::gyro(&s.gyro_rads)?;
-        Ok((dt, self.units.check(dt, norm(&s.accel_mps2))?))
+        Ok((dt, self.units.check(dt, vec3::norm(s.accel_mps2))?))
     }
 
     /// Push one sample. Returns the estimate of the sample the pipeline finished (the
@@ -285,7 +286,7 @@ impl FootNavigator {
 
     fn after_median(&mut self, s: BodySample) -> Option<FootEstimate> {
         self.det.push(s);
-        let fnorm = norm(&s.f);
+        let fnorm = vec3::norm(s.f);
         while let Some(&(_, v)) = self.gait.newest().as_ref() {
             if v <= fnorm {
                 self.gait.pop_back();
@@ -406,7 +407,7 @@ impl FootNavigator {
             mf[i] *= inv;
             mw[i] *= inv;
         }
-        let mfn = norm(&mf).max(1e-9);
+        let mfn = vec3::norm(mf).max(1e-9);
         let u = [mf[0] / mfn, mf[1] / mfn, mf[2] / mfn];
         let mut vf = [0.0; 3];
         let mut vw = [0.0; 3];
@@ -424,11 +425,11 @@ impl FootNavigator {
                 shoe_w += s.w[i] * s.w[i];
             }
         }
-        let cn = norm(&c.f);
+        let cn = vec3::norm(c.f);
         WindowStats {
             acc_norm_mps2: cn,
             acc_dev_mps2: (cn - g).abs(),
-            gyro_norm_rads: norm(&c.w),
+            gyro_norm_rads: vec3::norm(c.w),
             acc_std_mps2: vf.map(|v| (v * inv).sqrt()),
             gyro_std_rads: vw.map(|v| (v * inv).sqrt()),
             peak_acc_norm_mps2: self.gait.get(0).map_or(cn, |(_, v)| v),
@@ -465,7 +466,7 @@ impl FootNavigator {
         // with (the foot swings at up to 9 rad/s).
         let lost = self.rate_hz > 0.0 && dt * self.rate_hz > LOST_INTERVALS;
         let missed = if lost {
-            ins.prev_w.norm().max(norm(&c.w)) * dt
+            ins.prev_w.norm().max(vec3::norm(c.w)) * dt
         } else {
             0.0
         };
@@ -594,11 +595,6 @@ impl FootNavigator {
 /// level ([`FootConfig::level_stride_max_grade`]).
 fn level_stride(max_grade: Option<f64>, climb_m: f64, length_m: f64) -> bool {
     max_grade.is_some_and(|g| climb_m.abs() <= g * length_m)
-}
-
-#[inline]
-fn norm(v: &[f64; 3]) -> f64 {
-    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
 
 #[inline]

@@ -27,6 +27,7 @@
 
 use super::detect::WindowStats;
 use super::error::FootError;
+use crate::model_text::numbered_lines;
 
 const GRID: usize = 128;
 /// Most support vectors one block may hold (the shipped model has about 360): loading
@@ -221,26 +222,14 @@ impl SvmModel {
 
     /// Read a model file (format in the module docs).
     pub fn parse(text: &str) -> Result<Self, FootError> {
-        let err = |line: usize, what: &str| FootError::InvalidModel(format!("line {line}: {what}"));
         if text.len() > MAX_MODEL_BYTES {
             return Err(FootError::InvalidModel(format!(
                 "model text of {} bytes is larger than {MAX_MODEL_BYTES} bytes",
                 text.len()
             )));
         }
-        let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
-        match lines.next() {
-            Some((_, "stridekit-zupt-svm 1")) => {}
-            Some((_, l)) if l.starts_with("stridekit-zupt-svm ") => {
-                return Err(FootError::InvalidModel(format!(
-                    "unsupported version '{l}' (this build reads version 1)"
-                )))
-            }
-            _ => return Err(FootError::InvalidModel(
-                "not a stridekit zero-velocity model (first line must be 'stridekit-zupt-svm 1')"
-                    .into(),
-            )),
-        }
+        let mut lines = numbered_lines(text);
+        check_header(lines.next())?;
         let mut comments = Vec::new();
         let mut pairs: Vec<Option<PairSvm>> = vec![None; 6];
         while let Some((ln, line)) = lines.next() {
@@ -251,65 +240,8 @@ impl SvmModel {
                 comments.push(c.trim().to_string());
                 continue;
             }
-            let tok: Vec<&str> = line.split_whitespace().collect();
-            if tok.first() != Some(&"svm") || tok.len() != 19 {
-                return Err(err(
-                    ln,
-                    "expected 'svm AXIS gamma G rho R mean M0 M1 sd S0 S1 box L0 H0 L1 H1 n N'",
-                ));
-            }
-            let keys = [
-                (2, "gamma"),
-                (4, "rho"),
-                (6, "mean"),
-                (9, "sd"),
-                (12, "box"),
-                (17, "n"),
-            ];
-            if keys.iter().any(|&(i, k)| tok[i] != k) {
-                return Err(err(
-                    ln,
-                    "keys must be gamma, rho, mean, sd, box, n in this order",
-                ));
-            }
-            let axis = AXES
-                .iter()
-                .position(|a| *a == tok[1])
-                .ok_or_else(|| err(ln, "unknown axis"))?;
-            if pairs[axis].is_some() {
-                return Err(err(ln, "axis given twice"));
-            }
-            let num = |i: usize| -> Result<f64, FootError> {
-                tok[i].parse::<f64>().map_err(|_| err(ln, "not a number"))
-            };
-            let n: usize = tok[18].parse().map_err(|_| err(ln, "n is not a count"))?;
-            if n == 0 || n > MAX_SUPPORT_VECTORS {
-                return Err(err(ln, "n must be 1..=2000"));
-            }
-            let mut support = Vec::with_capacity(n);
-            for _ in 0..n {
-                let (ln2, l2) = lines
-                    .next()
-                    .ok_or_else(|| err(ln, "file ends inside a block"))?;
-                let v: Vec<f64> = l2
-                    .split_whitespace()
-                    .map(|x| x.parse::<f64>())
-                    .collect::<Result<_, _>>()
-                    .map_err(|_| err(ln2, "support vector line must be three numbers"))?;
-                if v.len() != 3 {
-                    return Err(err(ln2, "support vector line must be three numbers"));
-                }
-                support.push([v[0], v[1], v[2]]);
-            }
-            pairs[axis] = Some(PairSvm::new(
-                axis,
-                num(3)?,
-                num(5)?,
-                [num(7)?, num(8)?],
-                [num(10)?, num(11)?],
-                [num(13)?, num(14)?, num(15)?, num(16)?],
-                support,
-            )?);
+            let (axis, pair) = parse_block(ln, line, &mut lines, &pairs)?;
+            pairs[axis] = Some(pair);
         }
         let pairs: Vec<PairSvm> = pairs
             .into_iter()
@@ -354,6 +286,100 @@ impl SvmModel {
 }
 
 const SHIPPED: &str = include_str!("../../models/zupt_svm_v1.txt");
+
+/// A model-file error at a line.
+fn line_error(line: usize, what: &str) -> FootError {
+    FootError::InvalidModel(format!("line {line}: {what}"))
+}
+
+/// The first line: `stridekit-zupt-svm 1`.
+fn check_header(first: Option<(usize, &str)>) -> Result<(), FootError> {
+    match first {
+        Some((_, "stridekit-zupt-svm 1")) => Ok(()),
+        Some((_, l)) if l.starts_with("stridekit-zupt-svm ") => Err(FootError::InvalidModel(
+            format!("unsupported version '{l}' (this build reads version 1)"),
+        )),
+        _ => Err(FootError::InvalidModel(
+            "not a stridekit zero-velocity model (first line must be 'stridekit-zupt-svm 1')"
+                .into(),
+        )),
+    }
+}
+
+/// One SVM block: its `svm AXIS …` line (`ln`, `line`) and the support-vector lines
+/// that follow it in `lines`, for an axis not among those `read` so far; the axis index
+/// and the SVM.
+fn parse_block<'a>(
+    ln: usize,
+    line: &str,
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+    read: &[Option<PairSvm>],
+) -> Result<(usize, PairSvm), FootError> {
+    let tok: Vec<&str> = line.split_whitespace().collect();
+    if tok.first() != Some(&"svm") || tok.len() != 19 {
+        return Err(line_error(
+            ln,
+            "expected 'svm AXIS gamma G rho R mean M0 M1 sd S0 S1 box L0 H0 L1 H1 n N'",
+        ));
+    }
+    let keys = [
+        (2, "gamma"),
+        (4, "rho"),
+        (6, "mean"),
+        (9, "sd"),
+        (12, "box"),
+        (17, "n"),
+    ];
+    if keys.iter().any(|&(i, k)| tok[i] != k) {
+        return Err(line_error(
+            ln,
+            "keys must be gamma, rho, mean, sd, box, n in this order",
+        ));
+    }
+    let axis = AXES
+        .iter()
+        .position(|a| *a == tok[1])
+        .ok_or_else(|| line_error(ln, "unknown axis"))?;
+    if read[axis].is_some() {
+        return Err(line_error(ln, "axis given twice"));
+    }
+    let num = |i: usize| -> Result<f64, FootError> {
+        tok[i]
+            .parse::<f64>()
+            .map_err(|_| line_error(ln, "not a number"))
+    };
+    let n: usize = tok[18]
+        .parse()
+        .map_err(|_| line_error(ln, "n is not a count"))?;
+    if n == 0 || n > MAX_SUPPORT_VECTORS {
+        return Err(line_error(ln, "n must be 1..=2000"));
+    }
+    let mut support = Vec::with_capacity(n);
+    for _ in 0..n {
+        let (ln2, l2) = lines
+            .next()
+            .ok_or_else(|| line_error(ln, "file ends inside a block"))?;
+        let v: Vec<f64> = l2
+            .split_whitespace()
+            .map(|x| x.parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| line_error(ln2, "support vector line must be three numbers"))?;
+        if v.len() != 3 {
+            return Err(line_error(ln2, "support vector line must be three numbers"));
+        }
+        support.push([v[0], v[1], v[2]]);
+    }
+    let pair = PairSvm::new(
+        axis,
+        num(3)?,
+        num(5)?,
+        [num(7)?, num(8)?],
+        [num(10)?, num(11)?],
+        [num(13)?, num(14)?, num(15)?, num(16)?],
+        support,
+    )?;
+    Ok((axis, pair))
+}
 
 #[cfg(test)]
 mod tests {

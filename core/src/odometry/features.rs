@@ -97,20 +97,7 @@ impl FeatureWindow {
         let n = self.len;
         let base = self.ring.len() - n;
         let inv_n = 1.0 / n as f64;
-        // Means.
-        let mut mean = [0.0; 6];
-        let mut g_norm = 0.0;
-        for i in 0..n {
-            let (_, x) = self.ring.get(base + i).unwrap_or_default();
-            for c in 0..6 {
-                mean[c] += x[c];
-            }
-            g_norm += (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
-        }
-        for m in mean.iter_mut() {
-            *m *= inv_n;
-        }
-        g_norm *= inv_n;
+        let (mean, g_norm) = self.means(base, n, inv_n);
         // Second moments, covariances with a_z and the vertical jerk, zero crossings.
         let (t_start, _) = self.ring.get(base).unwrap_or_default();
         let (t_end, _) = self.ring.get(base + n - 1).unwrap_or_default();
@@ -194,5 +181,24 @@ impl FeatureWindow {
             scalars,
             vectors,
         })
+    }
+
+    /// The means of the window's `n` samples from `base` (`inv_n` = 1/n): of each
+    /// channel, and of the norm of the first three.
+    fn means(&self, base: usize, n: usize, inv_n: f64) -> ([f64; 6], f64) {
+        let mut mean = [0.0; 6];
+        let mut g_norm = 0.0;
+        for i in 0..n {
+            let (_, x) = self.ring.get(base + i).unwrap_or_default();
+            for c in 0..6 {
+                mean[c] += x[c];
+            }
+            g_norm += (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+        }
+        for m in mean.iter_mut() {
+            *m *= inv_n;
+        }
+        g_norm *= inv_n;
+        (mean, g_norm)
     }
 }

@@ -39,6 +39,7 @@
 use super::error::OdometryError;
 use super::features::{WindowFeatures, MAX_WINDOW, N_SCALAR, N_VECTOR, SCALAR_NAMES};
 use super::smooth::MAX_SIGMA_SAMPLES;
+use crate::model_text::{finite, numbered_lines};
 use crate::placement::{Placement, CLASSES};
 
 /// Largest speed a regressor outputs, m/s.
@@ -307,26 +308,14 @@ impl OdometryModel {
     }
 
     pub fn parse(text: &str) -> Result<Self, OdometryError> {
-        let err = |line: usize, reason: String| OdometryError::InvalidModel { line, reason };
         if text.len() > MAX_MODEL_BYTES {
-            return Err(err(0, format!("larger than {MAX_MODEL_BYTES} bytes")));
+            return Err(line_error(
+                0,
+                format!("larger than {MAX_MODEL_BYTES} bytes"),
+            ));
         }
-        let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
-        let (n, first) = lines.next().ok_or_else(|| err(1, "empty file".into()))?;
-        let mut head = first.split_whitespace();
-        if head.next() != Some(HEADER) {
-            return Err(err(n, format!("first line must start with `{HEADER}`")));
-        }
-        match head.next().map(str::parse::<u32>) {
-            Some(Ok(VERSION)) => {}
-            Some(Ok(v)) => {
-                return Err(OdometryError::ModelVersion {
-                    found: v,
-                    supported: VERSION,
-                })
-            }
-            _ => return Err(err(n, "missing or bad version number".into())),
-        }
+        let mut lines = numbered_lines(text);
+        parse_header(lines.next())?;
         let mut params = None;
         let mut regressors = [None; SLOTS];
         let mut comments = Vec::new();
@@ -339,105 +328,29 @@ impl OdometryModel {
                 continue;
             }
             let tok: Vec<&str> = line.split_whitespace().collect();
-            let num = |s: &str| -> Result<f64, OdometryError> {
-                s.parse::<f64>()
-                    .ok()
-                    .filter(|v| v.is_finite())
-                    .ok_or_else(|| err(n, format!("`{s}` is not a finite number")))
-            };
             match tok[0] {
                 "pipeline" => {
                     if params.is_some() {
-                        return Err(err(n, "second `pipeline` line".into()));
+                        return Err(line_error(n, "second `pipeline` line".into()));
                     }
-                    let keys = ["rate_hz", "window", "hop", "sigma", "lambda"];
-                    if tok.len() != 1 + 2 * keys.len() {
-                        return Err(err(n, "pipeline needs 5 key value pairs".into()));
-                    }
-                    let mut v = [0.0; 5];
-                    for (i, k) in keys.iter().enumerate() {
-                        if tok[1 + 2 * i] != *k {
-                            return Err(err(n, format!("expected `{k}`")));
-                        }
-                        v[i] = num(tok[2 + 2 * i])?;
-                    }
-                    let int = |x: f64| -> Result<usize, OdometryError> {
-                        if x.fract() == 0.0 && (0.0..1e6).contains(&x) {
-                            Ok(x as usize)
-                        } else {
-                            Err(err(n, "window and hop must be whole numbers".into()))
-                        }
-                    };
-                    let p = PipelineParams {
-                        rate_hz: v[0],
-                        window: int(v[1])?,
-                        hop: int(v[2])?,
-                        sigma_samples: v[3],
-                        lambda: v[4],
-                    };
-                    p.validate().map_err(|r| err(n, r.to_string()))?;
-                    params = Some(p);
+                    params = Some(parse_pipeline(n, &tok)?);
                 }
                 "regressor" => {
                     let name = tok.get(1).copied().unwrap_or("");
                     let placement = placement_from_name(name)
-                        .ok_or_else(|| err(n, format!("unknown placement `{name}`")))?;
+                        .ok_or_else(|| line_error(n, format!("unknown placement `{name}`")))?;
                     let k = slot(placement);
                     if regressors[k].is_some() {
-                        return Err(err(n, format!("second regressor `{name}`")));
+                        return Err(line_error(n, format!("second regressor `{name}`")));
                     }
-                    let mut pos = 2;
-                    let mut section =
-                        |key: &str, count: usize| -> Result<Vec<f64>, OdometryError> {
-                            if tok.get(pos) != Some(&key) {
-                                return Err(err(n, format!("expected `{key}`")));
-                            }
-                            let vals = tok
-                                .get(pos + 1..)
-                                .unwrap_or(&[])
-                                .iter()
-                                .take_while(|t| t.parse::<f64>().is_ok())
-                                .map(|t| num(t))
-                                .collect::<Result<Vec<_>, _>>()?;
-                            if vals.len() != count {
-                                return Err(err(
-                                    n,
-                                    format!("`{key}` has {} numbers, expected {count}", vals.len()),
-                                ));
-                            }
-                            pos += 1 + count;
-                            Ok(vals)
-                        };
-                    let mean = section("mean", N_SCALAR)?;
-                    let sd = section("sd", N_SCALAR)?;
-                    let speed = section("speed", N_SCALAR + 1)?;
-                    let dir = section("direction", 2 * (N_VECTOR + 1))?;
-                    if pos != tok.len() {
-                        return Err(err(n, "trailing tokens".into()));
-                    }
-                    let mut r = Regressor {
-                        mean: [0.0; N_SCALAR],
-                        sd: [0.0; N_SCALAR],
-                        speed: [0.0; N_SCALAR + 1],
-                        direction: [[0.0; 2]; N_VECTOR + 1],
-                    };
-                    r.mean.copy_from_slice(&mean);
-                    r.sd.copy_from_slice(&sd);
-                    r.speed.copy_from_slice(&speed);
-                    for (k, d) in r.direction.iter_mut().enumerate() {
-                        *d = [dir[2 * k], dir[2 * k + 1]];
-                    }
-                    if !r.is_valid() {
-                        return Err(err(n, "sd must be > 0".into()));
-                    }
-                    regressors[k] = Some(r);
+                    regressors[k] = Some(parse_regressor(n, &tok)?);
                 }
-                other => return Err(err(n, format!("unknown line `{other}`"))),
+                other => return Err(line_error(n, format!("unknown line `{other}`"))),
             }
         }
-        let params = params.ok_or_else(|| err(0, "no `pipeline` line".into()))?;
+        let params = params.ok_or_else(|| line_error(0, "no `pipeline` line".into()))?;
         if regressors[0].is_none() {
-            return Err(err(0, "no `regressor general` line".into()));
+            return Err(line_error(0, "no `regressor general` line".into()));
         }
         let _ = SCALAR_NAMES;
         Ok(Self {
@@ -446,4 +359,115 @@ impl OdometryModel {
             comments,
         })
     }
+}
+
+/// A model-file error at a line (0: the file as a whole).
+fn line_error(line: usize, reason: String) -> OdometryError {
+    OdometryError::InvalidModel { line, reason }
+}
+
+/// A token of line `n` as a finite number.
+fn number(n: usize, s: &str) -> Result<f64, OdometryError> {
+    finite(s).ok_or_else(|| line_error(n, format!("`{s}` is not a finite number")))
+}
+
+/// The first line: `HEADER VERSION`, of this build's version.
+fn parse_header(first: Option<(usize, &str)>) -> Result<(), OdometryError> {
+    let (n, first) = first.ok_or_else(|| line_error(1, "empty file".into()))?;
+    let mut head = first.split_whitespace();
+    if head.next() != Some(HEADER) {
+        return Err(line_error(
+            n,
+            format!("first line must start with `{HEADER}`"),
+        ));
+    }
+    match head.next().map(str::parse::<u32>) {
+        Some(Ok(VERSION)) => Ok(()),
+        Some(Ok(v)) => Err(OdometryError::ModelVersion {
+            found: v,
+            supported: VERSION,
+        }),
+        _ => Err(line_error(n, "missing or bad version number".into())),
+    }
+}
+
+/// `pipeline rate_hz R window W hop H sigma S lambda L` (line `n`, its tokens).
+fn parse_pipeline(n: usize, tok: &[&str]) -> Result<PipelineParams, OdometryError> {
+    let keys = ["rate_hz", "window", "hop", "sigma", "lambda"];
+    if tok.len() != 1 + 2 * keys.len() {
+        return Err(line_error(n, "pipeline needs 5 key value pairs".into()));
+    }
+    let mut v = [0.0; 5];
+    for (i, k) in keys.iter().enumerate() {
+        if tok[1 + 2 * i] != *k {
+            return Err(line_error(n, format!("expected `{k}`")));
+        }
+        v[i] = number(n, tok[2 + 2 * i])?;
+    }
+    let int = |x: f64| -> Result<usize, OdometryError> {
+        if x.fract() == 0.0 && (0.0..1e6).contains(&x) {
+            Ok(x as usize)
+        } else {
+            Err(line_error(n, "window and hop must be whole numbers".into()))
+        }
+    };
+    let [rate_hz, window, hop, sigma_samples, lambda] = v;
+    let p = PipelineParams {
+        rate_hz,
+        window: int(window)?,
+        hop: int(hop)?,
+        sigma_samples,
+        lambda,
+    };
+    p.validate().map_err(|r| line_error(n, r.to_string()))?;
+    Ok(p)
+}
+
+/// `regressor NAME mean … sd … speed … direction …` (line `n`, its tokens; the name is
+/// checked by the caller).
+fn parse_regressor(n: usize, tok: &[&str]) -> Result<Regressor, OdometryError> {
+    let mut pos = 2;
+    let mut section = |key: &str, count: usize| -> Result<Vec<f64>, OdometryError> {
+        if tok.get(pos) != Some(&key) {
+            return Err(line_error(n, format!("expected `{key}`")));
+        }
+        let vals = tok
+            .get(pos + 1..)
+            .unwrap_or(&[])
+            .iter()
+            .take_while(|t| t.parse::<f64>().is_ok())
+            .map(|t| number(n, t))
+            .collect::<Result<Vec<_>, _>>()?;
+        if vals.len() != count {
+            return Err(line_error(
+                n,
+                format!("`{key}` has {} numbers, expected {count}", vals.len()),
+            ));
+        }
+        pos += 1 + count;
+        Ok(vals)
+    };
+    let mean = section("mean", N_SCALAR)?;
+    let sd = section("sd", N_SCALAR)?;
+    let speed = section("speed", N_SCALAR + 1)?;
+    let dir = section("direction", 2 * (N_VECTOR + 1))?;
+    if pos != tok.len() {
+        return Err(line_error(n, "trailing tokens".into()));
+    }
+    let mut r = Regressor {
+        mean: [0.0; N_SCALAR],
+        sd: [0.0; N_SCALAR],
+        speed: [0.0; N_SCALAR + 1],
+        direction: [[0.0; 2]; N_VECTOR + 1],
+    };
+    r.mean.copy_from_slice(&mean);
+    r.sd.copy_from_slice(&sd);
+    r.speed.copy_from_slice(&speed);
+    for (k, d) in r.direction.iter_mut().enumerate() {
+        *d = [dir[2 * k], dir[2 * k + 1]];
+    }
+    if !r.is_valid() {
+        return Err(line_error(n, "sd must be > 0".into()));
+    }
+    Ok(r)
 }

@@ -10,8 +10,8 @@ mod navigator;
 mod scale;
 mod vertical;
 
+pub use crate::angle::wrap;
 pub use calibration::{CalibrationError, PdrCalibration};
-pub use heading::wrap;
 pub use heading::WalkingDirection;
 pub use navigator::{
     NavError, NavEstimate, NavStep, NavigatorConfig, PhoneNavigator, RECENT_STEPS,

@@ -37,6 +37,7 @@ use crate::input::{self, InputError, Stream, TimeGuard};
 use crate::pace::GnssFix;
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
+use crate::stats::{CHI2_99_2DOF, RADIUS68_TO_SIGMA};
 use crate::stepdetect::{StepDetectError, StepDetector, StepDetectorConfig, StepEvent};
 use crate::steplength::{StepLengthConfig, StepLengthError, StepLengthEstimator, StepLengthModel};
 
@@ -58,10 +59,9 @@ pub const RECENT_STEPS: usize = 32;
 /// Span of a step whose duration is unknown (first of a bout) or implausibly long, s.
 const DEFAULT_STEP_S: f64 = 0.55;
 const MAX_STEP_S: f64 = 2.0;
-/// 68 % radius of a circular 2-D Gaussian is 1.515 σ per axis.
-const RADIUS68_TO_SIGMA: f64 = 1.0 / 1.515;
-/// Per-axis σ assumed for a fix without accuracy, m.
+/// Per-axis σ assumed for a fix without accuracy, m, and the least σ of any fix, m.
 const DEFAULT_FIX_SIGMA_M: f64 = 5.0;
+const MIN_FIX_SIGMA_M: f64 = 0.5;
 /// Dead-reckoning position noise per step: share of the step length along track
 /// (step-length error) and walking-direction uncertainty across it, rad.
 const STEP_LENGTH_REL_SIGMA: f64 = 0.05;
@@ -74,6 +74,9 @@ const COURSE_MIN_TIME_S: f64 = 5.0;
 const COURSE_MAX_TIME_S: f64 = 60.0;
 /// Fixes with a worse accuracy give no stretch, m.
 const COURSE_MAX_ACCURACY_M: f64 = 15.0;
+/// ... nor a stretch whose dead-reckoned displacement is under this share of the GNSS
+/// one (no walk to compare).
+const COURSE_MIN_DR_SHARE: f64 = 0.5;
 
 /// Why the navigator rejected an input, a configuration or a snapshot (its state is
 /// unchanged).
@@ -262,9 +265,8 @@ pub struct PhoneNavigator {
     /// Dead-reckoned position without GNSS corrections, m.
     dr_east_m: f64,
     dr_north_m: f64,
-    /// Where the current GNSS stretch starts: time, fix east/north, dead-reckoned
-    /// east/north.
-    course_anchor: [f64; 5],
+    /// Where the current GNSS stretch starts.
+    course_anchor: CourseAnchor,
     /// Steps detected before the walking direction was known: placed once it is
     /// (at their own times, from the attitude history).
     deferred: Ring<PendingStep, DEFERRED_STEPS>,
@@ -277,6 +279,28 @@ pub struct PhoneNavigator {
     scale: StepScale,
     /// Separate sensor events to IMU samples ([`Self::push_event`]).
     merger: ImuMerger,
+}
+
+/// The start of a GNSS stretch (see `observe_course`); all NaN before the first.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct CourseAnchor {
+    t_s: f64,
+    /// The fix, local ENU, m.
+    fix_east_m: f64,
+    fix_north_m: f64,
+    /// The dead-reckoned position at that time, m.
+    dr_east_m: f64,
+    dr_north_m: f64,
+}
+
+impl CourseAnchor {
+    const NONE: Self = Self {
+        t_s: f64::NAN,
+        fix_east_m: f64::NAN,
+        fix_north_m: f64::NAN,
+        dr_east_m: f64::NAN,
+        dr_north_m: f64::NAN,
+    };
 }
 
 /// NED → ENU rotation (swaps north and east, flips the vertical).
@@ -307,7 +331,7 @@ impl PhoneNavigator {
             fix_time: TimeGuard::new(Stream::Gnss),
             dr_east_m: 0.0,
             dr_north_m: 0.0,
-            course_anchor: [f64::NAN; 5],
+            course_anchor: CourseAnchor::NONE,
             deferred: Ring::new(),
             recent: Ring::new(),
             placed: 0,
@@ -620,7 +644,11 @@ impl PhoneNavigator {
         let r = sigma * sigma;
         let (de, dn) = (p[0] - self.east_m, p[1] - self.north_m);
         let nis = (de * de + dn * dn) / (self.pos_var_m2 + r);
-        let r_eff = if nis > 9.21 { r * nis / 9.21 } else { r };
+        let r_eff = if nis > CHI2_99_2DOF {
+            r * nis / CHI2_99_2DOF
+        } else {
+            r
+        };
         let k = self.pos_var_m2 / (self.pos_var_m2 + r_eff);
         self.east_m += k * de;
         self.north_m += k * dn;
@@ -637,8 +665,9 @@ impl PhoneNavigator {
 
     /// Per-axis σ of a fix, m.
     fn fix_sigma_m(&self, fix: &GnssFix) -> f64 {
-        fix.horizontal_accuracy_m
-            .map_or(DEFAULT_FIX_SIGMA_M, |a| (a * RADIUS68_TO_SIGMA).max(0.5))
+        fix.horizontal_accuracy_m.map_or(DEFAULT_FIX_SIGMA_M, |a| {
+            (a * RADIUS68_TO_SIGMA).max(MIN_FIX_SIGMA_M)
+        })
     }
 
     /// The walking direction learns how the phone is carried (and its forward sign)
@@ -648,8 +677,20 @@ impl PhoneNavigator {
         let good = fix
             .horizontal_accuracy_m
             .is_none_or(|a| a <= COURSE_MAX_ACCURACY_M);
-        let [t0, e0, n0, de0, dn0] = self.course_anchor;
-        let anchor = [fix.t_s, p[0], p[1], self.dr_east_m, self.dr_north_m];
+        let CourseAnchor {
+            t_s: t0,
+            fix_east_m: e0,
+            fix_north_m: n0,
+            dr_east_m: de0,
+            dr_north_m: dn0,
+        } = self.course_anchor;
+        let anchor = CourseAnchor {
+            t_s: fix.t_s,
+            fix_east_m: p[0],
+            fix_north_m: p[1],
+            dr_east_m: self.dr_east_m,
+            dr_north_m: self.dr_north_m,
+        };
         if !good || !t0.is_finite() || fix.t_s - t0 > COURSE_MAX_TIME_S {
             self.course_anchor = anchor;
             return;
@@ -661,7 +702,7 @@ impl PhoneNavigator {
         }
         let (de, dn) = (self.dr_east_m - de0, self.dr_north_m - dn0);
         self.scale.observe(g, de.hypot(dn));
-        if de.hypot(dn) > 0.5 * g {
+        if de.hypot(dn) > COURSE_MIN_DR_SHARE * g {
             // Azimuth of GNSS minus azimuth of dead reckoning (clockwise positive); its
             // σ from the two fixes' accuracy across the baseline.
             let err = (ge * dn - gn * de).atan2(ge * de + gn * dn);

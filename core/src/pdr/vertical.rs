@@ -163,8 +163,9 @@ impl VerticalHistory {
     }
 
     pub(crate) fn write(&self, w: &mut Writer) {
-        w.u64(self.slots.len() as u64);
-        for s in self.slots.iter() {
+        let VerticalHistory { slots } = self;
+        w.u64(slots.len() as u64);
+        for s in slots.iter() {
             let Slot { id, sum_mps2, n } = s;
             w.u64(id as u64);
             w.f64(sum_mps2);

@@ -145,6 +145,30 @@ fn centre(x: &mut [f64; WINDOW]) {
     }
 }
 
+/// Band energies of the dynamic magnitude `norm` (centred) by a direct DFT over bins
+/// 1..N/2, summed per band of [`BANDS_HZ`].
+fn band_energies(tables: &FeatureTables, norm: &[f64; WINDOW]) -> [f64; 5] {
+    let df = 1.0 / (WINDOW as f64 * BIN_S);
+    let mut bands = [0.0f64; 5];
+    for kf in 1..=WINDOW / 2 {
+        let hz = kf as f64 * df;
+        let Some(b) = (0..5).find(|&b| hz >= BANDS_HZ[b] && hz < BANDS_HZ[b + 1] + 1e-9) else {
+            continue;
+        };
+        let (mut re, mut im) = (0.0, 0.0);
+        // Table indices of kf·n and kf·n − N/4 (sin θ = cos(θ − π/2)), modulo N.
+        let (mut i, mut j) = (0usize, 3 * WINDOW / 4);
+        for x in norm {
+            re += x * tables.cos[i];
+            im += x * tables.cos[j];
+            i = (i + kf) & (WINDOW - 1);
+            j = (j + kf) & (WINDOW - 1);
+        }
+        bands[b] += re * re + im * im;
+    }
+    bands
+}
+
 /// Features of a window of bin means (oldest first), m/s².
 pub fn window_features(tables: &FeatureTables, window: &[[f64; 3]; WINDOW]) -> Features {
     let mut f = [0.0; FEATURES];
@@ -209,25 +233,7 @@ pub fn window_features(tables: &FeatureTables, window: &[[f64; 3]; WINDOW]) -> F
     f[15] = max_autocorr(&hc, STEP_LAGS);
     f[16] = max_autocorr(&hc, STRIDE_LAGS);
 
-    // Band energies of the dynamic magnitude by a direct DFT over bins 1..N/2.
-    let df = 1.0 / (WINDOW as f64 * BIN_S);
-    let mut bands = [0.0f64; 5];
-    for kf in 1..=WINDOW / 2 {
-        let hz = kf as f64 * df;
-        let Some(b) = (0..5).find(|&b| hz >= BANDS_HZ[b] && hz < BANDS_HZ[b + 1] + 1e-9) else {
-            continue;
-        };
-        let (mut re, mut im) = (0.0, 0.0);
-        // Table indices of kf·n and kf·n − N/4 (sin θ = cos(θ − π/2)), modulo N.
-        let (mut i, mut j) = (0usize, 3 * WINDOW / 4);
-        for x in &norm {
-            re += x * tables.cos[i];
-            im += x * tables.cos[j];
-            i = (i + kf) & (WINDOW - 1);
-            j = (j + kf) & (WINDOW - 1);
-        }
-        bands[b] += re * re + im * im;
-    }
+    let bands = band_energies(tables, &norm);
     let total: f64 = bands.iter().sum();
     for b in 0..5 {
         let frac = if total > 1e-12 { bands[b] / total } else { 0.2 };

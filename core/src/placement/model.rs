@@ -27,6 +27,7 @@
 use super::class::{Placement, CLASSES};
 use super::error::PlacementError;
 use super::features::{Features, FEATURES, FEATURE_NAMES};
+use crate::model_text::{finite_numbers, numbered_lines};
 
 /// First line of a version-1 model file.
 pub const MAGIC: &str = "stridekit-placement-lr 1";
@@ -136,18 +137,10 @@ impl PlacementModel {
 
     /// Reads a model file (format in the module docs).
     pub fn parse(text: &str) -> Result<Self, PlacementError> {
-        let err = |line: usize, reason: &str| PlacementError::Model {
-            line,
-            reason: reason.into(),
-        };
         if text.len() > MAX_MODEL_BYTES {
-            return Err(err(0, "larger than 256 KiB"));
+            return Err(line_error(0, "larger than 256 KiB"));
         }
-        let mut lines = text
-            .lines()
-            .enumerate()
-            .map(|(i, l)| (i + 1, l.trim()))
-            .filter(|(_, l)| !l.is_empty());
+        let mut lines = numbered_lines(text).filter(|(_, l)| !l.is_empty());
         match lines.next() {
             Some((_, MAGIC)) => {}
             Some((_, l)) => {
@@ -155,8 +148,10 @@ impl PlacementModel {
                     found: l.chars().take(60).collect(),
                 })
             }
-            None => return Err(err(0, "empty file")),
+            None => return Err(line_error(0, "empty file")),
         }
+        // Comments before the first keyword line are the model's; later ones are
+        // skipped.
         let mut comments = Vec::new();
         let mut body = Vec::new();
         for (ln, l) in lines {
@@ -166,122 +161,25 @@ impl PlacementModel {
                 None => body.push((ln, l)),
             }
         }
-        let mut body = body.into_iter();
-        let last_line = text.lines().count();
-        let mut next = |what: &str| {
-            body.next()
-                .ok_or_else(|| err(last_line, &format!("file ends before the '{what}' line")))
+        let mut body = Body {
+            lines: body.into_iter(),
+            last_line: text.lines().count(),
         };
-        let nums = |ln: usize, toks: &[&str]| -> Result<Vec<f64>, PlacementError> {
-            toks.iter()
-                .map(|t| {
-                    t.parse::<f64>()
-                        .ok()
-                        .filter(|v| v.is_finite())
-                        .ok_or_else(|| err(ln, &format!("{t:?} is not a finite number")))
-                })
-                .collect()
-        };
-
-        // classes
-        let (ln, l) = next("classes")?;
-        let tok: Vec<&str> = l.split_whitespace().collect();
-        if tok.first() != Some(&"classes") || tok.len() < 2 {
-            return Err(err(ln, "expected 'classes N NAME...'"));
-        }
-        let n: usize = tok[1]
-            .parse()
-            .map_err(|_| err(ln, "class count is not a number"))?;
-        if n != CLASSES || tok.len() != 2 + n {
-            return Err(err(
-                ln,
-                &format!(
-                    "expected {CLASSES} classes (this build's), found {}",
-                    tok.len() - 2
-                ),
-            ));
-        }
-        let mut order = [usize::MAX; CLASSES];
-        for (k, name) in tok[2..].iter().enumerate() {
-            let p = Placement::from_name(name)
-                .ok_or_else(|| err(ln, &format!("unknown class {name:?}")))?;
-            if order.contains(&p.index()) {
-                return Err(err(ln, &format!("class {name} listed twice")));
-            }
-            order[k] = p.index();
-        }
-
-        // features
-        let (ln, l) = next("features")?;
-        let tok: Vec<&str> = l.split_whitespace().collect();
-        if tok.first() != Some(&"features") || tok.len() < 2 {
-            return Err(err(ln, "expected 'features N NAME...'"));
-        }
-        let n: usize = tok[1]
-            .parse()
-            .map_err(|_| err(ln, "feature count is not a number"))?;
-        if n != FEATURES {
-            return Err(PlacementError::ModelFeatureCount {
-                expected: FEATURES,
-                found: n,
-            });
-        }
-        if tok.len() != 2 + n || tok[2..] != FEATURE_NAMES {
-            return Err(err(
-                ln,
-                "feature names differ from this build's feature set",
-            ));
-        }
-
-        let mut vector = |key: &str, len: usize| -> Result<(usize, Vec<f64>), PlacementError> {
-            let (ln, l) = next(key)?;
-            let tok: Vec<&str> = l.split_whitespace().collect();
-            if tok.first() != Some(&key) {
-                return Err(err(ln, &format!("expected a '{key}' line")));
-            }
-            let v = nums(ln, &tok[1..])?;
-            if v.len() != len {
-                return Err(err(
-                    ln,
-                    &format!("'{key}' needs {len} numbers, found {}", v.len()),
-                ));
-            }
-            Ok((ln, v))
-        };
-        let (_, mean) = vector("mean", FEATURES)?;
-        let (ln_sd, sd) = vector("sd", FEATURES)?;
+        let order = parse_classes(body.next("classes")?)?;
+        parse_features(body.next("features")?)?;
+        let (_, mean) = body.vector("mean")?;
+        let (ln_sd, sd) = body.vector("sd")?;
         if sd.iter().any(|v| *v <= 0.0) {
-            return Err(err(ln_sd, "sd must be > 0"));
+            return Err(line_error(ln_sd, "sd must be > 0"));
         }
         let mut weights = [[0.0; FEATURES + 1]; CLASSES];
         for &class in &order {
-            let (ln, l) = next("class")?;
-            let tok: Vec<&str> = l.split_whitespace().collect();
-            let want = Placement::ALL[class].name();
-            if tok.first() != Some(&"class") || tok.get(1) != Some(&want) {
-                return Err(err(ln, &format!("expected 'class {want} ...'")));
-            }
-            let v = nums(ln, &tok[2..])?;
-            if v.len() != FEATURES + 1 {
-                return Err(err(
-                    ln,
-                    &format!(
-                        "class line needs {} numbers, found {}",
-                        FEATURES + 1,
-                        v.len()
-                    ),
-                ));
-            }
-            weights[class].copy_from_slice(&v);
+            weights[class] = parse_class_weights(body.next("class")?, class)?;
         }
-        if let Some((ln, _)) = body.next() {
-            return Err(err(ln, "unexpected line after the last class"));
+        if let Some((ln, _)) = body.lines.next() {
+            return Err(line_error(ln, "unexpected line after the last class"));
         }
-        let mut m = [0.0; FEATURES];
-        m.copy_from_slice(&mean);
-        let mut s = [0.0; FEATURES];
-        s.copy_from_slice(&sd);
-        Self::new(m, s, weights, comments)
+        Self::new(mean, sd, weights, comments)
     }
 
     /// The model as a file (inverse of [`parse`](Self::parse), floats round-trip).
@@ -316,6 +214,136 @@ impl PlacementModel {
 }
 
 const SHIPPED: &str = include_str!("../../models/placement_lr_v1.txt");
+
+/// A model-file error at a line (0: the file as a whole).
+fn line_error(line: usize, reason: &str) -> PlacementError {
+    PlacementError::Model {
+        line,
+        reason: reason.into(),
+    }
+}
+
+/// The numbers of a line, all finite.
+fn numbers(ln: usize, toks: &[&str]) -> Result<Vec<f64>, PlacementError> {
+    finite_numbers(toks).map_err(|t| line_error(ln, &format!("{t:?} is not a finite number")))
+}
+
+/// The keyword lines of a model file, in order.
+struct Body<'a, I: Iterator<Item = (usize, &'a str)>> {
+    lines: I,
+    last_line: usize,
+}
+
+impl<'a, I: Iterator<Item = (usize, &'a str)>> Body<'a, I> {
+    /// The next line, which should be the `what` line.
+    fn next(&mut self, what: &str) -> Result<(usize, &'a str), PlacementError> {
+        self.lines.next().ok_or_else(|| {
+            line_error(
+                self.last_line,
+                &format!("file ends before the '{what}' line"),
+            )
+        })
+    }
+
+    /// A `key` line of [`FEATURES`] numbers, with its line number.
+    fn vector(&mut self, key: &str) -> Result<(usize, Features), PlacementError> {
+        let (ln, l) = self.next(key)?;
+        let tok: Vec<&str> = l.split_whitespace().collect();
+        if tok.first() != Some(&key) {
+            return Err(line_error(ln, &format!("expected a '{key}' line")));
+        }
+        let v = numbers(ln, &tok[1..])?;
+        if v.len() != FEATURES {
+            return Err(line_error(
+                ln,
+                &format!("'{key}' needs {FEATURES} numbers, found {}", v.len()),
+            ));
+        }
+        let mut out = [0.0; FEATURES];
+        out.copy_from_slice(&v);
+        Ok((ln, out))
+    }
+}
+
+/// `classes N NAME...`: this build's classes, in the order of the `class` lines.
+fn parse_classes((ln, l): (usize, &str)) -> Result<[usize; CLASSES], PlacementError> {
+    let tok: Vec<&str> = l.split_whitespace().collect();
+    if tok.first() != Some(&"classes") || tok.len() < 2 {
+        return Err(line_error(ln, "expected 'classes N NAME...'"));
+    }
+    let n: usize = tok[1]
+        .parse()
+        .map_err(|_| line_error(ln, "class count is not a number"))?;
+    if n != CLASSES || tok.len() != 2 + n {
+        return Err(line_error(
+            ln,
+            &format!(
+                "expected {CLASSES} classes (this build's), found {}",
+                tok.len() - 2
+            ),
+        ));
+    }
+    let mut order = [usize::MAX; CLASSES];
+    for (k, name) in tok[2..].iter().enumerate() {
+        let p = Placement::from_name(name)
+            .ok_or_else(|| line_error(ln, &format!("unknown class {name:?}")))?;
+        if order.contains(&p.index()) {
+            return Err(line_error(ln, &format!("class {name} listed twice")));
+        }
+        order[k] = p.index();
+    }
+    Ok(order)
+}
+
+/// `features N NAME...`: exactly this build's feature set.
+fn parse_features((ln, l): (usize, &str)) -> Result<(), PlacementError> {
+    let tok: Vec<&str> = l.split_whitespace().collect();
+    if tok.first() != Some(&"features") || tok.len() < 2 {
+        return Err(line_error(ln, "expected 'features N NAME...'"));
+    }
+    let n: usize = tok[1]
+        .parse()
+        .map_err(|_| line_error(ln, "feature count is not a number"))?;
+    if n != FEATURES {
+        return Err(PlacementError::ModelFeatureCount {
+            expected: FEATURES,
+            found: n,
+        });
+    }
+    if tok.len() != 2 + n || tok[2..] != FEATURE_NAMES {
+        return Err(line_error(
+            ln,
+            "feature names differ from this build's feature set",
+        ));
+    }
+    Ok(())
+}
+
+/// `class NAME b w...`: the weights of `class` (bias first).
+fn parse_class_weights(
+    (ln, l): (usize, &str),
+    class: usize,
+) -> Result<[f64; FEATURES + 1], PlacementError> {
+    let tok: Vec<&str> = l.split_whitespace().collect();
+    let want = Placement::ALL[class].name();
+    if tok.first() != Some(&"class") || tok.get(1) != Some(&want) {
+        return Err(line_error(ln, &format!("expected 'class {want} ...'")));
+    }
+    let v = numbers(ln, &tok[2..])?;
+    if v.len() != FEATURES + 1 {
+        return Err(line_error(
+            ln,
+            &format!(
+                "class line needs {} numbers, found {}",
+                FEATURES + 1,
+                v.len()
+            ),
+        ));
+    }
+    let mut w = [0.0; FEATURES + 1];
+    w.copy_from_slice(&v);
+    Ok(w)
+}
 
 #[cfg(test)]
 mod tests {

@@ -183,13 +183,23 @@ impl GaitPeriod {
     }
 
     pub(crate) fn write(&self, w: &mut Writer) {
-        w.f64(self.acc);
-        w.u64(self.acc_n as u64);
-        w.u64(self.pos as u64);
-        w.u64(self.len as u64);
-        w.f64s(&self.z);
-        w.f64s(&self.r);
-        w.u64(self.seen as u64);
+        let GaitPeriod {
+            gain: _, // a constant
+            acc,
+            acc_n,
+            z,
+            pos,
+            len,
+            r,
+            seen,
+        } = self;
+        w.f64(*acc);
+        w.u64(*acc_n as u64);
+        w.u64(*pos as u64);
+        w.u64(*len as u64);
+        w.f64s(z);
+        w.f64s(r);
+        w.u64(*seen as u64);
     }
 
     pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {

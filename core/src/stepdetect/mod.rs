@@ -174,32 +174,39 @@ impl Moments {
     }
 
     pub(crate) fn write(&self, w: &mut Writer) {
-        w.f64s(&[self.n, self.sum, self.sum_sq, self.max, self.min]);
+        let Moments {
+            n,
+            sum,
+            sum_sq,
+            max,
+            min,
+        } = *self;
+        w.f64s(&[n, sum, sum_sq, max, min]);
     }
 
     pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
         const A: f64 = crate::input::limits::MAX_ACCEL_NORM_MPS2;
         let mut v = [0.0; 3];
         r.f64s(&mut v)?;
+        let [n, sum, sum_sq] = v;
         // max/min are ∓∞ while empty; otherwise magnitudes within the door's limit.
         let (max, min) = (r.f64_any()?, r.f64_any()?);
-        let empty = v[0] == 0.0;
         let in_range = |x: f64| (0.0..=A).contains(&x);
-        let ok = if empty {
+        let ok = if n == 0.0 {
             max == f64::NEG_INFINITY && min == f64::INFINITY
         } else {
             in_range(max)
                 && in_range(min)
-                && (0.0..=v[0] * A).contains(&v[1])
-                && (0.0..=v[0] * A * A).contains(&v[2])
+                && (0.0..=n * A).contains(&sum)
+                && (0.0..=n * A * A).contains(&sum_sq)
         };
-        if v[0] < 0.0 || !ok {
+        if n < 0.0 || !ok {
             return Err(SnapshotError::Invalid("step statistics"));
         }
         Ok(Self {
-            n: v[0],
-            sum: v[1],
-            sum_sq: v[2],
+            n,
+            sum,
+            sum_sq,
             max,
             min,
         })
@@ -209,35 +216,49 @@ impl Moments {
 pub(crate) use crate::signal::ema_gain;
 
 pub(crate) fn write_event(w: &mut Writer, e: &StepEvent) {
-    // The detector's own events never know the vertical displacement (NaN): not kept.
+    let StepEvent {
+        t_s,
+        duration_s,
+        accel_variance_m2ps4,
+        accel_max_mps2,
+        accel_min_mps2,
+        // The detector's own events never know it (NaN): not kept.
+        vertical_displacement_m: _,
+    } = *e;
     w.f64s(&[
-        e.t_s,
-        e.duration_s,
-        e.accel_variance_m2ps4,
-        e.accel_max_mps2,
-        e.accel_min_mps2,
+        t_s,
+        duration_s,
+        accel_variance_m2ps4,
+        accel_max_mps2,
+        accel_min_mps2,
     ]);
 }
 
 pub(crate) fn read_event(r: &mut Reader) -> Result<StepEvent, SnapshotError> {
-    let mut v = [0.0; 5];
     // The time is always set; the duration is NaN for the first step of a bout and
     // the statistics for a step without samples (a filled-in step).
     const A: f64 = crate::input::limits::MAX_ACCEL_NORM_MPS2;
-    v[0] = r.f64()?;
-    for x in &mut v[1..] {
-        *x = r.f64_or_nan()?;
-    }
+    /// Longest step duration a snapshot may hold, s.
+    const MAX_DURATION_S: f64 = 3600.0;
+    let t_s = r.f64()?;
+    let duration_s = r.f64_or_nan()?;
+    let accel_variance_m2ps4 = r.f64_or_nan()?;
+    let accel_max_mps2 = r.f64_or_nan()?;
+    let accel_min_mps2 = r.f64_or_nan()?;
     let ok = |x: f64, hi: f64| x.is_nan() || (0.0..=hi).contains(&x);
-    if !(ok(v[1], 3600.0) && ok(v[2], A * A) && ok(v[3], A) && ok(v[4], A)) {
+    if !(ok(duration_s, MAX_DURATION_S)
+        && ok(accel_variance_m2ps4, A * A)
+        && ok(accel_max_mps2, A)
+        && ok(accel_min_mps2, A))
+    {
         return Err(SnapshotError::Invalid("step event"));
     }
     Ok(StepEvent {
-        t_s: v[0],
-        duration_s: v[1],
-        accel_variance_m2ps4: v[2],
-        accel_max_mps2: v[3],
-        accel_min_mps2: v[4],
+        t_s,
+        duration_s,
+        accel_variance_m2ps4,
+        accel_max_mps2,
+        accel_min_mps2,
         vertical_displacement_m: f64::NAN,
     })
 }
@@ -394,21 +415,36 @@ impl StepDetector {
 
     /// The whole state as bytes (versioned, checksummed).
     pub fn snapshot(&self) -> Vec<u8> {
+        // Exhaustive on purpose (and so are the nested writers): a new field that is
+        // not written is a compile error.
+        let StepDetector {
+            config:
+                StepDetectorConfig {
+                    mode,
+                    published,
+                    robust,
+                },
+            engine,
+            time,
+            units,
+            queue,
+            step_count,
+        } = self;
         let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
-        w.u8(match self.config.mode {
+        w.u8(match mode {
             DetectorMode::AsPublished => 0,
             DetectorMode::Default => 1,
         });
-        self.config.published.write(&mut w);
-        self.config.robust.write(&mut w);
-        self.time.write(&mut w);
-        self.units.write(&mut w);
-        w.u64(self.queue.len() as u64);
-        for e in self.queue.iter() {
+        published.write(&mut w);
+        robust.write(&mut w);
+        time.write(&mut w);
+        units.write(&mut w);
+        w.u64(queue.len() as u64);
+        for e in queue.iter() {
             write_event(&mut w, &e);
         }
-        w.u64(self.step_count);
-        match &self.engine {
+        w.u64(*step_count);
+        match engine {
             Engine::Published(d) => d.write(&mut w),
             Engine::Robust(d) => d.write(&mut w),
         }

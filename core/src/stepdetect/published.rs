@@ -187,13 +187,23 @@ impl PublishedDetector {
     }
 
     pub(crate) fn write(&self, w: &mut Writer) {
-        w.u64(self.next as u64);
-        w.u64(self.filled as u64);
-        w.f64s(&self.window[..self.p.window_n]);
-        w.u8(self.prev_class);
-        w.opt_f64(self.last_step_t_s);
-        self.moments.write(w);
-        w.u64(self.since_swing_end);
+        let PublishedDetector {
+            p, // written by the step detector; its window length bounds the window
+            window,
+            next,
+            filled,
+            prev_class,
+            last_step_t_s,
+            moments,
+            since_swing_end,
+        } = self;
+        w.u64(*next as u64);
+        w.u64(*filled as u64);
+        w.f64s(&window[..p.window_n]);
+        w.u8(*prev_class);
+        w.opt_f64(*last_step_t_s);
+        moments.write(w);
+        w.u64(*since_swing_end);
     }
 
     pub(crate) fn read(r: &mut Reader, p: PublishedStepParams) -> Result<Self, SnapshotError> {

@@ -9,5 +9,6 @@ mod foot_alloc;
 mod map_alloc;
 mod pdr_alloc;
 mod robustness;
+mod snapshot_pins;
 mod stepdetect_alloc;
 mod time_units;

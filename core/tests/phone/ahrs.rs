@@ -12,6 +12,7 @@
 //! 45 µT down, plus deterministic noise and bias where a test says so.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use stridekit_core::angle::wrap;
 use stridekit_core::input::InputError;
 
 use ahrs::Ahrs as _;
@@ -136,10 +137,6 @@ fn tilt_err(est: &AhrsOutput, q_true_enu: &Uq) -> f64 {
     up_est.angle(&up_true)
 }
 
-fn wrap_pi(a: f64) -> f64 {
-    (a + PI).rem_euclid(TAU) - PI
-}
-
 /// ENU heading of the truth (azimuth of body +y, clockwise from north).
 fn true_heading_enu(q: &Uq) -> f64 {
     let (_, _, yaw) = q.euler_angles();
@@ -214,14 +211,14 @@ fn static_tilt_converges_in_both_frames() {
                     let o = out.last().unwrap();
                     let (tr, tp, ty) = to_frame(&q_true, frame).euler_angles();
                     if with_mag {
-                        assert!(wrap_pi(o.roll_rad - tr).abs() < 1.0 * DEG);
+                        assert!(wrap(o.roll_rad - tr).abs() < 1.0 * DEG);
                         assert!((o.pitch_rad - tp).abs() < 1.0 * DEG);
-                        assert!(wrap_pi(o.yaw_rad - ty).abs() < 1.0 * DEG);
+                        assert!(wrap(o.yaw_rad - ty).abs() < 1.0 * DEG);
                         let want_heading = match frame {
                             EarthFrame::Enu => true_heading_enu(&q_true),
                             EarthFrame::Ned => ty.rem_euclid(TAU),
                         };
-                        assert!(wrap_pi(o.heading_rad - want_heading).abs() < 1.0 * DEG);
+                        assert!(wrap(o.heading_rad - want_heading).abs() < 1.0 * DEG);
                     }
                     // Linear acceleration at rest is ~0.
                     for k in 0..3 {
@@ -229,7 +226,7 @@ fn static_tilt_converges_in_both_frames() {
                     }
                     // Without a magnetometer the initial yaw in the output frame is 0.
                     if !with_mag {
-                        assert!(wrap_pi(out[0].yaw_rad).abs() < 1e-9, "{alg:?} {frame:?}");
+                        assert!(wrap(out[0].yaw_rad).abs() < 1e-9, "{alg:?} {frame:?}");
                     }
                 }
             }
@@ -264,7 +261,7 @@ fn constant_rate_rotation_about_each_axis() {
                 hmin = hmin.min(o.heading_rad);
                 hmax = hmax.max(o.heading_rad);
                 if axis == 2 {
-                    let dh = wrap_pi(o.heading_rad - true_heading_enu(&q_true));
+                    let dh = wrap(o.heading_rad - true_heading_enu(&q_true));
                     assert!(dh.abs() < 1.0 * DEG, "heading off by {}°", dh / DEG);
                 }
             }
@@ -324,7 +321,7 @@ fn simulated_walk_tracks_tilt_heading_and_linear_acceleration() {
             let tilt = tilt_err(o, &q);
             tilt_max = tilt_max.max(tilt);
             tilt_ss += tilt * tilt;
-            let dh = wrap_pi(o.heading_rad - true_heading_enu(&q));
+            let dh = wrap(o.heading_rad - true_heading_enu(&q));
             head_max = head_max.max(dh.abs());
             let est = V3::from(o.linear_accel_earth_mps2);
             lin_ss += if with_mag {
@@ -380,7 +377,7 @@ fn gyro_bias_is_learned_at_rest_and_heading_drift_reduced() {
             let mut a = Ahrs::new(settings).unwrap();
             let out = run(&mut a, &samples);
             let last = out.last().unwrap();
-            drift[i] = wrap_pi(last.heading_rad - out[0].heading_rad).abs();
+            drift[i] = wrap(last.heading_rad - out[0].heading_rad).abs();
             if learn {
                 for (est, truth) in last.gyro_bias_rads.iter().zip(bias) {
                     assert!((est - truth).abs() < 1e-3, "{est} vs {truth}");
@@ -520,7 +517,7 @@ fn madgwick_magnetic_disturbance_is_rejected_and_heading_held() {
         let mut a = Ahrs::new(settings).unwrap();
         let out = run(&mut a, &samples);
         for (o, s) in out.iter().zip(&samples).skip(400) {
-            worst[i] = worst[i].max(wrap_pi(o.heading_rad - want).abs());
+            worst[i] = worst[i].max(wrap(o.heading_rad - want).abs());
             if reject {
                 let disturbed = (10.0..14.0).contains(&s.t_s);
                 assert_eq!(o.flags.mag_rejected, disturbed, "t = {}", s.t_s);
@@ -530,7 +527,7 @@ fn madgwick_magnetic_disturbance_is_rejected_and_heading_held() {
         // Recovered after the magnet left: heading right, magnetometer used.
         let end = out.last().unwrap();
         if reject {
-            assert!(wrap_pi(end.heading_rad - want).abs() < 1.0 * DEG);
+            assert!(wrap(end.heading_rad - want).abs() < 1.0 * DEG);
             assert!(!end.flags.mag_rejected);
         }
     }
@@ -579,7 +576,7 @@ fn madgwick_magnetic_recovery_adopts_a_new_field() {
     let end = out.last().unwrap();
     assert!(!end.flags.mag_rejected && !end.flags.mag_recovery);
     let want = true_heading_enu(&truth.q);
-    assert!(wrap_pi(end.heading_rad - want).abs() < 1.0 * DEG);
+    assert!(wrap(end.heading_rad - want).abs() < 1.0 * DEG);
 }
 
 #[test]
@@ -1014,7 +1011,7 @@ fn decoupled_holds_the_heading_through_a_magnetic_disturbance() {
         let mut a = Ahrs::new(settings).unwrap();
         let out = run(&mut a, &samples);
         for (o, s) in out.iter().zip(&samples).skip(400) {
-            worst[i] = worst[i].max(wrap_pi(o.heading_rad - want).abs());
+            worst[i] = worst[i].max(wrap(o.heading_rad - want).abs());
             if reject {
                 // Detected within the 50 ms mean; the heading is held until the field
                 // has looked undisturbed for 0.5 s.
@@ -1068,7 +1065,7 @@ fn decoupled_adopts_a_lasting_new_field_after_the_rejection_limit() {
     let end = out.last().unwrap();
     assert!(!end.flags.mag_disturbed && !end.flags.heading_held && !end.flags.mag_recovery);
     let want = true_heading_enu(&truth.q);
-    assert!(wrap_pi(end.heading_rad - want).abs() < 1.0 * DEG);
+    assert!(wrap(end.heading_rad - want).abs() < 1.0 * DEG);
 }
 
 #[test]

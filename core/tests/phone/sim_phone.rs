@@ -221,8 +221,7 @@ fn vehicle_and_cycling_move_without_steps_and_gnss_follows_truth() {
     assert!(rms > 0.5 && rms < 5.0, "{rms}");
     // Turns stay drivable: lateral acceleration (speed × heading rate) ≤ 3 m/s².
     for w in sim.truth.windows(2) {
-        let mut dh = w[1].heading_rad - w[0].heading_rad;
-        dh = (dh + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+        let dh = stridekit_core::angle::wrap(w[1].heading_rad - w[0].heading_rad);
         let lat = w[0].speed_mps * dh / 0.1;
         assert!(lat.abs() < 3.0, "t {}: {lat}", w[0].t_s);
     }

@@ -23,6 +23,7 @@ use stridekit_core::foot::{
     AdaptiveShoe, AdaptiveThresholds, Correction, FixedThresholds, FootConfig, FootEstimate,
     FootNavigator, FootSample, ShoeDetector, SvmAdaptive, WindowStats, ZeroVelocityDetector,
 };
+use stridekit_core::vec3::norm;
 use stridekit_formats::{list_foot_trials, read_foot_csv, FootRecording};
 
 use crate::foot::train_zupt;
@@ -646,9 +647,6 @@ fn pyshoe_armse_2d(est: &[(usize, FootEstimate)], truth: &[[f64; 3]]) -> f64 {
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
 pub use crate::stats::median;

@@ -8,8 +8,8 @@ use std::time::Instant;
 
 use crate::odometry::evaluate::{run_methods, Scores, METHODS};
 use crate::odometry::train::{
-    fit_model, labelled_windows, sim_scenario, simulated_windows, LabelledWindow, Truth,
-    FIRST_EVAL_SEED,
+    fit_model, labelled_windows, samples_of, sim_scenario, simulated_windows, LabelledWindow,
+    RecTruth, Truth, FIRST_EVAL_SEED,
 };
 use stridekit_core::odometry::{
     ImuSample, OdometryConfig, OdometryModel, PhoneOdometry, PipelineParams, PlacementSource,
@@ -25,15 +25,6 @@ use crate::report::{track_chart, Series};
 
 /// Span over which recordings without an ENU heading are aligned, s.
 const HEADING_FIT_S: f64 = 20.0;
-
-/// Truth of a recording: linear interpolation of its positions.
-struct RecTruth<'a>(&'a Recording);
-
-impl Truth for RecTruth<'_> {
-    fn position_at(&self, t: f64) -> (f64, f64) {
-        self.0.position_at(t)
-    }
-}
 
 /// Name of a simulator placement (`sim:SEED:NAME`, recordings from the simulator).
 fn sim_name(p: PhonePlacement) -> &'static str {
@@ -102,18 +93,6 @@ fn from_sim(sim: &stridekit_sim::SimulatedPhone, p: PhonePlacement) -> Recording
             .collect(),
         ..Default::default()
     }
-}
-
-fn samples_of(rec: &Recording) -> Vec<ImuSample> {
-    rec.samples
-        .iter()
-        .map(|s| ImuSample {
-            t_s: s.t_s,
-            accel_mps2: s.accel_mps2,
-            gyro_rads: s.gyro_rads,
-            mag_ut: s.mag_ut,
-        })
-        .collect()
 }
 
 /// Source of training data.

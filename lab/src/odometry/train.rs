@@ -10,6 +10,7 @@ use stridekit_core::odometry::{slot, OdometryModel, PipelineParams, Regressor};
 use stridekit_core::odometry::{OdometryConfig, PhoneOdometry, PlacementSource};
 use stridekit_core::odometry::{WindowFeatures, N_SCALAR, N_VECTOR};
 use stridekit_core::placement::Placement;
+use stridekit_formats::InertialRecording;
 use stridekit_sim::phone::PhoneSegment;
 use stridekit_sim::{simulate_phone, PhoneActivity, PhonePlacement, PhoneScenario, Rng};
 
@@ -67,6 +68,29 @@ impl Truth for stridekit_sim::SimulatedPhone {
         let p = self.truth_at(t_s);
         (p.east_m, p.north_m)
     }
+}
+
+/// Truth of a recorded walk (RIDI, RoNIN, an Android log with waypoints): its
+/// positions, linearly interpolated.
+pub struct RecTruth<'a>(pub &'a InertialRecording);
+
+impl Truth for RecTruth<'_> {
+    fn position_at(&self, t: f64) -> (f64, f64) {
+        self.0.position_at(t)
+    }
+}
+
+/// A recording's samples as the engine takes them.
+pub fn samples_of(rec: &InertialRecording) -> Vec<ImuSample> {
+    rec.samples
+        .iter()
+        .map(|s| ImuSample {
+            t_s: s.t_s,
+            accel_mps2: s.accel_mps2,
+            gyro_rads: s.gyro_rads,
+            mag_ut: s.mag_ut,
+        })
+        .collect()
 }
 
 /// The engine's windows over a recording, labelled from its truth.

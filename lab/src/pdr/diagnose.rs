@@ -31,7 +31,7 @@ use std::fmt::Write as _;
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use stridekit_core::ahrs::ImuSample;
-use stridekit_core::pdr::wrap;
+use stridekit_core::angle::wrap;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
 
 use crate::pdr::metrics::{evaluate, median, Metrics, TrackPoint};
@@ -46,29 +46,43 @@ fn azimuth_of(q: &UnitQuaternion<f64>, axis: Vector3<f64>) -> Option<f64> {
     (v.x.hypot(v.y) > 0.3).then(|| v.x.atan2(v.y))
 }
 
-/// Per sample: t, east, north, steps, distance, attitude azimuth of +y (μ-corrected),
-/// rotation-vector azimuth of +y, walking azimuth.
-type Pt = (
-    f64,
-    f64,
-    f64,
-    u64,
-    f64,
-    Option<f64>,
-    Option<f64>,
-    Option<f64>,
-);
-/// Per leg: length, map azimuth, track azimuth, mean attitude +y azimuth, mean
-/// rotation-vector +y azimuth, mean walking azimuth, time into the walk.
-type Leg = (
-    f64,
-    f64,
-    Option<f64>,
-    Option<f64>,
-    Option<f64>,
-    Option<f64>,
-    f64,
-);
+/// One sample of a walk as the navigator saw it.
+#[derive(Clone, Copy)]
+struct Pt {
+    t_s: f64,
+    east_m: f64,
+    north_m: f64,
+    steps: u64,
+    distance_m: f64,
+    /// Azimuth of the phone's +y from the navigator's attitude (μ-corrected), rad.
+    attitude_y_rad: Option<f64>,
+    /// Azimuth of +y from the recording's rotation vector, rad.
+    rotation_vector_y_rad: Option<f64>,
+    /// The navigator's walking azimuth, rad.
+    walking_rad: Option<f64>,
+}
+
+/// The navigator's azimuth error on one leg (the walk's rotation removed).
+struct LegError {
+    t_into_walk_s: f64,
+    err_rad: f64,
+    length_m: f64,
+}
+
+/// One leg between waypoints.
+struct Leg {
+    length_m: f64,
+    /// Azimuths (rad) of the leg on the map, of the navigator's track over it, and the
+    /// means over it of the attitude's +y, the rotation vector's +y and the walking
+    /// azimuth.
+    map_rad: f64,
+    track_rad: Option<f64>,
+    attitude_y_rad: Option<f64>,
+    rotation_vector_y_rad: Option<f64>,
+    walking_rad: Option<f64>,
+    /// Time of its middle into the walk, s.
+    t_into_walk_s: f64,
+}
 
 /// Circular mean of angles weighted by `w`.
 fn circ_mean(v: &[(f64, f64)]) -> f64 {
@@ -98,7 +112,7 @@ struct Acc {
     walk_rot_rv: Vec<f64>,
     carry_rv: Vec<f64>,
     carry_nav: Vec<f64>,
-    leg_err_by_time: Vec<(f64, f64, f64)>,
+    leg_err_by_time: Vec<LegError>,
     /// Turn centre − waypoint time at turning waypoints: rotation vector, navigator.
     turn_rv_s: Vec<f64>,
     turn_nav_s: Vec<f64>,
@@ -182,8 +196,6 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
         let wp = &rec.truth;
         let (t0, t1) = (wp[0].0, wp[wp.len() - 1].0);
         let mut nav = PhoneNavigator::new(NavigatorConfig::default()).map_err(|e| e.to_string())?;
-        // Per sample: t, position, steps, distance, AHRS azimuth of +y (μ-corrected),
-        // RV azimuth of +y, walking azimuth.
         let mut pts: Vec<Pt> = Vec::new();
         let mut ri = 0;
         for s in &rec.samples {
@@ -208,16 +220,16 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
                 let q = UnitQuaternion::new_normalize(Quaternion::new(q[0], q[1], q[2], q[3]));
                 azimuth_of(&q, Vector3::y())
             });
-            pts.push((
-                s.t_s,
-                e.east_m,
-                e.north_m,
-                e.steps,
-                e.distance_m,
-                ahrs_y,
-                rv_y,
-                e.walking_azimuth_rad,
-            ));
+            pts.push(Pt {
+                t_s: s.t_s,
+                east_m: e.east_m,
+                north_m: e.north_m,
+                steps: e.steps,
+                distance_m: e.distance_m,
+                attitude_y_rad: ahrs_y,
+                rotation_vector_y_rad: rv_y,
+                walking_rad: e.walking_azimuth_rad,
+            });
         }
         if pts.is_empty() {
             continue;
@@ -250,12 +262,15 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
             }
         }
         let at = |t: f64| {
-            let i = pts.partition_point(|p| p.0 <= t).saturating_sub(1);
+            let i = pts.partition_point(|p| p.t_s <= t).saturating_sub(1);
             pts[i]
         };
         // Start.
-        let first_step = pts.iter().find(|p| p.3 > 0).map(|p| p.0);
-        let first_move = pts.iter().find(|p| p.1 != 0.0 || p.2 != 0.0).map(|p| p.0);
+        let first_step = pts.iter().find(|p| p.steps > 0).map(|p| p.t_s);
+        let first_move = pts
+            .iter()
+            .find(|p| p.east_m != 0.0 || p.north_m != 0.0)
+            .map(|p| p.t_s);
         a.first_step_s.push(first_step.map_or(f64::NAN, |t| t - t0));
         a.first_move_s.push(first_move.map_or(f64::NAN, |t| t - t0));
         let poly: f64 = wp
@@ -277,11 +292,12 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
         }
         // Step length.
         let (p0, p1) = (at(t0), at(t1));
-        let steps = p1.3.saturating_sub(p0.3) as f64;
-        a.dist_steps_pct.push(100.0 * (p1.4 - p0.4 - poly) / poly);
+        let steps = p1.steps.saturating_sub(p0.steps) as f64;
+        let walked_m = p1.distance_m - p0.distance_m;
+        a.dist_steps_pct.push(100.0 * (walked_m - poly) / poly);
         if steps > 5.0 {
             a.true_step_m.push(poly / steps);
-            a.model_step_m.push((p1.4 - p0.4) / steps);
+            a.model_step_m.push(walked_m / steps);
             a.cadence_hz.push(steps / (t1 - t0));
             a.speed_mps.push(poly / (t1 - t0));
         }
@@ -295,33 +311,36 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
             }
             let map_az = dx.atan2(dy);
             let (e0, e1) = (at(x[0].0), at(x[1].0));
-            let (ex, ey) = (e1.1 - e0.1, e1.2 - e0.2);
+            let (ex, ey) = (e1.east_m - e0.east_m, e1.north_m - e0.north_m);
             let nav_az = (ex.hypot(ey) > 0.5).then(|| ex.atan2(ey));
             // Mean +y azimuths over the leg.
             let mean_of = |f: &dyn Fn(&Pt) -> Option<f64>| {
                 let v: Vec<(f64, f64)> = pts
                     .iter()
-                    .filter(|p| p.0 >= x[0].0 && p.0 <= x[1].0)
+                    .filter(|p| p.t_s >= x[0].0 && p.t_s <= x[1].0)
                     .filter_map(|p| f(p).map(|a| (a, 1.0)))
                     .collect();
                 (!v.is_empty()).then(|| circ_mean(&v))
             };
-            let ahrs_y = mean_of(&|p| p.5);
-            let rv_y = mean_of(&|p| p.6);
-            let walk_az = mean_of(&|p| p.7);
-            legs.push((
-                len,
-                map_az,
-                nav_az,
-                ahrs_y,
-                rv_y,
-                walk_az,
-                0.5 * (x[0].0 + x[1].0) - t0,
-            ));
+            legs.push(Leg {
+                length_m: len,
+                map_rad: map_az,
+                track_rad: nav_az,
+                attitude_y_rad: mean_of(&|p| p.attitude_y_rad),
+                rotation_vector_y_rad: mean_of(&|p| p.rotation_vector_y_rad),
+                walking_rad: mean_of(&|p| p.walking_rad),
+                t_into_walk_s: 0.5 * (x[0].0 + x[1].0) - t0,
+            });
         }
         // Turn timing at turning waypoints.
-        let rv_az: Vec<(f64, f64)> = pts.iter().filter_map(|p| p.6.map(|a| (p.0, a))).collect();
-        let nav_az: Vec<(f64, f64)> = pts.iter().filter_map(|p| p.7.map(|a| (p.0, a))).collect();
+        let rv_az: Vec<(f64, f64)> = pts
+            .iter()
+            .filter_map(|p| p.rotation_vector_y_rad.map(|a| (p.t_s, a)))
+            .collect();
+        let nav_az: Vec<(f64, f64)> = pts
+            .iter()
+            .filter_map(|p| p.walking_rad.map(|a| (p.t_s, a)))
+            .collect();
         for k in 1..wp.len().saturating_sub(1) {
             let a1 = (wp[k].1 - wp[k - 1].1).atan2(wp[k].2 - wp[k - 1].2);
             let a2 = (wp[k + 1].1 - wp[k].1).atan2(wp[k + 1].2 - wp[k].2);
@@ -345,7 +364,7 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
                 continue;
             }
             let (e0, e1) = (at(x[0].0), at(x[1].0));
-            let d = (e1.1 - e0.1).hypot(e1.2 - e0.2);
+            let d = (e1.east_m - e0.east_m).hypot(e1.north_m - e0.north_m);
             walk_legs.push((d, (x[1].1 - x[0].1).hypot(x[1].2 - x[0].2)));
         }
         let (sl, sd) = walk_legs
@@ -359,46 +378,50 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
         let rot = |get: &dyn Fn(&Leg) -> Option<f64>| {
             let v: Vec<(f64, f64)> = legs
                 .iter()
-                .filter_map(|l| get(l).map(|az| (wrap(az - l.1), l.0)))
+                .filter_map(|l| get(l).map(|az| (wrap(az - l.map_rad), l.length_m)))
                 .collect();
             (v.len() >= 2).then(|| circ_mean(&v))
         };
-        if let Some(r) = rot(&|l| l.2) {
+        if let Some(r) = rot(&|l| l.track_rad) {
             a.walk_rot_nav.push(r);
             for l in &legs {
-                if let Some(az) = l.2 {
-                    let e = wrap(az - l.1 - r);
+                if let Some(az) = l.track_rad {
+                    let e = wrap(az - l.map_rad - r);
                     a.leg_err_nav.push(e.abs());
-                    a.leg_err_by_time.push((l.6, e, l.0));
+                    a.leg_err_by_time.push(LegError {
+                        t_into_walk_s: l.t_into_walk_s,
+                        err_rad: e,
+                        length_m: l.length_m,
+                    });
                 }
             }
         }
-        if let Some(r) = rot(&|l| l.3) {
+        if let Some(r) = rot(&|l| l.attitude_y_rad) {
             for l in &legs {
-                if let Some(az) = l.3 {
-                    a.leg_err_ahrs_y.push(wrap(az - l.1 - r).abs());
+                if let Some(az) = l.attitude_y_rad {
+                    a.leg_err_ahrs_y.push(wrap(az - l.map_rad - r).abs());
                 }
             }
         }
-        if let Some(r) = rot(&|l| l.4) {
+        if let Some(r) = rot(&|l| l.rotation_vector_y_rad) {
             a.walk_rot_rv.push(r);
             for l in &legs {
-                if let Some(az) = l.4 {
-                    a.leg_err_rv_y.push(wrap(az - l.1 - r).abs());
+                if let Some(az) = l.rotation_vector_y_rad {
+                    a.leg_err_rv_y.push(wrap(az - l.map_rad - r).abs());
                 }
             }
         }
         // Carrying: walking direction (legs, via RV's map rotation) minus +y.
         for l in &legs {
-            if let (Some(w), Some(y)) = (l.5, l.3) {
+            if let (Some(w), Some(y)) = (l.walking_rad, l.attitude_y_rad) {
                 a.carry_nav.push(wrap(w - y));
             }
         }
-        if let Some(r) = rot(&|l| l.4) {
+        if let Some(r) = rot(&|l| l.rotation_vector_y_rad) {
             for l in &legs {
-                if let Some(y) = l.4 {
+                if let Some(y) = l.rotation_vector_y_rad {
                     // true walking azimuth in RV frame = map_az + r
-                    a.carry_rv.push(wrap(l.1 + r - y));
+                    a.carry_rv.push(wrap(l.map_rad + r - y));
                 }
             }
         }
@@ -551,7 +574,11 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
         "\nLegs dead-reckoned backwards (navigator walking azimuth more than 90° from its +y): {backwards} of {}.",
         a.carry_nav.len()
     );
-    let azimuth: Vec<(f64, f64)> = a.leg_err_by_time.iter().map(|l| (l.2, l.1)).collect();
+    let azimuth: Vec<(f64, f64)> = a
+        .leg_err_by_time
+        .iter()
+        .map(|l| (l.length_m, l.err_rad))
+        .collect();
     waypoint_noise(&mut out, &a.leg_resid, &azimuth, walks);
     // Heading error against time into the walk.
     let _ = writeln!(
@@ -571,17 +598,17 @@ pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
         (40.0, 80.0),
         (80.0, 200.0),
     ] {
-        let v: Vec<&(f64, f64, f64)> = a
+        let v: Vec<&LegError> = a
             .leg_err_by_time
             .iter()
-            .filter(|l| l.0 >= lo && l.0 < hi)
+            .filter(|l| l.t_into_walk_s >= lo && l.t_into_walk_s < hi)
             .collect();
         let _ = writeln!(
             out,
             "| {lo}–{hi} s | {} | {:.1} | {:.1} |",
             v.len(),
-            median(v.iter().map(|l| l.1.abs() * deg)),
-            median(v.iter().map(|l| l.1 * deg)),
+            median(v.iter().map(|l| l.err_rad.abs() * deg)),
+            median(v.iter().map(|l| l.err_rad * deg)),
         );
     }
     crate::pdr::legs::report(&mut out, walks, mag)?;

@@ -23,7 +23,7 @@
 use std::fmt::Write as _;
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use stridekit_core::pdr::wrap;
+use stridekit_core::angle::wrap;
 
 use crate::pdr::metrics::{evaluate, median, track_at, Metrics, TrackPoint};
 use crate::pdr::walks::{replay, ReplayOptions, Walk};

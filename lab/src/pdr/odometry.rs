@@ -19,48 +19,16 @@ use std::fmt::Write;
 use std::path::Path;
 
 use crate::odometry::simulator_model;
-use crate::odometry::train::{fit_model, labelled_windows, LabelledWindow, Truth};
+use crate::odometry::train::{fit_model, labelled_windows, samples_of, LabelledWindow, RecTruth};
 use stridekit_core::odometry::{
-    ImuSample, OdometryConfig, OdometryModel, PhoneOdometry, PipelineParams, PlacementSource,
+    OdometryConfig, OdometryModel, PhoneOdometry, PipelineParams, PlacementSource,
 };
 use stridekit_core::placement::Placement;
+use stridekit_formats::InertialRecording;
 
 use crate::pdr::metrics::{apply_rigid, best_rigid, evaluate, track_at, TrackPoint};
 use crate::pdr::real::{floors, load_walks_with_progress, MethodResult};
 use crate::pdr::walks::Walk;
-
-/// The walks' waypoints turned into the engine's frame, linearly interpolated.
-struct AlignedTruth(Vec<(f64, f64, f64)>);
-
-impl Truth for AlignedTruth {
-    fn position_at(&self, t: f64) -> (f64, f64) {
-        let tr = &self.0;
-        let i = tr.partition_point(|p| p.0 <= t);
-        if i == 0 {
-            return (tr[0].1, tr[0].2);
-        }
-        if i >= tr.len() {
-            let p = tr[tr.len() - 1];
-            return (p.1, p.2);
-        }
-        let (a, b) = (tr[i - 1], tr[i]);
-        let f = ((t - a.0) / (b.0 - a.0).max(1e-9)).clamp(0.0, 1.0);
-        (a.1 + f * (b.1 - a.1), a.2 + f * (b.2 - a.2))
-    }
-}
-
-fn samples_of(w: &Walk) -> Vec<ImuSample> {
-    w.rec
-        .samples
-        .iter()
-        .map(|s| ImuSample {
-            t_s: s.t_s,
-            accel_mps2: s.accel_mps2,
-            gyro_rads: s.gyro_rads,
-            mag_ut: s.mag_ut,
-        })
-        .collect()
-}
 
 /// The odometry's track over a walk (position at each window centre), starting at
 /// the origin at the first sample.
@@ -75,7 +43,7 @@ pub fn track(w: &Walk, model: &OdometryModel) -> Result<Vec<TrackPoint>, String>
         ..Default::default()
     }];
     out.extend(
-        eng.push_batch(&samples_of(w))
+        eng.push_batch(&samples_of(&w.rec))
             .estimates
             .iter()
             .map(|e| TrackPoint {
@@ -105,23 +73,29 @@ fn windows(
         .collect();
     let truth: Vec<(f64, f64)> = wp.iter().map(|p| (p.1, p.2)).collect();
     let to_engine = best_rigid(&truth, &est);
-    let aligned = AlignedTruth(
-        wp.iter()
+    // The walk's waypoints turned into the engine's frame, linearly interpolated.
+    let aligned = InertialRecording {
+        truth: wp
+            .iter()
             .zip(&truth)
             .map(|(p, q)| {
                 let a = apply_rigid(*q, to_engine);
                 (p.0, a.0, a.1)
             })
             .collect(),
-    );
+        ..Default::default()
+    };
     // Only windows inside the waypoint span have labels.
     let (t0, t1) = (wp[0].0, wp[wp.len() - 1].0);
-    Ok(
-        labelled_windows(&samples_of(w), &aligned, Some(Placement::InHand), params)
-            .into_iter()
-            .filter(|x| x.features.t_start_s >= t0 && x.features.t_end_s <= t1)
-            .collect(),
+    Ok(labelled_windows(
+        &samples_of(&w.rec),
+        &RecTruth(&aligned),
+        Some(Placement::InHand),
+        params,
     )
+    .into_iter()
+    .filter(|x| x.features.t_start_s >= t0 && x.features.t_end_s <= t1)
+    .collect())
 }
 
 /// Every walk's labelled windows (the frame of the fixed reference model), in the

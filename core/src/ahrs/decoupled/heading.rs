@@ -16,7 +16,7 @@
 //! with τ, after a gap the heading re-converges as fast as the gap was long, and
 //! while the inclination is still converging its measurements count for little.
 
-use std::f64::consts::{PI, TAU};
+use crate::angle::wrap;
 
 /// Heading measurement noise density of the magnetometer, rad²·s: ≈1 µT of noise and
 /// field inhomogeneity on a 15–20 µT horizontal field is ≈3.4° per sample at 100 Hz.
@@ -63,26 +63,15 @@ impl Heading {
         let k = p / (p + r);
         self.var_rad2 = (1.0 - k) * p;
         let d = k * innovation;
-        self.delta_rad = wrap_pi(self.delta_rad + d);
+        self.delta_rad = wrap(self.delta_rad + d);
         (d, k)
-    }
-}
-
-/// An angle in −π..π.
-#[inline(always)]
-pub(crate) fn wrap_pi(a: f64) -> f64 {
-    if a > PI {
-        a - TAU
-    } else if a < -PI {
-        a + TAU
-    } else {
-        a
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::TAU;
 
     #[test]
     fn averages_first_then_low_passes_and_reopens_after_a_gap() {

@@ -21,6 +21,8 @@
 //! tens of degrees off, and a reference learned from it would reject the field for
 //! good).
 
+use crate::ahrs::field::FieldGate;
+
 /// Time constant of the current magnitude and dip, s.
 pub const CURRENT_TIME_CONSTANT_S: f64 = 0.05;
 /// Time constant of the learned field's magnitude and dip, s.
@@ -115,8 +117,22 @@ impl MagDisturbance {
             self.dip_trusted = true;
         }
         let judge_dip = tilt_known & self.dip_trusted;
-        let disturbed = ((self.norm_ut - self.ref_norm_ut).abs() > lim.norm_rel * self.ref_norm_ut)
-            | (judge_dip & ((self.dip_rad - self.ref_dip_rad).abs() > lim.dip_rad));
+        // The dip is judged only through a converged inclination (an infinite gate
+        // otherwise).
+        let gate = FieldGate {
+            strength_ut: lim.norm_rel * self.ref_norm_ut,
+            dip_rad: if judge_dip {
+                lim.dip_rad
+            } else {
+                f64::INFINITY
+            },
+        };
+        let disturbed = gate.departs(
+            self.norm_ut,
+            self.dip_rad,
+            self.ref_norm_ut,
+            self.ref_dip_rad,
+        );
         self.undisturbed_s = if disturbed {
             0.0
         } else if self.undisturbed_s < lim.min_undisturbed_s {

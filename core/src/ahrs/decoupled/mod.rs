@@ -38,7 +38,7 @@ mod settings;
 mod tilt;
 
 use self::bias::Bias;
-use self::heading::{wrap_pi, Heading, MAG_HEADING_NOISE_RAD2_S, UNKNOWN_VAR_RAD2};
+use self::heading::{Heading, MAG_HEADING_NOISE_RAD2_S, UNKNOWN_VAR_RAD2};
 use self::magnetic::{gain, MagDisturbance, MagLimits};
 use self::rest::{Rest, RestLimits};
 use self::tilt::Tilt;
@@ -47,6 +47,7 @@ use super::frame::EarthFrame;
 use super::madgwick::GYRO_CLIP_SHARE;
 use super::quat::{self, Quat};
 use super::settings::AhrsSettings;
+use crate::angle::wrap;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
 pub use self::settings::DecoupledSettings;
@@ -494,7 +495,7 @@ impl Decoupled {
                 * (inv_t * inv_t - self.inv_accel_tau2).max(0.0);
             let r = MAG_HEADING_NOISE_RAD2_S / dt + f.tan2_dip * extra;
             let q = self.heading_q * dt;
-            let innovation = wrap_pi(f.heading_rad - self.heading.delta_rad);
+            let innovation = wrap(f.heading_rad - self.heading.delta_rad);
             let (d, k) = self
                 .heading
                 .correct(innovation, q, r.min(MAX_MEASUREMENT_VAR_RAD2));

@@ -2,6 +2,10 @@
 
 use super::*;
 
+mod config;
+
+use self::config::{read_config, write_config};
+
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
 /// Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
@@ -93,277 +97,6 @@ fn read_v3(r: &mut Reader) -> Result<Vector3<f64>, SnapshotError> {
     let mut a = [0.0; 3];
     r.f64s(&mut a)?;
     Ok(Vector3::from(a))
-}
-
-fn write_config(w: &mut Writer, c: &FootConfig) {
-    // Exhaustive on purpose: a new setting must be added to the snapshot.
-    let FootConfig {
-        axis_remap,
-        median_window,
-        detector_window_s,
-        gait_window_s,
-        detector,
-        alignment_s,
-        gyro_bias_from_alignment,
-        gyro_timing,
-        initial_yaw_rad,
-        correction,
-        accel_noise_density,
-        gyro_noise_density,
-        accel_bias_walk,
-        gyro_bias_walk,
-        zupt_noise_mps,
-        zupt_gate_nis,
-        initial_accel_bias_std_mps2,
-        initial_gyro_bias_std_rads,
-        accel_range_mps2,
-        gyro_range_rads,
-        max_gap_s,
-        min_swing_s,
-        accel_alignment_rad,
-        level_stride_max_grade,
-    } = c;
-    axis_remap.write(w);
-    w.u64(*median_window as u64);
-    w.f64s(&[
-        *detector_window_s,
-        *gait_window_s,
-        *alignment_s,
-        *initial_yaw_rad,
-        *accel_noise_density,
-        *gyro_noise_density,
-        *accel_bias_walk,
-        *gyro_bias_walk,
-        *zupt_noise_mps,
-        *initial_accel_bias_std_mps2,
-        *initial_gyro_bias_std_rads,
-        *max_gap_s,
-        *min_swing_s,
-    ]);
-    w.bool(*gyro_bias_from_alignment);
-    w.u8(match correction {
-        Correction::Full => 0,
-        Correction::AsPublished => 1,
-    });
-    w.opt_f64(*accel_range_mps2);
-    w.opt_f64(*gyro_range_rads);
-    // Version 2.
-    w.u8(match gyro_timing {
-        GyroTiming::Instantaneous => 0,
-        GyroTiming::IntervalMean => 1,
-    });
-    // Version 4.
-    w.opt_f64(*zupt_gate_nis);
-    // Version 5.
-    w.f64s(accel_alignment_rad);
-    // Version 6.
-    w.opt_f64(*level_stride_max_grade);
-    let fixed = |w: &mut Writer, t: &FixedThresholds| {
-        let FixedThresholds {
-            acc_dev_mps2,
-            gyro_rads,
-            acc_std_mps2,
-            gyro_std_rads,
-        } = t;
-        w.f64s(&[*acc_dev_mps2, *gyro_rads, *acc_std_mps2, *gyro_std_rads]);
-    };
-    match detector {
-        ZeroVelocityDetector::Fixed(t) => {
-            w.u8(0);
-            fixed(w, t);
-        }
-        ZeroVelocityDetector::Adaptive(a) => {
-            let AdaptiveThresholds {
-                jog_peak_mps2,
-                run_peak_mps2,
-                walk,
-                jog,
-                run,
-            } = a;
-            w.u8(1);
-            w.f64s(&[*jog_peak_mps2, *run_peak_mps2]);
-            for t in [walk, jog, run] {
-                fixed(w, t);
-            }
-        }
-        ZeroVelocityDetector::Svm(m) if m.is_shipped() => {
-            // The shipped model: a tag, not its 80 kB text.
-            w.u8(4);
-        }
-        ZeroVelocityDetector::Svm(m) => {
-            w.u8(2);
-            w.bytes(m.to_text().as_bytes());
-        }
-        ZeroVelocityDetector::SvmAdaptive(d) => {
-            let SvmAdaptive {
-                svm,
-                jog_peak_mps2,
-                run_peak_mps2,
-                jog,
-                run,
-            } = d;
-            if svm.is_shipped() {
-                w.u8(6);
-            } else {
-                w.u8(5);
-                w.bytes(svm.to_text().as_bytes());
-            }
-            w.f64s(&[*jog_peak_mps2, *run_peak_mps2]);
-            fixed(w, jog);
-            fixed(w, run);
-        }
-        ZeroVelocityDetector::Shoe(d) => {
-            let ShoeDetector {
-                acc_noise_mps2,
-                gyro_noise_rads,
-                threshold,
-            } = d;
-            w.u8(3);
-            w.f64s(&[*acc_noise_mps2, *gyro_noise_rads, *threshold]);
-        }
-        ZeroVelocityDetector::AdaptiveShoe(d) => {
-            let AdaptiveShoe {
-                shoe:
-                    ShoeDetector {
-                        acc_noise_mps2,
-                        gyro_noise_rads,
-                        threshold,
-                    },
-                ref_peak_mps2,
-                exponent,
-            } = d;
-            // Version 2.
-            w.u8(7);
-            w.f64s(&[
-                *acc_noise_mps2,
-                *gyro_noise_rads,
-                *threshold,
-                *ref_peak_mps2,
-                *exponent,
-            ]);
-        }
-    }
-}
-
-fn read_config(r: &mut Reader) -> Result<FootConfig, FootError> {
-    let axis_remap = AxisRemap::read(r)?;
-    let median_window = r.len(MAX_MEDIAN_WINDOW)?;
-    let mut v = [0.0; 13];
-    r.f64s(&mut v)?;
-    let gyro_bias_from_alignment = r.bool()?;
-    let correction = match r.u8()? {
-        0 => Correction::Full,
-        1 => Correction::AsPublished,
-        _ => return Err(SnapshotError::Invalid("correction").into()),
-    };
-    let accel_range_mps2 = r.opt_f64()?;
-    let gyro_range_rads = r.opt_f64()?;
-    let gyro_timing = match r.u8()? {
-        0 => GyroTiming::Instantaneous,
-        1 => GyroTiming::IntervalMean,
-        _ => return Err(SnapshotError::Invalid("gyro timing").into()),
-    };
-    let zupt_gate_nis = r.opt_f64()?;
-    let mut accel_alignment_rad = [0.0; 3];
-    r.f64s(&mut accel_alignment_rad)?;
-    let level_stride_max_grade = r.opt_f64()?;
-    let fixed = |r: &mut Reader| -> Result<FixedThresholds, SnapshotError> {
-        let mut t = [0.0; 4];
-        r.f64s(&mut t)?;
-        Ok(FixedThresholds {
-            acc_dev_mps2: t[0],
-            gyro_rads: t[1],
-            acc_std_mps2: t[2],
-            gyro_std_rads: t[3],
-        })
-    };
-    let detector = match r.u8()? {
-        0 => ZeroVelocityDetector::Fixed(fixed(r)?),
-        1 => {
-            let mut p = [0.0; 2];
-            r.f64s(&mut p)?;
-            ZeroVelocityDetector::Adaptive(AdaptiveThresholds {
-                jog_peak_mps2: p[0],
-                run_peak_mps2: p[1],
-                walk: fixed(r)?,
-                jog: fixed(r)?,
-                run: fixed(r)?,
-            })
-        }
-        2 => {
-            let text = std::str::from_utf8(r.bytes()?)
-                .map_err(|_| SnapshotError::Invalid("detector model text"))?;
-            ZeroVelocityDetector::Svm(Arc::new(SvmModel::parse(text)?))
-        }
-        4 => ZeroVelocityDetector::Svm(SvmModel::shared_shipped()),
-        tag @ (5 | 6) => {
-            let svm = if tag == 6 {
-                SvmModel::shared_shipped()
-            } else {
-                let text = std::str::from_utf8(r.bytes()?)
-                    .map_err(|_| SnapshotError::Invalid("detector model text"))?;
-                Arc::new(SvmModel::parse(text)?)
-            };
-            let mut p = [0.0; 2];
-            r.f64s(&mut p)?;
-            ZeroVelocityDetector::SvmAdaptive(SvmAdaptive {
-                svm,
-                jog_peak_mps2: p[0],
-                run_peak_mps2: p[1],
-                jog: fixed(r)?,
-                run: fixed(r)?,
-            })
-        }
-        3 => {
-            let mut p = [0.0; 3];
-            r.f64s(&mut p)?;
-            ZeroVelocityDetector::Shoe(ShoeDetector {
-                acc_noise_mps2: p[0],
-                gyro_noise_rads: p[1],
-                threshold: p[2],
-            })
-        }
-        7 => {
-            let mut p = [0.0; 5];
-            r.f64s(&mut p)?;
-            ZeroVelocityDetector::AdaptiveShoe(AdaptiveShoe {
-                shoe: ShoeDetector {
-                    acc_noise_mps2: p[0],
-                    gyro_noise_rads: p[1],
-                    threshold: p[2],
-                },
-                ref_peak_mps2: p[3],
-                exponent: p[4],
-            })
-        }
-        _ => return Err(SnapshotError::Invalid("detector kind").into()),
-    };
-    Ok(FootConfig {
-        axis_remap,
-        median_window,
-        detector_window_s: v[0],
-        gait_window_s: v[1],
-        detector,
-        alignment_s: v[2],
-        gyro_bias_from_alignment,
-        gyro_timing,
-        initial_yaw_rad: v[3],
-        correction,
-        accel_noise_density: v[4],
-        gyro_noise_density: v[5],
-        accel_bias_walk: v[6],
-        gyro_bias_walk: v[7],
-        zupt_noise_mps: v[8],
-        zupt_gate_nis,
-        initial_accel_bias_std_mps2: v[9],
-        initial_gyro_bias_std_rads: v[10],
-        accel_range_mps2,
-        gyro_range_rads,
-        max_gap_s: v[11],
-        min_swing_s: v[12],
-        accel_alignment_rad,
-        level_stride_max_grade,
-    })
 }
 
 fn write_estimate(w: &mut Writer, e: &FootEstimate) {
@@ -656,38 +389,7 @@ impl FootNavigator {
         n.window = r.len(MAX_DETECTOR_WINDOW)?;
         n.rate_hz = r.f64()?;
         if r.bool()? {
-            let mut q = [0.0; 4];
-            r.f64s(&mut q)?;
-            let q = UnitQuaternion::new_unchecked(Quaternion::new(q[3], q[0], q[1], q[2]));
-            let v = read_v3(&mut r)?;
-            let p = read_v3(&mut r)?;
-            let ba = read_v3(&mut r)?;
-            let bg = read_v3(&mut r)?;
-            let mut cov = [0.0; 225];
-            r.f64s(&mut cov)?;
-            let g = r.f64()?;
-            let prev_f = read_v3(&mut r)?;
-            let prev_w = read_v3(&mut r)?;
-            let ins = Strapdown {
-                q,
-                v,
-                p,
-                ba,
-                bg,
-                cov: Cov::from_column_slice(&cov),
-                g,
-                prev_f,
-                prev_w,
-            };
-            let qn = ins.q.coords.norm_squared();
-            if !ins.is_finite()
-                || (qn - 1.0).abs() > 1e-6
-                || !(g.is_finite() && g > 0.0)
-                || (0..15).any(|i| ins.cov[(i, i)] < 0.0)
-            {
-                return Err(invalid("navigation state"));
-            }
-            n.ins = Some(ins);
+            n.ins = Some(read_strapdown(&mut r)?);
         }
         // −∞ before the first sample.
         n.ins_t = r.f64_any()?;
@@ -726,21 +428,61 @@ impl FootNavigator {
             return Err(invalid("detector window"));
         }
         n.check_state().map_err(invalid)?;
-        if let Some(e) = &n.latest {
-            let qn: f64 = e.quaternion.iter().map(|c| c * c).sum();
-            let stds = e
-                .position_std_m
-                .iter()
-                .chain(&e.velocity_std_mps)
-                .chain(&e.tilt_std_rad)
-                .chain(std::iter::once(&e.heading_std_rad));
-            if (qn - 1.0).abs() > 1e-6 || stds.copied().any(|v| v < 0.0) || e.distance_m < 0.0 {
-                return Err(invalid("stored estimate"));
-            }
+        if n.latest.as_ref().is_some_and(|e| !estimate_ok(e)) {
+            return Err(invalid("stored estimate"));
         }
         if let Some(ins) = &n.ins {
             crate::snapshot::check_covariance(&ins.cov).map_err(invalid)?;
         }
         Ok(n)
     }
+}
+
+/// The strapdown and error-state filter, checked: finite, a unit quaternion, positive
+/// gravity, non-negative variances.
+fn read_strapdown(r: &mut Reader) -> Result<Strapdown, FootError> {
+    let mut q = [0.0; 4];
+    r.f64s(&mut q)?;
+    let q = UnitQuaternion::new_unchecked(Quaternion::new(q[3], q[0], q[1], q[2]));
+    let v = read_v3(r)?;
+    let p = read_v3(r)?;
+    let ba = read_v3(r)?;
+    let bg = read_v3(r)?;
+    let mut cov = [0.0; 225];
+    r.f64s(&mut cov)?;
+    let g = r.f64()?;
+    let prev_f = read_v3(r)?;
+    let prev_w = read_v3(r)?;
+    let ins = Strapdown {
+        q,
+        v,
+        p,
+        ba,
+        bg,
+        cov: Cov::from_column_slice(&cov),
+        g,
+        prev_f,
+        prev_w,
+    };
+    let qn = ins.q.coords.norm_squared();
+    if !ins.is_finite()
+        || (qn - 1.0).abs() > 1e-6
+        || !(g.is_finite() && g > 0.0)
+        || (0..15).any(|i| ins.cov[(i, i)] < 0.0)
+    {
+        return Err(SnapshotError::Invalid("navigation state").into());
+    }
+    Ok(ins)
+}
+
+/// A stored estimate: a unit quaternion, non-negative uncertainties and distance.
+fn estimate_ok(e: &FootEstimate) -> bool {
+    let qn: f64 = e.quaternion.iter().map(|c| c * c).sum();
+    let stds = e
+        .position_std_m
+        .iter()
+        .chain(&e.velocity_std_mps)
+        .chain(&e.tilt_std_rad)
+        .chain(std::iter::once(&e.heading_std_rad));
+    !((qn - 1.0).abs() > 1e-6 || stds.copied().any(|v| v < 0.0) || e.distance_m < 0.0)
 }

@@ -57,7 +57,14 @@ impl PhoneNavigator {
         ]);
         imu_time.write(&mut w);
         fix_time.write(&mut w);
-        w.f64s(course_anchor);
+        let CourseAnchor {
+            t_s,
+            fix_east_m,
+            fix_north_m,
+            dr_east_m,
+            dr_north_m,
+        } = course_anchor;
+        w.f64s(&[*t_s, *fix_east_m, *fix_north_m, *dr_east_m, *dr_north_m]);
         w.u64(*steps);
         w.u64(deferred.len() as u64);
         for p in deferred.iter() {
@@ -118,36 +125,19 @@ impl PhoneNavigator {
         let [dr_east_m, dr_north_m] = [r.f64()?, r.f64()?];
         let imu_time = TimeGuard::read(&mut r, Stream::Imu)?;
         let fix_time = TimeGuard::read(&mut r, Stream::Gnss)?;
-        let mut course_anchor = [0.0; 5];
-        for v in &mut course_anchor {
-            // All NaN before the first stretch.
-            *v = r.f64_or_nan()?;
-        }
+        // All NaN before the first stretch.
+        let anchor = [(); 5].map(|_| r.f64_or_nan());
+        let [t_s, fix_east_m, fix_north_m, anchor_dr_east_m, anchor_dr_north_m] = anchor;
+        let course_anchor = CourseAnchor {
+            t_s: t_s?,
+            fix_east_m: fix_east_m?,
+            fix_north_m: fix_north_m?,
+            dr_east_m: anchor_dr_east_m?,
+            dr_north_m: anchor_dr_north_m?,
+        };
         let steps = r.u64()?;
-        let mut deferred = Ring::new();
-        for _ in 0..r.len(DEFERRED_STEPS)? {
-            let mut v = [0.0; 3];
-            r.f64s(&mut v)?;
-            deferred.push(PendingStep {
-                t0_s: v[0],
-                t1_s: v[1],
-                length_m: v[2],
-                vertical_displacement_m: read_vertical(&mut r)?,
-            });
-        }
-        let mut recent = Ring::new();
-        for _ in 0..r.len(RECENT_STEPS)? {
-            let mut v = [0.0; 5];
-            r.f64s(&mut v)?;
-            recent.push(NavStep {
-                t_s: v[0],
-                east_m: v[1],
-                north_m: v[2],
-                length_m: v[3],
-                azimuth_rad: v[4],
-                vertical_displacement_m: read_vertical(&mut r)?,
-            });
-        }
+        let deferred = read_deferred(&mut r)?;
+        let recent = read_recent(&mut r)?;
         let placed = r.u64()?;
         let calibration = if r.bool()? {
             let text = std::str::from_utf8(r.bytes()?)
@@ -173,11 +163,8 @@ impl PhoneNavigator {
             && (0.0..=1e25).contains(&pos_var_m2)
             && (0.0..=1e13).contains(&distance_m)
             && (last_step_length_m.is_nan() || (0.0..=10.0).contains(&last_step_length_m))
-            && course_anchor
-                .iter()
-                .all(|v| v.is_nan() || v.abs() <= 1e11 + 1.0)
+            && course_anchor_ok(&course_anchor)
             && newest.map_or(last_t_s.is_nan(), |t| t == last_t_s)
-            && course_anchor.iter().all(|v| v.is_nan()) == course_anchor[0].is_nan()
             && !(frame.is_none() && fix_time.last_t_s().is_some());
         if !ok {
             return Err(SnapshotError::Invalid("navigator state").into());
@@ -228,4 +215,54 @@ fn read_vertical(r: &mut Reader) -> Result<f64, SnapshotError> {
     } else {
         Err(SnapshotError::Invalid("vertical displacement"))
     }
+}
+
+/// A stretch start: all NaN (none yet) or all set, within generous bounds.
+fn course_anchor_ok(a: &CourseAnchor) -> bool {
+    let CourseAnchor {
+        t_s,
+        fix_east_m,
+        fix_north_m,
+        dr_east_m,
+        dr_north_m,
+    } = *a;
+    let v = [t_s, fix_east_m, fix_north_m, dr_east_m, dr_north_m];
+    v.iter().all(|v| v.is_nan() || v.abs() <= 1e11 + 1.0)
+        && v.iter().all(|v| v.is_nan()) == t_s.is_nan()
+}
+
+/// The steps waiting for the carrying.
+fn read_deferred(r: &mut Reader) -> Result<Ring<PendingStep, DEFERRED_STEPS>, SnapshotError> {
+    let mut deferred = Ring::new();
+    for _ in 0..r.len(DEFERRED_STEPS)? {
+        let mut v = [0.0; 3];
+        r.f64s(&mut v)?;
+        let [t0_s, t1_s, length_m] = v;
+        deferred.push(PendingStep {
+            t0_s,
+            t1_s,
+            length_m,
+            vertical_displacement_m: read_vertical(r)?,
+        });
+    }
+    Ok(deferred)
+}
+
+/// The latest placed steps.
+fn read_recent(r: &mut Reader) -> Result<Ring<NavStep, RECENT_STEPS>, SnapshotError> {
+    let mut recent = Ring::new();
+    for _ in 0..r.len(RECENT_STEPS)? {
+        let mut v = [0.0; 5];
+        r.f64s(&mut v)?;
+        let [t_s, east_m, north_m, length_m, azimuth_rad] = v;
+        recent.push(NavStep {
+            t_s,
+            east_m,
+            north_m,
+            length_m,
+            azimuth_rad,
+            vertical_displacement_m: read_vertical(r)?,
+        });
+    }
+    Ok(recent)
 }

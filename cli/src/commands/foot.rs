@@ -1,0 +1,105 @@
+//! `stridekit foot FILE`: its arguments and its run (the replay: `crate::foot`).
+//! The CSV goes to `--out FILE` (the SVGs beside it) or, with `--out -`, to stdout
+//! (the summary then goes to stderr).
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+use stridekit_core::foot::FootConfig;
+
+use super::EXIT_CODES;
+use crate::outcome::Failure;
+use crate::output::{say, Sink};
+
+/// Replay a foot-mounted IMU recording through the foot navigator.
+///
+/// Replay a foot-mounted IMU recording (pyshoe / UofT CSV, or an x-io NGIMU CSV
+/// export) through the foot navigator; write the trajectory CSV (t_s, east_m,
+/// north_m, up_m, velocities, yaw, stance, strides, distance: a local level ENU frame
+/// from where the walk started, east = where the foot's x axis pointed at the start
+/// unless a heading is known) and, next to it, traj.svg (top view) and
+/// traj_height.svg (height over time). Prints strides, distance and the loop closure;
+/// with truth columns (gt_*), the aligned truth and the position RMSE.
+#[derive(Clone, Debug, Default, Args)]
+#[command(after_help = EXIT_CODES)]
+pub struct FootArgs {
+    /// The recording.
+    pub file: PathBuf,
+    /// The trajectory CSV to write (the SVGs go beside it); `-`: the CSV on stdout
+    /// (no plots), the summary on stderr.
+    #[arg(long, value_name = "FILE", default_value = "foot_trajectory.csv")]
+    pub out: PathBuf,
+    /// Drive the zero-velocity updates with a stance label column of the file (e.g.
+    /// vicon_opt or zv_vicon_opt) instead of the detector.
+    #[arg(long, value_name = "NAME")]
+    pub labels: Option<String>,
+    /// Where the sensor axes point, in the order x, y, z, from f/b l/r u/d (frd = x
+    /// forward, y right, z down, as in pyshoe; flu), or which signed sensor axis gives
+    /// body forward, left, up (x,-y,-z = frd). Default: frd for pyshoe files, flu for
+    /// x-io.
+    #[arg(long, value_name = "SPEC", value_parser = axes_spec)]
+    pub axes: Option<String>,
+    /// The IMU: calibrated (factory-calibrated; default for trials of the UofT VICON
+    /// set, known by its label columns) or consumer (gyro bias measured at the start
+    /// rest; default for every other file).
+    #[arg(long, value_enum)]
+    pub imu: Option<Imu>,
+    /// A device calibration of this IMU written by `stridekit calibrate foot` (the
+    /// accelerometer-to-gyroscope alignment learned from a level walk).
+    #[arg(long, value_name = "FILE")]
+    pub calibration: Option<PathBuf>,
+    /// Keep the filter's own height on level strides: turn off the level-floor
+    /// constraint (on by default: a stride that rises or falls by at most 5 % of its
+    /// length is taken as level; stairs and ramps keep their height).
+    #[arg(long)]
+    pub no_level_floor: bool,
+    /// The gyroscope's range, rad/s: samples at 99 % of it are clipped, and the rotation
+    /// above the ceiling is restored after each clipped run. Default: the ceiling the
+    /// data show (flat tops at one rate, again and again, nothing above), else none and
+    /// nothing repaired. The output says which.
+    #[arg(long = "gyro-range", value_name = "RAD_S", value_parser = positive_rads)]
+    pub gyro_range_rads: Option<f64>,
+}
+
+impl FootArgs {
+    /// The stance label column of `--labels` without its `zv_` prefix (`zv_NAME` and
+    /// `NAME` name the same column).
+    pub fn label_column(&self) -> Option<&str> {
+        self.labels
+            .as_deref()
+            .map(|l| l.strip_prefix("zv_").unwrap_or(l))
+    }
+}
+
+/// `--axes`: a spec [`FootConfig::axes_from_spec`] accepts (checked by clap: exit 2).
+pub fn axes_spec(s: &str) -> Result<String, String> {
+    FootConfig::axes_from_spec(s)
+        .map(|_| s.to_string())
+        .map_err(|e| e.to_string())
+}
+
+/// A finite angular rate above zero, rad/s.
+fn positive_rads(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("{s} is not a rate above 0 rad/s")),
+    }
+}
+
+/// Which IMU the recording comes from (`--imu`; what each means: `crate::foot`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Imu {
+    // FootConfig::default: consumer MEMS, gyro bias from the start rest.
+    Consumer,
+    // FootConfig::calibrated_imu: factory-calibrated IMU (the UofT MicroStrain).
+    Calibrated,
+}
+
+pub fn run(a: FootArgs) -> Result<(), Failure> {
+    let sink = Sink::from_arg(&a.out, "csv")?;
+    crate::foot::run(&a, &sink)?;
+    if let Some(w) = sink.wrote() {
+        say!("{w} (and the SVGs beside it)");
+    }
+    Ok(())
+}

@@ -1,0 +1,227 @@
+//! Bout confirmation: the newest `confirm_steps` candidates, double peaks merged at the
+//! autocorrelation's step period, must look like gait (regular strides, running
+//! strength at a running cadence, heel impacts, the phone held one way); older buffered
+//! candidates join only while they chain back like steps held the same way.
+
+use super::bout::MISSED_STEP_MAX_PERIODS;
+use super::pending::{merge, Pending};
+use super::{RobustDetector, Sink, PENDING};
+use crate::signal::Ring;
+use crate::stepdetect::gait::HALF_LAG_ANTI;
+use crate::vec3::dot;
+
+/// Largest deviation of one step interval from the period when confirming (left/right
+/// asymmetry of a phone carried on one side: 0.45 s / 0.65 s in a front pocket).
+pub(super) const ASYMMETRY: f64 = 0.5;
+/// The phone held the same way: within 45° (cosine) of how it is held at the newest
+/// checked candidate. Putting the phone into a pocket or bag turns it further; a
+/// stride's ±30° thigh or arm swing, averaged over the stride, does not.
+pub(super) const CARRY_MIN_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+impl RobustDetector {
+    /// Confirm a bout from the newest `confirm_steps` pending candidates and release
+    /// its steps: those of a gap before it, of a short walk before it, then its own.
+    pub(super) fn try_confirm(&mut self, out: &mut Sink<'_>) {
+        let k = self.p.confirm_steps;
+        if self.pending.len() < k {
+            return;
+        }
+        let Some(period) = self.bout_period(k) else {
+            return;
+        };
+        let kept = merge_double_peaks(&self.pending, self.p.refractory * period);
+        if kept.len() < k || !self.looks_like_gait(&kept, k, period) {
+            return;
+        }
+        self.pending = kept;
+        self.in_bout = true;
+        self.period_s = period;
+        self.prev_interval_s = f64::NAN;
+        let bout_carry = self.pending.newest().map_or([0.0; 3], |c| c.carry);
+        let dropped = self.drop_unchained(k, period, bout_carry);
+        self.keep_parted_short_walk(dropped, bout_carry);
+        self.fill_gap_before_bout(period, out);
+        self.release_short_walk(period, out);
+        while let Some(c) = self.pending.pop_front() {
+            out.push(c.event);
+        }
+    }
+
+    /// The step period of a bout: the autocorrelation's (not the candidates': bumps
+    /// between steps cannot change it), or before it has seen enough signal, the
+    /// candidates' own; inside the bout interval range.
+    fn bout_period(&self, k: usize) -> Option<f64> {
+        let p = self.p;
+        let period = match self.gait.step_period(p.min_periodicity) {
+            Some((period, _, _)) => period,
+            None if !self.gait.ready() => self.candidate_period(k)?,
+            None => return None,
+        };
+        (p.min_bout_interval_s..=p.max_step_interval_s)
+            .contains(&period)
+            .then_some(period)
+    }
+
+    /// The step period from the newest `k` candidates themselves (half their median
+    /// stride), when the signal's own autocorrelation is periodic at it: used only
+    /// while the autocorrelation has not yet seen `gait::ACF_TAU_S` of signal (a
+    /// recording that starts in mid-walk), so the first steps are not lost waiting
+    /// for it.
+    fn candidate_period(&self, k: usize) -> Option<f64> {
+        let mut strides = [0.0f64; PENDING];
+        let mut ns = 0;
+        for j in 0..k.saturating_sub(2) {
+            let (Some(a), Some(c)) = (self.pending.back(j + 2), self.pending.back(j)) else {
+                break;
+            };
+            strides[ns] = c.event.t_s - a.event.t_s;
+            ns += 1;
+        }
+        if ns == 0 {
+            return None;
+        }
+        let st = &mut strides[..ns];
+        st.sort_by(f64::total_cmp);
+        let period = 0.5 * st[ns / 2];
+        // Anti-correlated at the claimed step: the candidates were half steps (a
+        // secondary bump between heel strikes), not steps.
+        let half_steps = self.acf(period) < HALF_LAG_ANTI;
+        (period > 0.0 && !half_steps && self.periodic(period, self.p.min_periodicity))
+            .then_some(period)
+    }
+
+    /// Whether the newest `k` of `kept` are spaced like steps of `period` (regular
+    /// strides: left and right steps of a phone on one side differ, strides do not;
+    /// each interval within ±[`ASYMMETRY`]), strong enough for a running cadence, with
+    /// heel impacts, and held one way.
+    fn looks_like_gait(&self, kept: &Ring<Pending, PENDING>, k: usize, period: f64) -> bool {
+        let p = self.p;
+        let iv = newest_intervals(kept, k);
+        let ivs = &iv[..k - 1];
+        let stride = 2.0 * period;
+        let irregular = ivs
+            .windows(2)
+            .any(|w| (w[0] + w[1] - stride).abs() > p.regularity * stride)
+            || ivs.iter().any(|&i| (i - period).abs() > ASYMMETRY * period);
+        if irregular {
+            return false;
+        }
+        // Running cadence without running impacts: secondary bumps of a slow walk.
+        if period < p.running_interval_s
+            && newest_median(kept, k, |c| c.amplitude_mps2) < p.running_min_amplitude_mps2
+        {
+            return false;
+        }
+        if newest_median(kept, k, |c| c.impact) < p.min_impact_ratio {
+            return false;
+        }
+        let bout_carry = kept.newest().map_or([0.0; 3], |c| c.carry);
+        !(0..k).any(|j| {
+            kept.back(j)
+                .is_some_and(|c| dot(c.carry, bout_carry) < CARRY_MIN_COS)
+        })
+    }
+
+    /// Only the newest k candidates were checked. Older ones waiting in the buffer
+    /// (handling the phone before walking, a stumble) are steps only while they chain
+    /// back from the bout with step-like intervals (a step, or a step and a missed
+    /// one) and the phone held as in the bout; the first that does not and all
+    /// before it are dropped (returned).
+    fn drop_unchained(
+        &mut self,
+        k: usize,
+        period: f64,
+        bout_carry: [f64; 3],
+    ) -> Ring<Pending, PENDING> {
+        let n = self.pending.len();
+        let mut keep = k;
+        while keep < n {
+            let (Some(older), Some(newer)) = (self.pending.back(keep), self.pending.back(keep - 1))
+            else {
+                break;
+            };
+            let iv = newer.event.t_s - older.event.t_s;
+            if !((1.0 - ASYMMETRY) * period..MISSED_STEP_MAX_PERIODS * period).contains(&iv) {
+                break;
+            }
+            if dot(older.carry, bout_carry) < CARRY_MIN_COS {
+                break;
+            }
+            keep += 1;
+        }
+        let mut dropped: Ring<Pending, PENDING> = Ring::new();
+        for _ in keep..n {
+            if let Some(c) = self.pending.pop_front() {
+                dropped.push(c);
+            }
+        }
+        dropped
+    }
+}
+
+/// Candidates closer than `refractory_s` are one step (the larger peak is kept).
+fn merge_double_peaks(
+    pending: &Ring<Pending, PENDING>,
+    refractory_s: f64,
+) -> Ring<Pending, PENDING> {
+    let mut kept: Ring<Pending, PENDING> = Ring::new();
+    for c in pending.iter() {
+        match kept.newest_mut() {
+            Some(last) if c.event.t_s - last.event.t_s < refractory_s => {
+                *last = merge(last, &c);
+            }
+            _ => kept.push(c),
+        }
+    }
+    kept
+}
+
+/// Intervals between the newest `k` of `kept`, oldest first (the first k − 1 values).
+fn newest_intervals(kept: &Ring<Pending, PENDING>, k: usize) -> [f64; PENDING] {
+    let mut iv = [0.0f64; PENDING];
+    for (j, slot) in iv.iter_mut().enumerate().take(k - 1) {
+        let a = kept.back(k - 1 - j).map(|c| c.event.t_s).unwrap_or(0.0);
+        let b = kept.back(k - 2 - j).map(|c| c.event.t_s).unwrap_or(0.0);
+        *slot = b - a;
+    }
+    iv
+}
+
+/// The median (upper, for an even `k`) of `f` over the newest `k` of `kept`.
+fn newest_median(kept: &Ring<Pending, PENDING>, k: usize, f: impl Fn(Pending) -> f64) -> f64 {
+    let mut v = [0.0f64; PENDING];
+    for (j, slot) in v.iter_mut().enumerate().take(k) {
+        *slot = kept.back(j).map(&f).unwrap_or(0.0);
+    }
+    let v = &mut v[..k];
+    v.sort_by(f64::total_cmp);
+    v[k / 2]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(t_s: f64, amplitude_mps2: f64) -> Pending {
+        let mut c = Pending {
+            amplitude_mps2,
+            ..Pending::default()
+        };
+        c.event.t_s = t_s;
+        c
+    }
+
+    #[test]
+    fn double_peaks_merge_and_the_medians_and_intervals_are_of_the_newest() {
+        let mut ring: Ring<Pending, PENDING> = Ring::new();
+        for (t, a) in [(0.0, 3.0), (0.5, 4.0), (0.6, 6.0), (1.0, 5.0), (1.5, 2.0)] {
+            ring.push(at(t, a));
+        }
+        let kept = merge_double_peaks(&ring, 0.3);
+        let times: Vec<f64> = kept.iter().map(|c| c.event.t_s).collect();
+        assert_eq!(times, [0.0, 0.6, 1.0, 1.5]);
+        let iv = newest_intervals(&kept, 3);
+        assert!((iv[0] - 0.4).abs() < 1e-12 && (iv[1] - 0.5).abs() < 1e-12);
+        assert_eq!(newest_median(&kept, 3, |c| c.amplitude_mps2), 5.0);
+    }
+}

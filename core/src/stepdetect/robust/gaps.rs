@@ -1,0 +1,122 @@
+//! Gaps in a walk. Dropped samples (input gaps up to `MAX_INPUT_GAP_S`, bridged by the
+//! grid) hide steps that are counted at the cadence when the bout resumes; a bout that
+//! lost its periodicity (not by silence) and is followed within 10 s by one at the same
+//! cadence is one walk (a turn, a message read on the way): the gap is filled too.
+
+use super::bout::{CADENCE_TOLERANCE, GAP_END_PERIODS};
+use super::{RobustDetector, Sink, StepEvent, DATA_GAP_S, MAX_INPUT_GAP_S};
+use crate::signal::Ring;
+
+/// Longest gap filled between two bouts of one walk, s (a purse walk at 50 Hz with
+/// jittered timestamps has 6.3 s gaps); also the longest interval across dropped
+/// samples counted at the cadence.
+const FILL_MAX_GAP_S: f64 = 10.0;
+/// Most steps filled into one gap (10 s at 2.4 steps/s).
+const FILL_MAX_STEPS: usize = 24;
+
+impl RobustDetector {
+    /// A sample `dt` after the previous one: a spacing over [`DATA_GAP_S`] is a gap in
+    /// the data (samples dropped).
+    pub(super) fn note_data_gap(&mut self, t_s: f64, dt: f64) {
+        if dt > DATA_GAP_S {
+            self.data_gap_end_t_s = t_s;
+            self.data_gap_s = dt;
+            self.missing_s += dt;
+        }
+    }
+
+    /// Whether the walk went on through dropped samples since the last step: a gap
+    /// ended after it and what was seen of the `interval` is short of a step-less
+    /// stretch (several gaps close together count by the time they hid).
+    pub(super) fn across_gap(&self, interval: f64) -> bool {
+        self.data_gap_end_t_s > self.last_t_s
+            && interval <= GAP_END_PERIODS * self.period_s + self.missing_s.max(MAX_INPUT_GAP_S)
+            && interval <= FILL_MAX_GAP_S
+    }
+
+    /// Time the input has been missing since `t_s`, a candidate's time (it is
+    /// processed a little after its peak, when a gap may already have begun).
+    pub(super) fn missing_after(&self, t_s: f64) -> f64 {
+        let gap_start = self.data_gap_end_t_s - self.data_gap_s;
+        if self.data_gap_end_t_s > t_s {
+            self.data_gap_end_t_s - gap_start.max(t_s)
+        } else {
+            0.0
+        }
+    }
+
+    /// Release the step `ev` at `t_s` and the `n` − 1 (at least 1, capped) steps
+    /// missed in its `interval` before it, evenly; the filled step length, s.
+    pub(super) fn fill_missed(
+        &self,
+        ev: StepEvent,
+        t_s: f64,
+        interval: f64,
+        n: f64,
+        out: &mut Sink<'_>,
+    ) -> f64 {
+        let n = n.clamp(2.0, FILL_MAX_STEPS as f64 + 1.0) as usize;
+        let step = interval / n as f64;
+        let t0 = t_s - interval;
+        for i in 1..n {
+            out.push(StepEvent {
+                t_s: t0 + i as f64 * step,
+                duration_s: step,
+                ..ev
+            });
+        }
+        out.push(StepEvent {
+            duration_s: step,
+            ..ev
+        });
+        step
+    }
+
+    /// A bout was just confirmed at `period`: if the previous bout lost its
+    /// periodicity (not by silence) at most [`FILL_MAX_GAP_S`] before and at a cadence
+    /// within ±30 %, the steps of the gap are filled at the cadence (a short walk kept
+    /// in the gap is then counted by the fill). The previous bout's end is used once.
+    pub(super) fn fill_gap_before_bout(&mut self, period: f64, out: &mut Sink<'_>) {
+        if let Some(first) = self.pending.get(0) {
+            let gap = first.event.t_s - self.bout_end_t_s; // NaN without a previous bout
+            let same_cadence = (period - self.bout_end_period_s).abs()
+                <= CADENCE_TOLERANCE * self.bout_end_period_s;
+            if gap <= FILL_MAX_GAP_S && same_cadence {
+                let m = ((gap / period).round() as usize)
+                    .saturating_sub(1)
+                    .min(FILL_MAX_STEPS);
+                let step = gap / (m + 1) as f64;
+                if m > 0 {
+                    self.short_walk = Ring::new();
+                }
+                for i in 1..=m {
+                    out.push(StepEvent {
+                        t_s: self.bout_end_t_s + i as f64 * step,
+                        duration_s: step,
+                        ..first.event
+                    });
+                }
+            }
+        }
+        self.bout_end_t_s = f64::NAN;
+        self.bout_end_period_s = f64::NAN;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::RobustStepParams;
+    use super::*;
+
+    #[test]
+    fn missing_time_counts_only_the_part_of_a_gap_after_the_candidate() {
+        let mut d = RobustDetector::new(RobustStepParams::default());
+        assert_eq!(d.missing_after(1.0), 0.0);
+        d.note_data_gap(5.0, 0.5);
+        assert!((d.missing_after(4.7) - 0.3).abs() < 1e-12);
+        assert_eq!(d.missing_after(4.0), 0.5);
+        assert_eq!(d.missing_after(5.0), 0.0);
+        d.note_data_gap(5.05, 0.05);
+        assert_eq!(d.data_gap_end_t_s, 5.0, "a spacing of 0.05 s is no gap");
+    }
+}

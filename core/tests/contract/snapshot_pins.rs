@@ -1,0 +1,181 @@
+//! Snapshot bytes pinned: a hash (FNV-1a, 64 bits) and the length of the snapshots
+//! taken along a fixed simulated walk, per engine. Refactoring an engine (splitting files, naming state)
+//! must not move them; a deliberate change of behaviour or format updates the pin.
+
+use stridekit_core::ahrs::{Ahrs, AhrsSettings, ImuSample};
+use stridekit_core::foot::{
+    AdaptiveThresholds, FixedThresholds, FootConfig, FootNavigator, ShoeDetector, SvmAdaptive,
+    ZeroVelocityDetector,
+};
+use stridekit_core::geo::LocalFrame;
+use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
+use stridekit_core::stepdetect::{StepDetector, StepDetectorConfig};
+use stridekit_sim::phone::{simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario};
+use stridekit_sim::{simulate_foot, FootScenario};
+
+/// Snapshots taken every this many inputs.
+const EVERY: usize = 500;
+
+/// Hash and total length of the snapshots taken every [`EVERY`] inputs and at the end
+/// (not a CRC-32: a snapshot ends with its own, and a CRC over a message followed by
+/// its CRC is the same for every message).
+struct Pin {
+    bytes: Vec<u8>,
+}
+
+impl Pin {
+    fn new() -> Self {
+        Self { bytes: Vec::new() }
+    }
+    fn take(&mut self, i: usize, snapshot: impl FnOnce() -> Vec<u8>) {
+        if i % EVERY == 0 {
+            self.bytes.extend(snapshot());
+        }
+    }
+    fn finish(mut self, last: Vec<u8>) -> (u64, usize) {
+        self.bytes.extend(last);
+        let hash = self.bytes.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+            (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3)
+        });
+        (hash, self.bytes.len())
+    }
+}
+
+/// 60 s of walking with the phone in a front pocket, magnetometer and GNSS, event by
+/// event with its index.
+fn phone_walk(mut f: impl FnMut(usize, PhoneEvent)) {
+    let sim = simulate_phone(&PhoneScenario::walk(
+        3,
+        PhonePlacement::FrontPocket,
+        1.4,
+        60.0,
+    ));
+    for (i, e) in sim
+        .timeline(&LocalFrame::new(47.0, 8.0, 0.0))
+        .into_iter()
+        .enumerate()
+    {
+        f(i, e);
+    }
+}
+
+fn imu(s: &stridekit_sim::phone::ImuSample, mag: bool) -> ImuSample {
+    ImuSample {
+        t_s: s.t_s,
+        gyro_rads: s.gyro_radps,
+        accel_mps2: s.accel_mps2,
+        mag_ut: mag.then_some(s.mag_ut),
+    }
+}
+
+fn navigator_pin(config: NavigatorConfig, mag: bool, gnss: bool) -> (u64, usize) {
+    let mut nav = PhoneNavigator::new(config).unwrap();
+    let mut pin = Pin::new();
+    phone_walk(|i, e| {
+        match e {
+            PhoneEvent::Imu(s) => nav.push_imu(&imu(s, mag)).unwrap(),
+            PhoneEvent::Fix(f) if gnss => {
+                nav.push_fix(&f).unwrap();
+            }
+            PhoneEvent::Fix(_) => {}
+        }
+        pin.take(i, || nav.snapshot());
+    });
+    pin.finish(nav.snapshot())
+}
+
+fn ahrs_pin(settings: AhrsSettings) -> (u64, usize) {
+    let mut ahrs = Ahrs::new(settings).unwrap();
+    let mut pin = Pin::new();
+    phone_walk(|i, e| {
+        if let PhoneEvent::Imu(s) = e {
+            ahrs.push(&imu(s, true)).unwrap();
+        }
+        pin.take(i, || ahrs.snapshot());
+    });
+    pin.finish(ahrs.snapshot())
+}
+
+#[test]
+fn phone_navigator_snapshots_are_pinned() {
+    let raw_gyro = NavigatorConfig {
+        gyro_calibrated: false,
+        ..NavigatorConfig::default()
+    };
+    let got = [
+        navigator_pin(NavigatorConfig::default(), true, true),
+        navigator_pin(NavigatorConfig::default(), false, true),
+        navigator_pin(raw_gyro, true, false),
+    ];
+    assert_eq!(got, PINNED_NAVIGATOR, "{got:?}");
+}
+
+#[test]
+fn ahrs_snapshots_are_pinned() {
+    let got = [
+        ahrs_pin(AhrsSettings::default()),
+        ahrs_pin(AhrsSettings::madgwick()),
+    ];
+    assert_eq!(got, PINNED_AHRS, "{got:?}");
+}
+
+#[test]
+fn step_detector_snapshots_are_pinned() {
+    let mut d = StepDetector::new(StepDetectorConfig::default()).unwrap();
+    let mut pin = Pin::new();
+    phone_walk(|i, e| {
+        if let PhoneEvent::Imu(s) = e {
+            d.push_accel(s.t_s, s.accel_mps2).unwrap();
+            while d.pop_step().is_some() {}
+        }
+        pin.take(i, || d.snapshot());
+    });
+    let got = pin.finish(d.snapshot());
+    assert_eq!(got, PINNED_STEPS, "{got:?}");
+}
+
+#[test]
+fn foot_navigator_snapshots_are_pinned() {
+    let sim = simulate_foot(&FootScenario::walk(1, 1));
+    let got = [
+        ZeroVelocityDetector::default(),
+        ZeroVelocityDetector::SvmAdaptive(SvmAdaptive::default()),
+        ZeroVelocityDetector::Shoe(ShoeDetector::default()),
+        ZeroVelocityDetector::Fixed(FixedThresholds::WALK),
+        ZeroVelocityDetector::Adaptive(AdaptiveThresholds::default()),
+    ]
+    .map(|detector| {
+        let mut nav = FootNavigator::new(FootConfig {
+            detector,
+            ..FootConfig::default()
+        })
+        .unwrap();
+        let mut pin = Pin::new();
+        for (i, s) in sim.samples.iter().enumerate() {
+            nav.push(s).unwrap();
+            pin.take(i, || nav.snapshot());
+        }
+        pin.finish(nav.snapshot())
+    });
+    assert_eq!(got, PINNED_FOOT, "{got:?}");
+}
+
+// Recorded on main at 46f8dfb (before the engines were split into folders); the
+// navigator's re-recorded on main at 0b6891a (snapshot format 8, the IMU merge rule);
+// all re-recorded on main at 3b5df39, before the refactor was merged (the input
+// guard's byte now packs the stream's unit, issue 36; navigator format 9; the
+// decoupled filter's heading variance and gap handling, AHRS format 4, issue 39).
+const PINNED_NAVIGATOR: [(u64, usize); 3] = [
+    (16734981561657127463, 300242),
+    (367662751655682435, 300242),
+    (14817581269011375399, 325300),
+];
+const PINNED_AHRS: [(u64, usize); 2] = [(2155343989020176523, 10206), (15874992898461028221, 5474)];
+const PINNED_STEPS: (u64, usize) = (18078557548051973618, 46580);
+const PINNED_FOOT: [(u64, usize); 5] = [
+    (540913619786056168, 108772),
+    (14812562377129786451, 109652),
+    (2867120402205973075, 108420),
+    (4810288938076267182, 108596),
+    (6680496829167579126, 110356),
+];
