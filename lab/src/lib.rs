@@ -22,3 +22,4 @@ pub mod stats;
 pub mod steplength;
 pub mod steplength_eval;
 pub mod steps_eval;
+pub mod table;
