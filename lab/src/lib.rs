@@ -23,3 +23,4 @@ pub mod stats;
 pub mod steplength;
 pub mod steplength_eval;
 pub mod steps_eval;
+pub mod table;

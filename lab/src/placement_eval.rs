@@ -14,6 +14,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::placement::{predict, train, TrainParams};
+use crate::table::Table;
 use stridekit_core::placement::BinAverager;
 use stridekit_core::placement::{
     trace_features, AccelSample, Features, Placement, PlacementClassifier, PlacementModel, CLASSES,
@@ -200,6 +201,112 @@ fn timing(dir: &Path, model: &PlacementModel) -> Result<(f64, f64, f64), String>
     Ok((ns_window, ns_sample, t.rate_hz()))
 }
 
+/// The features `--drop` names, as indices (for ablation: set to 0 in training and test).
+fn dropped_features(drop: Option<&str>) -> Result<Vec<usize>, String> {
+    let Some(list) = drop else {
+        return Ok(Vec::new());
+    };
+    list.split(',')
+        .map(|n| {
+            FEATURE_NAMES
+                .iter()
+                .position(|f| *f == n.trim())
+                .ok_or_else(|| {
+                    format!(
+                        "unknown feature {n:?}; features: {}",
+                        FEATURE_NAMES.join(" ")
+                    )
+                })
+        })
+        .collect()
+}
+
+/// Hits out of a count.
+#[derive(Clone, Copy, Debug, Default)]
+struct Score {
+    ok: usize,
+    n: usize,
+}
+
+impl Score {
+    fn add(&mut self, other: Score) {
+        self.ok += other.ok;
+        self.n += other.n;
+    }
+    fn pct(self) -> String {
+        pct(self.ok, self.n)
+    }
+}
+
+/// One held-out user's scores (the logistic regression trained on the others).
+#[derive(Clone, Debug, Default)]
+struct UserScores {
+    user: String,
+    traces: usize,
+    /// Windows, raw.
+    windows: Score,
+    /// Windows after the classifier's smoothing (of the same windows).
+    smoothed: Score,
+    /// Traces by majority vote.
+    votes: Score,
+    /// Classes of this user's traces the training users never recorded.
+    missing: Vec<&'static str>,
+}
+
+/// One held-out trace's result.
+struct TraceResult {
+    name: String,
+    truth: Placement,
+    vote: Option<Placement>,
+    windows: Score,
+    smoothed: Score,
+}
+
+/// One held-out user's MLP scores.
+struct MlpScores {
+    user: String,
+    windows: Score,
+    votes: Score,
+}
+
+/// One simulated placement under the model trained on every real trace.
+struct SimResult {
+    placement: PhonePlacement,
+    class: Placement,
+    windows: Score,
+    most_often: Option<Placement>,
+}
+
+/// The model trained on every trace: its size and its cost on this machine.
+struct ModelCost {
+    parameter_bytes: usize,
+    file_bytes: usize,
+    ns_window: f64,
+    ns_sample: f64,
+    rate_hz: f64,
+    samples: usize,
+    extract_s: f64,
+}
+
+/// What `stridekit eval placement` measured, computed by [`evaluate`] and rendered by
+/// [`PlacementReport::render`].
+struct PlacementReport {
+    traces: usize,
+    users: usize,
+    windows: usize,
+    by_user: Vec<UserScores>,
+    /// The MLP of `--mlp`, its L2, per held-out user.
+    mlp: Option<(f64, Vec<MlpScores>)>,
+    /// Windows and traces whose class the training users recorded.
+    seen_windows: Score,
+    seen_votes: Score,
+    confusion: [[usize; CLASSES]; CLASSES],
+    trace_confusion: [[usize; CLASSES]; CLASSES],
+    by_trace: Vec<TraceResult>,
+    cost: ModelCost,
+    sim: Vec<SimResult>,
+}
+
 /// `stridekit eval placement`.
 /// `drop`: feature names to neutralise (set to 0 in training and test), for ablation.
 pub fn eval_cmd(
@@ -208,258 +315,382 @@ pub fn eval_cmd(
     l2: Option<f64>,
     mlp: bool,
 ) -> Result<String, String> {
-    let drop: Vec<usize> = match drop {
-        None => Vec::new(),
-        Some(list) => list
-            .split(',')
-            .map(|n| {
-                FEATURE_NAMES
-                    .iter()
-                    .position(|f| *f == n.trim())
-                    .ok_or_else(|| {
-                        format!(
-                            "unknown feature {n:?}; features: {}",
-                            FEATURE_NAMES.join(" ")
-                        )
-                    })
-            })
-            .collect::<Result<_, _>>()?,
-    };
-    let (traces, extract_s) = load(dir, &drop)?;
+    let drop = dropped_features(drop)?;
     let mut params = TrainParams::default();
     if let Some(l2) = l2 {
         params.l2 = l2;
     }
+    Ok(evaluate(dir, &drop, &params, mlp)?.render())
+}
+
+/// Leave one user out over the traces under `dir`, the MLP beside it when `mlp`, the
+/// model on every trace (its cost) and on the simulator.
+fn evaluate(
+    dir: &Path,
+    drop: &[usize],
+    params: &TrainParams,
+    mlp: bool,
+) -> Result<PlacementReport, String> {
+    let (traces, extract_s) = load(dir, drop)?;
     let mut users: Vec<String> = traces.iter().map(|t| t.user.clone()).collect();
     users.sort();
     users.dedup();
-    let mut out = String::new();
-    let total_windows: usize = traces.iter().map(|t| t.features.len()).sum();
-    let _ = writeln!(
-        out,
-        "## Phone placement, leave-one-user-out ({} Oxford traces, {} users, {} windows of 5.12 s every 1.28 s)\n",
-        traces.len(),
-        users.len(),
-        total_windows
-    );
-    let mut confusion = [[0usize; CLASSES]; CLASSES];
-    let mut trace_confusion = [[0usize; CLASSES]; CLASSES];
-    let (mut ok_w, mut ok_s, mut ok_t, mut n_w, mut n_t) = (0, 0, 0, 0, 0);
-    // Excluding classes the held-out user's training set lacks.
-    let (mut ok_w_seen, mut n_w_seen, mut ok_t_seen, mut n_t_seen) = (0, 0, 0, 0);
-    let _ = writeln!(
-        out,
-        "| held-out user | traces | windows | window acc. | smoothed acc. | trace acc. (vote) | classes missing from training |"
-    );
-    let _ = writeln!(out, "|---|---|---|---|---|---|---|");
-    let mut trace_lines = String::new();
+    let mut report = PlacementReport {
+        traces: traces.len(),
+        users: users.len(),
+        windows: traces.iter().map(|t| t.features.len()).sum(),
+        by_user: Vec::new(),
+        mlp: None,
+        seen_windows: Score::default(),
+        seen_votes: Score::default(),
+        confusion: [[0; CLASSES]; CLASSES],
+        trace_confusion: [[0; CLASSES]; CLASSES],
+        by_trace: Vec::new(),
+        cost: ModelCost {
+            parameter_bytes: 0,
+            file_bytes: 0,
+            ns_window: 0.0,
+            ns_sample: 0.0,
+            rate_hz: 0.0,
+            samples: traces.iter().map(|t| t.samples).sum(),
+            extract_s,
+        },
+        sim: Vec::new(),
+    };
     for user in &users {
-        let train_set = labelled(traces.iter().filter(|t| &t.user != user));
-        let model = train(&train_set, &params, Vec::new()).map_err(|e| e.to_string())?;
-        let mut seen = [false; CLASSES];
-        for (_, p) in &train_set {
-            seen[p.index()] = true;
-        }
-        let missing: Vec<&str> = Placement::ALL
-            .iter()
-            .filter(|p| !seen[p.index()])
-            .filter(|p| traces.iter().any(|t| &t.user == user && t.label == **p))
-            .map(|p| p.name())
-            .collect();
-        let (mut uw, mut us, mut ut, mut unw, mut unt) = (0, 0, 0, 0, 0);
-        for t in traces.iter().filter(|t| &t.user == user) {
-            let (raw, smooth) = predictions(&model, &t.features);
-            let truth = t.label.index();
-            let ok = raw.iter().filter(|p| **p == t.label).count();
-            let oks = smooth.iter().filter(|p| **p == t.label).count();
-            for p in &raw {
-                confusion[truth][p.index()] += 1;
-            }
-            uw += ok;
-            us += oks;
-            unw += raw.len();
-            let v = vote(&raw);
-            if let Some(v) = v {
-                trace_confusion[truth][v.index()] += 1;
-                unt += 1;
-                ut += (v == t.label) as usize;
-                if seen[truth] {
-                    n_t_seen += 1;
-                    ok_t_seen += (v == t.label) as usize;
-                }
-            }
-            if seen[truth] {
-                n_w_seen += raw.len();
-                ok_w_seen += ok;
-            }
-            let _ = writeln!(
-                trace_lines,
-                "| {} | {} | {} | {} | {} |",
-                t.name,
-                t.label,
-                v.map(|p| p.name()).unwrap_or("–"),
-                pct(ok, raw.len()),
-                pct(oks, smooth.len())
-            );
-        }
-        let _ = writeln!(
-            out,
-            "| {user} | {} | {unw} | {} | {} | {} | {} |",
-            traces.iter().filter(|t| &t.user == user).count(),
-            pct(uw, unw),
-            pct(us, unw),
-            pct(ut, unt),
-            if missing.is_empty() {
-                "–".to_string()
-            } else {
-                missing.join(", ")
-            }
-        );
-        ok_w += uw;
-        ok_s += us;
-        ok_t += ut;
-        n_w += unw;
-        n_t += unt;
+        let scores = held_out_user(&traces, user, params, &mut report)?;
+        report.by_user.push(scores);
     }
-    let _ = writeln!(
-        out,
-        "| **all** | {} | {n_w} | **{}** | **{}** | **{}** | |\n",
-        traces.len(),
-        pct(ok_w, n_w),
-        pct(ok_s, n_w),
-        pct(ok_t, n_t)
-    );
     if mlp {
-        let _ = writeln!(
-            out,
-            "Comparison, same protocol: one-hidden-layer MLP (16 tanh units, {} bytes of parameters), L2 {}:\n",
-            crate::placement_mlp::Mlp::parameter_bytes(),
-            params.l2
-        );
-        let _ = writeln!(
-            out,
-            "| held-out user | MLP window acc. | MLP trace acc. (vote) |"
-        );
-        let _ = writeln!(out, "|---|---|---|");
-        let (mut ok, mut n, mut okt, mut nt) = (0, 0, 0, 0);
-        for user in &users {
-            let train_set = labelled(traces.iter().filter(|t| &t.user != user));
-            let m = crate::placement_mlp::train(&train_set, params.l2)?;
-            let (mut uo, mut un, mut uot, mut unt) = (0, 0, 0, 0);
-            for t in traces.iter().filter(|t| &t.user == user) {
-                let pred: Vec<Placement> = t.features.iter().map(|f| m.predict(f)).collect();
-                uo += pred.iter().filter(|p| **p == t.label).count();
-                un += pred.len();
-                if let Some(v) = vote(&pred) {
-                    unt += 1;
-                    uot += (v == t.label) as usize;
-                }
-            }
-            let _ = writeln!(out, "| {user} | {} | {} |", pct(uo, un), pct(uot, unt));
-            ok += uo;
-            n += un;
-            okt += uot;
-            nt += unt;
-        }
-        let _ = writeln!(
-            out,
-            "| **all** | **{}** | **{}** |\n",
-            pct(ok, n),
-            pct(okt, nt)
-        );
+        let rows = users
+            .iter()
+            .map(|u| mlp_held_out_user(&traces, u, params.l2))
+            .collect::<Result<_, _>>()?;
+        report.mlp = Some((params.l2, rows));
     }
-    let _ = writeln!(
-        out,
-        "Without the held-out traces whose class the training users never recorded: window accuracy {} ({n_w_seen} windows), trace accuracy {} ({n_t_seen} traces).\n",
-        pct(ok_w_seen, n_w_seen),
-        pct(ok_t_seen, n_t_seen)
-    );
-    for (title, m) in [
-        (
-            "Confusion matrix, windows (rows: truth, columns: predicted)",
-            &confusion,
-        ),
-        (
-            "Confusion matrix, traces by majority vote",
-            &trace_confusion,
-        ),
-    ] {
-        let _ = writeln!(out, "{title}:\n");
-        let _ = write!(out, "| truth \\ predicted |");
-        for p in Placement::ALL {
-            let _ = write!(out, " {p} |");
-        }
-        let _ = write!(out, " recall |\n|---|");
-        for _ in 0..=CLASSES {
-            let _ = write!(out, "---|");
-        }
-        out.push('\n');
-        for (i, row) in m.iter().enumerate() {
-            let _ = write!(out, "| {} |", Placement::ALL[i]);
-            for v in row {
-                let _ = write!(out, " {v} |");
-            }
-            let _ = writeln!(out, " {} |", pct(row[i], row.iter().sum()));
-        }
-        out.push('\n');
-    }
-    let _ = writeln!(out, "Per trace (held-out model):\n");
-    let _ = writeln!(
-        out,
-        "| trace | truth | vote | window acc. | smoothed acc. |"
-    );
-    let _ = writeln!(out, "|---|---|---|---|---|");
-    out.push_str(&trace_lines);
-    out.push('\n');
-
     // The model on all traces: size and speed; then the simulator.
     let all = labelled(traces.iter());
     let model =
-        train(&all, &params, provenance("(eval)", &traces, &params)).map_err(|e| e.to_string())?;
-    let (ns_window, ns_sample, rate) = timing(dir, &model)?;
-    let samples: usize = traces.iter().map(|t| t.samples).sum();
-    let _ = writeln!(
-        out,
-        "Model: logistic regression, {FEATURES} features × {CLASSES} classes: {} bytes of parameters (f64), model file {} bytes; classifier state {} bytes (`size_of::<PlacementClassifier>()`, plus the model's comment strings on the heap).",
-        model.parameter_bytes(),
-        model.to_text().len(),
-        std::mem::size_of::<PlacementClassifier>()
-    );
-    let _ = writeln!(
-        out,
-        "Cost (this machine, release build): {ns_window:.0} ns per window (features + model), {ns_sample:.0} ns per sample for the whole classifier on a {rate:.0} Hz trace; feature extraction of all {samples} samples took {extract_s:.2} s.\n"
-    );
+        train(&all, params, provenance("(eval)", &traces, params)).map_err(|e| e.to_string())?;
+    let (ns_window, ns_sample, rate_hz) = timing(dir, &model)?;
+    report.cost = ModelCost {
+        parameter_bytes: model.parameter_bytes(),
+        file_bytes: model.to_text().len(),
+        ns_window,
+        ns_sample,
+        rate_hz,
+        ..report.cost
+    };
+    report.sim = PhonePlacement::ALL
+        .iter()
+        .map(|&p| simulated(&model, p))
+        .collect();
+    Ok(report)
+}
 
-    let _ = writeln!(
-        out,
-        "### Simulator (information only): model trained on all real traces, simulated walks at 1.3 m/s, 120 s, 3 seeds per placement\n"
-    );
-    let _ = writeln!(
-        out,
-        "| simulated placement | class | window acc. | predicted most often |"
-    );
-    let _ = writeln!(out, "|---|---|---|---|");
-    let (mut sok, mut sn) = (0, 0);
-    for p in PhonePlacement::ALL {
-        let class = Placement::from(p);
-        let mut preds = Vec::new();
-        for seed in 1..=3u64 {
-            let mut sc = PhoneScenario::walk(seed, p, 1.3, 120.0);
-            sc.gnss = false;
-            let sim = simulate_phone(&sc);
-            let feats = trace_features(sim.samples.iter().map(|s| (s.t_s, s.accel_mps2)));
-            preds.extend(feats.iter().map(|f| predict(&model, f)));
+/// `user`'s traces under the logistic regression trained on the other users: the
+/// user's row; its traces, the confusion matrices and the seen-class scores go into
+/// `report`.
+fn held_out_user(
+    traces: &[TraceWindows],
+    user: &str,
+    params: &TrainParams,
+    report: &mut PlacementReport,
+) -> Result<UserScores, String> {
+    let train_set = labelled(traces.iter().filter(|t| t.user != user));
+    let model = train(&train_set, params, Vec::new()).map_err(|e| e.to_string())?;
+    let mut seen = [false; CLASSES];
+    for (_, p) in &train_set {
+        seen[p.index()] = true;
+    }
+    let mine: Vec<&TraceWindows> = traces.iter().filter(|t| t.user == user).collect();
+    let mut u = UserScores {
+        user: user.to_string(),
+        traces: mine.len(),
+        missing: Placement::ALL
+            .iter()
+            .filter(|p| !seen[p.index()])
+            .filter(|p| mine.iter().any(|t| t.label == **p))
+            .map(|p| p.name())
+            .collect(),
+        ..UserScores::default()
+    };
+    for t in mine {
+        let (raw, smooth) = predictions(&model, &t.features);
+        let truth = t.label.index();
+        let windows = Score {
+            ok: raw.iter().filter(|p| **p == t.label).count(),
+            n: raw.len(),
+        };
+        let smoothed = Score {
+            ok: smooth.iter().filter(|p| **p == t.label).count(),
+            n: smooth.len(),
+        };
+        for p in &raw {
+            report.confusion[truth][p.index()] += 1;
         }
-        let ok = preds.iter().filter(|q| **q == class).count();
-        sok += ok;
-        sn += preds.len();
-        let _ = writeln!(
-            out,
-            "| {p:?} | {class} | {} | {} |",
-            pct(ok, preds.len()),
-            vote(&preds).map(|q| q.name()).unwrap_or("–")
+        u.windows.add(windows);
+        u.smoothed.add(Score {
+            ok: smoothed.ok,
+            n: raw.len(),
+        });
+        let v = vote(&raw);
+        if let Some(v) = v {
+            report.trace_confusion[truth][v.index()] += 1;
+            let hit = Score {
+                ok: (v == t.label) as usize,
+                n: 1,
+            };
+            u.votes.add(hit);
+            if seen[truth] {
+                report.seen_votes.add(hit);
+            }
+        }
+        if seen[truth] {
+            report.seen_windows.add(windows);
+        }
+        report.by_trace.push(TraceResult {
+            name: t.name.clone(),
+            truth: t.label,
+            vote: v,
+            windows,
+            smoothed,
+        });
+    }
+    Ok(u)
+}
+
+/// `user`'s traces under the MLP trained on the other users.
+fn mlp_held_out_user(traces: &[TraceWindows], user: &str, l2: f64) -> Result<MlpScores, String> {
+    let train_set = labelled(traces.iter().filter(|t| t.user != user));
+    let m = crate::placement_mlp::train(&train_set, l2)?;
+    let mut s = MlpScores {
+        user: user.to_string(),
+        windows: Score::default(),
+        votes: Score::default(),
+    };
+    for t in traces.iter().filter(|t| t.user == user) {
+        let pred: Vec<Placement> = t.features.iter().map(|f| m.predict(f)).collect();
+        s.windows.add(Score {
+            ok: pred.iter().filter(|p| **p == t.label).count(),
+            n: pred.len(),
+        });
+        if let Some(v) = vote(&pred) {
+            s.votes.add(Score {
+                ok: (v == t.label) as usize,
+                n: 1,
+            });
+        }
+    }
+    Ok(s)
+}
+
+/// Simulated walks in placement `p` (1.3 m/s, 120 s, seeds 1–3) under `model`.
+fn simulated(model: &PlacementModel, p: PhonePlacement) -> SimResult {
+    let class = Placement::from(p);
+    let mut preds = Vec::new();
+    for seed in 1..=3u64 {
+        let mut sc = PhoneScenario::walk(seed, p, 1.3, 120.0);
+        sc.gnss = false;
+        let sim = simulate_phone(&sc);
+        let feats = trace_features(sim.samples.iter().map(|s| (s.t_s, s.accel_mps2)));
+        preds.extend(feats.iter().map(|f| predict(model, f)));
+    }
+    SimResult {
+        placement: p,
+        class,
+        windows: Score {
+            ok: preds.iter().filter(|q| **q == class).count(),
+            n: preds.len(),
+        },
+        most_often: vote(&preds),
+    }
+}
+
+/// A confusion matrix (rows: truth, columns: predicted) with each row's recall.
+fn confusion_table(m: &[[usize; CLASSES]; CLASSES]) -> Table {
+    let mut t = Table::new(
+        std::iter::once("truth \\ predicted".to_string())
+            .chain(Placement::ALL.iter().map(|p| p.to_string()))
+            .chain(std::iter::once("recall".to_string())),
+    );
+    for (i, row) in m.iter().enumerate() {
+        t.row(
+            std::iter::once(Placement::ALL[i].to_string())
+                .chain(row.iter().map(|v| v.to_string()))
+                .chain(std::iter::once(pct(row[i], row.iter().sum()))),
         );
     }
-    let _ = writeln!(out, "| **all** | | **{}** | |", pct(sok, sn));
-    Ok(out)
+    t
+}
+
+impl PlacementReport {
+    /// The report as markdown: the leave-one-user-out table (and the MLP's), the
+    /// seen-class scores, the confusion matrices, the traces, the model's cost, the
+    /// simulator.
+    fn render(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "## Phone placement, leave-one-user-out ({} Oxford traces, {} users, {} windows of 5.12 s every 1.28 s)\n",
+            self.traces, self.users, self.windows
+        );
+        out.push_str(&self.user_table().render());
+        out.push('\n');
+        if let Some((l2, rows)) = &self.mlp {
+            let _ = writeln!(
+                out,
+                "Comparison, same protocol: one-hidden-layer MLP (16 tanh units, {} bytes of parameters), L2 {l2}:\n",
+                crate::placement_mlp::Mlp::parameter_bytes(),
+            );
+            out.push_str(&mlp_table(rows).render());
+            out.push('\n');
+        }
+        let _ = writeln!(
+            out,
+            "Without the held-out traces whose class the training users never recorded: window accuracy {} ({} windows), trace accuracy {} ({} traces).\n",
+            self.seen_windows.pct(),
+            self.seen_windows.n,
+            self.seen_votes.pct(),
+            self.seen_votes.n
+        );
+        for (title, m) in [
+            (
+                "Confusion matrix, windows (rows: truth, columns: predicted)",
+                &self.confusion,
+            ),
+            (
+                "Confusion matrix, traces by majority vote",
+                &self.trace_confusion,
+            ),
+        ] {
+            let _ = writeln!(out, "{title}:\n");
+            out.push_str(&confusion_table(m).render());
+            out.push('\n');
+        }
+        let _ = writeln!(out, "Per trace (held-out model):\n");
+        out.push_str(&self.trace_table().render());
+        out.push('\n');
+        out.push_str(&self.cost_lines());
+        let _ = writeln!(
+            out,
+            "### Simulator (information only): model trained on all real traces, simulated walks at 1.3 m/s, 120 s, 3 seeds per placement\n"
+        );
+        out.push_str(&self.sim_table().render());
+        out
+    }
+
+    fn user_table(&self) -> Table {
+        let mut t = Table::new([
+            "held-out user",
+            "traces",
+            "windows",
+            "window acc.",
+            "smoothed acc.",
+            "trace acc. (vote)",
+            "classes missing from training",
+        ]);
+        let mut all = UserScores::default();
+        for u in &self.by_user {
+            t.row([
+                u.user.clone(),
+                u.traces.to_string(),
+                u.windows.n.to_string(),
+                u.windows.pct(),
+                u.smoothed.pct(),
+                u.votes.pct(),
+                if u.missing.is_empty() {
+                    "–".to_string()
+                } else {
+                    u.missing.join(", ")
+                },
+            ]);
+            all.windows.add(u.windows);
+            all.smoothed.add(u.smoothed);
+            all.votes.add(u.votes);
+        }
+        t.row([
+            "**all**".to_string(),
+            self.traces.to_string(),
+            all.windows.n.to_string(),
+            format!("**{}**", all.windows.pct()),
+            format!("**{}**", all.smoothed.pct()),
+            format!("**{}**", all.votes.pct()),
+            String::new(),
+        ]);
+        t
+    }
+
+    fn trace_table(&self) -> Table {
+        let mut t = Table::new(["trace", "truth", "vote", "window acc.", "smoothed acc."]);
+        for r in &self.by_trace {
+            t.row([
+                r.name.clone(),
+                r.truth.to_string(),
+                r.vote.map(|p| p.name()).unwrap_or("–").to_string(),
+                r.windows.pct(),
+                r.smoothed.pct(),
+            ]);
+        }
+        t
+    }
+
+    fn cost_lines(&self) -> String {
+        let c = &self.cost;
+        format!(
+            "Model: logistic regression, {FEATURES} features × {CLASSES} classes: {} bytes of parameters (f64), model file {} bytes; classifier state {} bytes (`size_of::<PlacementClassifier>()`, plus the model's comment strings on the heap).\n\
+             Cost (this machine, release build): {:.0} ns per window (features + model), {:.0} ns per sample for the whole classifier on a {:.0} Hz trace; feature extraction of all {} samples took {:.2} s.\n\n",
+            c.parameter_bytes,
+            c.file_bytes,
+            std::mem::size_of::<PlacementClassifier>(),
+            c.ns_window,
+            c.ns_sample,
+            c.rate_hz,
+            c.samples,
+            c.extract_s
+        )
+    }
+
+    fn sim_table(&self) -> Table {
+        let mut t = Table::new([
+            "simulated placement",
+            "class",
+            "window acc.",
+            "predicted most often",
+        ]);
+        let mut all = Score::default();
+        for r in &self.sim {
+            t.row([
+                format!("{:?}", r.placement),
+                r.class.to_string(),
+                r.windows.pct(),
+                r.most_often.map(|q| q.name()).unwrap_or("–").to_string(),
+            ]);
+            all.add(r.windows);
+        }
+        t.row([
+            "**all**".to_string(),
+            String::new(),
+            format!("**{}**", all.pct()),
+            String::new(),
+        ]);
+        t
+    }
+}
+
+/// The MLP's leave-one-user-out table.
+fn mlp_table(rows: &[MlpScores]) -> Table {
+    let mut t = Table::new(["held-out user", "MLP window acc.", "MLP trace acc. (vote)"]);
+    let (mut windows, mut votes) = (Score::default(), Score::default());
+    for r in rows {
+        t.row([r.user.clone(), r.windows.pct(), r.votes.pct()]);
+        windows.add(r.windows);
+        votes.add(r.votes);
+    }
+    t.row([
+        "**all**".to_string(),
+        format!("**{}**", windows.pct()),
+        format!("**{}**", votes.pct()),
+    ]);
+    t
 }
