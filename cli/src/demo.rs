@@ -757,12 +757,14 @@ fn figures(facts: &Facts, treadmill: bool) -> Vec<(&'static str, String)> {
         (
             "gnss_weight.svg",
             format!(
-                "How much each method's speed follows GNSS (1) or the steps (0). AsPublished leans \
-                 on GNSS whenever it has it (median weight {:.2} while running); {ours} uses GNSS \
-                 mostly to learn the step length, so while the runner runs its speed is the steps' \
-                 (median weight {:.2}) and GNSS errors do not reach it; at stops there are no steps \
-                 and it follows GNSS (median weight {:.2}). Without GNSS (grey) both run on the \
-                 steps (median weights {:.2} and {:.2}).",
+                "How much each method's speed rests on GNSS (1) or on the steps (0). AsPublished \
+                 leans on GNSS whenever it has it (median weight {:.2} while running); {ours} \
+                 learns its step length from GNSS and reports GNSS's share of what is known about \
+                 the last minute's pace: while the runner runs, GNSS and the learned steps share it \
+                 (median weight {:.2}), and the speed follows the steps between fixes, so GNSS \
+                 errors do not reach it; at stops there are no steps and it follows GNSS (median \
+                 weight {:.2}). Without GNSS (grey) both run on the steps (median weights {:.2} and \
+                 {:.2}).",
                 facts.weight_running[0],
                 facts.weight_running[1],
                 facts.weight_stopped,

@@ -42,6 +42,7 @@ use super::{Context, LocalFix, PaceConfig, PaceEstimate, PaceSource};
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
+use super::share::{pedometer_information, GnssChord};
 use super::walking::{is_walk, walk_weight, walking_step_m, WALK_STEP_SIGMA_M};
 
 type V8 = SVector<f64, 8>;
@@ -232,6 +233,11 @@ pub struct AdaptiveFilter {
     /// Speed-information gained from GNSS and from the pedometer at the last epoch.
     info_gnss: f64,
     info_ped: f64,
+    /// The chord of the fixes within the gate behind the reported GNSS weight (`super::share`).
+    chord: GnssChord,
+    /// The last epoch's share of the variance reduction (its fallback when an epoch
+    /// had none).
+    epoch_gnss_weight: f64,
     /// Cadence × step length from the pedometer alone, m/s (NaN before any step data):
     /// the output until GNSS gives a velocity (no GNSS at all, or before the second fix).
     ped_speed: f64,
@@ -276,6 +282,8 @@ impl AdaptiveFilter {
             gated_since_t_s: f64::NAN,
             info_gnss: 0.0,
             info_ped: 0.0,
+            chord: GnssChord::NONE,
+            epoch_gnss_weight: 1.0,
             ped_speed: f64::NAN,
             session: [0.0; 3],
             walking_gait: false,
@@ -652,6 +660,9 @@ impl AdaptiveFilter {
             Learn::level_if(trusted && !self.walking_gait),
         );
         self.info_gnss += (1.0 / self.speed_var() - 1.0 / before).max(0.0);
+        let var = self.fix_sigma(fix).powi(2) + self.params.gnss_bias_sigma_m.powi(2);
+        // A fix within the gate was used at its own variance: it speaks for the speed.
+        self.chord.on_fix(fix.t_s, var, nis <= GATE_2DOF);
         if let Some((v, acc)) = fix.speed {
             self.doppler_update(v, acc);
         }
@@ -993,15 +1004,16 @@ impl AdaptiveFilter {
             }
             _ => None,
         };
+        // Relative σ of the step length: the accelerometer model's when it sets it,
+        // else the lines'.
+        let l_run = self.x[LA].max(0.2);
+        let s_run = self.p[(LA, LA)].max(0.0).sqrt() / l_run;
+        let s_walk = cadence.map_or(0.0, |c| WALK_STEP_SIGMA_M / walking_step_m(c));
+        let s_len = from_features
+            .and(ctx.accel.and_then(|a| a.rel_sigma()))
+            .unwrap_or(walk_w * s_walk + (1.0 - walk_w) * s_run);
         let (raw, sd) = if ped_only {
-            // σ of cadence × step length: the step length's (the accelerometer
-            // model's when it sets it, else the lines') and the gait's.
-            let l_run = self.x[LA].max(0.2);
-            let s_run = self.p[(LA, LA)].max(0.0).sqrt() / l_run;
-            let s_walk = cadence.map_or(0.0, |c| WALK_STEP_SIGMA_M / walking_step_m(c));
-            let s_len = from_features
-                .and(ctx.accel.and_then(|a| a.rel_sigma()))
-                .unwrap_or(walk_w * s_walk + (1.0 - walk_w) * s_run);
+            // σ of cadence × step length: the step length's and the gait's.
             let rel = s_len.hypot(self.params.pedometer_rel_sigma);
             (self.ped_speed, rel * self.ped_speed)
         } else {
@@ -1024,8 +1036,10 @@ impl AdaptiveFilter {
         {
             self.distance_m += 0.5 * (self.out.speed_mps + speed) * dt;
         }
+        // This epoch's share of the variance reduction: what the step length below
+        // has always used (the reported weight is `reported_gnss_weight`).
         let total = self.info_gnss + self.info_ped;
-        let w = if ped_only {
+        let w_epoch = if ped_only {
             0.0
         } else if total > 0.0 {
             self.info_gnss / total
@@ -1033,7 +1047,15 @@ impl AdaptiveFilter {
             // GNSS silent, steps arriving: the pedometer carries the speed.
             0.0
         } else {
-            self.out.gnss_weight
+            self.epoch_gnss_weight
+        };
+        self.epoch_gnss_weight = w_epoch;
+        let w = if ped_only {
+            0.0
+        } else {
+            // At a stop no steps come: what is known of the pace is GNSS's.
+            let stepping = !no_steps && cadence.is_some_and(|c| c > 0.0);
+            self.reported_gnss_weight(ctx, t_out, raw, s_len, !stepping)
         };
         let learned = self.step_length_learned();
         let step_length = match (slow, cadence) {
@@ -1050,7 +1072,8 @@ impl AdaptiveFilter {
             // Not learned yet: the configured one, else the prior the pedometer speed
             // is using whenever steps carry it (a `Pedometer` or `Fused` source).
             _ => ctx.config.initial_step_length_m.or_else(|| {
-                (!no_steps && w < 0.8 && cadence.is_some()).then(|| self.x[LA].clamp(0.2, 3.0))
+                (!no_steps && w_epoch < 0.8 && cadence.is_some())
+                    .then(|| self.x[LA].clamp(0.2, 3.0))
             }),
         };
         self.out = PaceEstimate {
@@ -1071,6 +1094,36 @@ impl AdaptiveFilter {
         };
         self.info_gnss = 0.0;
         self.info_ped = 0.0;
+    }
+
+    /// The GNSS weight reported at `t_s` (`super::share`): GNSS's share of the
+    /// information about the last minute's mean speed, against the pedometer's at
+    /// `speed_mps` with a step length of relative σ `step_rel` (none when `no_steps`).
+    /// Without either, the epoch's share.
+    fn reported_gnss_weight(
+        &self,
+        ctx: &Context,
+        t_s: f64,
+        speed_mps: f64,
+        step_rel: f64,
+        no_steps: bool,
+    ) -> f64 {
+        let gnss = self.chord.information(t_s);
+        let ped = if no_steps {
+            0.0
+        } else {
+            pedometer_information(
+                speed_mps,
+                step_rel.hypot(ctx.pedometer_extra_rel_sigma),
+                self.params.pedometer_rel_sigma,
+                PED_UPDATE_INTERVAL_S,
+            )
+        };
+        if gnss + ped > 0.0 {
+            gnss / (gnss + ped)
+        } else {
+            self.epoch_gnss_weight
+        }
     }
 
     pub fn on_fix(&mut self, fix: &LocalFix, ctx: &Context) -> PaceEstimate {
@@ -1289,7 +1342,9 @@ impl AdaptiveFilter {
             self.info_gnss,
             self.info_ped,
             self.ped_speed,
+            self.epoch_gnss_weight,
         ]);
+        self.chord.write(w);
         w.f64s(&self.session);
         w.bool(self.walking_gait);
         w.bool(self.stationary);
@@ -1336,6 +1391,8 @@ impl AdaptiveFilter {
         f.info_gnss = r.f64()?;
         f.info_ped = r.f64()?;
         f.ped_speed = r.f64_or_nan()?;
+        f.epoch_gnss_weight = r.f64()?;
+        f.chord = GnssChord::read(r)?;
         r.f64s(&mut f.session)?;
         f.walking_gait = r.bool()?;
         f.stationary = r.bool()?;
@@ -1385,6 +1442,9 @@ impl AdaptiveFilter {
             || (0..p.nrows()).any(|i| p[(i, i)] > MAX_VARIANCE * (1.0 + 1e-9))
         {
             return Err("filter state out of range");
+        }
+        if !(0.0..=1.0).contains(&self.epoch_gnss_weight) {
+            return Err("GNSS weight");
         }
         let t_ok = |t: f64| t.is_nan() || t == f64::NEG_INFINITY || t.abs() <= 1e11 + 1.0;
         if ![

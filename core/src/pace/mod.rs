@@ -19,6 +19,7 @@ mod crosscheck;
 mod error;
 mod held;
 mod published;
+mod share;
 mod steps;
 mod types;
 mod walking;

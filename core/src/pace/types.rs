@@ -134,7 +134,8 @@ pub struct PaceEstimate {
     /// configured `initial_step_length_m`, else (while steps carry the speed, source
     /// `Pedometer` or `Fused`) the prior the filter is using; `None` otherwise.
     pub step_length_m: Option<f64>,
-    /// Weight of GNSS in the fused speed, 0..=1 (1 − pedometer weight).
+    /// Weight of GNSS, 0..=1 (1 − pedometer weight): in the default filter GNSS's share
+    /// of what is known about the last minute's mean speed (docs/pace.md).
     pub gnss_weight: f64,
     /// Cumulative distance since start, metres (not increased while stationary).
     pub distance_m: f64,

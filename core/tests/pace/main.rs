@@ -5,5 +5,6 @@ mod pace_accuracy;
 mod pace_behaviour;
 mod pace_crosscheck;
 mod pace_pedometer;
+mod pace_weight;
 mod steplength;
 mod steplength_outage;
