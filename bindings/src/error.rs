@@ -123,6 +123,15 @@ macro_rules! engine_error {
                 t_s: f64,
                 likely_unit: $crate::error::TimeUnit,
             },
+            /// Timestamps advance by less than a microsecond per sample, yet are not
+            /// equal: not seconds but a smaller unit (milliseconds divided by 10⁹ as if
+            /// nanoseconds give this: multiply such times by 10⁶).
+            #[error("{stream} timestamps advance by {interval_s:e} s (t = {t_s}), finer than any sensor samples: not seconds (milliseconds divided by 10⁹ as if nanoseconds give this)")]
+            TimeTooFine {
+                stream: $crate::error::SensorStream,
+                t_s: f64,
+                interval_s: f64,
+            },
             /// The clock jumped forward by more than a year within one stream (mixed
             /// clocks): start a new engine.
             #[error("{stream} sample at t = {t_s} s jumps from {last_t_s} s: the clock changed")]
@@ -148,6 +157,9 @@ macro_rules! engine_error {
                     }
                     S::TimeNotInSeconds { stream, t_s, likely_unit } => {
                         Self::TimeNotInSeconds { stream, t_s, likely_unit }
+                    }
+                    S::TimeTooFine { stream, t_s, interval_s } => {
+                        Self::TimeTooFine { stream, t_s, interval_s }
                     }
                     S::TimeJump { stream, t_s, last_t_s } => Self::TimeJump { stream, t_s, last_t_s },
                     S::Other { reason } => Self::Internal { reason },
@@ -256,6 +268,13 @@ pub enum SampleError {
         t_s: f64,
         likely_unit: TimeUnit,
     },
+    /// Timestamps advance by less than a microsecond per sample: not seconds but a
+    /// smaller unit (milliseconds divided by 10⁹ as if nanoseconds).
+    TimeTooFine {
+        stream: SensorStream,
+        t_s: f64,
+        interval_s: f64,
+    },
     /// The clock jumped forward by more than a year: start a new engine.
     TimeJump {
         stream: SensorStream,
@@ -302,6 +321,15 @@ impl From<InputError> for SampleError {
                 stream: stream.into(),
                 t_s,
                 likely_unit: likely.into(),
+            },
+            InputError::TimeTooFine {
+                stream,
+                t_s,
+                interval_s,
+            } => Self::TimeTooFine {
+                stream: stream.into(),
+                t_s,
+                interval_s,
             },
             InputError::TimeJump {
                 stream,

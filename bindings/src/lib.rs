@@ -41,7 +41,7 @@ pub use foot::{FootConfig, FootError, FootEstimate, FootNavigator};
 pub use logging::{init_android_logging, LogLevel};
 pub use pace::{
     default_pace_config, pace_calibration_from_text, pace_calibration_to_text, AccelSample,
-    AccelStepModel, BatchResult, GnssFix, PaceCalibration, PaceConfig, PaceEstimate, PaceMode,
-    PaceSample, PaceSource, PaceTracker, RejectedSample, StepSample,
+    AccelStepModel, BatchResult, GnssFix, PaceCalibration, PaceConfig, PaceEstimate, PaceFlags,
+    PaceMode, PaceSample, PaceSource, PaceTracker, RejectedSample, StepSample,
 };
 pub use packed::{ImuEvent, ImuSample};

@@ -8,8 +8,8 @@ use stridekit::packed::{FIX_RECORD_BYTES, STEP_COUNT_RECORD_BYTES};
 #[cfg(feature = "testing")]
 use stridekit::testing::simulate_run;
 use stridekit::{
-    default_pace_config, GnssFix, PaceConfig, PaceError, PaceEstimate, PaceMode, PaceSample,
-    PaceSource, PaceTracker, SensorStream, StepSample,
+    default_pace_config, GnssFix, PaceConfig, PaceError, PaceEstimate, PaceFlags, PaceMode,
+    PaceSample, PaceSource, PaceTracker, SensorStream, StepSample,
 };
 use stridekit_core::pace as core;
 
@@ -141,6 +141,11 @@ fn records_round_trip_through_core_types() {
         gnss_weight: 0.5,
         distance_m: 42.0,
         source: PaceSource::Fused,
+        flags: PaceFlags {
+            cadence_doubled: true,
+            cadence_may_be_strides: false,
+            pedometer_disagrees: true,
+        },
     };
     assert_eq!(PaceEstimate::from(core::PaceEstimate::from(e)), e);
 }

@@ -16,18 +16,38 @@
 //!   The same policy in every engine: an equal timestamp is not merged, it is refused
 //!   quietly (no log line) and the state is unchanged; replay tools count such
 //!   samples by reason.
-//! - **Time units** ([`InputError::TimeUnit`], [`InputError::TimeJump`]): `t_s` is in
-//!   seconds. Milliseconds and nanoseconds are common mistakes (Android's
-//!   `SensorEvent.timestamp` is nanoseconds, `Location.getTime()` milliseconds).
-//!   Refused are: |t_s| > [`limits::MAX_ABS_T_S`] (10¹¹ s, 3 000 years: Unix time in
-//!   seconds passes, Unix time in milliseconds and nanoseconds since boot after
-//!   100 s of uptime do not); a forward jump of more than [`limits::MAX_TIME_JUMP_S`]
-//!   (about a year: mixed clocks) from the previous sample of the stream; and, on high-rate
-//!   streams (IMU, accelerometer), a third interval in a row longer than
-//!   [`limits::SLOW_IMU_INTERVAL_S`] (1 s: a 50–500 Hz stream in milliseconds has
-//!   intervals of 2–20 "seconds"), on GNSS a third interval in a row longer than
-//!   [`limits::SLOW_GNSS_INTERVAL_S`] (150 s: a 1 Hz receiver in milliseconds reports
-//!   every 1 000 "seconds"). The error names the likely unit.
+//! - **Time units** ([`InputError::TimeUnit`], [`InputError::TimeTooFine`],
+//!   [`InputError::TimeJump`]): `t_s` is in seconds. Milliseconds and nanoseconds are
+//!   common mistakes (Android's `SensorEvent.timestamp` is nanoseconds,
+//!   `Location.getTime()` milliseconds). Refused are:
+//!   - |t_s| > [`limits::MAX_ABS_T_S`] (10¹¹ s, 3 000 years: Unix time in seconds
+//!     passes, Unix time in milliseconds and nanoseconds since boot after 100 s of
+//!     uptime do not), from the first sample;
+//!   - a forward jump of more than [`limits::MAX_TIME_JUMP_S`] (about a year: mixed
+//!     clocks) from the previous sample of the stream;
+//!   - a third interval in a row longer than the stream's slow limit: 1 s on
+//!     high-rate streams (IMU, accelerometer: a 50–500 Hz stream in milliseconds has
+//!     intervals of 2–20 "seconds"), 150 s on GNSS (a 1 Hz receiver in milliseconds
+//!     reports every 1 000 "seconds"), and on step streams 150 s until the stream has
+//!     shown one shorter interval (steps at 0.3–1 s are 300–1 000 "seconds" apart in
+//!     milliseconds; later, a long stop is no unit mistake). The unit the error names
+//!     is judged from the run's first slow interval, so every refusal of one stream
+//!     names the same unit, however long ago the last accepted sample is;
+//!   - a positive interval below [`limits::MIN_INTERVAL_S`] (1 µs) that is not the
+//!     rounding of equal times, before the stream is established
+//!     ([`InputError::TimeTooFine`]): no sensor samples at a MHz; milliseconds
+//!     divided by 10⁹ as if nanoseconds give this. Once a stream has shown its rate,
+//!     such an interval is a duplicate (jitter, a batch), as below.
+//!
+//!   **The first samples.** A unit cannot be told from one time alone (4 000 may be
+//!   seconds since boot or milliseconds of a stream that started 4 s ago): it is
+//!   known once the stream shows an interval within its limits, neither slow nor
+//!   faster than its kind of sensor samples ([`TimeGuard::established`]). An engine that must not let a sample of a wrong
+//!   unit change anything holds the stream's samples until then, and drops them when
+//!   the stream is refused: the pace tracker does so for GNSS and steps (at most 3
+//!   samples; with a normal first interval the first sample waits for the second).
+//!   Every other engine uses its first samples at once: a stream in a wrong unit is
+//!   refused from its fourth sample on, and the first three are all it ever used.
 //! - **Accelerations in g** ([`InputError::AccelerationInG`]): engines that can tell
 //!   (a mean |a| near 1 instead of near 9.8) refuse such streams; the heuristics
 //!   belong to each engine, the error is this one.
@@ -64,6 +84,13 @@ pub mod limits {
     pub const SLOW_IMU_INTERVAL_S: f64 = 1.0;
     /// A GNSS interval longer than this is "slow", s; the third in a row is refused.
     pub const SLOW_GNSS_INTERVAL_S: f64 = 150.0;
+    /// A step-stream interval longer than this before the stream showed a shorter one
+    /// is "slow", s; the third in a row from the start is refused.
+    pub const SLOW_STEPS_INTERVAL_S: f64 = 150.0;
+    /// Intervals shorter than these do not show a stream's unit is seconds, s (an IMU
+    /// at 10 kHz; GNSS or step data at 100 Hz): see [`super::TimeGuard::established`].
+    pub const FAST_IMU_INTERVAL_S: f64 = 1e-4;
+    pub const FAST_LOW_RATE_INTERVAL_S: f64 = 1e-2;
     /// Slow intervals in a row accepted before the next is refused.
     pub const SLOW_INTERVALS_ACCEPTED: u8 = 2;
     /// GNSS latitude, degrees.
@@ -102,15 +129,36 @@ pub enum Stream {
 }
 
 impl Stream {
-    /// How fast samples of this stream normally come: high-rate streams get the
-    /// slow-interval unit check.
-    fn slow_interval_s(self) -> Option<f64> {
+    /// The slow limit of this stream's intervals (see the module docs), once the
+    /// stream is `established` or before; `None`: no slow-interval check.
+    fn slow_interval_s(self, established: bool) -> Option<f64> {
         match self {
             Stream::Accelerometer | Stream::Imu | Stream::Gyroscope | Stream::Magnetometer => {
                 Some(limits::SLOW_IMU_INTERVAL_S)
             }
             Stream::Gnss => Some(limits::SLOW_GNSS_INTERVAL_S),
-            Stream::Steps => None,
+            // A stop of minutes is normal for steps, but not between the first ones.
+            Stream::Steps => (!established).then_some(limits::SLOW_STEPS_INTERVAL_S),
+        }
+    }
+
+    /// The shortest interval that shows this stream's unit is seconds, s: the
+    /// fastest such sensors sample (an IMU at 10 kHz, a receiver or a pedometer at
+    /// 100 Hz).
+    fn fast_interval_s(self) -> f64 {
+        match self {
+            Stream::Accelerometer | Stream::Imu | Stream::Gyroscope | Stream::Magnetometer => {
+                limits::FAST_IMU_INTERVAL_S
+            }
+            Stream::Gnss | Stream::Steps => limits::FAST_LOW_RATE_INTERVAL_S,
+        }
+    }
+
+    /// The usual interval of this stream, s: what a wrong unit is judged against.
+    fn nominal_interval_s(self) -> f64 {
+        match self {
+            Stream::Accelerometer | Stream::Imu | Stream::Gyroscope | Stream::Magnetometer => 0.01,
+            Stream::Gnss | Stream::Steps => 1.0,
         }
     }
 }
@@ -146,6 +194,24 @@ impl LikelyTimeUnit {
             LikelyTimeUnit::Microseconds
         } else {
             LikelyTimeUnit::Milliseconds
+        }
+    }
+
+    /// The unit as a small number (1–3) for [`TimeGuard`]'s snapshot byte.
+    fn code(self) -> u8 {
+        match self {
+            LikelyTimeUnit::Milliseconds => 1,
+            LikelyTimeUnit::Microseconds => 2,
+            LikelyTimeUnit::Nanoseconds => 3,
+        }
+    }
+
+    fn from_code(code: u8) -> Option<Self> {
+        match code {
+            1 => Some(LikelyTimeUnit::Milliseconds),
+            2 => Some(LikelyTimeUnit::Microseconds),
+            3 => Some(LikelyTimeUnit::Nanoseconds),
+            _ => None,
         }
     }
 
@@ -211,6 +277,20 @@ pub enum InputError {
         interval_s: f64,
         likely: LikelyTimeUnit,
     },
+    /// The timestamps advance by less than a microsecond per sample, yet are not
+    /// equal: no sensor samples at a MHz, so they are not seconds but a smaller unit
+    /// (milliseconds divided by 10⁹ as if they were nanoseconds give this). Named the
+    /// same way however far the refused sample is from the last accepted one.
+    #[error(
+        "{stream} timestamps advance by {interval_s:e} s (t = {t_s}), finer than any sensor \
+         samples: they are not seconds (milliseconds divided by 10⁹ as if nanoseconds give \
+         this; multiply such times by 10⁶)"
+    )]
+    TimeTooFine {
+        stream: Stream,
+        t_s: f64,
+        interval_s: f64,
+    },
     /// The clock jumped forward by more than a year within one stream (mixed
     /// clocks, e.g. time since boot and Unix time): start a new engine.
     #[error(
@@ -232,6 +312,16 @@ pub enum InputError {
 }
 
 impl InputError {
+    /// A refusal of the stream's time unit ([`InputError::TimeUnit`],
+    /// [`InputError::TimeTooFine`]): once one sample of a stream is refused so, the
+    /// stream is in the wrong unit, and a replay should say so and fail.
+    pub fn is_time_unit(&self) -> bool {
+        matches!(
+            self,
+            InputError::TimeUnit { .. } | InputError::TimeTooFine { .. }
+        )
+    }
+
     /// A timestamp equal to the previous one (as opposed to one going backwards).
     pub fn is_duplicate_time(&self) -> bool {
         matches!(self, InputError::TimeNotIncreasing { t_s, last_t_s, .. }
@@ -239,15 +329,15 @@ impl InputError {
     }
 
     /// A short stable name of the reason, for counting rejections (`"non_finite"`,
-    /// `"out_of_range"`, `"duplicate_time"`, `"time_backwards"`, `"time_unit"`,
-    /// `"time_jump"`, `"accel_in_g"`).
+    /// `"out_of_range"`, `"duplicate_time"`, `"time_backwards"`, `"time_unit"` (also
+    /// [`InputError::TimeTooFine`]), `"time_jump"`, `"accel_in_g"`).
     pub fn reason(&self) -> &'static str {
         match self {
             InputError::NonFinite { .. } => "non_finite",
             InputError::OutOfRange { .. } => "out_of_range",
             InputError::TimeNotIncreasing { .. } if self.is_duplicate_time() => "duplicate_time",
             InputError::TimeNotIncreasing { .. } => "time_backwards",
-            InputError::TimeUnit { .. } => "time_unit",
+            InputError::TimeUnit { .. } | InputError::TimeTooFine { .. } => "time_unit",
             InputError::TimeJump { .. } => "time_jump",
             InputError::AccelerationInG { .. } => "accel_in_g",
         }
@@ -398,6 +488,9 @@ pub fn time_increasing(
     Ok(Some(dt))
 }
 
+/// Intervals within this many units in the last place of the times are equal times.
+const ROUNDING_ULPS: f64 = 4.0;
+
 /// [`time_increasing`] and no jump of years.
 #[inline]
 pub fn time_after(
@@ -418,15 +511,27 @@ pub fn time_after(
     Ok(dt)
 }
 
-/// The time state of one input stream: the last accepted time and how many slow
-/// intervals in a row led to it. `Copy`, two numbers; engines keep one per stream and
-/// write it into their snapshots.
+/// The time state of one input stream: the last accepted time, how many slow
+/// intervals in a row led to it (and the unit the first of them pointed to), and
+/// whether the stream has shown an interval within its limits. `Copy`, a few bytes;
+/// engines keep one per stream and write it into their snapshots.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TimeGuard {
     stream: Stream,
     last_t_s: Option<f64>,
     slow_run: u8,
+    /// The unit the first slow interval of the current run pointed to (`None` while
+    /// the run is empty).
+    slow_unit: Option<LikelyTimeUnit>,
+    /// An interval within the stream's limits was accepted: its unit is seconds.
+    established: bool,
 }
+
+/// Bits of [`TimeGuard`]'s snapshot byte: the slow run (0–2), the established flag,
+/// the slow run's unit (0: none, 1–3: ms, µs, ns).
+const GUARD_RUN_BITS: u8 = 0b11;
+const GUARD_ESTABLISHED_BIT: u8 = 0b100;
+const GUARD_UNIT_SHIFT: u8 = 3;
 
 impl TimeGuard {
     pub const fn new(stream: Stream) -> Self {
@@ -434,6 +539,8 @@ impl TimeGuard {
             stream,
             last_t_s: None,
             slow_run: 0,
+            slow_unit: None,
+            established: false,
         }
     }
 
@@ -446,24 +553,57 @@ impl TimeGuard {
         self.last_t_s
     }
 
+    /// Whether the stream has shown an interval within its limits (its unit is
+    /// seconds): until then, a stream in a wrong unit cannot be told from one that
+    /// started with pauses, and an engine that must not use such samples holds them
+    /// (see the module docs).
+    pub fn established(&self) -> bool {
+        self.established
+    }
+
+    /// A sub-microsecond interval before the stream was established, not the rounding
+    /// of equal times, is a unit mistake ([`InputError::TimeTooFine`]); once the
+    /// stream has shown its rate, it is a duplicate (jitter, a batch), as `e` says.
+    fn too_fine(&self, e: InputError, t_s: f64) -> InputError {
+        let Some(last) = self.last_t_s else {
+            return e;
+        };
+        let dt = t_s - last;
+        let rounding = ROUNDING_ULPS * f64::EPSILON * t_s.abs().max(last.abs());
+        if self.established || !(dt > rounding && dt < limits::MIN_INTERVAL_S) {
+            return e;
+        }
+        InputError::TimeTooFine {
+            stream: self.stream,
+            t_s,
+            interval_s: dt,
+        }
+    }
+
+    /// The unit an interval `dt` (s) of this stream points to.
+    fn unit_of(&self, dt: f64) -> LikelyTimeUnit {
+        LikelyTimeUnit::from_ratio(dt / self.stream.nominal_interval_s())
+    }
+
     /// Whether `t_s` may follow; nothing changes. On success returns the interval
     /// since the previous accepted sample (None for the first).
     #[inline]
     pub fn check(&self, t_s: f64) -> Result<Option<f64>, InputError> {
         let stream = self.stream;
-        let Some(dt) = time_increasing(stream, t_s, self.last_t_s)? else {
+        let Some(dt) =
+            time_increasing(stream, t_s, self.last_t_s).map_err(|e| self.too_fine(e, t_s))?
+        else {
             return Ok(None);
         };
-        if let Some(slow) = stream.slow_interval_s() {
+        if let Some(slow) = stream.slow_interval_s(self.established) {
             if dt > slow && self.slow_run >= limits::SLOW_INTERVALS_ACCEPTED {
-                // What the interval would be in seconds if it were ms: a 50–500 Hz
-                // stream has intervals of 2–20 ms, a 1 Hz receiver 1 000 ms.
-                let nominal_s = if stream == Stream::Gnss { 1.0 } else { 0.01 };
+                // The run's first slow interval names the unit: later refusals, ever
+                // further from the last accepted sample, name the same one.
                 return Err(InputError::TimeUnit {
                     stream,
                     t_s,
                     interval_s: dt,
-                    likely: LikelyTimeUnit::from_ratio(dt / nominal_s),
+                    likely: self.slow_unit.unwrap_or_else(|| self.unit_of(dt)),
                 });
             }
         }
@@ -473,12 +613,24 @@ impl TimeGuard {
     /// Record an accepted sample (after [`check`](Self::check) passed).
     #[inline]
     pub fn accept(&mut self, t_s: f64) {
-        if let (Some(last), Some(slow)) = (self.last_t_s, self.stream.slow_interval_s()) {
-            self.slow_run = if t_s - last > slow {
-                self.slow_run.saturating_add(1)
-            } else {
-                0
-            };
+        if let Some(last) = self.last_t_s {
+            let dt = t_s - last;
+            match self.stream.slow_interval_s(self.established) {
+                Some(slow) if dt > slow => {
+                    if self.slow_run == 0 {
+                        self.slow_unit = Some(self.unit_of(dt));
+                    }
+                    self.slow_run = self.slow_run.saturating_add(1);
+                }
+                _ => {
+                    self.slow_run = 0;
+                    self.slow_unit = None;
+                    // Faster than the stream's kind ever samples (milliseconds read as
+                    // nanoseconds reach a microsecond every few hundred samples)
+                    // establishes nothing.
+                    self.established |= dt >= self.stream.fast_interval_s();
+                }
+            }
         }
         self.last_t_s = Some(t_s);
     }
@@ -493,13 +645,29 @@ impl TimeGuard {
 
     /// Forget the stream's time (a new session on the same engine).
     pub fn reset(&mut self) {
-        self.last_t_s = None;
-        self.slow_run = 0;
+        *self = Self::new(self.stream);
     }
 
     pub fn write(&self, w: &mut Writer) {
-        w.opt_f64(self.last_t_s);
-        w.u8(self.slow_run);
+        // Exhaustive on purpose: a new field must be written.
+        let Self {
+            stream: _,
+            last_t_s,
+            slow_run,
+            slow_unit,
+            established,
+        } = self;
+        w.opt_f64(*last_t_s);
+        // One byte, as before the flag and the unit were added: a snapshot of an
+        // earlier build reads as "not established, no unit".
+        let unit = slow_unit.map_or(0, LikelyTimeUnit::code);
+        w.u8((*slow_run & GUARD_RUN_BITS)
+            | if *established {
+                GUARD_ESTABLISHED_BIT
+            } else {
+                0
+            }
+            | unit << GUARD_UNIT_SHIFT);
     }
 
     /// Reads what [`write`](Self::write) wrote; the time must be finite and within the
@@ -511,14 +679,18 @@ impl TimeGuard {
                 return Err(SnapshotError::Invalid("last sample time"));
             }
         }
-        let slow_run = r.u8()?;
-        if slow_run > limits::SLOW_INTERVALS_ACCEPTED {
+        let byte = r.u8()?;
+        let slow_run = byte & GUARD_RUN_BITS;
+        let unit = byte >> GUARD_UNIT_SHIFT;
+        if slow_run > limits::SLOW_INTERVALS_ACCEPTED || unit > 3 {
             return Err(SnapshotError::Invalid("slow-interval count"));
         }
         Ok(Self {
             stream,
             last_t_s,
             slow_run,
+            slow_unit: LikelyTimeUnit::from_code(unit),
+            established: byte & GUARD_ESTABLISHED_BIT != 0,
         })
     }
 }
@@ -706,6 +878,83 @@ mod tests {
     }
 
     #[test]
+    fn every_refusal_of_a_stream_names_the_unit_of_its_first_slow_interval() {
+        // 1 Hz GNSS in milliseconds: refused from the fourth fix on, and however far
+        // the refused fixes get from the last accepted one (30 000 "s" would read as
+        // microseconds), the unit named stays milliseconds.
+        let mut g = TimeGuard::new(Stream::Gnss);
+        for k in 0..3 {
+            g.advance(1000.0 * k as f64).unwrap();
+        }
+        assert!(!g.established());
+        for k in 3..100 {
+            let e = g.check(1000.0 * k as f64).unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    InputError::TimeUnit {
+                        likely: LikelyTimeUnit::Milliseconds,
+                        ..
+                    }
+                ),
+                "fix {k}: {e}"
+            );
+            assert!(e.is_time_unit());
+        }
+    }
+
+    #[test]
+    fn step_times_in_milliseconds_are_refused_until_a_normal_interval() {
+        // Step events 0.4 s apart, in milliseconds.
+        let mut g = TimeGuard::new(Stream::Steps);
+        g.advance(0.0).unwrap();
+        g.advance(400.0).unwrap();
+        g.advance(800.0).unwrap();
+        let e = g.check(1200.0).unwrap_err();
+        assert!(matches!(
+            e,
+            InputError::TimeUnit {
+                stream: Stream::Steps,
+                likely: LikelyTimeUnit::Milliseconds,
+                ..
+            }
+        ));
+        // In seconds, once established, a stop of ten minutes is no unit mistake.
+        let mut g = TimeGuard::new(Stream::Steps);
+        g.advance(10.0).unwrap();
+        g.advance(10.4).unwrap();
+        assert!(g.established());
+        for k in 1..10 {
+            g.advance(10.4 + 600.0 * k as f64).unwrap();
+        }
+        // A first stop of minutes, then steps: established at the first short interval.
+        let mut g = TimeGuard::new(Stream::Steps);
+        g.advance(5.0).unwrap();
+        g.advance(200.0).unwrap();
+        assert!(!g.established());
+        g.advance(200.5).unwrap();
+        assert!(g.established());
+    }
+
+    #[test]
+    fn intervals_under_a_microsecond_are_a_unit_not_a_duplicate() {
+        // Milliseconds since boot divided by 10⁹ (as if nanoseconds): 5 ms → 5e-9 s.
+        let mut g = TimeGuard::new(Stream::Accelerometer);
+        g.advance(0.012).unwrap();
+        let e = g.check(0.012 + 5e-9).unwrap_err();
+        assert!(matches!(e, InputError::TimeTooFine { .. }), "{e:?}");
+        assert_eq!(e.reason(), "time_unit");
+        assert!(e.to_string().contains("milliseconds"), "{e}");
+        // Equal times, and times equal to the rounding of Unix seconds, are duplicates.
+        assert!(g.check(0.012).unwrap_err().is_duplicate_time());
+        let mut g = TimeGuard::new(Stream::Imu);
+        let t = 1.7e9;
+        g.advance(t).unwrap();
+        let next = t + 2.4e-7; // one unit in the last place
+        assert!(g.check(next).unwrap_err().is_duplicate_time());
+    }
+
+    #[test]
     fn a_jump_of_years_is_a_clock_change() {
         let mut g = TimeGuard::new(Stream::Steps);
         g.advance(163.0).unwrap();
@@ -792,5 +1041,16 @@ mod tests {
         let bytes = w.finish();
         let (mut r, _) = Reader::new(&bytes, 99, 1).unwrap();
         assert_eq!(TimeGuard::read(&mut r, Stream::Imu).unwrap(), g);
+        // An established stream in a slow run keeps its unit and its flag.
+        let mut g = TimeGuard::new(Stream::Gnss);
+        g.advance(1.0).unwrap();
+        g.advance(2.0).unwrap();
+        g.advance(2000.0).unwrap();
+        assert!(g.established());
+        let mut w = Writer::new(99, 1);
+        g.write(&mut w);
+        let bytes = w.finish();
+        let (mut r, _) = Reader::new(&bytes, 99, 1).unwrap();
+        assert_eq!(TimeGuard::read(&mut r, Stream::Gnss).unwrap(), g);
     }
 }

@@ -33,8 +33,8 @@ pub use foot::{FootConfig, FootError, FootEstimate, FootNavigator, FootSample};
 pub use input::InputError;
 pub use odometry::{OdometryConfig, OdometryError, OdometryEstimate, PhoneOdometry};
 pub use pace::{
-    AccelStepModel, GnssFix, PaceCalibration, PaceConfig, PaceError, PaceEstimate, PaceMode,
-    PaceSample, PaceSource, PaceTracker, Rejection, StepSample,
+    AccelStepModel, GnssFix, PaceCalibration, PaceConfig, PaceError, PaceEstimate, PaceFlags,
+    PaceMode, PaceSample, PaceSource, PaceTracker, Rejection, StepSample,
 };
 pub use pdr::{NavError, NavEstimate, NavigatorConfig, PdrCalibration, PhoneNavigator};
 pub use placement::{PlacementClassifier, PlacementError, PlacementEstimate};

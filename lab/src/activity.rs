@@ -2,6 +2,7 @@
 
 use crate::pace::{degrade_track, TrackPoint};
 use stridekit_core::geo::LocalFrame;
+use stridekit_core::input;
 use stridekit_core::{GnssFix, PaceSample, StepSample};
 use stridekit_formats::{Activity, Record};
 use stridekit_sim::Zone;
@@ -46,9 +47,18 @@ fn step_of(r: &Record, t: f64) -> Option<StepSample> {
 }
 
 /// Samples of an activity: one step sample (count or cadence) and one fix per record
-/// where present, steps first.
+/// where present, steps first. Times are made relative to the first record, unless
+/// they are not seconds at all (Unix time in milliseconds or nanoseconds, by the input
+/// layer's magnitude rule): then they go to the engine as they are, and its input
+/// checks refuse every sample from the first, naming the unit (the relative times of
+/// such a file would hide it until the third interval).
 pub fn prepare(activity: &Activity) -> Prepared {
-    let t0 = activity.records.first().map(|r| r.t_s).unwrap_or(0.0);
+    let t0 = activity
+        .records
+        .first()
+        .map(|r| r.t_s)
+        .filter(|&t| input::time_increasing(input::Stream::Gnss, t, None).is_ok())
+        .unwrap_or(0.0);
     let mut samples = Vec::with_capacity(2 * activity.records.len());
     let mut track = Vec::new();
     let mut frame: Option<LocalFrame> = None;

@@ -11,6 +11,7 @@ pub mod pace;
 pub mod pace_device;
 pub mod pace_eval;
 pub mod pdr;
+pub mod perturb;
 pub mod placement;
 pub mod placement_eval;
 pub mod placement_mlp;

@@ -18,6 +18,9 @@ use stridekit_core::PaceError;
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Rejected {
     by_reason: BTreeMap<String, u64>,
+    /// Of them, samples refused for their stream's time unit
+    /// ([`InputError::is_time_unit`]).
+    time_unit: u64,
     /// Refusals for a stream's units, by stream name (`GNSS`, `step`, `accelerometer`,
     /// `IMU`).
     units: BTreeMap<String, UnitRefusal>,
@@ -41,6 +44,14 @@ pub fn unit_refusal(e: &InputError, accel_stream: &str) -> Option<(String, Strin
             format!(
                 "{stream} timestamps are not seconds: they look like {likely} (divide by {})",
                 likely.per_second()
+            ),
+        )),
+        InputError::TimeTooFine { stream, .. } => Some((
+            stream.to_string(),
+            format!(
+                "{stream} timestamps are not seconds: they advance by less than a microsecond \
+                 per sample, finer than any sensor samples (milliseconds divided by 10⁹ as if \
+                 nanoseconds? multiply by 10⁶)"
             ),
         )),
         InputError::AccelerationInG { .. } => Some((
@@ -73,6 +84,10 @@ pub fn input_reason(e: &InputError) -> String {
         InputError::TimeUnit { stream, likely, .. } => {
             format!("{stream} timestamps look like {likely}, not seconds")
         }
+        InputError::TimeTooFine { stream, .. } => format!(
+            "{stream} timestamps finer than any sensor samples: not seconds \
+             (milliseconds divided by 10⁹ as if nanoseconds?)"
+        ),
         InputError::TimeJump { stream, .. } => {
             format!("{stream} stream: clock jumped by more than a year")
         }
@@ -108,6 +123,9 @@ impl Rejected {
 
     /// [`Rejected::input`], accelerations coming in `accel_stream`.
     pub fn input_in(&mut self, e: &InputError, accel_stream: &str) {
+        if e.is_time_unit() {
+            self.time_unit += 1;
+        }
         match unit_refusal(e, accel_stream) {
             Some((stream, message)) => {
                 self.units
@@ -120,6 +138,13 @@ impl Rejected {
             }
             None => self.add(input_reason(e)),
         }
+    }
+
+    /// Samples refused because their stream's timestamps are not seconds: a replay
+    /// with any has a stream in the wrong unit (its other samples of that stream were
+    /// held or refused too) and should fail, naming the unit (the reasons say it).
+    pub fn time_unit(&self) -> u64 {
+        self.time_unit
     }
 
     pub fn pace(&mut self, e: &PaceError) {
@@ -203,6 +228,7 @@ mod tests {
             field: "accel_x_mps2",
         }));
         assert_eq!(r.total(), 4);
+        assert_eq!(r.time_unit(), 0);
         let text = r.report();
         assert!(
             text.contains("skipped 2: accelerometer stream: duplicate timestamp"),

@@ -93,6 +93,15 @@ fn nav_input(e: crate::phone::navigator::NavError) -> MapError {
             t_s,
             likely_unit,
         },
+        N::TimeTooFine {
+            stream,
+            t_s,
+            interval_s,
+        } => MapError::TimeTooFine {
+            stream,
+            t_s,
+            interval_s,
+        },
         N::TimeJump {
             stream,
             t_s,

@@ -7,6 +7,6 @@ pub mod types;
 pub use tracker::{BatchResult, PaceTracker, RejectedSample};
 pub use types::{
     default_pace_config, pace_calibration_from_text, pace_calibration_to_text, AccelSample,
-    AccelStepModel, GnssFix, PaceCalibration, PaceConfig, PaceEstimate, PaceMode, PaceSample,
-    PaceSource, StepSample,
+    AccelStepModel, GnssFix, PaceCalibration, PaceConfig, PaceEstimate, PaceFlags, PaceMode,
+    PaceSample, PaceSource, StepSample,
 };

@@ -216,6 +216,56 @@ pub struct PaceEstimate {
     pub distance_m: f64,
     /// Where the speed comes from.
     pub source: PaceSource,
+    /// What the cross-checks between GNSS and the steps found (all false while the
+    /// sources agree).
+    pub flags: PaceFlags,
+}
+
+/// What the tracker's cross-checks between GNSS and the steps found (docs/pace.md,
+/// "Cross-checks"); each flag is the state at the estimate's time.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, uniffi::Record)]
+pub struct PaceFlags {
+    /// GNSS showed that the step data counts strides (one foot), not steps: the step
+    /// stream is doubled from then on; cadence, step length and speed are for steps.
+    pub cadence_doubled: bool,
+    /// No GNSS has checked the cadence and it has stayed at 60–100 per minute for a
+    /// minute: a slow walk, or strides per minute given as steps per minute (speed
+    /// about half the truth). Nothing is corrected.
+    pub cadence_may_be_strides: bool,
+    /// GNSS and cadence × step length disagreed by more than a factor of 1.35 over the
+    /// last minute of good fixes: the pedometer's weight is lowered and, while running,
+    /// the step length learned again, until they agree.
+    pub pedometer_disagrees: bool,
+}
+
+impl From<core::PaceFlags> for PaceFlags {
+    fn from(f: core::PaceFlags) -> Self {
+        let core::PaceFlags {
+            cadence_doubled,
+            cadence_may_be_strides,
+            pedometer_disagrees,
+        } = f;
+        Self {
+            cadence_doubled,
+            cadence_may_be_strides,
+            pedometer_disagrees,
+        }
+    }
+}
+
+impl From<PaceFlags> for core::PaceFlags {
+    fn from(f: PaceFlags) -> Self {
+        let PaceFlags {
+            cadence_doubled,
+            cadence_may_be_strides,
+            pedometer_disagrees,
+        } = f;
+        Self {
+            cadence_doubled,
+            cadence_may_be_strides,
+            pedometer_disagrees,
+        }
+    }
 }
 
 impl From<core::PaceEstimate> for PaceEstimate {
@@ -230,6 +280,7 @@ impl From<core::PaceEstimate> for PaceEstimate {
             gnss_weight: e.gnss_weight,
             distance_m: e.distance_m,
             source: e.source.into(),
+            flags: e.flags.into(),
         }
     }
 }
@@ -246,6 +297,7 @@ impl From<PaceEstimate> for core::PaceEstimate {
             gnss_weight: e.gnss_weight,
             distance_m: e.distance_m,
             source: e.source.into(),
+            flags: e.flags.into(),
         }
     }
 }

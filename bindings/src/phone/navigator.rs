@@ -87,6 +87,12 @@ pub struct NavEstimate {
     pub steps: i64,
     pub distance_m: f64,
     pub step_length_m: Option<f64>,
+    /// Factor on every step length since GNSS stretches disagreed with them by more
+    /// than 1.35× (1 until then).
+    pub step_scale: f64,
+    /// GNSS and the step lengths disagree by a factor now; the scale is being
+    /// corrected.
+    pub step_scale_disagrees: bool,
 }
 
 impl From<core::NavEstimate> for NavEstimate {
@@ -103,6 +109,8 @@ impl From<core::NavEstimate> for NavEstimate {
             steps: i64::try_from(e.steps).unwrap_or(i64::MAX),
             distance_m: e.distance_m,
             step_length_m: e.step_length_m,
+            step_scale: e.step_scale,
+            step_scale_disagrees: e.step_scale_disagrees,
         }
     }
 }

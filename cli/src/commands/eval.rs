@@ -150,6 +150,52 @@ pub enum Eval {
         #[arg(long)]
         quick: bool,
     },
+    /// Perturbed copies of the development recordings (the robustness bench).
+    ///
+    /// Replays every development recording of one engine under controlled, seeded
+    /// perturbations (vibration, magnetometer offsets and drifts, gyroscope bias steps
+    /// and scale errors, sample rate, jitter, dropped bursts, clipping, other walking
+    /// speeds), each swept over a range, and prints per recording the error against the
+    /// unperturbed one, a summary per perturbation and the worst 5 % of the cases.
+    Perturb {
+        /// Which engine to sweep.
+        #[arg(long, value_enum)]
+        engine: PerturbEngine,
+        /// Its recordings (default: the engine's shared data folder).
+        #[arg(long, value_name = "DIR")]
+        data: Option<PathBuf>,
+        /// One level per kind of perturbation (the middle one).
+        #[arg(long)]
+        quick: bool,
+    },
+}
+
+/// The engines `eval perturb` sweeps.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum PerturbEngine {
+    /// The default AHRS on the BROAD trials.
+    Orientation,
+    /// The foot navigator on the VICON trials.
+    Foot,
+    /// The step detector on the Oxford traces.
+    Steps,
+    /// The phone navigator on the indoor walks.
+    Pdr,
+    /// The pace tracker on the real runs.
+    Pace,
+}
+
+impl From<PerturbEngine> for stridekit_lab::perturb::Engine {
+    fn from(e: PerturbEngine) -> Self {
+        use stridekit_lab::perturb::Engine as E;
+        match e {
+            PerturbEngine::Orientation => E::Orientation,
+            PerturbEngine::Foot => E::Foot,
+            PerturbEngine::Steps => E::Steps,
+            PerturbEngine::Pdr => E::Pdr,
+            PerturbEngine::Pace => E::Pace,
+        }
+    }
 }
 
 /// `--drop`: comma-separated placement feature names (checked by clap: exit 2).
@@ -259,6 +305,20 @@ pub fn run(e: Eval) -> Result<(), Failure> {
                     quick,
                 },
             )?
+        }
+        Eval::Perturb {
+            engine,
+            data,
+            quick,
+        } => {
+            let engine: stridekit_lab::perturb::Engine = engine.into();
+            let d = data_dir(data, engine.data_folder(), "the engine's recordings")?;
+            let report = stridekit_lab::perturb::run(&stridekit_lab::perturb::PerturbArgs {
+                engine,
+                data: d,
+                quick,
+            })?;
+            stridekit_lab::perturb::render(&report)
         }
     };
     println!("{text}");

@@ -11,9 +11,10 @@
 //! `reinitialised`), keeping the learned gyroscope bias.
 //!
 //! # Snapshot format
-//! Version 3 (this build): the settings (algorithm included), the door (the input
+//! Version 4 (this build): the settings (algorithm included), the door (the input
 //! layer's time state and g-units check), the latest acceleration and flags, then the
-//! filter's state. One layout per build: snapshots of other versions are refused with
+//! filter's state (4: the decoupled filter's heading variance, trusted dip, typical
+//! interval and gyroscope plateau). One layout per build: snapshots of other versions are refused with
 //! [`SnapshotError::UnsupportedVersion`].
 
 use super::decoupled::{Decoupled, DecoupledSettings};
@@ -30,9 +31,10 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Snapshot engine kind byte for the AHRS.
 const SNAPSHOT_KIND: u8 = 2;
-/// Snapshot format version written by this build (3: the input layer's time state and
-/// g-units check; 2: both filters; 1: Madgwick only).
-const SNAPSHOT_VERSION: u16 = 3;
+/// Snapshot format version written by this build (4: the decoupled filter's gap,
+/// plateau, trusted-dip and heading-variance state; 3: the input layer's time state and g-units
+/// check; 2: both filters; 1: Madgwick only).
+const SNAPSHOT_VERSION: u16 = 4;
 
 // Not boxed: the state is a few hundred bytes, created once, and an indirection
 // would sit on every update.

@@ -154,6 +154,21 @@ impl Strapdown {
         }
     }
 
+    /// Samples were lost over a rotation of up to `missed` rad: the attitude may be
+    /// off by that much about any axis (capped at the covariance's caps), and the
+    /// velocity by what a swinging foot does meanwhile ([`GAP_SPEED_MPS`]). The next
+    /// zero-velocity updates then re-level the foot at once instead of trusting the
+    /// attitude the gap broke (gravity leaking through a tilt error drives the
+    /// position away stride after stride).
+    #[cold]
+    pub fn lost(&mut self, missed: f64) {
+        let var = missed * missed;
+        for i in 0..3 {
+            self.cov[(IA + i, IA + i)] += var;
+            self.cov[(IV + i, IV + i)] += GAP_SPEED_MPS * GAP_SPEED_MPS;
+        }
+    }
+
     /// Grow the diagonal of the covariance for `extra` seconds without data.
     #[cold]
     fn widen(&mut self, extra: f64, n: &Noise) {

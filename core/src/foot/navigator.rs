@@ -18,7 +18,9 @@
 //! uses a window that contains one. A time step longer than `max_gap_s` is a gap: the
 //! mechanisation integrates `max_gap_s` of it, the covariance is propagated over
 //! that and its diagonal widened for the rest (position by 2 m/s × the gap), and the
-//! estimate is flagged. Should the state ever become non-finite, the speed
+//! estimate is flagged. Samples lost mid-swing (a step over 2.5 periods hiding more
+//! than 2° of rotation) widen the attitude and velocity variances ([`Strapdown::lost`]).
+//! Should the state ever become non-finite, the speed
 //! absurd (> 50 m/s, a foot does not do that) or a bias estimate beyond any MEMS
 //! sensor (‖b_a‖ > 5 m/s², ‖b_g‖ > 1 rad/s), the navigator keeps the state it had
 //! before the sample (the covariance without its correlations), zeroes the velocity
@@ -50,6 +52,12 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Capacity of the sliding-maximum queue of the gait window.
 const GAIT_CAP: usize = 1024;
+/// An interval longer than this many sample periods has lost samples.
+const LOST_INTERVALS: f64 = 2.5;
+/// Across lost samples the trapezoid of the rates is trusted with a rotation up to
+/// this, rad (2°); beyond, the attitude and velocity variances grow with what the
+/// interval may hide ([`Strapdown::lost`]).
+const LOST_BRIDGE_RAD: f64 = 2.0 * std::f64::consts::PI / 180.0;
 /// Physical limits at the door.
 /// Speed above which the state is considered diverged, m/s.
 const MAX_SPEED_MPS: f64 = 50.0;
@@ -452,7 +460,19 @@ impl FootNavigator {
         // What the divergence guard falls back to (the covariance only by its
         // diagonal: copying all of it every sample would cost more than the guard).
         let before = (ins.q, ins.p, ins.ba, ins.bg, ins.cov.diagonal());
+        // Samples lost: the rotation the interval may hide, the larger rate on either
+        // side times the interval, when it is more than the trapezoid can be trusted
+        // with (the foot swings at up to 9 rad/s).
+        let lost = self.rate_hz > 0.0 && dt * self.rate_hz > LOST_INTERVALS;
+        let missed = if lost {
+            ins.prev_w.norm().max(norm(&c.w)) * dt
+        } else {
+            0.0
+        };
         ins.propagate(&c.f, &c.w, dt_int, dt, &noise, interval_mean);
+        if missed > LOST_BRIDGE_RAD {
+            ins.lost(missed);
+        }
         if stance {
             ins.zupt(zupt_sigma, self.config.zupt_gate_nis, correction);
         }

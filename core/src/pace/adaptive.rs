@@ -95,12 +95,12 @@ const CADENCE_REF_TAU_S: f64 = 60.0;
 /// ... and while the step length is still unknown, seconds.
 const CADENCE_REF_FAST_TAU_S: f64 = 3.0;
 /// Cadence at which the initial step length applies, steps/s (168 steps/min).
-const PRIOR_CADENCE: f64 = 2.8;
+pub(crate) const PRIOR_CADENCE: f64 = 2.8;
 /// Initial step length (at PRIOR_CADENCE) when none is configured, metres, and its 1-σ.
-const DEFAULT_STEP_LENGTH_M: f64 = 1.0;
+pub(crate) const DEFAULT_STEP_LENGTH_M: f64 = 1.0;
 const STEP_LENGTH_PRIOR_SIGMA_M: f64 = 0.4;
 /// Prior slope of step length against cadence, m per (step/s), and its 1-σ.
-const SLOPE_PRIOR: f64 = 0.5;
+pub(crate) const SLOPE_PRIOR: f64 = 0.5;
 const SLOPE_PRIOR_SIGMA: f64 = 0.3;
 /// Random walk of the slope of the step-length line, per √s.
 const SLOPE_RW: f64 = 0.003;
@@ -137,6 +137,10 @@ const UNLEARNED_LINE_SIGMA_M: f64 = 0.2;
 const CALIBRATION_DRIFT: f64 = 0.02;
 /// 1-σ of an imported slope, m per (step/s).
 const CALIBRATED_SLOPE_SIGMA: f64 = 0.15;
+
+/// A disagreement with GNSS this close to the mean cadence of the line's windows,
+/// steps/s (15 steps/min), says the line's level is wrong (`on_pedometer_disagrees`).
+const RELEARN_CADENCE_BAND: f64 = 0.25;
 
 /// Steps in accepted path windows before the session mean is exported (≈ 3 min).
 const SESSION_MIN_STEPS: f64 = 500.0;
@@ -874,7 +878,9 @@ impl AdaptiveFilter {
         let v_ped = c * l;
         let rel = self.params.pedometer_rel_sigma;
         let c_sigma = c_sigma.max(MIN_CADENCE_SIGMA);
-        let mut r = (rel * v_ped).powi(2) + (c_sigma * l).powi(2);
+        let mut r = (rel * v_ped).powi(2)
+            + (c_sigma * l).powi(2)
+            + (ctx.pedometer_extra_rel_sigma * v_ped).powi(2);
         // The walking line is not a state: its uncertainty is measurement noise here;
         // the running line enters with its weight and learns nothing from a walk.
         if from_features.is_none() {
@@ -888,6 +894,82 @@ impl AdaptiveFilter {
             Learn::level_if(learn)
         };
         self.info_ped += self.scalar_update(&h, v_ped - s, r, teach);
+    }
+
+    /// Cadence × step length of the pedometer, m/s (`None` before any step data).
+    pub fn pedometer_speed_mps(&self) -> Option<f64> {
+        self.ped_speed.is_finite().then_some(self.ped_speed)
+    }
+
+    /// The step stream now counts every reported step as `k` steps (strides found,
+    /// `super::crosscheck`): the step-length line is re-expressed for the new cadence
+    /// so that cadence × step length does not change (a learned line), or restarts
+    /// from the prior at the new cadence (a line nothing taught: it was read at a
+    /// cadence that was not the runner's). The path window restarts.
+    pub fn rescale_steps(&mut self, k: f64) {
+        self.window = PathWindow::IDLE;
+        let learned = self.step_length_learned();
+        if self.cadence_ref.is_finite() {
+            self.cadence_ref *= k;
+        }
+        if learned {
+            // L'(c') = L(c)/k with c' = k·c: a' = a/k, b' = b/k².
+            let mut t = M8::identity();
+            t[(LA, LA)] = 1.0 / k;
+            t[(LB, LB)] = 1.0 / (k * k);
+            self.x = t * self.x;
+            self.p = t * self.p * t.transpose();
+        } else {
+            self.reset_line();
+        }
+        // Session sums: steps, steps × cadence, steps × step length.
+        self.session[0] *= k;
+        self.session[1] *= k * k;
+    }
+
+    /// GNSS and the pedometer disagree by a factor (`super::crosscheck`) at a cadence
+    /// of `cadence_hz` steps/s. Where the running line was learned (within
+    /// `RELEARN_CADENCE_BAND` of the cadence of its windows, or anywhere when nothing
+    /// taught it) its level is wrong: it is learned again from GNSS, its uncertainty
+    /// reopened to the prior's. Far from there (a shuffle at 135 steps/min in a run
+    /// at 170, a sprint) it is the line's extrapolation that fails, and relearning the
+    /// level there would spoil it for the runner's own pace: only the pedometer's
+    /// weight is lowered, as always while the disagreement lasts
+    /// (`Context::pedometer_extra_rel_sigma`). A walk does not use the line.
+    pub fn on_pedometer_disagrees(&mut self, cadence_hz: f64) {
+        let [n, nc, _] = self.session;
+        let learned_at = if n > 0.0 { nc / n } else { f64::NAN };
+        let where_learned =
+            learned_at.is_nan() || (cadence_hz - learned_at).abs() <= RELEARN_CADENCE_BAND;
+        if !self.walking_gait && where_learned {
+            let keep_cadence = self.cadence_ref;
+            let level = self.x[LA];
+            self.reset_line();
+            // Reopened around its current level (GNSS corrects it from there).
+            self.x[LA] = level;
+            self.cadence_ref = keep_cadence;
+        }
+    }
+
+    /// The step-length line back to the prior (1.0 m at 168 steps/min on the prior
+    /// slope) read at the reference cadence, with the prior's uncertainty and no
+    /// correlation with the rest of the state.
+    fn reset_line(&mut self) {
+        for i in [LA, LB] {
+            for j in 0..8 {
+                self.p[(i, j)] = 0.0;
+                self.p[(j, i)] = 0.0;
+            }
+        }
+        let c = if self.cadence_ref.is_finite() {
+            self.cadence_ref
+        } else {
+            PRIOR_CADENCE
+        };
+        self.x[LA] = (DEFAULT_STEP_LENGTH_M + SLOPE_PRIOR * (c - PRIOR_CADENCE)).clamp(0.3, 2.0);
+        self.x[LB] = SLOPE_PRIOR;
+        self.p[(LA, LA)] = STEP_LENGTH_PRIOR_SIGMA_M * STEP_LENGTH_PRIOR_SIGMA_M;
+        self.p[(LB, LB)] = SLOPE_PRIOR_SIGMA * SLOPE_PRIOR_SIGMA;
     }
 
     /// Integrate distance up to the filter time and refresh the output.
@@ -985,6 +1067,7 @@ impl AdaptiveFilter {
             } else {
                 PaceSource::from_gnss_weight(w)
             },
+            flags: super::PaceFlags::default(),
         };
         self.info_gnss = 0.0;
         self.info_ped = 0.0;

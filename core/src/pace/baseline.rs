@@ -67,6 +67,7 @@ impl Baseline {
                     config: &self.config,
                     steps: &self.no_steps,
                     accel: None,
+                    pedometer_extra_rel_sigma: 0.0,
                 };
                 let e = self.ema.on_fix(&local, &ctx);
                 prev.map(|_| e.speed_mps)

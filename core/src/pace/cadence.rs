@@ -122,6 +122,18 @@ impl CadenceFilter {
         self.p = [[p00.max(1e-9), p01], [p01, p11.max(1e-12)]];
     }
 
+    /// Multiply the step total and the cadence by `k` (the stream counted strides:
+    /// `super::steps::StepStream::rescale`), the covariance by k².
+    pub fn rescale(&mut self, k: f64) {
+        self.n *= k;
+        self.c = (self.c * k).clamp(0.0, MAX_CADENCE_HZ);
+        for row in &mut self.p {
+            for v in row {
+                *v *= k * k;
+            }
+        }
+    }
+
     /// Cadence estimate, steps/s, and its 1-σ.
     pub fn cadence(&self) -> (f64, f64) {
         (self.c, self.p[1][1].max(0.0).sqrt())

@@ -15,7 +15,9 @@ mod baseline;
 mod cadence;
 mod calibration;
 mod config;
+mod crosscheck;
 mod error;
+mod held;
 mod published;
 mod steps;
 mod types;
@@ -28,7 +30,9 @@ pub use calibration::{
 };
 pub use config::{AdaptiveParams, PaceConfig, PaceMode, PublishedParams};
 pub use error::{PaceError, Stream};
-pub use types::{GnssFix, PaceEstimate, PaceSample, PaceSource, StepSample, MIN_PACE_SPEED_MPS};
+pub use types::{
+    GnssFix, PaceEstimate, PaceFlags, PaceSample, PaceSource, StepSample, MIN_PACE_SPEED_MPS,
+};
 
 use crate::batch::{self, Batch};
 use crate::geo::LocalFrame;
@@ -36,6 +40,8 @@ use crate::input::{self, Stream as InputStream, TimeGuard};
 use crate::snapshot::{Reader, SnapshotError, Writer};
 use crate::stepdetect::{AccelSample, StepEvent};
 use accel::AccelSteps;
+use crosscheck::{CrossCheck, Finding};
+use held::{unit_known, Held};
 use steps::StepStream;
 
 /// Without any sample for longer than this, no distance is added for the gap, seconds
@@ -47,8 +53,10 @@ const SNAPSHOT_KIND: u8 = 1;
 /// Snapshot format version written by this build.
 /// Version 3: the input layer's time state per stream, the pedometer speed and the
 /// session's calibration sums. Version 5: the raw-accelerometer step-length model.
-/// Version 6: the calibration's accelerometer model.
-const SNAPSHOT_VERSION: u16 = 6;
+/// Version 6: the calibration's accelerometer model. Version 7: the cross-checks
+/// between GNSS and the steps, the step stream's steps per report, the time state of
+/// the pushed step samples and the samples held until their unit is known.
+const SNAPSHOT_VERSION: u16 = 7;
 
 /// A GNSS fix after validation, in the local frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -68,6 +76,9 @@ pub struct Context<'a> {
     pub steps: &'a StepStream,
     /// Raw accelerometer input's steps, when the app pushes it.
     pub accel: Option<&'a AccelSteps>,
+    /// Relative 1-σ added to the pedometer speed while it disagrees with GNSS
+    /// (`crosscheck`; 0 while they agree).
+    pub pedometer_extra_rel_sigma: f64,
 }
 
 /// The fusion filter behind a tracker. Both variants live inline (no heap), so the
@@ -87,11 +98,19 @@ pub struct PaceTracker {
     frame: Option<LocalFrame>,
     /// Time state of the GNSS stream.
     fix_time: TimeGuard,
+    /// Time state of the pushed step samples (units; the step stream keeps the order
+    /// of every step, detected ones included).
+    step_time: TimeGuard,
+    /// Fixes and step samples held until their stream's unit is known (`held`).
+    held: Held,
     steps: StepStream,
     filter: Filter,
     /// Step detector and feature step length for raw accelerometer input, created on
     /// the first sample (see `accel`).
     accel: Option<AccelSteps>,
+    /// Cross-checks between GNSS and the steps (strides for steps, a pedometer that
+    /// disagrees), see `crosscheck`.
+    check: CrossCheck,
 }
 
 /// A sample a batch push rejected, with its index in the batch.
@@ -106,8 +125,11 @@ impl PaceTracker {
             config,
             frame: None,
             fix_time: TimeGuard::new(InputStream::Gnss),
+            step_time: TimeGuard::new(InputStream::Steps),
+            held: Held::default(),
             steps: StepStream::new(),
             accel: None,
+            check: CrossCheck::new(),
         })
     }
 
@@ -194,9 +216,80 @@ impl PaceTracker {
         Ok(())
     }
 
-    /// Push one GNSS fix; returns the estimate for this epoch.
+    /// Push one GNSS fix; returns the estimate for this epoch. Until the GNSS stream's
+    /// time unit is known (it showed an interval within its limits,
+    /// [`TimeGuard::established`], or the fix is close in time to the step stream's
+    /// known-good samples) the fix is held, not used, and the estimate is the one
+    /// before it (see `held`).
     pub fn push_fix(&mut self, fix: &GnssFix) -> Result<PaceEstimate, PaceError> {
         self.validate_fix(fix)?;
+        self.fix_time.accept(fix.t_s);
+        let known = unit_known(&self.fix_time, &self.step_time, fix.t_s);
+        if !known && self.held.hold_fix(*fix) {
+            return Ok(self.current());
+        }
+        self.release_held();
+        Ok(self.apply_fix(fix))
+    }
+
+    /// Apply the held samples whose stream's unit is now known, in time order (step
+    /// samples first at equal times, as replays push them).
+    fn release_held(&mut self) {
+        let fixes_known = |t: &TimeGuard, o: &TimeGuard, f: &GnssFix| unit_known(t, o, f.t_s);
+        let steps_known = |t: &TimeGuard, o: &TimeGuard, s: &StepSample| unit_known(t, o, s.t_s());
+        let mut fixes = [None; held::HELD];
+        if self
+            .held
+            .peek_fixes()
+            .iter()
+            .flatten()
+            .all(|f| fixes_known(&self.fix_time, &self.step_time, f))
+        {
+            fixes = self.held.take_fixes();
+        }
+        let mut steps = [None; held::HELD];
+        if self
+            .held
+            .peek_steps()
+            .iter()
+            .flatten()
+            .all(|s| steps_known(&self.step_time, &self.fix_time, s))
+        {
+            steps = self.held.take_steps();
+        }
+        let (mut i, mut j) = (0, 0);
+        loop {
+            let f = fixes.get(i).copied().flatten();
+            let s = steps.get(j).copied().flatten();
+            match (f, s) {
+                (Some(f), Some(s)) if s.t_s() <= f.t_s => {
+                    self.apply_held_steps(&s);
+                    j += 1;
+                }
+                (Some(f), _) => {
+                    self.apply_fix(&f);
+                    i += 1;
+                }
+                (None, Some(s)) => {
+                    self.apply_held_steps(&s);
+                    j += 1;
+                }
+                (None, None) => break,
+            }
+        }
+    }
+
+    /// A held step sample, still after the stream's last step (a detected step from
+    /// raw acceleration in between would put it behind: skipped; one step source per
+    /// tracker).
+    fn apply_held_steps(&mut self, s: &StepSample) {
+        if self.steps.check(s).is_ok() {
+            self.apply_steps(s);
+        }
+    }
+
+    /// Run an accepted fix through the filter and the cross-checks.
+    fn apply_fix(&mut self, fix: &GnssFix) -> PaceEstimate {
         let frame = *self
             .frame
             .get_or_insert_with(|| LocalFrame::new(fix.lat_deg, fix.lon_deg, 0.0));
@@ -208,7 +301,6 @@ impl PaceTracker {
             accuracy_m: fix.horizontal_accuracy_m,
             speed: fix.speed_mps.zip(fix.speed_accuracy_mps),
         };
-        self.fix_time.accept(fix.t_s);
         if let Some(a) = &mut self.accel {
             a.on_fix(local.t_s, local.east_m, local.north_m, local.accuracy_m);
         }
@@ -216,28 +308,76 @@ impl PaceTracker {
             config: &self.config,
             steps: &self.steps,
             accel: self.accel.as_ref(),
+            pedometer_extra_rel_sigma: self.check.pedometer_extra_rel_sigma(),
         };
-        Ok(match &mut self.filter {
+        let mut e = match &mut self.filter {
             Filter::Published(f) => f.on_fix(&local, &ctx),
             Filter::Adaptive(f) => f.on_fix(&local, &ctx),
-        })
+        };
+        self.cross_check(&local);
+        e.flags = self.check.flags();
+        e
     }
 
-    /// Push one step sample.
+    /// The cross-checks after a fix, and what the tracker does about their findings.
+    fn cross_check(&mut self, fix: &LocalFix) {
+        let pedometer_mps = match &self.filter {
+            Filter::Published(f) => f.pedometer_speed_mps(),
+            Filter::Adaptive(f) => f.pedometer_speed_mps(),
+        };
+        let stationary_after_s = self.config.stationary_after_s;
+        match self
+            .check
+            .on_fix(fix, &self.steps, pedometer_mps, stationary_after_s)
+        {
+            Finding::Nothing => {}
+            Finding::Rescale(k) => {
+                self.steps.rescale(k);
+                match &mut self.filter {
+                    Filter::Published(f) => f.rescale_steps(k),
+                    Filter::Adaptive(f) => f.rescale_steps(k),
+                }
+            }
+            Finding::Disagrees { cadence_hz } => {
+                if let Filter::Adaptive(f) = &mut self.filter {
+                    f.on_pedometer_disagrees(cadence_hz);
+                }
+            }
+        }
+    }
+
+    /// Push one step sample. Until the step stream's time unit is known (as for
+    /// [`Self::push_fix`]) the sample is held, not used (see `held`).
     pub fn push_steps(&mut self, sample: &StepSample) -> Result<(), PaceError> {
+        self.step_time.check(sample.t_s())?;
         self.steps.check(sample)?;
+        self.step_time.accept(sample.t_s());
+        let known = unit_known(&self.step_time, &self.fix_time, sample.t_s());
+        if !known && self.held.hold_steps(*sample) {
+            return Ok(());
+        }
+        self.release_held();
+        self.apply_held_steps(sample);
+        Ok(())
+    }
+
+    /// Run an accepted step sample through the step stream, the filter and the
+    /// cross-checks.
+    fn apply_steps(&mut self, sample: &StepSample) {
         self.steps.push(sample);
         let ctx = Context {
             config: &self.config,
             steps: &self.steps,
             accel: self.accel.as_ref(),
+            pedometer_extra_rel_sigma: self.check.pedometer_extra_rel_sigma(),
         };
         let t = sample.t_s();
         match &mut self.filter {
             Filter::Published(f) => f.on_steps(t, &ctx),
             Filter::Adaptive(f) => f.on_steps(t, &ctx),
         }
-        Ok(())
+        self.check
+            .on_steps(t, &self.steps, self.config.stationary_after_s);
     }
 
     /// Push one raw accelerometer sample (m/s², gravity included, any axes): the
@@ -293,16 +433,7 @@ impl PaceTracker {
             );
             return;
         }
-        self.steps.push(&sample);
-        let ctx = Context {
-            config: &self.config,
-            steps: &self.steps,
-            accel: self.accel.as_ref(),
-        };
-        match &mut self.filter {
-            Filter::Published(f) => f.on_steps(e.t_s, &ctx),
-            Filter::Adaptive(f) => f.on_steps(e.t_s, &ctx),
-        }
+        self.apply_steps(&sample);
     }
 
     /// Push a sample of either stream; a fix returns its estimate.
@@ -324,6 +455,7 @@ impl PaceTracker {
     /// `None` until a sample (fix, step sample or accelerometer sample) was accepted.
     pub fn estimate(&self) -> Option<PaceEstimate> {
         let started = self.fix_time.last_t_s().is_some()
+            || self.step_time.last_t_s().is_some()
             || self.steps.has_data()
             || self
                 .accel
@@ -337,10 +469,18 @@ impl PaceTracker {
             config: &self.config,
             steps: &self.steps,
             accel: self.accel.as_ref(),
+            pedometer_extra_rel_sigma: self.check.pedometer_extra_rel_sigma(),
         };
-        match &self.filter {
+        let e = match &self.filter {
             Filter::Published(f) => f.estimate(&ctx),
             Filter::Adaptive(f) => f.estimate(&ctx),
+        };
+        PaceEstimate {
+            // A held sample is the newest seen: the estimate is at its time, the state
+            // without it.
+            t_s: e.t_s.max(self.held.newest_t_s()),
+            flags: self.check.flags(),
+            ..e
         }
     }
 }

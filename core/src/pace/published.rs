@@ -268,6 +268,7 @@ impl PublishedFilter {
             gnss_weight: w,
             distance_m: self.distance_m,
             source,
+            flags: super::PaceFlags::default(),
         };
         self.out
     }
@@ -303,7 +304,29 @@ impl PublishedFilter {
             gnss_weight: 0.0,
             distance_m: self.distance_m,
             source: PaceSource::Pedometer,
+            flags: super::PaceFlags::default(),
         };
+    }
+
+    /// Cadence × step length of the latest estimate, m/s (`None` before both).
+    pub fn pedometer_speed_mps(&self) -> Option<f64> {
+        let c = self.out.cadence_spm? / 60.0;
+        Some(c * self.step_length_m?)
+    }
+
+    /// The step stream now counts every reported step as `k` steps (strides found,
+    /// `super::crosscheck`): step totals ×k, step lengths /k.
+    pub fn rescale_steps(&mut self, k: f64) {
+        let old = self.epochs;
+        self.epochs = Ring::new();
+        for e in old.iter() {
+            self.epochs.push(Epoch {
+                steps: k * e.steps,
+                step_length_m: e.step_length_m / k,
+                ..e
+            });
+        }
+        self.step_length_m = self.step_length_m.map(|l| l / k);
     }
 
     pub fn estimate(&self, _ctx: &Context) -> PaceEstimate {
@@ -390,6 +413,7 @@ pub(crate) fn read_estimate(r: &mut Reader) -> Result<PaceEstimate, SnapshotErro
             4 => PaceSource::Pedometer,
             _ => return Err(SnapshotError::Invalid("pace source")),
         },
+        flags: super::PaceFlags::default(),
     };
     let non_negative = |v: Option<f64>| v.is_none_or(|v| (0.0..=1e13).contains(&v));
     if !(0.0..=1e8).contains(&e.speed_mps)

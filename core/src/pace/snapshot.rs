@@ -15,14 +15,19 @@ impl PaceTracker {
             config,
             frame,
             fix_time,
+            step_time,
+            held,
             steps,
             filter,
             accel,
+            check,
         } = self;
         let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
         write_config(&mut w, config);
         crate::geo::write_frame(&mut w, frame.as_ref());
         fix_time.write(&mut w);
+        step_time.write(&mut w);
+        held.write(&mut w);
         steps.write(&mut w);
         match filter {
             Filter::Published(f) => f.write(&mut w),
@@ -35,6 +40,7 @@ impl PaceTracker {
             }
             None => w.bool(false),
         }
+        check.write(&mut w);
         w.finish()
     }
 
@@ -48,6 +54,23 @@ impl PaceTracker {
             .map_err(|_| SnapshotError::Invalid("configuration"))?;
         let frame = crate::geo::read_frame(&mut r)?;
         let fix_time = TimeGuard::read(&mut r, InputStream::Gnss)?;
+        let step_time = TimeGuard::read(&mut r, InputStream::Steps)?;
+        let held = Held::read(
+            &mut r,
+            |f| {
+                f.t_s.abs() <= input::limits::MAX_ABS_T_S
+                    && input::gnss(
+                        f.lat_deg,
+                        f.lon_deg,
+                        f.alt_m,
+                        f.horizontal_accuracy_m,
+                        f.speed_mps,
+                        f.speed_accuracy_mps,
+                    )
+                    .is_ok()
+            },
+            |s| StepStream::new().check(s).is_ok(),
+        )?;
         let steps = StepStream::read(&mut r)?;
         let filter = match config.mode {
             PaceMode::AsPublished => {
@@ -63,14 +86,18 @@ impl PaceTracker {
         } else {
             None
         };
+        let check = CrossCheck::read(&mut r)?;
         r.end()?;
         Ok(Self {
             config,
             frame,
             fix_time,
+            step_time,
+            held,
             steps,
             filter,
             accel,
+            check,
         })
     }
 }

@@ -43,6 +43,9 @@ pub struct StepStream {
     /// Smoothed cadence of the current bout.
     cadence: CadenceFilter,
     resets: u64,
+    /// Steps per step the input reports: 1, or 2 once the tracker's cross-check found
+    /// that the input counts strides (`super::crosscheck`). Applied to every sample.
+    steps_per_report: f64,
 }
 
 impl Default for StepStream {
@@ -63,7 +66,31 @@ impl StepStream {
             moving_since_t_s: f64::NEG_INFINITY,
             cadence: CadenceFilter::IDLE,
             resets: 0,
+            steps_per_report: 1.0,
         }
+    }
+
+    /// Steps per step the input reports (1, or 2 when it counts strides).
+    pub fn steps_per_report(&self) -> f64 {
+        self.steps_per_report
+    }
+
+    /// Count every step the input reports as `k` steps from now on, and the steps
+    /// already counted too (totals, cadence), as if it had been so from the start:
+    /// the step total stays a continuous function of time in the new unit.
+    pub fn rescale(&mut self, k: f64) {
+        self.steps_per_report *= k;
+        self.total *= k;
+        let old = self.history;
+        self.history = Ring::new();
+        for e in old.iter() {
+            self.history.push(Entry {
+                total: k * e.total,
+                ..e
+            });
+        }
+        self.last_cadence_spm = self.last_cadence_spm.map(|c| (c * k).min(MAX_CADENCE_SPM));
+        self.cadence.rescale(k);
     }
 
     /// Whether any step sample was seen.
@@ -101,43 +128,48 @@ impl StepStream {
     /// Add a sample (call [`check`](Self::check) first). Returns steps added.
     pub fn push(&mut self, s: &StepSample) -> f64 {
         let t = s.t_s();
-        let added = match *s {
-            StepSample::Event { .. } => 1.0,
-            StepSample::Count { steps, .. } => {
-                // Steps a human can have taken since the previous count (10 steps/s,
-                // plus one for the count's own rounding).
-                let possible = self
-                    .last_t_s
-                    .map_or(0.0, |t0| limits::MAX_STEP_RATE_HZ * (t - t0) + 1.0);
-                let d = match self.last_count {
-                    None => 0.0,
-                    Some(prev) if steps >= prev && ((steps - prev) as f64) <= possible => {
-                        (steps - prev) as f64
-                    }
-                    Some(prev) => {
-                        // Counter reset (reboot) or a jump no runner makes: continue
-                        // from the new value, adding nothing.
-                        self.resets = self.resets.saturating_add(1);
-                        log::warn!(
+        let k = self.steps_per_report;
+        let added = k
+            * match *s {
+                StepSample::Event { .. } => 1.0,
+                StepSample::Count { steps, .. } => {
+                    // Steps a human can have taken since the previous count (10 steps/s,
+                    // plus one for the count's own rounding).
+                    let possible = self
+                        .last_t_s
+                        .map_or(0.0, |t0| limits::MAX_STEP_RATE_HZ * (t - t0) + 1.0);
+                    let d = match self.last_count {
+                        None => 0.0,
+                        Some(prev) if steps >= prev && ((steps - prev) as f64) <= possible => {
+                            (steps - prev) as f64
+                        }
+                        Some(prev) => {
+                            // Counter reset (reboot) or a jump no runner makes: continue
+                            // from the new value, adding nothing.
+                            self.resets = self.resets.saturating_add(1);
+                            log::warn!(
                             "step counter went from {prev} to {steps} at t = {t} s: taken as a reset"
                         );
-                        0.0
-                    }
-                };
-                self.last_count = Some(steps);
-                d
-            }
-            StepSample::Cadence { steps_per_min, .. } => {
-                let d = match (self.last_t_s, self.last_cadence_spm) {
-                    // Trapezoid between reports; gaps longer than 10 s count the
-                    // newer cadence over 10 s only (device paused).
-                    (Some(t0), Some(c0)) => 0.5 * (c0 + steps_per_min) / 60.0 * (t - t0).min(10.0),
-                    _ => 0.0,
-                };
-                self.last_cadence_spm = Some(steps_per_min);
-                d
-            }
-        };
+                            0.0
+                        }
+                    };
+                    self.last_count = Some(steps);
+                    d
+                }
+                StepSample::Cadence { steps_per_min, .. } => {
+                    // In reported units here (× k above); the cadence kept is in steps.
+                    let d = match (self.last_t_s, self.last_cadence_spm) {
+                        // Trapezoid between reports; gaps longer than 10 s count the
+                        // newer cadence over 10 s only (device paused).
+                        (Some(t0), Some(c0)) => {
+                            0.5 * (c0 / k + steps_per_min) / 60.0 * (t - t0).min(10.0)
+                        }
+                        _ => 0.0,
+                    };
+                    self.last_cadence_spm = Some((k * steps_per_min).min(MAX_CADENCE_SPM));
+                    d
+                }
+            };
         let before = self.total;
         self.total += added;
         if added > 0.0 {
@@ -157,7 +189,7 @@ impl StepStream {
         if self.cadence.is_active() {
             match *s {
                 StepSample::Cadence { steps_per_min, .. } => {
-                    self.cadence.observe_cadence(t, steps_per_min / 60.0)
+                    self.cadence.observe_cadence(t, k * steps_per_min / 60.0)
                 }
                 StepSample::Event { .. } => self.cadence.observe_total(t, self.total, true),
                 StepSample::Count { .. } => self.cadence.observe_total(t, self.total, false),
@@ -301,6 +333,7 @@ impl StepStream {
         w.f64(self.moving_since_t_s);
         self.cadence.write(w);
         w.u64(self.resets);
+        w.f64(self.steps_per_report);
     }
 
     pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
@@ -328,6 +361,7 @@ impl StepStream {
         s.moving_since_t_s = r.f64_any()?;
         s.cadence = CadenceFilter::read(r)?;
         s.resets = r.u64()?;
+        s.steps_per_report = r.f64()?;
         let time_ok = |t: Option<f64>| t.is_none_or(|t| t.abs() <= limits::MAX_ABS_T_S);
         // The history ends at the newest sample with the current total; step totals
         // stay below what 10 steps/s could add in 10¹¹ s.
@@ -340,6 +374,7 @@ impl StepStream {
             || !newest_ok
             || s.last_cadence_spm
                 .is_some_and(|c| !(0.0..=MAX_CADENCE_SPM).contains(&c))
+            || !(s.steps_per_report == 1.0 || s.steps_per_report == 2.0)
         {
             return Err(SnapshotError::Invalid("step stream"));
         }

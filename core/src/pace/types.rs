@@ -140,6 +140,30 @@ pub struct PaceEstimate {
     pub distance_m: f64,
     /// Where the speed comes from.
     pub source: PaceSource,
+    /// What the cross-checks between GNSS and the steps found (all `false` when the
+    /// sources agree or cannot be compared).
+    pub flags: PaceFlags,
+}
+
+/// What the tracker's cross-checks between its two sources found
+/// (`core/src/pace/crosscheck.rs`, docs/pace.md "Cross-checks"). Each flag is the
+/// state at the estimate's time.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct PaceFlags {
+    /// GNSS showed that the step data counts strides (one foot: FIT's and Garmin's
+    /// "cadence"), not steps: the step stream is doubled from then on, and cadence,
+    /// step length and speed are given for steps.
+    pub cadence_doubled: bool,
+    /// No GNSS has checked the cadence yet and it has stayed at 60–100 per minute for
+    /// a minute: a slow walk, or strides per minute given as steps per minute (then
+    /// the speed is about half the truth). Nothing is corrected: without GNSS the two
+    /// cannot be told apart.
+    pub cadence_may_be_strides: bool,
+    /// Over the last minute of good fixes, GNSS speed and cadence × step length
+    /// disagreed by more than a factor of 1.35 (a wrong step length or calibration, a
+    /// pedometer that miscounts): the pedometer's weight is lowered and, while
+    /// running, the step length is learned again from GNSS, until they agree.
+    pub pedometer_disagrees: bool,
 }
 
 /// Speed below which no pace is given, m/s.
@@ -158,6 +182,7 @@ impl PaceEstimate {
             gnss_weight: 1.0,
             distance_m: 0.0,
             source: PaceSource::Initializing,
+            flags: PaceFlags::default(),
         }
     }
 

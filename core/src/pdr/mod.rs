@@ -1,11 +1,13 @@
 //! Pedestrian dead reckoning with a phone: steps × step length × walking direction
 //! ([`PhoneNavigator`]), built from the AHRS, the step detector, the step-length
 //! estimator and the walking-direction estimator ([`WalkingDirection`]); the phone's
-//! vertical motion over each step ([`VerticalHistory`]) gives the step length.
+//! vertical motion over each step ([`VerticalHistory`]) gives the step length; GNSS
+//! stretches cross-check it (`scale`).
 
 mod calibration;
 mod heading;
 mod navigator;
+mod scale;
 mod vertical;
 
 pub use calibration::{CalibrationError, PdrCalibration};

@@ -42,15 +42,16 @@ use crate::steplength::{StepLengthConfig, StepLengthError, StepLengthEstimator, 
 
 use super::calibration::{CalibrationError, PdrCalibration};
 use super::heading::WalkingDirection;
+use super::scale::StepScale;
 use super::vertical::VerticalHistory;
 
 const SNAPSHOT_KIND: u8 = 5;
-/// Version 8: the event merger (7: the walking direction's `gyro_calibrated` flag;
-/// 6: the vertical history
+/// Version 9: the step lengths' scale from GNSS stretches (8: the event merger; 7: the
+/// walking direction's `gyro_calibrated` flag; 6: the vertical history
 /// and each step's vertical displacement; 5: gait initiation in the step-length state;
 /// 4: the input layer's time state per stream; 3 added the attitude history, deferred
 /// and recent steps).
-const SNAPSHOT_VERSION: u16 = 8;
+const SNAPSHOT_VERSION: u16 = 9;
 /// Steps waiting for the carrying to be known, and recent placed steps kept.
 const DEFERRED_STEPS: usize = 32;
 pub const RECENT_STEPS: usize = 32;
@@ -202,6 +203,13 @@ pub struct NavEstimate {
     pub distance_m: f64,
     /// Length of the last step, metres.
     pub step_length_m: Option<f64>,
+    /// Factor on every step length since GNSS disagreed with them (1 until then):
+    /// the GNSS displacement over stretches of ≥ 15 m against the dead-reckoned one
+    /// (docs/phone.md, "Cross-check with GNSS").
+    pub step_scale: f64,
+    /// GNSS and the step lengths disagree by more than a factor of 1.35 now (two
+    /// stretches in a row); the scale is being corrected.
+    pub step_scale_disagrees: bool,
 }
 
 /// A step placed on the track: where it ended.
@@ -265,6 +273,8 @@ pub struct PhoneNavigator {
     placed: u64,
     /// The personal calibration loaded, if any.
     calibration: Option<PdrCalibration>,
+    /// The step lengths' scale that GNSS stretches taught (`super::scale`).
+    scale: StepScale,
     /// Separate sensor events to IMU samples ([`Self::push_event`]).
     merger: ImuMerger,
 }
@@ -302,6 +312,7 @@ impl PhoneNavigator {
             recent: Ring::new(),
             placed: 0,
             calibration: None,
+            scale: StepScale::new(),
             merger: ImuMerger::new(config.merge)?,
         })
     }
@@ -512,7 +523,8 @@ impl PhoneNavigator {
             },
             ..*step
         };
-        let length = self.lengths.push_step(&step)?;
+        // The model's length, times the scale GNSS taught when it disagreed.
+        let length = self.lengths.push_step(&step)? * self.scale.factor();
         self.direction
             .push_step(if hz.is_finite() { hz } else { 1.8 });
         self.steps = self.steps.saturating_add(1);
@@ -648,6 +660,7 @@ impl PhoneNavigator {
             return;
         }
         let (de, dn) = (self.dr_east_m - de0, self.dr_north_m - dn0);
+        self.scale.observe(g, de.hypot(dn));
         if de.hypot(dn) > 0.5 * g {
             // Azimuth of GNSS minus azimuth of dead reckoning (clockwise positive); its
             // σ from the two fixes' accuracy across the baseline.
@@ -702,6 +715,8 @@ impl PhoneNavigator {
                 .last_step_length_m
                 .is_finite()
                 .then_some(self.last_step_length_m),
+            step_scale: self.scale.factor(),
+            step_scale_disagrees: self.scale.disagrees(),
         }
     }
 }

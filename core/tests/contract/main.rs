@@ -10,3 +10,4 @@ mod map_alloc;
 mod pdr_alloc;
 mod robustness;
 mod stepdetect_alloc;
+mod time_units;

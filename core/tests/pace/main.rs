@@ -3,6 +3,7 @@
 mod pace_accel;
 mod pace_accuracy;
 mod pace_behaviour;
+mod pace_crosscheck;
 mod pace_pedometer;
 mod steplength;
 mod steplength_outage;

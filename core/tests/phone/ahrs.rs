@@ -1240,7 +1240,7 @@ fn snapshots_of_another_format_are_a_typed_version_error() {
         .collect();
     for (bytes, found) in [
         (bytes, 1),
-        (stridekit_core::snapshot::Writer::new(2, 4).finish(), 4),
+        (stridekit_core::snapshot::Writer::new(2, 5).finish(), 5),
     ] {
         match Ahrs::restore(&bytes) {
             Err(AhrsError::Snapshot(
@@ -1249,4 +1249,108 @@ fn snapshots_of_another_format_are_a_typed_version_error() {
             other => panic!("{other:?}"),
         }
     }
+}
+
+// ---------------------------------------------------------------- perturbed streams (issue 39)
+
+/// Angle between the estimate (ENU) and the truth.
+fn total_err(o: &AhrsOutput, q_true: &Uq) -> f64 {
+    let [w, x, y, z] = o.quaternion;
+    let est = Uq::from_quaternion(nalgebra::Quaternion::new(w, x, y, z));
+    est.angle_to(q_true)
+}
+
+/// A burst of rotation about the vertical: 0 → 3 rad/s → 0 between 10 and 11 s (about
+/// 110° in all), with a fixed 20° tilt.
+fn turn_burst(t: f64) -> (Uq, V3) {
+    let s = ((t - 10.0) / 1.0).clamp(0.0, 1.0);
+    // ∫ 3·sin²(πs) ds over the burst.
+    let yaw = 1.5 * (s - (TAU * s).sin() / TAU);
+    (euler_q(20.0 * DEG, 0.0, yaw), V3::zeros())
+}
+
+#[test]
+fn a_gap_the_gyroscope_cannot_bridge_reconverges_from_the_magnetometer() {
+    // The samples of 10.2–10.8 s are lost (a Bluetooth burst): most of the turn.
+    let samples: Vec<ImuSample> = stream(&turn_burst, 100.0, 30.0, &PHONE, true)
+        .into_iter()
+        .filter(|s| !(10.2..10.8).contains(&s.t_s))
+        .collect();
+    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let out = run(&mut a, &samples);
+    let after = out.iter().position(|o| o.t_s >= 10.8).unwrap();
+    assert!(out[after].flags.angular_rate_recovery, "the gap is flagged");
+    let at = |t: f64| out.iter().find(|o| o.t_s >= t).unwrap();
+    let err = |t: f64| total_err(at(t), &turn_burst(t).0) / DEG;
+    // The rotation the gap hid (~60°) is gone within seconds, not the magnetometer's
+    // 10 s time constant.
+    assert!(err(15.0) < 5.0, "5 s after: {:.1}°", err(15.0));
+    assert!(err(25.0) < 2.0, "15 s after: {:.1}°", err(25.0));
+}
+
+#[test]
+fn a_first_sample_in_motion_does_not_make_the_field_look_disturbed() {
+    let truth = |_t: f64| (euler_q(10.0 * DEG, -15.0 * DEG, 70.0 * DEG), V3::zeros());
+    let mut samples = stream(&truth, 100.0, 30.0, &PHONE, true);
+    // The first sample carries a 6 m/s² push: its inclination is ~30° off.
+    samples[0].accel_mps2[0] += 6.0;
+    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let out = run(&mut a, &samples);
+    let end = out.last().unwrap();
+    assert!(!end.flags.mag_rejected, "the field is used");
+    assert!(total_err(end, &truth(30.0).0) < 2.0 * DEG);
+    let rejected = out.iter().filter(|o| o.flags.mag_rejected).count();
+    assert!(rejected < 500, "{rejected} samples rejected");
+}
+
+#[test]
+fn a_vibrating_device_at_rest_learns_its_gyroscope_bias() {
+    // 50 Hz, 3 m/s² on the accelerometer of a phone lying still, 400 Hz samples.
+    let sensor = Sensor {
+        gyro_bias: [0.0, 0.0, 0.5 * DEG],
+        ..PHONE
+    };
+    let truth = |_t: f64| (euler_q(0.0, 0.0, 0.3), V3::zeros());
+    let samples: Vec<ImuSample> = stream(&truth, 400.0, 20.0, &sensor, false)
+        .into_iter()
+        .map(|mut s| {
+            let v = 3.0 * (TAU * 50.0 * s.t_s + 0.4).sin();
+            s.accel_mps2[0] += 0.6 * v;
+            s.accel_mps2[2] += 0.8 * v;
+            s
+        })
+        .collect();
+    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let out = run(&mut a, &samples);
+    let end = out.last().unwrap();
+    assert!(end.flags.at_rest);
+    assert!(
+        (end.gyro_bias_rads[2] - 0.5 * DEG).abs() < 0.05 * DEG,
+        "{:?}",
+        end.gyro_bias_rads
+    );
+}
+
+#[test]
+fn a_gyroscope_clipped_below_its_stated_range_is_recognised_by_its_plateau() {
+    // The settings say ±2000 °/s; the sensor clips at 250 °/s during a 6 rad/s turn.
+    let clip = 250.0 * DEG;
+    let samples: Vec<ImuSample> = stream(&turn_burst, 100.0, 14.0, &PHONE, false)
+        .into_iter()
+        .map(|mut s| {
+            if (10.3..10.7).contains(&s.t_s) {
+                s.gyro_rads[2] = s.gyro_rads[2].signum() * clip;
+            }
+            s
+        })
+        .collect();
+    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let out = run(&mut a, &samples);
+    let plateau: Vec<bool> = out
+        .iter()
+        .filter(|o| (10.3..10.7).contains(&o.t_s))
+        .map(|o| o.flags.angular_rate_recovery)
+        .collect();
+    assert!(!plateau[..8].iter().any(|&r| r), "not before 8 repeats");
+    assert!(plateau[10..].iter().all(|&r| r), "{plateau:?}");
 }

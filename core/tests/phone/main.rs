@@ -11,6 +11,7 @@ mod map;
 mod odometry;
 mod pdr;
 mod pdr_accuracy;
+mod pdr_crosscheck;
 mod pdr_diag;
 mod pdr_heading;
 mod placement;

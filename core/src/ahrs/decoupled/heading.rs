@@ -6,13 +6,24 @@
 //! estimate (in Madgwick's filter both corrections share one gradient step).
 //!
 //! The field rotated into E' should point north; its horizontal azimuth (clockwise
-//! from E' north) is the heading offset it measures, and δ follows it through a
-//! first-order low-pass (`mag_time_constant_s`). Right after a (re)start or a
-//! recovery, δ is instead the running mean of the measurements (gain 1/(n+1)) until
-//! that gain falls below the nominal one: the first seconds converge as fast as the
-//! noise allows.
+//! from E' north) is the heading offset it measures. δ is a scalar Kalman filter: its
+//! variance grows as the gyroscope carries it (a random walk whose density makes the
+//! steady-state gain dt/τ, `mag_time_constant_s`) and by whatever rotation a gap may
+//! have hidden; a measurement's variance is the magnetometer's (white, density
+//! [`MAG_HEADING_NOISE_RAD2_S`]) plus what an unconverged inclination adds through the
+//! dip (a tilt error ε turns the measured heading by up to ε·tan(dip)). So right after
+//! a start the measurements are averaged (gain 1/(n+1)), in steady state low-passed
+//! with τ, after a gap the heading re-converges as fast as the gap was long, and
+//! while the inclination is still converging its measurements count for little.
 
 use std::f64::consts::{PI, TAU};
+
+/// Heading measurement noise density of the magnetometer, rad²·s: ≈1 µT of noise and
+/// field inhomogeneity on a 15–20 µT horizontal field is ≈3.4° per sample at 100 Hz.
+pub const MAG_HEADING_NOISE_RAD2_S: f64 = 0.06 * 0.06 * 0.01;
+/// Variance of a heading nothing is known about, rad² (any measurement then takes
+/// over in full).
+pub const UNKNOWN_VAR_RAD2: f64 = 1e4;
 
 /// Heading state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -21,50 +32,39 @@ pub(crate) struct Heading {
     pub(crate) delta_rad: f64,
     /// δ has been set from the magnetometer since the (re)start.
     pub(crate) valid: bool,
-    /// Measurements averaged since the (re)start or recovery (capped).
-    pub(crate) averaged: f64,
+    /// Variance of δ, rad².
+    pub(crate) var_rad2: f64,
 }
 
-/// Cap of [`Heading::averaged`] (beyond it 1/(n+1) is below any nominal gain).
-const AVERAGED_CAP: f64 = 1e9;
-
 impl Heading {
-    /// Set δ from a measurement and restart the averaging.
+    /// Set δ from a measurement; nothing else is known yet.
     pub(crate) fn reset_to(&mut self, measured_rad: f64) {
         self.delta_rad = measured_rad;
         self.valid = true;
-        self.averaged = 1.0;
+        self.var_rad2 = UNKNOWN_VAR_RAD2;
     }
 
-    /// Restart the averaging (the next measurements dominate).
-    pub(crate) fn restart_averaging(&mut self) {
-        self.averaged = 0.0;
+    /// Forget δ's accuracy: the next measurements take over.
+    pub(crate) fn forget(&mut self) {
+        self.var_rad2 = UNKNOWN_VAR_RAD2;
     }
 
-    /// Whether δ is still a running mean rather than the low-pass (gain `k`).
+    /// δ may be off by another `var` rad² (a rotation the gyroscope missed).
+    pub(crate) fn widen(&mut self, var: f64) {
+        self.var_rad2 = (self.var_rad2 + var).min(UNKNOWN_VAR_RAD2);
+    }
+
+    /// One measurement: `innovation` = measured − δ (wrapped), `q` the variance δ
+    /// gained since the last one, `r` the measurement's. Returns the change of δ and
+    /// the gain.
     #[inline(always)]
-    pub(crate) fn averaging(&self, k: f64) -> bool {
-        self.averaged * k < 1.0 - k
-    }
-
-    /// Move δ towards the measurement: `innovation` = measured − δ (wrapped), nominal
-    /// gain `k` = dt / τ (at most 1). Returns the change of δ, rad.
-    #[inline(always)]
-    pub(crate) fn correct(&mut self, innovation: f64, k: f64) -> f64 {
-        // The running mean's gain 1/(n+1) while it exceeds k (a division only then).
-        let g = if self.averaging(k) {
-            1.0 / (self.averaged + 1.0)
-        } else {
-            k
-        };
-        self.averaged = if self.averaged < AVERAGED_CAP {
-            self.averaged + 1.0
-        } else {
-            AVERAGED_CAP
-        };
-        let d = g * innovation;
+    pub(crate) fn correct(&mut self, innovation: f64, q: f64, r: f64) -> (f64, f64) {
+        let p = self.var_rad2 + q;
+        let k = p / (p + r);
+        self.var_rad2 = (1.0 - k) * p;
+        let d = k * innovation;
         self.delta_rad = wrap_pi(self.delta_rad + d);
-        d
+        (d, k)
     }
 }
 
@@ -85,23 +85,30 @@ mod tests {
     use super::*;
 
     #[test]
-    fn averages_first_then_low_passes() {
+    fn averages_first_then_low_passes_and_reopens_after_a_gap() {
         let mut h = Heading::default();
         h.reset_to(0.1);
-        let k = 0.01;
-        // Running mean of 0.1 and 0.3 → 0.2, then the low-pass gain.
-        h.correct(0.3 - h.delta_rad, k);
-        assert!((h.delta_rad - 0.2).abs() < 1e-12);
-        for _ in 0..200 {
-            h.correct(0.2 - h.delta_rad, k);
+        let (dt, tau) = (0.01, 10.0);
+        let r = MAG_HEADING_NOISE_RAD2_S / dt;
+        let q = MAG_HEADING_NOISE_RAD2_S / (tau * tau) * dt;
+        // The first measurements are averaged: 0.1 then 0.3 → 0.2.
+        h.correct(0.1 - h.delta_rad, q, r);
+        h.correct(0.3 - h.delta_rad, q, r);
+        assert!((h.delta_rad - 0.2).abs() < 1e-3, "{}", h.delta_rad);
+        // Steady state: the gain of a first-order low-pass with τ.
+        let mut k = 0.0;
+        for _ in 0..20_000 {
+            k = h.correct(0.2 - h.delta_rad, q, r).1;
         }
-        assert!(!h.averaging(k));
-        let before = h.delta_rad;
-        let d = h.correct(1.0, k);
-        assert!((d - k).abs() < 1e-15 && (h.delta_rad - before - k).abs() < 1e-15);
+        assert!((k / (dt / tau) - 1.0).abs() < 0.01, "{k}");
+        // A gap that may have hidden 20°: the next measurement counts for much more.
+        h.widen(20f64.to_radians().powi(2));
+        let k_gap = h.correct(0.0, q, r).1;
+        assert!(k_gap > 0.5, "{k_gap}");
         // Wraps at ±π.
         h.delta_rad = 3.1;
-        h.correct(0.2 / k, k);
-        assert!((h.delta_rad - (3.3 - TAU)).abs() < 1e-12);
+        h.forget();
+        h.correct(0.2, q, r);
+        assert!((h.delta_rad - (3.3 - TAU)).abs() < 1e-3, "{}", h.delta_rad);
     }
 }

@@ -13,6 +13,13 @@
 //! Recovery: a disturbance lasting longer than `mag_max_rejection_s` is taken to be
 //! the new local field (the user walked into another building, or the learned field
 //! was wrong): it becomes the reference and the heading re-converges to it.
+//!
+//! The dip is seen through the estimated inclination: while that is still converging
+//! (after a start, a gap or a clipped gyroscope) the dip is not judged and not
+//! learned, and the first dip learned after a start is the one measured once the
+//! inclination has converged (a first sample taken in vibration or motion can be
+//! tens of degrees off, and a reference learned from it would reject the field for
+//! good).
 
 /// Time constant of the current magnitude and dip, s.
 pub const CURRENT_TIME_CONSTANT_S: f64 = 0.05;
@@ -38,6 +45,8 @@ pub(crate) struct MagDisturbance {
     pub(crate) ref_norm_ut: f64,
     pub(crate) ref_dip_rad: f64,
     pub(crate) ref_valid: bool,
+    /// The reference dip was measured with a converged inclination.
+    pub(crate) dip_trusted: bool,
     /// Current (short-mean) magnitude, µT, and dip, rad.
     pub(crate) norm_ut: f64,
     pub(crate) dip_rad: f64,
@@ -71,17 +80,20 @@ impl MagDisturbance {
     /// Forget the learned field (first sample, or after a gap).
     pub(crate) fn restart(&mut self, lim: &MagLimits) {
         self.ref_valid = false;
+        self.dip_trusted = false;
         self.undisturbed_s = lim.min_undisturbed_s;
         self.rejected_s = 0.0;
     }
 
-    /// Assess one sample of magnitude `norm_ut` and dip `dip_rad`.
+    /// Assess one sample of magnitude `norm_ut` and dip `dip_rad`; `tilt_known`: the
+    /// inclination the dip was measured with has converged.
     #[inline(always)]
     pub(crate) fn assess(
         &mut self,
         norm_ut: f64,
         dip_rad: f64,
         dt: f64,
+        tilt_known: bool,
         lim: &MagLimits,
     ) -> MagVerdict {
         if !self.ref_valid {
@@ -95,8 +107,16 @@ impl MagDisturbance {
             self.norm_ut += k * (norm_ut - self.norm_ut);
             self.dip_rad += k * (dip_rad - self.dip_rad);
         }
+        if tilt_known & !self.dip_trusted {
+            // The first dip seen through a converged inclination (this sample's: the
+            // short mean still carries the unconverged ones).
+            self.dip_rad = dip_rad;
+            self.ref_dip_rad = dip_rad;
+            self.dip_trusted = true;
+        }
+        let judge_dip = tilt_known & self.dip_trusted;
         let disturbed = ((self.norm_ut - self.ref_norm_ut).abs() > lim.norm_rel * self.ref_norm_ut)
-            | ((self.dip_rad - self.ref_dip_rad).abs() > lim.dip_rad);
+            | (judge_dip & ((self.dip_rad - self.ref_dip_rad).abs() > lim.dip_rad));
         self.undisturbed_s = if disturbed {
             0.0
         } else if self.undisturbed_s < lim.min_undisturbed_s {
@@ -113,12 +133,15 @@ impl MagDisturbance {
             self.rejected_s = 0.0;
             let k = gain(dt, 1.0 / REFERENCE_TIME_CONSTANT_S);
             self.ref_norm_ut += k * (self.norm_ut - self.ref_norm_ut);
-            self.ref_dip_rad += k * (self.dip_rad - self.ref_dip_rad);
+            if judge_dip {
+                self.ref_dip_rad += k * (self.dip_rad - self.ref_dip_rad);
+            }
         } else {
             self.rejected_s += dt;
             if self.rejected_s > lim.max_rejection_s {
                 self.ref_norm_ut = self.norm_ut;
                 self.ref_dip_rad = self.dip_rad;
+                self.dip_trusted = tilt_known;
                 self.rejected_s = 0.0;
                 self.undisturbed_s = lim.min_undisturbed_s;
                 v = MagVerdict {
@@ -148,34 +171,61 @@ mod tests {
         let mut m = MagDisturbance::default();
         m.restart(&LIM);
         let dt = 0.01;
-        assert!(m.assess(45.0, 1.2, dt, &LIM).use_it);
+        assert!(m.assess(45.0, 1.2, dt, true, &LIM).use_it);
         for _ in 0..100 {
-            assert!(m.assess(45.0, 1.2, dt, &LIM).use_it);
+            assert!(m.assess(45.0, 1.2, dt, true, &LIM).use_it);
         }
         // A magnet: 60 µT for 2 s.
         let mut seen = 0;
         for _ in 0..200 {
-            let v = m.assess(60.0, 1.2, dt, &LIM);
+            let v = m.assess(60.0, 1.2, dt, true, &LIM);
             seen += v.disturbed as usize;
             assert!(!v.use_it || seen == 0);
         }
         assert!(seen > 190);
         // Gone: trusted again only after 0.5 s undisturbed.
         let used: Vec<bool> = (0..100)
-            .map(|_| m.assess(45.0, 1.2, dt, &LIM).use_it)
+            .map(|_| m.assess(45.0, 1.2, dt, true, &LIM).use_it)
             .collect();
         let first = used.iter().position(|&u| u).unwrap();
         assert!((50..=60).contains(&first), "{first}");
         // A new field for longer than the rejection limit becomes the reference.
         let mut recovered_at = None;
         for i in 0..7000 {
-            let v = m.assess(30.0, 1.0, dt, &LIM);
+            let v = m.assess(30.0, 1.0, dt, true, &LIM);
             if v.recovered {
                 recovered_at = Some(i);
             }
         }
         let i = recovered_at.unwrap();
         assert!((5990..6010).contains(&i), "{i}");
-        assert!(m.assess(30.0, 1.0, dt, &LIM).use_it);
+        assert!(m.assess(30.0, 1.0, dt, true, &LIM).use_it);
+    }
+
+    #[test]
+    fn the_dip_is_judged_only_through_a_converged_inclination() {
+        let mut m = MagDisturbance::default();
+        m.restart(&LIM);
+        let dt = 0.01;
+        // A first inclination 30° off: the dip reads 0.7 rad while it converges.
+        for _ in 0..100 {
+            assert!(m.assess(45.0, 0.7, dt, false, &LIM).use_it);
+        }
+        // Converged: the true dip (1.2 rad) becomes the reference, not a disturbance.
+        for _ in 0..100 {
+            assert!(m.assess(45.0, 1.2, dt, true, &LIM).use_it);
+        }
+        assert!((m.ref_dip_rad - 1.2).abs() < 0.01, "{}", m.ref_dip_rad);
+        // Later, while the inclination re-converges (a gap), a wrong dip is not judged
+        // and not learned; a wrong magnitude still is.
+        for _ in 0..50 {
+            assert!(m.assess(45.0, 0.8, dt, false, &LIM).use_it);
+        }
+        assert!((m.ref_dip_rad - 1.2).abs() < 0.01);
+        assert!(
+            m.assess(60.0, 1.2, dt, false, &LIM).disturbed || {
+                (0..20).any(|_| m.assess(60.0, 1.2, dt, false, &LIM).disturbed)
+            }
+        );
     }
 }

@@ -108,13 +108,6 @@ impl Tilt {
     pub(crate) fn q_body_to_e(&self) -> Quat {
         quat::mul(&self.q_inc, &self.q_gyr)
     }
-
-    /// Restart the averages from the current sample (after a clipped gyroscope, whose
-    /// integration is no longer trusted).
-    pub(crate) fn reset_average(&mut self, a: &[f64; 3]) {
-        self.avg = quat::rotate(&self.q_gyr, a);
-        self.avg_rate = [0.0; 3];
-    }
 }
 
 /// Smallest rotation taking `v` to the vertical (+z), or `None` for a zero vector.

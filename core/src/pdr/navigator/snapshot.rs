@@ -35,6 +35,7 @@ impl PhoneNavigator {
             recent,
             placed,
             calibration,
+            scale,
             merger,
         } = self;
         let mut w = Writer::new(SNAPSHOT_KIND, SNAPSHOT_VERSION);
@@ -95,6 +96,7 @@ impl PhoneNavigator {
             }
             None => w.bool(false),
         }
+        scale.write(&mut w);
         w.bytes(&merger.snapshot());
         w.finish()
     }
@@ -154,6 +156,7 @@ impl PhoneNavigator {
         } else {
             None
         };
+        let scale = StepScale::read(&mut r)?;
         let merger = ImuMerger::restore(r.bytes()?)?;
         r.end()?;
         let newest = imu_time
@@ -211,6 +214,7 @@ impl PhoneNavigator {
             recent,
             placed,
             calibration,
+            scale,
             merger,
         })
     }
