@@ -20,7 +20,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use stridekit_core::map::MapConfig;
-use stridekit_formats::read_floor_plan;
+use stridekit_formats::{read_floor_plan, PlanFileError};
 use stridekit_lab::pdr::maps::{map_score, replay_map, MapReplay, START_SIGMA_M};
 use stridekit_lab::pdr::mapsvg::{map_svg, Layer};
 use stridekit_lab::pdr::metrics::track_at;
@@ -38,7 +38,10 @@ pub fn run(a: &PdrArgs, map: &Path, sink: &Sink) -> Result<(), Failure> {
     if walk.rec.truncated {
         crate::input::warn_truncated(&a.file);
     }
-    let plan_file = read_floor_plan(map).map_err(|e| format!("{}: {e}", map.display()))?;
+    let plan_file = read_floor_plan(map).map_err(|e| match e {
+        PlanFileError::Io { .. } => e.to_string(), // names the file it could not read
+        e => format!("{}: {e}", map.display()),
+    })?;
     let plan = Arc::new(
         plan_file
             .build()

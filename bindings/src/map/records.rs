@@ -43,7 +43,7 @@ pub struct MapConfig {
     #[uniffi(default = 0.06981317007977318)]
     pub step_heading_sigma_rad: f64,
     /// Prior spread of the step-length scale.
-    #[uniffi(default = 0.1)]
+    #[uniffi(default = 0.05)]
     pub scale_sigma: f64,
     /// Random walk of the step-length scale, per √m.
     #[uniffi(default = 0.003)]
@@ -325,7 +325,7 @@ mod tests {
             heading_sigma_rad: 0.2617993877991494,
             heading_walk_rad_per_sqrt_m: 0.008726646259971648,
             step_heading_sigma_rad: 0.06981317007977318,
-            scale_sigma: 0.1,
+            scale_sigma: 0.05,
             scale_walk_per_sqrt_m: 0.003,
             step_length_sigma: 0.08,
             wall_crossing_weight: 0.0,

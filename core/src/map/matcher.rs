@@ -34,9 +34,8 @@ pub const CONVERGED_STD_M: f64 = 2.0;
 pub const AMBIGUOUS_RADIUS_M: f64 = 3.0;
 pub const AMBIGUOUS_SHARE: f64 = 0.6;
 /// After every particle was ruled out, the cloud is spread anew around where it was
-/// with at least this σ, m, and heading offsets at least this wide, rad.
+/// with at least this σ, m (its heading offsets drawn from the prior again).
 const RECOVERY_SIGMA_M: f64 = 3.0;
-const RECOVERY_HEADING_SIGMA_RAD: f64 = 0.5;
 /// Step scales stay within this band.
 const SCALE_RANGE: (f64, f64) = (0.6, 1.5);
 /// Largest |plan coordinate| of a start or a fix, m.
@@ -381,10 +380,7 @@ impl MapMatcher {
         let prior = if self.absolute_heading {
             OffsetPrior::Normal {
                 mean: 0.0,
-                sigma: self
-                    .config
-                    .heading_sigma_rad
-                    .max(RECOVERY_HEADING_SIGMA_RAD * 0.0),
+                sigma: self.config.heading_sigma_rad,
             }
         } else {
             OffsetPrior::Uniform

@@ -13,7 +13,8 @@
 //!   sample's time, from the samples up to then) and its smoothed path;
 //! - with the plan and fixes every 30 s, made from waypoints plus noise (seeded) and
 //!   scored on the other waypoints only;
-//! - the configuration chosen leave one floor out from a small grid, beside it.
+//! - the configuration chosen leave one floor out from a small grid (heading σ,
+//!   roughening, step-scale σ), beside it.
 
 mod replay;
 mod rows;
@@ -178,15 +179,23 @@ pub fn run(dir: &Path, sets: &[(String, f64)]) -> Result<String, String> {
             quantile(v.iter().copied(), 0.9)
         );
     }
-    let _ = writeln!(out, "\nLeave one floor out (the heading settings, from {} candidates: heading σ and roughening):\n", LOFO_GRID.len());
-    for (f, h, r) in &chosen {
-        let _ = writeln!(out, "- without {f}: heading σ {h}°, roughening {r}°");
+    let _ = writeln!(
+        out,
+        "\nLeave one floor out (from {} candidates: heading σ, roughening, step-scale σ):\n",
+        LOFO_GRID.len()
+    );
+    for (f, h, r, k) in &chosen {
+        let _ = writeln!(
+            out,
+            "- without {f}: heading σ {h}°, roughening {r}°, step-scale σ {k}"
+        );
     }
     let _ = writeln!(
         out,
-        "\nThe default: heading σ {:.0}°, roughening {:.0}°, {} particles.",
+        "\nThe default: heading σ {:.0}°, roughening {:.0}°, step-scale σ {}, {} particles.",
         config.heading_sigma_rad.to_degrees(),
         config.roughen_heading_rad.to_degrees(),
+        config.scale_sigma,
         config.particles
     );
     // The worst walks with the plan (live), beside their no-plan figure.

@@ -129,37 +129,46 @@ pub fn no_plan_rows(walks: &[Planned]) -> Result<NoPlan, String> {
 }
 
 /// The candidates leave-one-floor-out chooses from: the prior spread of the heading
-/// offset (°) and the roughening of resampled headings (°).
-pub const LOFO_GRID: [(f64, f64); 6] = [
-    (10.0, 1.0),
-    (10.0, 3.0),
-    (15.0, 1.0),
-    (15.0, 3.0),
-    (20.0, 1.0),
-    (20.0, 3.0),
+/// offset (°), the roughening of resampled headings (°) and the prior spread of the
+/// step-length scale.
+pub const LOFO_GRID: [(f64, f64, f64); 12] = [
+    (10.0, 1.0, 0.05),
+    (10.0, 3.0, 0.05),
+    (15.0, 1.0, 0.05),
+    (15.0, 3.0, 0.05),
+    (20.0, 1.0, 0.05),
+    (20.0, 3.0, 0.05),
+    (10.0, 1.0, 0.10),
+    (10.0, 3.0, 0.10),
+    (15.0, 1.0, 0.10),
+    (15.0, 3.0, 0.10),
+    (20.0, 1.0, 0.10),
+    (20.0, 3.0, 0.10),
 ];
 
-/// What leave-one-floor-out chose for each floor: (floor, heading σ °, roughening °).
-pub type Chosen = Vec<(String, f64, f64)>;
+/// What leave-one-floor-out chose for each floor: (floor, heading σ °, roughening °,
+/// step-scale σ).
+pub type Chosen = Vec<(String, f64, f64, f64)>;
 
 /// The live estimate with the configuration chosen leave one floor out: for each
 /// floor, the candidate of [`LOFO_GRID`] with the lowest median live RMSE on the other
-/// floors; and what was chosen (floor, heading σ °, roughening °).
+/// floors; and what was chosen (floor, heading σ °, roughening °, step-scale σ).
 pub fn lofo_row(planned: &[Planned], base: &MapConfig) -> Result<(Row, Chosen), String> {
     let mut per_candidate = Vec::new();
-    for (h, r) in LOFO_GRID {
+    for (h, r, k) in LOFO_GRID {
         let c = apply_sets(
             *base,
             &[
                 ("heading_sigma_deg".into(), h),
                 ("roughen_heading_deg".into(), r),
+                ("scale_sigma".into(), k),
             ],
         )?;
         let (live, _, _) = score_map_rows(
             planned,
             &c,
             false,
-            &format!("candidate heading σ {h}°, roughening {r}°"),
+            &format!("candidate heading σ {h}°, roughening {r}°, step-scale σ {k}"),
         )?;
         per_candidate.push(live);
     }
@@ -167,7 +176,7 @@ pub fn lofo_row(planned: &[Planned], base: &MapConfig) -> Result<(Row, Chosen), 
     fl.sort();
     fl.dedup();
     let mut row = Row {
-        name: "with the plan, live, heading settings chosen leave one floor out".into(),
+        name: "with the plan, live, settings chosen leave one floor out".into(),
         by_walk: Vec::new(),
     };
     let mut chosen = Vec::new();
@@ -178,7 +187,8 @@ pub fn lofo_row(planned: &[Planned], base: &MapConfig) -> Result<(Row, Chosen), 
                 m(a).total_cmp(&m(b))
             })
             .unwrap_or(0);
-        chosen.push((f.clone(), LOFO_GRID[best].0, LOFO_GRID[best].1));
+        let (h, r, k) = LOFO_GRID[best];
+        chosen.push((f.clone(), h, r, k));
         row.by_walk.extend(
             per_candidate[best]
                 .by_walk
