@@ -358,5 +358,53 @@ pub fn run(args: &EvalOrientationArgs) -> Result<String, String> {
         cell(&Rmse::mean(&held)),
         cell(&Rmse::mean(default))
     ));
+    out.push_str(&leave_one_trial_out(
+        &grid, &per, &trials, default, objective, cell,
+    ));
     Ok(out)
+}
+
+/// Leave one trial out over the same grid: for each trial, the setting with the lowest
+/// mean objective on the other trials, scored on it; the per-trial table beside the
+/// fixed defaults, and the mean.
+fn leave_one_trial_out(
+    grid: &[(String, AhrsSettings)],
+    per: &[Vec<Rmse>],
+    trials: &[OrientationRecording],
+    default: &[Rmse],
+    objective: impl Fn(&Rmse) -> f64,
+    cell: impl Fn(&Rmse) -> String,
+) -> String {
+    let mut out = format!(
+        "\nLeave one trial out: for each trial, the setting of the same {} with the lowest \
+         mean on the other {} trials, scored on it.\n\n\
+         | held-out trial | settings chosen on the others | held out, chosen | fixed default |\n\
+         |---|---|---|---|\n",
+        grid.len(),
+        trials.len().saturating_sub(1)
+    );
+    let mut held = Vec::new();
+    for (i, t) in trials.iter().enumerate() {
+        let others = |r: &[Rmse]| {
+            let rest = r.iter().enumerate().filter(|&(j, _)| j != i);
+            objective(&Rmse::mean(rest.map(|(_, r)| r)))
+        };
+        let best = (0..grid.len())
+            .min_by(|&a, &b| others(&per[a]).total_cmp(&others(&per[b])))
+            .unwrap_or(0);
+        held.push(per[best][i]);
+        out.push_str(&format!(
+            "| {} | {} | {} | {} |\n",
+            t.name,
+            grid[best].0,
+            cell(&per[best][i]),
+            cell(&default[i])
+        ));
+    }
+    out.push_str(&format!(
+        "| **mean** | | **{}** | **{}** |\n",
+        cell(&Rmse::mean(&held)),
+        cell(&Rmse::mean(default))
+    ));
+    out
 }
