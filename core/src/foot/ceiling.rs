@@ -16,7 +16,7 @@
 //! stream, but a device's range is a constant, so the file replays run it over the whole
 //! recording first and give the navigator the range it found
 //! ([`FootConfig::gyro_range_rads`](super::FootConfig::gyro_range_rads)); without such
-//! evidence (or a range the app states) nothing is repaired. docs/foot.md, "Device
+//! evidence (or a range the app states) nothing is repaired. docs/lab/2026-12-06-foot-history.md, "Device
 //! assumptions".
 
 use super::clip::AT_RANGE;

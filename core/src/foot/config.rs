@@ -33,7 +33,7 @@ pub enum GyroTiming {
     /// VectorNav units): the attitude over `[t_{k−1}, t_k]` integrates sample k alone.
     /// Read as instantaneous, such a gyroscope's attitude lags the accelerometer by
     /// half a sample, which during the fast pitch rotations of a swing tips the
-    /// specific force (docs/foot.md: the height gained per stride on the UofT trials).
+    /// specific force (docs/lab/2026-12-06-foot-history.md: the height gained per stride on the UofT trials).
     IntervalMean,
 }
 
@@ -43,7 +43,7 @@ pub const MAX_DETECTOR_WINDOW: usize = 31;
 /// Default of [`FootConfig::zupt_gate_nis`]: ≈ 10 σ for three degrees of freedom,
 /// only gross disagreement is bounded. Chosen on the training split of the UofT
 /// VICON trials among 30, 50, 100, 200, 300 (`stridekit eval foot
-/// --tune-adaptive-shoe` run with each; docs/foot.md): a flat optimum at 50–200.
+/// --tune-adaptive-shoe` run with each; docs/lab/2026-12-06-foot-history.md): a flat optimum at 50–200.
 pub const ZUPT_GATE_NIS: f64 = 100.0;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -57,7 +57,7 @@ pub struct FootConfig {
     /// Detector window, s (converted to an odd number of samples, 3..=31, at the
     /// sample rate measured during alignment). Default 0.025 s (5 samples at
     /// 200 Hz), chosen among 0.025 / 0.05 / 0.1 s on the training half of the pyshoe
-    /// VICON trials (`stridekit eval foot --tune`, see `docs/foot.md`).
+    /// VICON trials (`stridekit eval foot --tune`, see `docs/lab/2026-12-06-foot-history.md`).
     pub detector_window_s: f64,
     /// Window of the peak ‖f‖ used to classify the gait (about one stride), s.
     pub gait_window_s: f64,
@@ -132,7 +132,7 @@ pub struct FootConfig {
 /// 1.4 m stride). A stair stride rises 15–40 cm over 0.3–0.7 m (25–60 %). The height a
 /// consumer IMU gains per level stride from a degree of accelerometer misalignment is
 /// 1–5 cm on a 1.1 m stride, and the filter's stride-to-stride height noise on the
-/// UofT runs reaches ±9 % (docs/foot.md, "The level floor").
+/// UofT runs reaches ±9 % (docs/lab/2026-12-06-foot-history.md, "The level floor").
 pub const LEVEL_STRIDE_MAX_GRADE: f64 = 0.05;
 
 /// Largest [`FootConfig::level_stride_max_grade`] accepted (a grade beyond it would

@@ -73,7 +73,7 @@ impl Default for FixedThresholds {
 impl FixedThresholds {
     /// The default set, one for every gait: chosen by a grid search on the training
     /// half of the pyshoe VICON trials (`stridekit eval foot --tune`, objective: the
-    /// geometric mean of the position RMSE; see `docs/foot.md`), with the default
+    /// geometric mean of the position RMSE; see `docs/lab/2026-12-06-foot-history.md`), with the default
     /// 0.025 s detector window. The accelerometer σ criterion ended at the top of its
     /// grid (2.4 m/s²): on this data the centre-sample ‖ω‖ and | ‖f‖ − g | and the
     /// gyroscope σ do the work.
@@ -186,7 +186,7 @@ impl AdaptiveThresholds {
 /// [`AdaptiveThresholds`]; below `jog_peak_mps2` the SVM decides, above it the jog
 /// or run thresholds do. The SVM's (peak ‖f‖, σ) features separate walking stance
 /// well but overlap in running, where "all six agree" misses whole stances
-/// (docs/foot.md).
+/// (docs/lab/2026-12-06-foot-history.md).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SvmAdaptive {
     /// The walking detector; shared, immutable.
@@ -312,7 +312,7 @@ pub struct AdaptiveShoe {
 impl Default for AdaptiveShoe {
     /// γ₀ = 2.5·10³, p₀ = 15 m/s², k = 3.5 (σ_a, σ_ω as SHOE's default): chosen on
     /// the training half of the UofT VICON trials with `stridekit eval foot
-    /// --tune-adaptive-shoe` (docs/foot.md; the neighbours in the grid score within
+    /// --tune-adaptive-shoe` (docs/lab/2026-12-06-foot-history.md; the neighbours in the grid score within
     /// 3 %).
     fn default() -> Self {
         Self {

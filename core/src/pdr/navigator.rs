@@ -173,7 +173,7 @@ impl Default for NavigatorConfig {
             // The inverted pendulum: the phone's rise and fall over a step follows
             // its length when the walker shortens steps at the same cadence (slowing
             // down, turning, indoors), which the cadence-driven linear prior cannot,
-            // and more closely than Weinberg's acceleration range (docs/phone.md).
+            // and more closely than Weinberg's acceleration range (docs/lab/2026-12-06-phone-history.md).
             step_length_model: StepLengthModel::Pendulum,
             step_length: StepLengthConfig::default(),
             gyro_calibrated: true,

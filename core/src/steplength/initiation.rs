@@ -10,16 +10,16 @@
 //!
 //! [`GAIT_INITIATION`] holds the shares of the steady step length used for the first
 //! and second step of a walk. They are physiological values, not fitted here: on the
-//! 287 indoor walks (`stridekit eval pdr --diagnose`, docs/phone.md) the model read
+//! 287 indoor walks (`stridekit eval pdr --diagnose`, docs/lab/2026-12-06-phone-history.md) the model read
 //! the first waypoint leg (from standing) 0.9 step-equivalents longer than the other
 //! legs, and `0.6 + 0.85` takes 0.55 steps off; the sensitivity to other shares is in
-//! docs/phone.md.
+//! docs/lab/2026-12-06-phone-history.md.
 //!
 //! A walk starts at the first step, and again at a step that comes [`STOP_S`] or more
 //! after the previous one: a stop long enough to be standing. Shorter gaps in the
 //! steps are mostly not stops: the detector loses a few steps in a turn or when the
 //! steps weaken, and restarts its bout while the walker walks on (measured on the
-//! indoor walks, docs/phone.md); those steps are not shortened.
+//! indoor walks, docs/lab/2026-12-06-phone-history.md); those steps are not shortened.
 
 /// Share of the steady step length of the first and the second step of a walk.
 pub const GAIT_INITIATION: [f64; 2] = [0.6, 0.85];

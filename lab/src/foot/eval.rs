@@ -141,7 +141,7 @@ pub fn base_config() -> FootConfig {
 /// plateau of 9.12–9.22 rad/s (its largest magnitude, held by 4–48 samples within
 /// 0.05 rad/s of it), so the ceiling is about 9.13 rad/s ≈ 99 % of 9.2 rad/s. A
 /// property of the device read off the raw samples, like a data sheet's range, not a
-/// fitted setting (docs/foot.md, "Gyroscope clipping"). The evaluation gives it to
+/// fitted setting (docs/lab/2026-12-06-foot-history.md, "Gyroscope clipping"). The evaluation gives it to
 /// every trial (one device); [`gyro_range_note`] prints what the ceiling detector
 /// finds per trial beside it. `stridekit foot` does not assume it: it detects.
 pub const UOFT_GYRO_RANGE_RADS: f64 = 9.2;

@@ -122,7 +122,7 @@ impl Carrying {
     /// The azimuth (AHRS frame) of the phone's top edge when the phone is held in
     /// front to be read — screen facing up, top edge not below the bottom edge by more
     /// than ~17°, portrait: the stride axis at `axis_ahrs` within ~60° of the long
-    /// side. A phone held to be read points where its walker goes (docs/phone.md, "A
+    /// side. A phone held to be read points where its walker goes (docs/lab/2026-12-06-phone-history.md, "A
     /// phone held to be read walks towards its top edge"). `None` in any other pose
     /// (pocket, bag, swinging hand, landscape): the stride axis and the gait cue decide.
     fn top_edge_if_read(&self, q: &UnitQuaternion<f64>, axis_ahrs: f64) -> Option<f64> {

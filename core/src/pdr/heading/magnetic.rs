@@ -14,7 +14,7 @@ use crate::angle::wrap;
 const MAG_TAU_RAW_GYRO_S: f64 = 10.0;
 const MAG_RATE_TAU_RAW_GYRO_S: f64 = 40.0;
 /// ... and for one whose bias the platform removes (~0.01°/s: slow, so the field's
-/// disturbances stay out of the heading; docs/phone.md gives the balance).
+/// disturbances stay out of the heading; docs/lab/2026-12-06-phone-history.md gives the balance).
 const MAG_TAU_CALIBRATED_GYRO_S: f64 = 120.0;
 const MAG_RATE_TAU_CALIBRATED_GYRO_S: f64 = 480.0;
 /// A field sample is rejected when its strength or dip departs from the learned ones
