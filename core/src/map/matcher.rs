@@ -20,10 +20,11 @@ use super::error::MapError;
 use super::fix::{
     FixPosition, MapFix, PendingFix, FIX_EXPLAINED_LIKELIHOOD, FIX_OUTLIER_FLOOR, MAX_FIX_WAIT_S,
 };
-use super::particles::{wrap_pi, Cloud, OffsetPrior, Summary};
+use super::particles::{Cloud, OffsetPrior, Summary};
 use super::plan::FloorPlan;
 use super::rng::Rng;
 use super::smoother::{History, SmoothedPoint};
+use crate::angle::wrap;
 
 /// A start off the walkable area is moved onto it when it is this close, m.
 pub const MAX_START_SNAP_M: f64 = 5.0;
@@ -332,7 +333,7 @@ impl MapMatcher {
             }
             cloud.x[i] = to[0];
             cloud.y[i] = to[1];
-            cloud.off[i] = wrap_pi(cloud.off[i] + walk_h * rng.normal());
+            cloud.off[i] = wrap(cloud.off[i] + walk_h * rng.normal());
             cloud.scale[i] =
                 (cloud.scale[i] + walk_s * rng.normal()).clamp(SCALE_RANGE.0, SCALE_RANGE.1);
             alive += 1;
@@ -405,7 +406,7 @@ impl MapMatcher {
             // offsets and scales (positions spread with the next steps' noise).
             let (rh, rs) = (self.config.roughen_heading_rad, self.config.roughen_scale);
             for i in 0..self.cloud.len() {
-                self.cloud.off[i] = wrap_pi(self.cloud.off[i] + rh * self.rng.normal());
+                self.cloud.off[i] = wrap(self.cloud.off[i] + rh * self.rng.normal());
                 self.cloud.scale[i] = (self.cloud.scale[i] + rs * self.rng.normal())
                     .clamp(SCALE_RANGE.0, SCALE_RANGE.1);
             }
@@ -533,7 +534,7 @@ impl MapMatcher {
             x_m: s.x,
             y_m: s.y,
             position_std_m: s.std_m,
-            heading_offset_rad: wrap_pi(s.off + self.declination_rad),
+            heading_offset_rad: wrap(s.off + self.declination_rad),
             heading_std_rad: s.off_std,
             step_scale: s.scale,
             declination_rad: self.declination_rad,

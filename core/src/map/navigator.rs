@@ -18,9 +18,9 @@ use super::config::{Declination, MapConfig};
 use super::error::MapError;
 use super::fix::{FixPosition, MapFix};
 use super::matcher::{MapFlags, MapMatcher};
-use super::particles::wrap_pi;
 use super::plan::FloorPlan;
 use super::smoother::SmoothedPoint;
+use crate::angle::wrap;
 
 /// Where the walker is on the plan.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -264,7 +264,7 @@ impl MapNavigator {
             position_std_m: nav.position_std_m,
             lat_deg: nav.lat_deg,
             lon_deg: nav.lon_deg,
-            walking_azimuth_rad: nav.walking_azimuth_rad.map(|a| wrap_pi(a + d)),
+            walking_azimuth_rad: nav.walking_azimuth_rad.map(|a| wrap(a + d)),
             heading_std_rad: f64::NAN,
             step_scale: 1.0,
             declination_rad: d,
@@ -313,7 +313,7 @@ fn on_plan(m: &MapMatcher, nav: &NavEstimate) -> MapEstimate {
         lon_deg: geo.map(|g| g.1),
         walking_azimuth_rad: nav
             .walking_azimuth_rad
-            .map(|a| wrap_pi(a + s.heading_offset_rad)),
+            .map(|a| wrap(a + s.heading_offset_rad)),
         heading_std_rad: s.heading_std_rad,
         step_scale: s.step_scale,
         declination_rad: s.declination_rad,

@@ -5,6 +5,7 @@
 
 use super::plan::FloorPlan;
 use super::rng::Rng;
+use crate::angle::wrap;
 
 /// Draws of a position before a particle is put at the centre itself.
 const SPREAD_TRIES: usize = 16;
@@ -46,29 +47,6 @@ pub(crate) struct Summary {
     pub(crate) scale: f64,
     /// Share of the weight within `radius` of the mean.
     pub(crate) near_share: f64,
-}
-
-/// The wrapped angle in (−π, π] (a branch for the usual angles within a turn of the
-/// range, rounding only beyond: this runs per particle per step).
-#[inline]
-pub(crate) fn wrap_pi(a: f64) -> f64 {
-    use std::f64::consts::{PI, TAU};
-    let r = if a > PI {
-        a - TAU
-    } else if a <= -PI {
-        a + TAU
-    } else {
-        return a;
-    };
-    if r > -PI && r <= PI {
-        return r;
-    }
-    let r = a - TAU * (a / TAU).round();
-    if r <= -PI {
-        r + TAU
-    } else {
-        r
-    }
 }
 
 impl Cloud {
@@ -196,7 +174,7 @@ impl Cloud {
     /// heading offsets are averaged around `reference` (the last mean: they are
     /// angles, wrapped to within ±π of it).
     pub(crate) fn summary(&self, radius_m: f64, reference: f64) -> Summary {
-        let dev = |o: f64| wrap_pi(o - reference);
+        let dev = |o: f64| wrap(o - reference);
         let (mut sx, mut sy, mut ss, mut so) = (0.0, 0.0, 0.0, 0.0);
         for i in 0..self.len() {
             let w = self.w[i];
@@ -221,37 +199,10 @@ impl Cloud {
             x: sx,
             y: sy,
             std_m: (0.5 * (vx + vy)).sqrt(),
-            off: wrap_pi(reference + so),
+            off: wrap(reference + so),
             off_std: vo.sqrt(),
             scale: ss,
             near_share: near,
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::wrap_pi;
-    use std::f64::consts::PI;
-
-    #[test]
-    fn angles_wrap_into_the_half_open_turn() {
-        for (a, w) in [
-            (0.0, 0.0),
-            (PI, PI),
-            (-PI, PI),
-            (3.5, 3.5 - 2.0 * PI),
-            (-7.0, -7.0 + 2.0 * PI),
-        ] {
-            assert!((wrap_pi(a) - w).abs() < 1e-12, "{a}: {}", wrap_pi(a));
-        }
-        for k in -50..50 {
-            let a = 0.37 * f64::from(k);
-            let r = wrap_pi(a);
-            assert!(
-                r > -PI && r <= PI && ((a - r) / (2.0 * PI)).fract().abs() < 1e-9,
-                "{a} → {r}"
-            );
         }
     }
 }
