@@ -8,10 +8,11 @@ use stridekit_core::foot::{
     ZeroVelocityDetector,
 };
 use stridekit_core::geo::LocalFrame;
+use stridekit_core::pace::{PaceConfig, PaceSample, PaceTracker};
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
 use stridekit_core::stepdetect::{StepDetector, StepDetectorConfig};
 use stridekit_sim::phone::{simulate_phone, PhoneEvent, PhonePlacement, PhoneScenario};
-use stridekit_sim::{simulate_foot, FootScenario};
+use stridekit_sim::{simulate_foot, simulate_run, FootScenario, RunScenario, StepReport};
 
 /// Snapshots taken every this many inputs.
 const EVERY: usize = 500;
@@ -160,6 +161,44 @@ fn foot_navigator_snapshots_are_pinned() {
     assert_eq!(got, PINNED_FOOT, "{got:?}");
 }
 
+/// The pace tracker along a simulated run; the calibration it would export is
+/// appended (its `Debug` text: shortest round-trip digits, so bit-exact).
+fn pace_pin(scenario: RunScenario, gnss_only: bool) -> (u64, usize) {
+    let mut p = PaceTracker::new(PaceConfig::default()).unwrap();
+    let mut pin = Pin::new();
+    let samples = simulate_run(&scenario).samples();
+    let used = samples
+        .iter()
+        .filter(|s| !(gnss_only && matches!(s, PaceSample::Steps(_))));
+    for (i, s) in used.enumerate() {
+        let _ = p.push(s);
+        pin.take(i, || p.snapshot());
+    }
+    let mut last = p.snapshot();
+    last.extend(format!("{:?}", p.calibration()).into_bytes());
+    pin.finish(last)
+}
+
+#[test]
+fn pace_tracker_snapshots_are_pinned() {
+    let events_doppler = RunScenario {
+        step_report: StepReport::Events,
+        receiver_speed: true,
+        duration_s: 900.0,
+        ..RunScenario::demo(7)
+    };
+    let gnss_only = RunScenario {
+        duration_s: 900.0,
+        ..RunScenario::demo(11)
+    };
+    let got = [
+        pace_pin(RunScenario::demo(5), false),
+        pace_pin(events_doppler, false),
+        pace_pin(gnss_only, true),
+    ];
+    assert_eq!(got, PINNED_PACE, "{got:?}");
+}
+
 // Recorded on main at 46f8dfb (before the engines were split into folders); the
 // navigator's re-recorded on main at 0b6891a (snapshot format 8, the IMU merge rule);
 // all re-recorded on main at 3b5df39, before the refactor was merged (the input
@@ -178,4 +217,10 @@ const PINNED_FOOT: [(u64, usize); 5] = [
     (2867120402205973075, 108420),
     (4810288938076267182, 108596),
     (6680496829167579126, 110356),
+];
+// Recorded on h37-pace at 06a5b1c, before core/src/pace/adaptive.rs was split.
+const PINNED_PACE: [(u64, usize); 3] = [
+    (15396665033210809671, 44002),
+    (4462676194551652622, 34618),
+    (15111130218364370262, 5737),
 ];
