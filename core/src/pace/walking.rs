@@ -9,7 +9,7 @@
 //! at 112 steps/min (an adult's comfortable walk, ≈ 1.35 m/s), growing in proportion to
 //! cadence (L ≈ (L₀ / c₀)·c), blended into the running line over ±6 steps/min around
 //! the boundary. It is not learned: learning it from the GNSS windows of
-//! the real runs' short walks made it worse (docs/pace.md), and while GNSS is good it
+//! the real runs' short walks made it worse (docs/lab/2026-12-06-pace-history.md), and while GNSS is good it
 //! carries the speed anyway. A walk teaches the running line nothing either.
 
 /// Cadences below this are a walk, steps/s (132 steps/min: a brisk walk reaches
