@@ -451,6 +451,19 @@ pub fn gnss(
     Ok(())
 }
 
+/// [`gnss`] over the fields of a [`GnssFix`](crate::pace::GnssFix): the value checks
+/// of every engine taking one (the engine's [`TimeGuard`] checks its time first).
+pub(crate) fn gnss_fix(fix: &crate::pace::GnssFix) -> Result<(), InputError> {
+    gnss(
+        fix.lat_deg,
+        fix.lon_deg,
+        fix.alt_m,
+        fix.horizontal_accuracy_m,
+        fix.speed_mps,
+        fix.speed_accuracy_mps,
+    )
+}
+
 /// The stateless part of the time checks: `t_s` finite, in seconds by magnitude and
 /// after `last_t_s`. Returns the interval (None for a first sample). [`time_after`]
 /// adds the jump check, [`TimeGuard`] the slow-interval check of high-rate streams.
@@ -789,6 +802,50 @@ impl AccelUnits {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn gnss_fix_checks_every_field_as_gnss_does() {
+        let ok = crate::pace::GnssFix::new(10.0, 48.1, 11.5);
+        assert!(gnss_fix(&ok).is_ok());
+        let bad = [
+            crate::pace::GnssFix {
+                lat_deg: 91.0,
+                ..ok
+            },
+            crate::pace::GnssFix {
+                lon_deg: f64::NAN,
+                ..ok
+            },
+            crate::pace::GnssFix {
+                alt_m: Some(1e9),
+                ..ok
+            },
+            crate::pace::GnssFix {
+                horizontal_accuracy_m: Some(-1.0),
+                ..ok
+            },
+            crate::pace::GnssFix {
+                speed_mps: Some(1e6),
+                ..ok
+            },
+            crate::pace::GnssFix {
+                speed_accuracy_mps: Some(f64::INFINITY),
+                ..ok
+            },
+        ];
+        for f in bad {
+            let direct = gnss(
+                f.lat_deg,
+                f.lon_deg,
+                f.alt_m,
+                f.horizontal_accuracy_m,
+                f.speed_mps,
+                f.speed_accuracy_mps,
+            );
+            assert!(direct.is_err());
+            assert_eq!(format!("{:?}", gnss_fix(&f)), format!("{direct:?}"));
+        }
+    }
 
     #[test]
     fn seconds_pass_and_unix_seconds_too() {

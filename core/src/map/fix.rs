@@ -5,9 +5,8 @@
 //! back; a second one that agrees with it moves the walker there.
 
 use crate::input::{self, InputError, Stream};
+use crate::stats::RADIUS68_TO_SIGMA;
 
-/// 68 % radius of a circular 2-D Gaussian is 1.515 σ per axis.
-pub(crate) const RADIUS68_TO_SIGMA: f64 = 1.0 / 1.515;
 /// Smallest per-axis σ of a fix, m (no source places a walker closer).
 pub(crate) const MIN_FIX_SIGMA_M: f64 = 0.5;
 /// A fix waits at most this long for the steps up to its time to be placed, s (the

@@ -206,14 +206,7 @@ impl PaceTracker {
 
     fn validate_fix(&self, fix: &GnssFix) -> Result<(), PaceError> {
         self.fix_time.check(fix.t_s)?;
-        input::gnss(
-            fix.lat_deg,
-            fix.lon_deg,
-            fix.alt_m,
-            fix.horizontal_accuracy_m,
-            fix.speed_mps,
-            fix.speed_accuracy_mps,
-        )?;
+        input::gnss_fix(fix)?;
         Ok(())
     }
 

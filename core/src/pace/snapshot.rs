@@ -57,18 +57,7 @@ impl PaceTracker {
         let step_time = TimeGuard::read(&mut r, InputStream::Steps)?;
         let held = Held::read(
             &mut r,
-            |f| {
-                f.t_s.abs() <= input::limits::MAX_ABS_T_S
-                    && input::gnss(
-                        f.lat_deg,
-                        f.lon_deg,
-                        f.alt_m,
-                        f.horizontal_accuracy_m,
-                        f.speed_mps,
-                        f.speed_accuracy_mps,
-                    )
-                    .is_ok()
-            },
+            |f| f.t_s.abs() <= input::limits::MAX_ABS_T_S && input::gnss_fix(f).is_ok(),
             |s| StepStream::new().check(s).is_ok(),
         )?;
         let steps = StepStream::read(&mut r)?;

@@ -617,14 +617,7 @@ impl PhoneNavigator {
     /// calibrates step length and the walking direction.
     pub fn push_fix(&mut self, fix: &GnssFix) -> Result<NavEstimate, NavError> {
         self.fix_time.check(fix.t_s)?;
-        input::gnss(
-            fix.lat_deg,
-            fix.lon_deg,
-            fix.alt_m,
-            fix.horizontal_accuracy_m,
-            fix.speed_mps,
-            fix.speed_accuracy_mps,
-        )?;
+        input::gnss_fix(fix)?;
         let sigma = self.fix_sigma_m(fix);
         let frame = match self.frame {
             Some(f) => f,

@@ -8,6 +8,7 @@ use super::settings::*;
 use super::state::{FixPoint, Learn, BE, BN, PE, PN, VE, VN};
 use super::AdaptiveFilter;
 use crate::pace::{Context, LocalFix};
+use crate::stats::{CHI2_99_1DOF, CHI2_99_2DOF, RADIUS68_TO_SIGMA};
 
 /// A fix's position update: measurement matrix, innovation, white noise.
 struct PositionUpdate {
@@ -30,7 +31,7 @@ impl AdaptiveFilter {
 
     /// Step data that says "standing" while GNSS keeps moving far: distrust it.
     fn check_stationary_against(&mut self, nis: f64) {
-        if self.stationary && nis > CONTRADICTION_GATES * GATE_2DOF {
+        if self.stationary && nis > CONTRADICTION_GATES * CHI2_99_2DOF {
             self.contradictions = self.contradictions.saturating_add(1);
             if self.contradictions >= CONTRADICTIONS_TO_DISTRUST {
                 log::warn!("step data says stationary but GNSS moves: ignoring steps");
@@ -105,9 +106,9 @@ impl AdaptiveFilter {
         if self.track_lost(fix, nis) {
             return (nis, false);
         }
-        if nis > GATE_2DOF {
+        if nis > CHI2_99_2DOF {
             // Inflate the noise so the innovation sits on the gate (robust update).
-            let scale = nis / GATE_2DOF;
+            let scale = nis / CHI2_99_2DOF;
             r = (hp + r) * scale - hp;
             match (hp + r).try_inverse() {
                 Some(si) => s_inv = si,
@@ -129,7 +130,7 @@ impl AdaptiveFilter {
         self.info_gnss += (1.0 / self.speed_var() - 1.0 / before).max(0.0);
         let var = self.fix_sigma(fix).powi(2) + self.params.gnss_bias_sigma_m.powi(2);
         // A fix within the gate was used at its own variance: it speaks for the speed.
-        self.chord.on_fix(fix.t_s, var, nis <= GATE_2DOF);
+        self.chord.on_fix(fix.t_s, var, nis <= CHI2_99_2DOF);
         if let Some((v, acc)) = fix.speed {
             self.doppler_update(v, acc);
         }
@@ -164,7 +165,7 @@ impl AdaptiveFilter {
     /// Count fixes beyond the gate; when they say the filter lost the track (a
     /// reversal, or gated too long), re-anchor on the fix and return true.
     fn track_lost(&mut self, fix: &LocalFix, nis: f64) -> bool {
-        if nis > GATE_2DOF {
+        if nis > CHI2_99_2DOF {
             self.gated_fix_loses_track(fix)
         } else {
             self.gated_run = 0;
@@ -224,7 +225,7 @@ impl AdaptiveFilter {
     fn trusted_fix(&self, fix: &LocalFix, nis: f64) -> bool {
         fix.accuracy_m
             .is_none_or(|a| a <= self.params.learn_max_accuracy_m)
-            && nis <= GATE_2DOF
+            && nis <= CHI2_99_2DOF
             && self.nis_avg < TRUST_NIS
             && fix.t_s - self.reset_t_s > TRUST_AFTER_RESET_S
     }
@@ -243,7 +244,7 @@ impl AdaptiveFilter {
         h[(0, VN)] = self.x[VN] / s;
         let r = acc.max(MIN_DOPPLER_SIGMA_MPS).powi(2);
         let sv = (h * self.p * h.transpose())[(0, 0)] + r;
-        if (v - s) * (v - s) / sv > GATE_1DOF {
+        if (v - s) * (v - s) / sv > CHI2_99_1DOF {
             return;
         }
         self.info_gnss += self.scalar_update(&h, v - s, r, Learn::Nothing);

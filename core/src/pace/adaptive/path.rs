@@ -9,6 +9,7 @@ use super::state::{FixPoint, Learn, PathWindow, LA, LB};
 use super::AdaptiveFilter;
 use crate::pace::walking::is_walk;
 use crate::pace::{Context, LocalFix};
+use crate::stats::CHI2_99_1DOF;
 
 /// A closed path window: its GNSS path, steps, duration and start.
 struct ClosedWindow {
@@ -110,7 +111,7 @@ impl AdaptiveFilter {
         let sigma_path = std::f64::consts::SQRT_2 * PATH_SIGMA_SHARE * self.fix_sigma(fix);
         let r = (sigma_path / steps).powi(2);
         let sv = (h * self.p * h.transpose())[(0, 0)] + r;
-        if y * y / sv > GATE_1DOF {
+        if y * y / sv > CHI2_99_1DOF {
             return;
         }
         self.scalar_update(&h, y, r, Learn::LevelAndSlope);

@@ -1,11 +1,7 @@
 //! Tunables of the adaptive pace filter: each named once, with its unit and reason.
 //! The filter's public parameters are in `super::super::config::AdaptiveParams`; these
-//! are the fixed ones.
+//! are the fixed ones; the χ² gates and the fix-radius scale are `crate::stats`.
 
-/// 99 % χ² gate with 2 degrees of freedom.
-pub(super) const GATE_2DOF: f64 = 9.21;
-/// 99 % χ² gate with 1 degree of freedom.
-pub(super) const GATE_1DOF: f64 = 6.63;
 /// Expected normalised innovation squared of a 2-D fix (its degrees of freedom): the
 /// starting value of the NIS average.
 pub(super) const EXPECTED_NIS_2DOF: f64 = 2.0;
@@ -26,8 +22,6 @@ pub(super) const REVERSAL_SPEED_RATIO: std::ops::Range<f64> = 0.5..2.0;
 /// After a re-anchor the direction is taken from the GNSS displacement when its speed
 /// is above this, m/s (below, the displacement is jitter).
 pub(super) const REANCHOR_DIRECTION_MIN_MPS: f64 = 0.5;
-/// 68 % radius of a circular 2-D Gaussian is 1.515 σ per axis.
-pub(super) const RADIUS68_TO_SIGMA: f64 = 1.0 / 1.515;
 /// Smallest per-axis 1-σ of a fix with a reported accuracy, metres.
 pub(super) const MIN_FIX_SIGMA_M: f64 = 0.5;
 /// Share of a fix's reported error variance taken as white noise (rest: correlated).

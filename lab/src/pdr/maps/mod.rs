@@ -25,6 +25,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use stridekit_core::map::MapConfig;
+use stridekit_core::stats::SIGMA_TO_RADIUS68;
 
 pub use replay::{nav_cache, replay_map, run_cached, MapReplay, NavCache};
 pub use rows::{
@@ -40,7 +41,7 @@ pub const START_SIGMA_M: f64 = 1.0;
 /// Fixes made from the waypoints: one every this many seconds at most...
 pub const FIX_EVERY_S: f64 = 30.0;
 /// ... with this much Gaussian noise per axis, m, reported as a 68 % radius of
-/// 1.515 × that.
+/// `SIGMA_TO_RADIUS68` (1.515) × that.
 pub const FIX_NOISE_M: f64 = 3.0;
 
 /// Apply `NAME=VALUE` settings to a configuration.
@@ -144,7 +145,7 @@ pub fn run(dir: &Path, sets: &[(String, f64)]) -> Result<String, String> {
         planned.len(),
         dir.display(),
         walks.len() - planned.len(),
-        1.515 * FIX_NOISE_M
+        SIGMA_TO_RADIUS68 * FIX_NOISE_M
     );
     let _ = writeln!(
         out,

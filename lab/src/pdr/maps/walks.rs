@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use stridekit_core::map::{FloorPlan, MapConfig, MapFix};
+use stridekit_core::stats::SIGMA_TO_RADIUS68;
 use stridekit_formats::{list_android_logs, read_floor_plan};
 
 use super::replay::{nav_cache, NavCache};
@@ -35,7 +36,7 @@ pub fn made_fixes(waypoints: &[(f64, f64, f64)], seed: u64) -> (Vec<MapFix>, Vec
                 w.0,
                 w.1 + FIX_NOISE_M * rng.normal(),
                 w.2 + FIX_NOISE_M * rng.normal(),
-                1.515 * FIX_NOISE_M,
+                SIGMA_TO_RADIUS68 * FIX_NOISE_M,
             ));
             next = w.0 + FIX_EVERY_S;
         }
