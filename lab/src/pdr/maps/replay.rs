@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use stridekit_core::ahrs::ImuSample;
-use stridekit_core::map::{FloorPlan, MapConfig, MapFix, MapMatcher, MapNavigator};
+use stridekit_core::map::{FloorPlan, MapConfig, MapFix, MapMatcher, MapNavigator, SmoothedPoint};
 use stridekit_core::pdr::{NavStep, PhoneNavigator};
 use stridekit_formats::InertialRecording;
 
@@ -96,22 +96,10 @@ pub fn replay_map(
         });
         out.live_std_m.push(e.position_std_m);
         out.smoothed
-            .extend(m.smoothed_since(fixed).map(|p| TrackPoint {
-                t_s: p.t_s,
-                x_m: p.x_m,
-                y_m: p.y_m,
-                distance_m: 0.0,
-            }));
+            .extend(m.smoothed_since(fixed).map(smoothed_point));
         fixed = m.smoothed_fixed();
     }
-    m.smoothed_window(|p| {
-        out.smoothed.push(TrackPoint {
-            t_s: p.t_s,
-            x_m: p.x_m,
-            y_m: p.y_m,
-            distance_m: 0.0,
-        })
-    });
+    m.smoothed_window(|p| out.smoothed.push(smoothed_point(p)));
     if let Some(e) = m.estimate() {
         out.recoveries = e.recoveries;
         out.fixes_used = e.fixes_used;
@@ -236,22 +224,10 @@ pub fn run_cached(
         });
         out.live_std_m.push(s.position_std_m);
         out.smoothed
-            .extend(m.smoothed_since(fixed).map(|p| TrackPoint {
-                t_s: p.t_s,
-                x_m: p.x_m,
-                y_m: p.y_m,
-                distance_m: 0.0,
-            }));
+            .extend(m.smoothed_since(fixed).map(smoothed_point));
         fixed = m.smoothed_fixed();
     }
-    m.smoothed_window(|p| {
-        out.smoothed.push(TrackPoint {
-            t_s: p.t_s,
-            x_m: p.x_m,
-            y_m: p.y_m,
-            distance_m: 0.0,
-        })
-    });
+    m.smoothed_window(|p| out.smoothed.push(smoothed_point(p)));
     let s = m.state();
     out.recoveries = s.recoveries;
     out.fixes_used = s.fixes_used;
@@ -267,6 +243,16 @@ pub fn run_cached(
         out.at_steps.insert(0, p);
     }
     Ok(out)
+}
+
+/// A point of the smoothed path as a track point (the smoothed path carries no distance).
+fn smoothed_point(p: SmoothedPoint) -> TrackPoint {
+    TrackPoint {
+        t_s: p.t_s,
+        x_m: p.x_m,
+        y_m: p.y_m,
+        distance_m: 0.0,
+    }
 }
 
 #[cfg(test)]
