@@ -1,18 +1,9 @@
 //! `stridekit`: the command-line tool of the stridekit SDK.
 
-mod basis;
 mod commands;
-mod demo;
-mod demo_facts;
-mod foot;
 mod input;
-mod orientation;
 mod outcome;
 mod output;
-mod pdr;
-mod pdr_map;
-mod replay;
-mod steps;
 
 use std::process::ExitCode;
 

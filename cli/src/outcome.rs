@@ -7,6 +7,7 @@
 //! no step, no stride, no estimate. The message names each cause once.
 
 use stridekit_lab::rejected::Rejected;
+use stridekit_lab::replay::{ReplayError, Usable};
 
 /// Exit status of a command that failed or produced nothing usable (a bad flag or
 /// value exits with clap's 2).
@@ -32,6 +33,17 @@ impl From<String> for Failure {
 impl From<&str> for Failure {
     fn from(message: &str) -> Self {
         Failure::Failed(message.to_string())
+    }
+}
+
+/// A replay that did not run: a failure (exit 1), or a flag's value it cannot use
+/// (exit 2).
+impl From<ReplayError> for Failure {
+    fn from(e: ReplayError) -> Self {
+        match e {
+            ReplayError::Failed(message) => Failure::Failed(message),
+            ReplayError::Usage { flag, why } => usage(flag, why),
+        }
     }
 }
 
@@ -80,6 +92,11 @@ pub fn check_usable(
         );
     }
     Err(Failure::Failed(causes.join("; ")))
+}
+
+/// [`check_usable`] of what a replay produced.
+pub fn check(u: Usable) -> Result<(), Failure> {
+    check_usable(u.produced, u.what, u.rejected, &u.streams)
 }
 
 /// One message per stream refused for its units: its unit refusals outnumber the

@@ -97,6 +97,19 @@ impl Sink {
     }
 }
 
+/// Writes a CSV to `sink` with `write`, then flushes; an I/O error names the sink (a
+/// closed pipe ends quietly).
+pub fn write_to(
+    sink: &Sink,
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<(), Failure> {
+    let name = sink.name();
+    let mut w = sink.open()?;
+    write(&mut *w)
+        .and_then(|()| w.flush())
+        .map_err(write_error(&name))
+}
+
 /// A file a command is about to write.
 #[derive(Clone, Debug)]
 pub struct OutFile {

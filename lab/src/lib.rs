@@ -4,6 +4,7 @@
 //! the `stridekit` CLI, the tests and the benches.
 
 pub mod activity;
+pub mod demo;
 pub mod foot;
 pub mod odometry;
 pub mod orientation;
@@ -17,6 +18,7 @@ pub mod placement_eval;
 pub mod placement_mlp;
 pub mod progress;
 pub mod rejected;
+pub mod replay;
 pub mod report;
 pub mod soak;
 pub mod stats;

@@ -1,10 +1,13 @@
 //! `stridekit calibrate …`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::{Subcommand, ValueEnum};
 use stridekit_core::steplength::StepLengthModel;
+use stridekit_lab::replay::foot_calibrate;
+use stridekit_lab::replay::foot_config::{FootImu, FootOptions};
 
+use crate::outcome::Failure;
 use crate::output::OutFile;
 
 #[derive(Debug, Subcommand)]
@@ -74,7 +77,7 @@ impl From<Model> for StepLengthModel {
     }
 }
 
-pub fn run(c: Calibrate) -> Result<(), crate::outcome::Failure> {
+pub fn run(c: Calibrate) -> Result<(), Failure> {
     match c {
         Calibrate::Foot {
             files,
@@ -82,11 +85,12 @@ pub fn run(c: Calibrate) -> Result<(), crate::outcome::Failure> {
             axes,
             imu,
         } => {
-            let out = OutFile::prepare(&out, "")?;
-            let text = crate::foot::calibrate(&files, &out.path, axes, imu)?;
-            print!("{text}");
-            eprintln!("{}", out.wrote());
-            Ok(())
+            let options = FootOptions {
+                axes,
+                imu: imu.map(FootImu::from),
+                ..Default::default()
+            };
+            calibrate_foot(&files, &out, &options)
         }
         Calibrate::Pdr { data, out, model } => {
             let data = super::data_dir(data, "phone-indoor", "walks with waypoints")?;
@@ -106,4 +110,17 @@ pub fn run(c: Calibrate) -> Result<(), crate::outcome::Failure> {
             Ok(())
         }
     }
+}
+
+/// `calibrate foot`: learn the alignment, write the calibration file and the stance
+/// plot beside it, print the report.
+fn calibrate_foot(files: &[PathBuf], out: &Path, options: &FootOptions) -> Result<(), Failure> {
+    let out = OutFile::prepare(out, "")?;
+    let cal = foot_calibrate::learn(files, options)?;
+    std::fs::write(&out.path, cal.text()).map_err(|e| format!("{}: {e}", out.path.display()))?;
+    let svg = out.path.with_extension("svg");
+    cal.plot(&svg)?;
+    print!("{}", cal.report(&svg));
+    eprintln!("{}", out.wrote());
+    Ok(())
 }

@@ -1,8 +1,10 @@
-//! `stridekit demo`.
+//! `stridekit demo`: its arguments and its run (the simulation and the report:
+//! `stridekit_lab::demo`).
 
 use std::path::PathBuf;
 
 use clap::Args;
+use stridekit_lab::demo::Demo;
 
 /// Simulate a run and write a report with plots (start here).
 ///
@@ -18,6 +20,18 @@ pub struct DemoArgs {
     pub seed: u64,
 }
 
+/// Simulate, print the summary, write the report into `--out` (created).
 pub fn run(a: DemoArgs) -> Result<(), String> {
-    crate::demo::run(&a.out, a.seed)
+    let d = Demo::simulate(a.seed);
+    let summary = d.summary();
+    print!("{}", summary.text);
+    std::fs::create_dir_all(&a.out)
+        .map_err(|e| format!("cannot create {}: {e}", a.out.display()))?;
+    let shown = d.write_report(&a.out, &summary)?;
+    println!(
+        "\nReport written to {}/ (index.html, summary.md, {})",
+        a.out.display(),
+        shown.join(", ")
+    );
+    Ok(())
 }

@@ -1,4 +1,5 @@
-//! `stridekit foot FILE`: its arguments and its run (the replay: `crate::foot`).
+//! `stridekit foot FILE`: its arguments and its run (the replay:
+//! `stridekit_lab::replay::foot`).
 //! The CSV goes to `--out FILE` (the SVGs beside it) or, with `--out -`, to stdout
 //! (the summary then goes to stderr).
 
@@ -6,10 +7,13 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use stridekit_core::foot::FootConfig;
+use stridekit_lab::replay::foot::{self, svg_paths};
+use stridekit_lab::replay::foot_config::{FootImu, FootOptions};
 
 use super::EXIT_CODES;
+use crate::input::warn_truncated;
 use crate::outcome::Failure;
-use crate::output::{say, Sink};
+use crate::output::{say, write_to, Sink};
 
 /// Replay a foot-mounted IMU recording through the foot navigator.
 ///
@@ -62,12 +66,16 @@ pub struct FootArgs {
 }
 
 impl FootArgs {
-    /// The stance label column of `--labels` without its `zv_` prefix (`zv_NAME` and
-    /// `NAME` name the same column).
-    pub fn label_column(&self) -> Option<&str> {
-        self.labels
-            .as_deref()
-            .map(|l| l.strip_prefix("zv_").unwrap_or(l))
+    /// The device flags, as the replay takes them.
+    fn options(&self) -> FootOptions {
+        FootOptions {
+            axes: self.axes.clone(),
+            imu: self.imu.map(FootImu::from),
+            calibration: self.calibration.clone(),
+            no_level_floor: self.no_level_floor,
+            gyro_range_rads: self.gyro_range_rads,
+            labels: self.labels.clone(),
+        }
     }
 }
 
@@ -86,7 +94,7 @@ fn positive_rads(s: &str) -> Result<f64, String> {
     }
 }
 
-/// Which IMU the recording comes from (`--imu`; what each means: `crate::foot`).
+/// Which IMU the recording comes from (`--imu`; what each means: [`FootImu`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Imu {
     // FootConfig::default: consumer MEMS, gyro bias from the start rest.
@@ -95,9 +103,37 @@ pub enum Imu {
     Calibrated,
 }
 
+impl From<Imu> for FootImu {
+    fn from(imu: Imu) -> Self {
+        match imu {
+            Imu::Consumer => FootImu::Consumer,
+            Imu::Calibrated => FootImu::Calibrated,
+        }
+    }
+}
+
 pub fn run(a: FootArgs) -> Result<(), Failure> {
     let sink = Sink::from_arg(&a.out, "csv")?;
-    crate::foot::run(&a, &sink)?;
+    let rec = foot::read(&a.file)?;
+    if rec.truncated {
+        warn_truncated(&a.file);
+    }
+    let r = foot::replay(&a.file, rec, &a.options())?;
+    say!("{}", r.head());
+    r.check_aligned()?;
+    write_to(&sink, |w| r.write_csv(w))?;
+    let plots = sink.path().map(svg_paths);
+    if let Some((top, height)) = &plots {
+        r.plot(top, height)?;
+    }
+    let name = sink.name();
+    let written = plots
+        .as_ref()
+        .map(|(top, height)| (name.as_str(), top.as_path(), height.as_path()));
+    say!("{}", r.summary(written));
+    if let Some(why) = r.unusable() {
+        return Err(Failure::Failed(why));
+    }
     if let Some(w) = sink.wrote() {
         say!("{w} (and the SVGs beside it)");
     }

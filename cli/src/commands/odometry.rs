@@ -48,7 +48,9 @@ pub fn run(a: OdometryArgs) -> Result<(), Failure> {
                 stridekit_formats::FormatError::Folder => Ok(()),
                 other => Err(other),
             })
-            .map_err(|e| crate::input::read_error(Path::new(&a.input), e, "a recording"))?;
+            .map_err(|e| {
+                stridekit_lab::replay::input::read_error(Path::new(&a.input), e, "a recording")
+            })?;
     }
     let text = stridekit_lab::odometry::commands::replay(&a.input, a.model.as_deref(), &out.path)?;
     println!("{text}");

@@ -1,14 +1,16 @@
 //! `stridekit orientation FILE`: its arguments and its run (the replay:
-//! `crate::orientation`). The CSV goes to `--out FILE` (the chart beside it) or, with
+//! `stridekit_lab::replay::orientation`). The CSV goes to `--out FILE` (the chart beside it) or, with
 //! `--out -`, to stdout (the summary then goes to stderr).
 
 use std::path::PathBuf;
 
 use clap::Args;
+use stridekit_lab::replay::orientation;
 
 use super::EXIT_CODES;
-use crate::outcome::Failure;
-use crate::output::{say, Sink};
+use crate::input::warn_truncated;
+use crate::outcome::{check, Failure};
+use crate::output::{say, write_to, Sink};
 
 /// Replay an IMU/magnetometer recording through the orientation filter.
 ///
@@ -35,7 +37,17 @@ pub struct OrientationArgs {
 
 pub fn run(a: OrientationArgs) -> Result<(), Failure> {
     let sink = Sink::from_arg(&a.out, "csv")?;
-    crate::orientation::run(&a, &sink)?;
+    let rec = orientation::read(&a.file)?;
+    if rec.truncated {
+        warn_truncated(&a.file);
+    }
+    let r = orientation::replay(rec, a.imu_only)?;
+    write_to(&sink, |w| r.write_csv(w))?;
+    if let Some(svg) = sink.beside("svg") {
+        r.chart(&svg)?;
+    }
+    say!("{}", r.summary(&sink.name()));
+    check(r.usable())?;
     if let Sink::File(f) = &sink {
         if f.existed {
             say!("(replaced the previous {})", f.path.display());

@@ -1,15 +1,18 @@
 //! `stridekit pace FILE`: its arguments and its run. The CSV goes to `--out FILE`
 //! (the terminal gets the summary) or, with `--out -`, to stdout (the summary then
-//! goes to stderr); rejected samples are counted, never fatal (`crate::replay`).
+//! goes to stderr); rejected samples are counted, never fatal (the replay:
+//! `stridekit_lab::replay::pace`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
-use stridekit_core::{PaceCalibration, PaceConfig};
+use stridekit_core::{PaceCalibration, PaceConfig, PaceTracker};
+use stridekit_lab::replay::pace::{self, PaceOptions};
 
 use super::EXIT_CODES;
-use crate::outcome::{usage, Failure};
-use crate::output::{say, Sink};
+use crate::input::warn_truncated;
+use crate::outcome::{check, usage, Failure};
+use crate::output::{say, write_to, Sink};
 
 /// Replay an activity file (.fit/.tcx/.gpx/.csv) through the pace tracker.
 ///
@@ -53,6 +56,36 @@ pub enum PaceMode {
 }
 
 pub fn run(a: PaceArgs) -> Result<(), Failure> {
+    let config = config(&a)?;
+    let sink = Sink::from_arg(&a.out, "csv")?;
+    let activity = pace::read(&a.file)?;
+    if activity.cleanup.truncated {
+        warn_truncated(&a.file);
+    }
+    let options = PaceOptions {
+        no_gnss: a.no_gnss,
+        calibration_file: a.calibration.clone(),
+    };
+    let r = pace::replay(activity, config, options)?;
+    write_to(&sink, |w| r.write_csv(w))?;
+    if let Some(svg) = sink.beside("svg") {
+        r.chart(&svg)?;
+        say!("speed chart: {}", svg.display());
+    }
+    say!("{}", r.summary());
+    check(r.usable())?;
+    if let Some(w) = sink.wrote() {
+        say!("{w}");
+    }
+    if let Some(f) = &a.save_calibration {
+        save_calibration(&a, &r.tracker, f)?;
+    }
+    Ok(())
+}
+
+/// The tracker's configuration: `--mode`, and the calibration of `--calibration`
+/// (a file that cannot be read or parsed is a bad value: exit 2).
+fn config(a: &PaceArgs) -> Result<PaceConfig, Failure> {
     let mut config = match a.mode {
         PaceMode::Default => PaceConfig::default(),
         PaceMode::Published => PaceConfig::as_published(),
@@ -65,25 +98,23 @@ pub fn run(a: PaceArgs) -> Result<(), Failure> {
                 .map_err(|e| usage("--calibration", format!("{}: {e}", f.display())))?,
         );
     }
-    let sink = Sink::from_arg(&a.out, "csv")?;
-    let tracker = crate::replay::run(&a, config, &sink)?;
-    if let Some(w) = sink.wrote() {
-        say!("{w}");
-    }
-    if let Some(f) = &a.save_calibration {
-        let c = tracker.calibration().ok_or_else(|| {
-            format!(
-                "no calibration to save: the step length is learned from good GNSS with step data ({})",
-                if a.no_gnss {
-                    "--no-gnss left every fix out"
-                } else {
-                    "this file has too little of it: the line needs a few minutes of running with both"
-                }
-            )
-        })?;
-        let text = c.to_text(&[format!("learned by: stridekit pace {}", a.file.display())]);
-        std::fs::write(f, text).map_err(|e| format!("cannot write {}: {e}", f.display()))?;
-        say!("calibration: {}", f.display());
-    }
+    Ok(config)
+}
+
+/// `--save-calibration FILE`: what the tracker learned; fails when it learned nothing.
+fn save_calibration(a: &PaceArgs, tracker: &PaceTracker, f: &Path) -> Result<(), Failure> {
+    let c = tracker.calibration().ok_or_else(|| {
+        format!(
+            "no calibration to save: the step length is learned from good GNSS with step data ({})",
+            if a.no_gnss {
+                "--no-gnss left every fix out"
+            } else {
+                "this file has too little of it: the line needs a few minutes of running with both"
+            }
+        )
+    })?;
+    let text = c.to_text(&[format!("learned by: stridekit pace {}", a.file.display())]);
+    std::fs::write(f, text).map_err(|e| format!("cannot write {}: {e}", f.display()))?;
+    say!("calibration: {}", f.display());
     Ok(())
 }

@@ -1,14 +1,17 @@
-//! `stridekit pdr FILE`: its arguments and its run (the replay: `crate::pdr`). The
-//! CSV goes to `--out FILE` (the SVG beside it) or, with `--out -`, to stdout (the
+//! `stridekit pdr FILE`: its arguments and its run (the replays:
+//! `stridekit_lab::replay::{pdr, map}`). The CSV goes to `--out FILE` (the SVG beside it) or, with `--out -`, to stdout (the
 //! summary then goes to stderr).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
+use stridekit_lab::pdr::walks::Walk;
+use stridekit_lab::replay::{map, pdr, pdr::PdrOptions};
 
 use super::EXIT_CODES;
-use crate::outcome::Failure;
-use crate::output::{say, Sink};
+use crate::input::warn_truncated;
+use crate::outcome::{check, Failure};
+use crate::output::{say, write_to, Sink};
 
 /// Replay an Android sensor log through the phone navigator (dead reckoning).
 ///
@@ -70,9 +73,13 @@ fn start_arg(s: &str) -> Result<(f64, f64, Option<f64>), String> {
 
 pub fn run(a: PdrArgs) -> Result<(), Failure> {
     let sink = Sink::from_arg(&a.out, "csv")?;
+    let walk = pdr::read(&a.file)?;
+    if walk.rec.truncated {
+        warn_truncated(&a.file);
+    }
     match &a.map {
-        Some(map) => crate::pdr_map::run(&a, map, &sink)?,
-        None => crate::pdr::run(&a, &sink)?,
+        Some(plan) => on_plan(&a, walk, plan, &sink)?,
+        None => dead_reckoning(&a, walk, &sink)?,
     }
     if let Sink::File(f) = &sink {
         if f.existed {
@@ -80,4 +87,37 @@ pub fn run(a: PdrArgs) -> Result<(), Failure> {
         }
     }
     Ok(())
+}
+
+/// The walk through the phone navigator alone.
+fn dead_reckoning(a: &PdrArgs, walk: Walk, sink: &Sink) -> Result<(), Failure> {
+    let options = PdrOptions {
+        calibration_file: a.calibration.clone(),
+        no_mag: a.no_mag,
+        raw_gyro: a.raw_gyro,
+    };
+    let r = pdr::replay(walk, options)?;
+    write_to(sink, |w| r.write_csv(w))?;
+    let svg = sink.beside("svg");
+    if let Some(svg) = &svg {
+        r.chart(svg)?;
+    }
+    say!("{}", r.summary(&sink.name(), svg.as_deref()));
+    check(r.usable())
+}
+
+/// The walk on the floor plan `plan` (`--map`).
+fn on_plan(a: &PdrArgs, walk: Walk, plan: &Path, sink: &Sink) -> Result<(), Failure> {
+    let r = map::replay(walk, plan, a.start)?;
+    write_to(sink, |w| r.write_csv(w))?;
+    let svg = sink.beside("svg");
+    if let Some(svg) = &svg {
+        r.chart(svg)?;
+    }
+    say!("{}", r.summary(&sink.name(), svg.as_deref()));
+    if r.walked() {
+        Ok(())
+    } else {
+        Err(Failure::Failed("no step detected: no trajectory".into()))
+    }
 }

@@ -1,14 +1,17 @@
-//! `stridekit steps FILE`: its arguments and its run (the replay: `crate::steps`).
+//! `stridekit steps FILE`: its arguments and its run (the replay:
+//! `stridekit_lab::replay::steps`).
 //! The CSV goes to `--out FILE` or, with `--out -`, to stdout (the summary then goes
 //! to stderr).
 
 use std::path::PathBuf;
 
 use clap::Args;
+use stridekit_lab::replay::steps;
 
 use super::EXIT_CODES;
-use crate::outcome::Failure;
-use crate::output::{say, Sink};
+use crate::input::warn_truncated;
+use crate::outcome::{check, Failure};
+use crate::output::{say, write_to, Sink};
 
 /// Replay a phone accelerometer recording through the step detector.
 ///
@@ -30,7 +33,17 @@ pub struct StepsArgs {
 
 pub fn run(a: StepsArgs) -> Result<(), Failure> {
     let sink = Sink::from_arg(&a.out, "csv")?;
-    crate::steps::run(&a, &sink)?;
+    let rec = steps::read(&a.file)?;
+    if rec.truncated {
+        warn_truncated(&a.file);
+    }
+    let r = steps::replay(rec)?;
+    write_to(&sink, |w| r.write_csv(w))?;
+    if let Some(svg) = sink.beside("svg") {
+        r.chart(&svg)?;
+    }
+    say!("{}", r.summary(&sink.name()));
+    check(r.usable())?;
     if let Some(w) = sink.wrote() {
         say!("{w}");
     }
