@@ -22,6 +22,7 @@ pub mod odometry;
 pub mod pace;
 pub mod pdr;
 pub mod placement;
+pub mod rng;
 pub mod signal;
 pub mod snapshot;
 pub mod stats;

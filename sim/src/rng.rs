@@ -1,43 +1,29 @@
-//! A small deterministic PRNG (xoshiro256** seeded by SplitMix64) with Gaussian draws.
-//! Kept in-tree so simulator output never changes with a dependency's version.
+//! The simulators' random numbers: the core's generator ([`stridekit_core::rng::Rng`],
+//! xoshiro256** seeded by SplitMix64, in-tree so simulator output never changes with a
+//! dependency's version) with exact Gaussian draws (Marsaglia polar) and ranges.
 
+/// The core generator plus the spare normal of the polar method.
 #[derive(Clone, Debug)]
 pub struct Rng {
-    s: [u64; 4],
+    bits: stridekit_core::rng::Rng,
     spare: Option<f64>,
 }
 
 impl Rng {
     pub fn new(seed: u64) -> Self {
-        let mut x = seed;
-        let mut next = || {
-            x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = x;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^ (z >> 31)
-        };
         Self {
-            s: [next(), next(), next(), next()],
+            bits: stridekit_core::rng::Rng::new(seed),
             spare: None,
         }
     }
 
     pub fn next_u64(&mut self) -> u64 {
-        let r = self.s[1].wrapping_mul(5).rotate_left(7).wrapping_mul(9);
-        let t = self.s[1] << 17;
-        self.s[2] ^= self.s[0];
-        self.s[3] ^= self.s[1];
-        self.s[1] ^= self.s[2];
-        self.s[0] ^= self.s[3];
-        self.s[2] ^= t;
-        self.s[3] = self.s[3].rotate_left(45);
-        r
+        self.bits.next_u64()
     }
 
     /// Uniform in [0, 1).
     pub fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+        self.bits.uniform()
     }
 
     /// Uniform in [lo, hi).

@@ -271,9 +271,9 @@ pub fn run(e: Eval) -> Result<(), Failure> {
             } else if tune_adaptive_shoe {
                 stridekit_lab::foot::tune_shoe::run(&d)?
             } else if tune {
-                stridekit_lab::foot::eval::tune(&d, &[0.025, 0.05, 0.1])?
+                stridekit_lab::foot::eval::tune(&d, &[0.025, 0.05, 0.1])?.render()
             } else {
-                stridekit_lab::foot::eval::run(&d)?
+                stridekit_lab::foot::eval::eval(&d)?.render()
             }
         }
         Eval::Placement {

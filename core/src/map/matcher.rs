@@ -22,9 +22,9 @@ use super::fix::{
 };
 use super::particles::{Cloud, OffsetPrior, Summary};
 use super::plan::FloorPlan;
-use super::rng::Rng;
 use super::smoother::{History, SmoothedPoint};
 use crate::angle::wrap;
+use crate::rng::Rng;
 
 /// A start off the walkable area is moved onto it when it is this close, m.
 pub const MAX_START_SNAP_M: f64 = 5.0;

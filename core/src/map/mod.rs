@@ -14,7 +14,6 @@ mod navigator;
 mod particles;
 mod plan;
 mod raster;
-mod rng;
 mod smoother;
 mod snapshot;
 

@@ -4,8 +4,8 @@
 //! crossing rules a particle out), weighting, systematic resampling, summaries.
 
 use super::plan::FloorPlan;
-use super::rng::Rng;
 use crate::angle::wrap;
+use crate::rng::Rng;
 
 /// Draws of a position before a particle is put at the centre itself.
 const SPREAD_TRIES: usize = 16;

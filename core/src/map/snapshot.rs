@@ -19,8 +19,8 @@ use super::matcher::{MapFlags, MapMatcher, MAX_PLAN_COORD_M, PENDING_FIXES};
 use super::navigator::MapNavigator;
 use super::particles::{Cloud, Summary};
 use super::plan::FloorPlan;
-use super::rng::Rng;
 use super::smoother::{History, SmoothedPoint};
+use crate::rng::Rng;
 
 /// Snapshot kind of the map engine (docs/architecture.md lists every kind).
 const SNAPSHOT_KIND: u8 = 9;

@@ -114,6 +114,60 @@ fn fit_quadratic(ts: &[f64], ys: &[f64], out: &mut [f64]) {
     }
 }
 
+/// The window's times and fitted positions (the first `m` entries).
+struct FittedWindow {
+    m: usize,
+    ts: [f64; MAX_WINDOW],
+    fx: [f64; MAX_WINDOW],
+    fy: [f64; MAX_WINDOW],
+}
+
+/// What the window's intervals say about speed.
+#[derive(Clone, Copy)]
+struct WindowSpeeds {
+    /// EMA of the per-interval speeds, oldest to newest (eq. 4, 5), m/s (NaN: < 2 fixes).
+    v_gps: f64,
+    /// Sample variance σ_d² of the per-interval speeds (eq. 10) (∞: < 3 fixes).
+    variance: f64,
+    /// Summed fitted distance over the window, m.
+    window_dist: f64,
+}
+
+impl FittedWindow {
+    /// Per-interval speeds d_k/Δt_k, their EMA and variance, and the window's distance.
+    fn speeds(&self, ema_alpha: f64) -> WindowSpeeds {
+        let Self { m, ts, fx, fy } = self;
+        let m = *m;
+        let mut out = WindowSpeeds {
+            v_gps: f64::NAN,
+            variance: f64::INFINITY,
+            window_dist: 0.0,
+        };
+        if m >= 2 {
+            let mut ema = f64::NAN;
+            let (mut sum, mut sum2) = (0.0, 0.0);
+            for k in 1..m {
+                let d = (fx[k] - fx[k - 1]).hypot(fy[k] - fy[k - 1]);
+                out.window_dist += d;
+                let u = d / (ts[k] - ts[k - 1]);
+                ema = if ema.is_nan() {
+                    u
+                } else {
+                    ema_alpha * u + (1.0 - ema_alpha) * ema
+                };
+                sum += u;
+                sum2 += u * u;
+            }
+            out.v_gps = ema;
+            let q = (m - 1) as f64;
+            if m >= 3 {
+                out.variance = ((sum2 - sum * sum / q) / (q - 1.0)).max(0.0);
+            }
+        }
+        out
+    }
+}
+
 impl PublishedFilter {
     pub fn new(config: &PaceConfig) -> Self {
         Self {
@@ -151,109 +205,20 @@ impl PublishedFilter {
     }
 
     pub fn on_fix(&mut self, fix: &LocalFix, ctx: &Context) -> PaceEstimate {
-        let p = self.params;
-        if let Some(t0) = self.last_fix_t_s {
-            if fix.t_s - t0 > WINDOW_RESET_GAP_S {
-                self.window.clear();
-            }
-        }
-        self.last_fix_t_s = Some(fix.t_s);
-        self.window.push([fix.t_s, fix.east_m, fix.north_m]);
-        while self.window.len() > p.window_n {
-            self.window.pop_front();
-        }
-
+        self.admit(fix);
         // 1. Polynomial fit over the window.
-        let m = self.window.len();
-        let mut ts = [0.0; MAX_WINDOW];
-        let mut xs = [0.0; MAX_WINDOW];
-        let mut ys = [0.0; MAX_WINDOW];
-        for (i, v) in self.window.iter().enumerate() {
-            ts[i] = v[0];
-            xs[i] = v[1];
-            ys[i] = v[2];
-        }
-        let mut fx = [0.0; MAX_WINDOW];
-        let mut fy = [0.0; MAX_WINDOW];
-        fit_quadratic(&ts[..m], &xs[..m], &mut fx);
-        fit_quadratic(&ts[..m], &ys[..m], &mut fy);
-
+        let fitted = self.fitted_window();
         // 2. Per-interval speeds, EMA, variance.
-        let mut v_gps = f64::NAN;
-        let mut variance = f64::INFINITY;
-        let mut window_dist = 0.0;
-        if m >= 2 {
-            let mut ema = f64::NAN;
-            let (mut sum, mut sum2) = (0.0, 0.0);
-            for k in 1..m {
-                let d = (fx[k] - fx[k - 1]).hypot(fy[k] - fy[k - 1]);
-                window_dist += d;
-                let u = d / (ts[k] - ts[k - 1]);
-                ema = if ema.is_nan() {
-                    u
-                } else {
-                    p.ema_alpha * u + (1.0 - p.ema_alpha) * ema
-                };
-                sum += u;
-                sum2 += u * u;
-            }
-            v_gps = ema;
-            let q = (m - 1) as f64;
-            if m >= 3 {
-                variance = ((sum2 - sum * sum / q) / (q - 1.0)).max(0.0);
-            }
-        }
-
+        let speeds = fitted.speeds(self.params.ema_alpha);
         // 3. Cadence over H epochs and step length over the window.
         let steps_now = ctx.steps.total_at(fix.t_s).unwrap_or(f64::NAN);
-        self.epochs.push(Epoch {
-            t_s: fix.t_s,
-            steps: steps_now,
-            step_length_m: f64::NAN,
-        });
-        let back = |k: usize| self.epochs.back(k.min(self.epochs.len() - 1));
-        let cadence = back(p.cadence_h)
-            .filter(|e| fix.t_s > e.t_s && e.steps.is_finite() && steps_now.is_finite())
-            .map(|e| ((steps_now - e.steps) / (fix.t_s - e.t_s)).max(0.0));
-        let good = variance <= p.variance_threshold_m2;
-        if good && m >= 2 {
-            if let Some(e) = back(m - 1) {
-                let steps = steps_now - e.steps;
-                if steps.is_finite() && steps >= MIN_LEARN_STEPS {
-                    self.step_length_m = Some(window_dist / steps);
-                }
-            }
-        } else if !good && m >= 3 {
-            // Eq. 14: roll back to the value of N − 1 epochs ago.
-            if let Some(e) = back(p.window_n - 1) {
-                if e.step_length_m.is_finite() {
-                    self.step_length_m = Some(e.step_length_m);
-                }
-            }
-        }
-        if let (Some(l), Some(e)) = (self.step_length_m, self.epochs.newest_mut()) {
-            // Record the step length valid at this epoch (for the eq. 14 roll-back).
-            e.step_length_m = l;
-        }
-
+        let cadence = self.push_epoch(fix.t_s, steps_now);
+        self.learn_step_length(steps_now, fitted.m, &speeds);
         // 4. Fusion.
         let v_ped = cadence.zip(self.step_length_m).map(|(c, l)| c * l);
-        let (speed, w) = match (v_gps.is_finite(), v_ped) {
-            (true, Some(vp)) if !self.gnss_only => {
-                let w = if variance.is_finite() {
-                    1.0 / (1.0
-                        + (p.sigmoid_beta_per_m2 * (variance - p.variance_threshold_m2)).exp())
-                } else {
-                    1.0
-                };
-                ((w * v_gps + (1.0 - w) * vp).max(0.0), w)
-            }
-            (true, _) => (v_gps, 1.0),
-            (false, Some(vp)) if !self.gnss_only => (vp, 0.0),
-            _ => (0.0, 1.0),
-        };
+        let (speed, w) = self.fuse(&speeds, v_ped);
         self.integrate(fix.t_s, speed);
-        let source = if !v_gps.is_finite() && v_ped.is_none() {
+        let source = if !speeds.v_gps.is_finite() && v_ped.is_none() {
             PaceSource::Initializing
         } else {
             PaceSource::from_gnss_weight(w)
@@ -271,6 +236,103 @@ impl PublishedFilter {
             flags: super::PaceFlags::default(),
         };
         self.out
+    }
+
+    /// The fix joins the window (restarted after a long gap), which keeps N fixes.
+    fn admit(&mut self, fix: &LocalFix) {
+        if let Some(t0) = self.last_fix_t_s {
+            if fix.t_s - t0 > WINDOW_RESET_GAP_S {
+                self.window.clear();
+            }
+        }
+        self.last_fix_t_s = Some(fix.t_s);
+        self.window.push([fix.t_s, fix.east_m, fix.north_m]);
+        while self.window.len() > self.params.window_n {
+            self.window.pop_front();
+        }
+    }
+
+    /// The window's positions replaced by the fitted polynomials (eq. 2).
+    fn fitted_window(&self) -> FittedWindow {
+        let m = self.window.len();
+        let mut ts = [0.0; MAX_WINDOW];
+        let mut xs = [0.0; MAX_WINDOW];
+        let mut ys = [0.0; MAX_WINDOW];
+        for (i, v) in self.window.iter().enumerate() {
+            ts[i] = v[0];
+            xs[i] = v[1];
+            ys[i] = v[2];
+        }
+        let mut fx = [0.0; MAX_WINDOW];
+        let mut fy = [0.0; MAX_WINDOW];
+        fit_quadratic(&ts[..m], &xs[..m], &mut fx);
+        fit_quadratic(&ts[..m], &ys[..m], &mut fy);
+        FittedWindow { m, ts, fx, fy }
+    }
+
+    /// Records this epoch's step count; returns the cadence over H epochs (eq. 6).
+    fn push_epoch(&mut self, t_s: f64, steps_now: f64) -> Option<f64> {
+        self.epochs.push(Epoch {
+            t_s,
+            steps: steps_now,
+            step_length_m: f64::NAN,
+        });
+        self.epoch_back(self.params.cadence_h)
+            .filter(|e| t_s > e.t_s && e.steps.is_finite() && steps_now.is_finite())
+            .map(|e| ((steps_now - e.steps) / (t_s - e.t_s)).max(0.0))
+    }
+
+    /// The epoch `k` back (the oldest when fewer are kept).
+    fn epoch_back(&self, k: usize) -> Option<Epoch> {
+        self.epochs.back(k.min(self.epochs.len() - 1))
+    }
+
+    /// Step length learned over the window while σ_d² ≤ σ²_THR (eq. 8), else rolled
+    /// back to the value of N − 1 epochs ago (eq. 14); recorded at this epoch.
+    fn learn_step_length(&mut self, steps_now: f64, m: usize, speeds: &WindowSpeeds) {
+        let good = speeds.variance <= self.params.variance_threshold_m2;
+        if good && m >= 2 {
+            if let Some(e) = self.epoch_back(m - 1) {
+                let steps = steps_now - e.steps;
+                if steps.is_finite() && steps >= MIN_LEARN_STEPS {
+                    self.step_length_m = Some(speeds.window_dist / steps);
+                }
+            }
+        } else if !good && m >= 3 {
+            // Eq. 14: roll back to the value of N − 1 epochs ago.
+            if let Some(e) = self.epoch_back(self.params.window_n - 1) {
+                if e.step_length_m.is_finite() {
+                    self.step_length_m = Some(e.step_length_m);
+                }
+            }
+        }
+        if let (Some(l), Some(e)) = (self.step_length_m, self.epochs.newest_mut()) {
+            // Record the step length valid at this epoch (for the eq. 14 roll-back).
+            e.step_length_m = l;
+        }
+    }
+
+    /// v_FUS = w v_GPS + (1 − w) v_PED with the sigmoid weight (eq. 9, 12, 13):
+    /// `(speed, w)`.
+    fn fuse(&self, speeds: &WindowSpeeds, v_ped: Option<f64>) -> (f64, f64) {
+        let p = self.params;
+        let WindowSpeeds {
+            v_gps, variance, ..
+        } = *speeds;
+        match (v_gps.is_finite(), v_ped) {
+            (true, Some(vp)) if !self.gnss_only => {
+                let w = if variance.is_finite() {
+                    1.0 / (1.0
+                        + (p.sigmoid_beta_per_m2 * (variance - p.variance_threshold_m2)).exp())
+                } else {
+                    1.0
+                };
+                ((w * v_gps + (1.0 - w) * vp).max(0.0), w)
+            }
+            (true, _) => (v_gps, 1.0),
+            (false, Some(vp)) if !self.gnss_only => (vp, 0.0),
+            _ => (0.0, 1.0),
+        }
     }
 
     pub fn on_steps(&mut self, t_s: f64, ctx: &Context) {

@@ -21,12 +21,15 @@ use std::path::Path;
 
 use stridekit_core::foot::{
     AdaptiveShoe, AdaptiveThresholds, Correction, FixedThresholds, FootConfig, FootEstimate,
-    FootNavigator, FootSample, ShoeDetector, SvmAdaptive, WindowStats, ZeroVelocityDetector,
+    FootNavigator, FootSample, GyroCeiling, ShoeDetector, SvmAdaptive, WindowStats,
+    ZeroVelocityDetector,
 };
 use stridekit_core::vec3::norm;
 use stridekit_formats::{list_foot_trials, read_foot_csv, FootRecording};
 
+use crate::foot::sessions::Loso;
 use crate::foot::train_zupt;
+use crate::table::Table as TextTable;
 
 /// Foot speed averaged over one stride above which a sample is running, m/s.
 pub const RUN_SPEED_MPS: f64 = 1.8;
@@ -142,49 +145,69 @@ pub fn base_config() -> FootConfig {
 /// 0.05 rad/s of it), so the ceiling is about 9.13 rad/s ≈ 99 % of 9.2 rad/s. A
 /// property of the device read off the raw samples, like a data sheet's range, not a
 /// fitted setting (docs/lab/2026-12-06-foot-history.md, "Gyroscope clipping"). The evaluation gives it to
-/// every trial (one device); [`gyro_range_note`] prints what the ceiling detector
+/// every trial (one device); [`GyroCeilings`] prints what the ceiling detector
 /// finds per trial beside it. `stridekit foot` does not assume it: it detects.
 pub const UOFT_GYRO_RANGE_RADS: f64 = 9.2;
 
-/// One paragraph: the device range the evaluation uses, and the ceilings the data show
-/// (`GyroCeilingDetector`, per trial and over all trials as one device).
-fn gyro_range_note(trials: &[Trial]) -> String {
-    use crate::foot::device::{evidence, side_name};
-    let mut found = Vec::new();
-    for t in trials {
-        if let Some(c) = evidence(&[&t.rec]).ceiling {
-            found.push((side_name(&c), c.ceiling_rads));
+/// What the ceiling detector (`GyroCeilingDetector`) finds on the trials: per trial,
+/// and over all trials as one device.
+#[derive(Clone, Debug, Default)]
+pub struct GyroCeilings {
+    pub trials: usize,
+    /// The lowest ceiling of each trial that shows clipping.
+    pub per_trial: Vec<GyroCeiling>,
+    /// Every axis and sign with a ceiling, all trials as one device.
+    pub pooled: Vec<GyroCeiling>,
+}
+
+impl GyroCeilings {
+    pub fn find(trials: &[Trial]) -> Self {
+        use crate::foot::device::evidence;
+        let per_trial = trials
+            .iter()
+            .filter_map(|t| evidence(&[&t.rec]).ceiling)
+            .collect();
+        let all = evidence(&trials.iter().map(|t| &t.rec).collect::<Vec<_>>());
+        Self {
+            trials: trials.len(),
+            per_trial,
+            pooled: all.ceilings,
         }
     }
-    let mut sides: Vec<&str> = found.iter().map(|(s, _)| s.as_str()).collect();
-    sides.sort_unstable();
-    sides.dedup();
-    let (lo, hi) = found
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), (_, c)| {
-            (l.min(*c), h.max(*c))
-        });
-    let all = evidence(&trials.iter().map(|t| &t.rec).collect::<Vec<_>>());
-    let pooled: Vec<String> = all
-        .ceilings
-        .iter()
-        .map(|c| {
-            format!(
-                "{} {:.2} rad/s ({} flat tops)",
-                side_name(c),
-                c.ceiling_rads,
-                c.flat_tops
-            )
-        })
-        .collect();
-    format!(
-        "Gyroscope: range {UOFT_GYRO_RANGE_RADS} rad/s for every trial (the UofT MicroStrain, one device; clipped swing peaks repaired). The ceiling detector (`GyroCeilingDetector`, what `stridekit foot` uses when no range is given) finds clipping on {} of {} trials ({}; lowest flat-top samples {}), and over all trials as one device on {}.\n\n",
-        found.len(),
-        trials.len(),
-        if sides.is_empty() { "none".to_string() } else { format!("sensor {}", sides.join(", ")) },
-        if found.is_empty() { "—".to_string() } else { format!("{lo:.2}–{hi:.2} rad/s") },
-        if pooled.is_empty() { "no axis".to_string() } else { pooled.join(", ") },
-    )
+
+    /// One paragraph: the device range the evaluation uses, and the ceilings found.
+    pub fn render(&self) -> String {
+        use crate::foot::device::side_name;
+        let mut sides: Vec<String> = self.per_trial.iter().map(side_name).collect();
+        sides.sort_unstable();
+        sides.dedup();
+        let (lo, hi) = self
+            .per_trial
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), c| {
+                (l.min(c.ceiling_rads), h.max(c.ceiling_rads))
+            });
+        let pooled: Vec<String> = self
+            .pooled
+            .iter()
+            .map(|c| {
+                format!(
+                    "{} {:.2} rad/s ({} flat tops)",
+                    side_name(c),
+                    c.ceiling_rads,
+                    c.flat_tops
+                )
+            })
+            .collect();
+        format!(
+            "Gyroscope: range {UOFT_GYRO_RANGE_RADS} rad/s for every trial (the UofT MicroStrain, one device; clipped swing peaks repaired). The ceiling detector (`GyroCeilingDetector`, what `stridekit foot` uses when no range is given) finds clipping on {} of {} trials ({}; lowest flat-top samples {}), and over all trials as one device on {}.\n\n",
+            self.per_trial.len(),
+            self.trials,
+            if sides.is_empty() { "none".to_string() } else { format!("sensor {}", sides.join(", ")) },
+            if self.per_trial.is_empty() { "—".to_string() } else { format!("{lo:.2}–{hi:.2} rad/s") },
+            if pooled.is_empty() { "no axis".to_string() } else { pooled.join(", ") },
+        )
+    }
 }
 
 fn with(name: &str, detector: ZeroVelocityDetector) -> Method {
@@ -683,30 +706,46 @@ pub fn svm_folds(
         .collect()
 }
 
-pub(crate) struct Table {
-    names: Vec<String>,
-    /// results[trial][method]
-    results: Vec<Vec<Outcome>>,
+/// Every method's outcome on every trial.
+#[derive(Clone, Debug, Default)]
+pub struct MethodResults {
+    /// Column names, one per method.
+    pub names: Vec<String>,
+    /// `results[trial][method]`.
+    pub results: Vec<Vec<Outcome>>,
 }
 
-fn summary(
-    out: &mut String,
+/// Medians of one group of trials per gait, as a titled markdown table.
+fn gait_summary(
     title: &str,
     infos: &[&TrialInfo],
     names: &[String],
     rows: &[&Vec<Outcome>],
-) {
-    out.push_str(&format!(
+) -> String {
+    let count = |k: GaitClass| infos.iter().filter(|i| i.kind() == k).count();
+    let mut out = format!(
         "\n{title} ({} trials: {} walk, {} run, {} other):\n\n",
         rows.len(),
-        infos.iter().filter(|i| i.kind() == GaitClass::Walk).count(),
-        infos.iter().filter(|i| i.kind() == GaitClass::Run).count(),
-        infos
-            .iter()
-            .filter(|i| i.kind() == GaitClass::Other)
-            .count(),
-    ));
-    out.push_str("| method | pyshoe metric m all | horizontal RMSE m all | RMSE m all | RMSE m walk | RMSE m run | RMSE m other | closure % walk (horizontal) | closure % walk | closure % run | ZV % walk samples | ZV % run samples | ZV % other samples | false stance % run samples |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        count(GaitClass::Walk),
+        count(GaitClass::Run),
+        count(GaitClass::Other),
+    );
+    let mut t = TextTable::new([
+        "method",
+        "pyshoe metric m all",
+        "horizontal RMSE m all",
+        "RMSE m all",
+        "RMSE m walk",
+        "RMSE m run",
+        "RMSE m other",
+        "closure % walk (horizontal)",
+        "closure % walk",
+        "closure % run",
+        "ZV % walk samples",
+        "ZV % run samples",
+        "ZV % other samples",
+        "false stance % run samples",
+    ]);
     for (j, name) in names.iter().enumerate() {
         let col = |kind: Option<GaitClass>, f: fn(&Outcome) -> f64| {
             median(
@@ -727,16 +766,8 @@ fn summary(
                 a as f64 / n as f64 * 100.0
             }
         };
-        // A gait with no trial in this group (a small folder) gets "–", not NaN.
-        let cell = |x: f64, decimals: usize| {
-            if x.is_finite() {
-                format!("{x:.decimals$}")
-            } else {
-                "–".to_string()
-            }
-        };
-        out.push_str(&format!(
-            "| {name} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+        t.row([
+            name.clone(),
             cell(col(None, |o| o.armse_2d_m), 3),
             cell(col(None, |o| o.rmse_h_m), 3),
             cell(col(None, |o| o.rmse_m), 3),
@@ -750,7 +781,19 @@ fn summary(
             cell(pooled(1, |o, c| o.zv_agree[c]), 1),
             cell(pooled(2, |o, c| o.zv_agree[c]), 1),
             cell(pooled(1, |o, c| o.false_stance[c]), 1),
-        ));
+        ]);
+    }
+    out.push_str(&t.render());
+    out
+}
+
+/// A median with `decimals`; a gait with no trial in the group (a small folder) gets
+/// "–", not NaN.
+fn cell(x: f64, decimals: usize) -> String {
+    if x.is_finite() {
+        format!("{x:.decimals$}")
+    } else {
+        "–".to_string()
     }
 }
 
@@ -784,8 +827,8 @@ fn evaluate(
     trials: &[Trial],
     infos: &[TrialInfo],
     svm: &[stridekit_core::foot::SvmModel],
-    loso: &crate::foot::sessions::Loso,
-) -> Result<Table, String> {
+    loso: &Loso,
+) -> Result<MethodResults, String> {
     let ms = methods();
     let mut names: Vec<String> = ms.iter().map(|m| m.name.clone()).collect();
     let cv = svm_methods(&svm[0]);
@@ -819,11 +862,62 @@ fn evaluate(
         }
         results.push(row);
     }
-    Ok(Table { names, results })
+    Ok(MethodResults { names, results })
 }
 
-/// The whole evaluation as markdown.
-pub fn run(dir: &Path) -> Result<String, String> {
+/// The oracle-label run of one trial fitted (rotation + translation) to the truth as
+/// mirrored and as recorded.
+#[derive(Clone, Debug)]
+pub struct MirrorFit {
+    pub trial: String,
+    pub path_m: f64,
+    pub mirrored_m: f64,
+    pub recorded_m: f64,
+}
+
+impl MirrorFit {
+    fn better_mirrored(&self) -> bool {
+        self.mirrored_m < self.recorded_m
+    }
+}
+
+/// The mirror check of every trial (see [`mirror_truth`]).
+fn mirror_check(trials: &[Trial], infos: &[TrialInfo]) -> Result<Vec<MirrorFit>, String> {
+    let oracle = Method {
+        name: "oracle".into(),
+        config: base_config(),
+        labels: Some("best".into()),
+    };
+    let mut fits = Vec::with_capacity(trials.len());
+    for (trial, info) in trials.iter().zip(infos) {
+        let est = replay(trial, &oracle)?;
+        let (mirrored_m, _, _) = fit(&est, trial.rec.truth_m.as_deref().unwrap_or(&[]));
+        let (recorded_m, _, _) = fit(&est, &info.raw_truth);
+        fits.push(MirrorFit {
+            trial: trial.rec.name.clone(),
+            path_m: trial.path_m,
+            mirrored_m,
+            recorded_m,
+        });
+    }
+    Ok(fits)
+}
+
+/// `eval foot`: everything its report shows, computed ([`EvalReport::render`] writes it).
+pub struct EvalReport {
+    pub dir: std::path::PathBuf,
+    pub trials: Vec<Trial>,
+    pub infos: Vec<TrialInfo>,
+    /// Folds of the SVM cross-validation actually used.
+    pub svm_folds: usize,
+    pub loso: Loso,
+    pub results: MethodResults,
+    pub mirror: Vec<MirrorFit>,
+    pub gyro: GyroCeilings,
+}
+
+/// The whole evaluation (`stridekit eval foot`), computed.
+pub fn eval(dir: &Path) -> Result<EvalReport, String> {
     let sp = crate::progress::spinner("eval foot: reading the trials");
     let loaded = load_with_info(dir)?;
     let (trials, infos): (Vec<Trial>, Vec<TrialInfo>) = loaded.into_iter().unzip();
@@ -839,191 +933,322 @@ pub fn run(dir: &Path) -> Result<String, String> {
     sp.set_message(format!("eval foot: training {folds} SVM folds"));
     let svm = svm_folds(&trials, &stats, folds)?;
     sp.set_message("eval foot: training the leave-one-session-out SVMs");
-    let loso = crate::foot::sessions::Loso::train(&trials, &stats)?;
+    let loso = Loso::train(&trials, &stats)?;
     sp.finish_and_clear();
-    let table = evaluate(&trials, &infos, &svm, &loso)?;
-    let Table { names, results } = table;
-    let oracle = names.iter().position(|n| n == "oracle labels").unwrap_or(0);
+    let results = evaluate(&trials, &infos, &svm, &loso)?;
+    Ok(EvalReport {
+        dir: dir.to_path_buf(),
+        svm_folds: svm.len(),
+        mirror: mirror_check(&trials, &infos)?,
+        gyro: GyroCeilings::find(&trials),
+        trials,
+        infos,
+        loso,
+        results,
+    })
+}
 
-    let mut out = String::new();
-    out.push_str(&format!(
-        "Foot-mounted navigation on {} trials of {} (one configuration per detector for all trials; SVM by {}-fold cross-validation over trials).\n\n",
-        trials.len(),
-        dir.display(),
-        svm.len()
-    ));
-    // Mirror check: the oracle-label run against the truth as recorded and mirrored.
-    let mut better_mirrored = 0;
-    let mut not_mirrored = Vec::new();
-    let (mut rm, mut rr) = (Vec::new(), Vec::new());
-    for (trial, info) in trials.iter().zip(&infos) {
-        let est = replay(
-            trial,
-            &Method {
-                name: "oracle".into(),
-                config: base_config(),
-                labels: Some("best".into()),
-            },
-        )?;
-        let (mirrored, _, _) = fit(&est, trial.rec.truth_m.as_deref().unwrap_or(&[]));
-        let (raw, _, _) = fit(&est, &info.raw_truth);
-        if mirrored < raw {
-            better_mirrored += 1;
-        } else {
-            not_mirrored.push(format!(
-                "{} ({:.3} m as recorded vs {:.3} m mirrored, path {:.1} m)",
-                trial.rec.name, raw, mirrored, trial.path_m
-            ));
-        }
-        rm.push(mirrored);
-        rr.push(raw);
-    }
-    out.push_str(&format!(
-        "Mirror check (oracle-label run fitted by rotation + translation): {better_mirrored} of {} trials fit better with the truth's y axis negated (median RMSE {:.3} m mirrored vs {:.3} m as recorded), so the truth is mirrored.{}\n\n",
-        trials.len(),
-        median(rm),
-        median(rr),
-        if not_mirrored.is_empty() {
-            String::new()
-        } else {
-            format!(" Not better mirrored: {}.", not_mirrored.join(", "))
-        }
-    ));
-    out.push_str(&gyro_range_note(&trials));
-    out.push_str(&format!(
-        "Gait per sample from the truth: horizontal foot path over ±0.5 s / 1 s > {RUN_SPEED_MPS} m/s = run, else walk; the stairs/crawling session {OTHER_PREFIX}* = other (see its height range, stance tilt and mean speed). Split: even positions in name order = training (defaults chosen there), odd = held-out.\n\n"
-    ));
-    out.push_str("Per trial: horizontal position RMSE after the best rotation about the vertical + translation, m / 3-D loop-closure error, % of path / zero-velocity agreement with the best detector's labels, %.\n\n");
-    out.push_str(
-        "| trial | split | gait | run % | z range m | stance tilt ° | mean speed m/s | path m |",
-    );
-    for n in &names {
-        out.push_str(&format!(" {n} |"));
-    }
-    out.push_str("\n|---|---|---|---|---|---|---|---|");
-    for _ in &names {
-        out.push_str("---|");
-    }
-    out.push('\n');
-    for (i, ((trial, info), row)) in trials.iter().zip(&infos).zip(&results).enumerate() {
+impl EvalReport {
+    /// The report as markdown.
+    pub fn render(&self) -> String {
+        let mut out = format!(
+            "Foot-mounted navigation on {} trials of {} (one configuration per detector for all trials; SVM by {}-fold cross-validation over trials).\n\n",
+            self.trials.len(),
+            self.dir.display(),
+            self.svm_folds
+        );
+        out.push_str(&self.mirror_paragraph());
+        out.push_str(&self.gyro.render());
         out.push_str(&format!(
-            "| {} | {} | {} | {:.0} | {:.2} | {:.0} | {:.2} | {:.1} |",
-            trial.rec.name,
-            if i % 2 == 0 { "train" } else { "held-out" },
-            info.kind().name(),
-            info.run_fraction * 100.0,
-            info.z_range_m,
-            info.stance_tilt_deg,
-            info.mean_speed_mps,
-            trial.path_m
+            "Gait per sample from the truth: horizontal foot path over ±0.5 s / 1 s > {RUN_SPEED_MPS} m/s = run, else walk; the stairs/crawling session {OTHER_PREFIX}* = other (see its height range, stance tilt and mean speed). Split: even positions in name order = training (defaults chosen there), odd = held-out.\n\n"
         ));
-        for o in row {
-            out.push_str(&format!(
-                " {:.3} / {:.2} / {:.1} |",
-                o.rmse_h_m, o.closure_pct, o.zv_accuracy_pct
-            ));
-        }
-        out.push('\n');
+        out.push_str("Per trial: horizontal position RMSE after the best rotation about the vertical + translation, m / 3-D loop-closure error, % of path / zero-velocity agreement with the best detector's labels, %.\n\n");
+        out.push_str(&self.trial_table().render());
+        out.push_str("\nMedians of the per-trial RMSE and closure, grouped by the trial's majority gait; ZV agreement pooled over the samples of each gait (per sample gait); false stance = detector says stance where the reference says swing.\n");
+        out.push_str(&self.split_summaries());
+        let MethodResults { names, results } = &self.results;
+        out.push_str(&crate::foot::sessions::session_table(
+            &self.trials,
+            names,
+            results,
+            &self.loso,
+        ));
+        out.push_str(&self.filter_check());
+        out.push_str(&self.target_check());
+        out
     }
-    out.push_str("\nMedians of the per-trial RMSE and closure, grouped by the trial's majority gait; ZV agreement pooled over the samples of each gait (per sample gait); false stance = detector says stance where the reference says swing.\n");
-    let pick = |keep: &dyn Fn(usize) -> bool| -> (Vec<&TrialInfo>, Vec<&Vec<Outcome>>) {
-        (0..trials.len())
-            .filter(|&i| keep(i))
-            .map(|i| (&infos[i], &results[i]))
-            .unzip()
-    };
-    let (hi, hr) = pick(&|i| i % 2 == 1);
-    summary(&mut out, "Held-out split", &hi, &names, &hr);
-    let (ai, ar) = pick(&|_| true);
-    summary(&mut out, "All trials", &ai, &names, &ar);
-    let (ti, tr) = pick(&|i| i % 2 == 0);
-    summary(
-        &mut out,
-        "Training split (where the defaults were chosen)",
-        &ti,
-        &names,
-        &tr,
-    );
-    out.push_str(&crate::foot::sessions::session_table(
-        &trials, &names, &results, &loso,
-    ));
-    let med_oracle = median(
-        results
+
+    fn oracle(&self) -> usize {
+        let names = &self.results.names;
+        names.iter().position(|n| n == "oracle labels").unwrap_or(0)
+    }
+
+    /// Mirror check: the oracle-label run against the truth as recorded and mirrored.
+    fn mirror_paragraph(&self) -> String {
+        let better_mirrored = self.mirror.iter().filter(|m| m.better_mirrored()).count();
+        let not_mirrored: Vec<String> = self
+            .mirror
             .iter()
-            .map(|r| r[oracle].rmse_m)
-            .collect::<Vec<f64>>(),
-    );
-    let ours: Vec<f64> = results.iter().map(|r| r[oracle].armse_2d_m).collect();
-    let theirs: Vec<f64> = trials
-        .iter()
-        .map(|t| t.pyshoe_best_m.unwrap_or(f64::NAN))
-        .collect();
-    let better = ours.iter().zip(&theirs).filter(|(a, b)| a <= b).count();
-    if theirs.iter().any(|x| x.is_finite()) {
-        out.push_str(&format!(
-            "\nFilter check against pyshoe (same labels, same metric — pyshoe's 2-D ARMSE with its own alignment): this navigator driven by each trial's best labels, median {:.3} m; pyshoe's filter on the same labels (`best_error_m` in `_summary.csv`), median {:.3} m; ours is as good or better on {better} of {} trials.\n",
-            median(ours),
-            median(theirs),
-            trials.len()
-        ));
-    } else {
-        out.push_str(&format!(
-            "\nFilter check against pyshoe: this navigator driven by each trial's best labels, median {:.3} m in pyshoe's metric; pyshoe's own errors (`_summary.csv`) are not in this folder.\n",
-            median(ours),
-        ));
+            .filter(|m| !m.better_mirrored())
+            .map(|m| {
+                format!(
+                    "{} ({:.3} m as recorded vs {:.3} m mirrored, path {:.1} m)",
+                    m.trial, m.recorded_m, m.mirrored_m, m.path_m
+                )
+            })
+            .collect();
+        format!(
+            "Mirror check (oracle-label run fitted by rotation + translation): {better_mirrored} of {} trials fit better with the truth's y axis negated (median RMSE {:.3} m mirrored vs {:.3} m as recorded), so the truth is mirrored.{}\n\n",
+            self.trials.len(),
+            median(self.mirror.iter().map(|m| m.mirrored_m).collect::<Vec<f64>>()),
+            median(self.mirror.iter().map(|m| m.recorded_m).collect::<Vec<f64>>()),
+            if not_mirrored.is_empty() {
+                String::new()
+            } else {
+                format!(" Not better mirrored: {}.", not_mirrored.join(", "))
+            }
+        )
     }
-    out.push_str(&format!(
-        "\nTarget check (all trials): median RMSE ≤ oracle labels' {med_oracle:.3} m; ZV agreement ≥ 98 % on running samples; median loop closure ≤ 0.3 % on walking trials.\n\n"
-    ));
-    out.push_str("| method | median RMSE m | ≤ oracle? | ZV % run samples | ≥ 98 %? | closure % walk, horizontal / 3-D | ≤ 0.3 %? |\n|---|---|---|---|---|---|---|\n");
-    let walk: Vec<usize> = (0..trials.len())
-        .filter(|&i| infos[i].kind() == GaitClass::Walk)
-        .collect();
-    let yes = |b: bool| if b { "yes" } else { "no" };
-    for (j, name) in names.iter().enumerate() {
-        let rmse = median(results.iter().map(|r| r[j].rmse_m).collect::<Vec<f64>>());
-        let (a, n) = results.iter().fold((0, 0), |(a, n), r| {
-            (
-                a + r[j].zv_agree[GaitClass::Run as usize],
-                n + r[j].zv_total[GaitClass::Run as usize],
+
+    /// Per trial: its truth's description, then each method's RMSE / closure / ZV.
+    fn trial_table(&self) -> TextTable {
+        let mut header: Vec<String> = [
+            "trial",
+            "split",
+            "gait",
+            "run %",
+            "z range m",
+            "stance tilt °",
+            "mean speed m/s",
+            "path m",
+        ]
+        .map(String::from)
+        .to_vec();
+        header.extend(self.results.names.iter().cloned());
+        let mut t = TextTable::new(header);
+        let rows = self
+            .trials
+            .iter()
+            .zip(&self.infos)
+            .zip(&self.results.results);
+        for (i, ((trial, info), row)) in rows.enumerate() {
+            let mut cells = vec![
+                trial.rec.name.clone(),
+                if i % 2 == 0 { "train" } else { "held-out" }.to_string(),
+                info.kind().name().to_string(),
+                format!("{:.0}", info.run_fraction * 100.0),
+                format!("{:.2}", info.z_range_m),
+                format!("{:.0}", info.stance_tilt_deg),
+                format!("{:.2}", info.mean_speed_mps),
+                format!("{:.1}", trial.path_m),
+            ];
+            cells.extend(row.iter().map(|o| {
+                format!(
+                    "{:.3} / {:.2} / {:.1}",
+                    o.rmse_h_m, o.closure_pct, o.zv_accuracy_pct
+                )
+            }));
+            t.row(cells);
+        }
+        t
+    }
+
+    /// The gait summaries of the held-out split, all trials and the training split.
+    fn split_summaries(&self) -> String {
+        let names = &self.results.names;
+        let pick = |keep: &dyn Fn(usize) -> bool| -> (Vec<&TrialInfo>, Vec<&Vec<Outcome>>) {
+            (0..self.trials.len())
+                .filter(|&i| keep(i))
+                .map(|i| (&self.infos[i], &self.results.results[i]))
+                .unzip()
+        };
+        let mut out = String::new();
+        let (hi, hr) = pick(&|i| i % 2 == 1);
+        out.push_str(&gait_summary("Held-out split", &hi, names, &hr));
+        let (ai, ar) = pick(&|_| true);
+        out.push_str(&gait_summary("All trials", &ai, names, &ar));
+        let (ti, tr) = pick(&|i| i % 2 == 0);
+        out.push_str(&gait_summary(
+            "Training split (where the defaults were chosen)",
+            &ti,
+            names,
+            &tr,
+        ));
+        out
+    }
+
+    /// This navigator on each trial's best labels against pyshoe's filter on them.
+    fn filter_check(&self) -> String {
+        let oracle = self.oracle();
+        let ours: Vec<f64> = self
+            .results
+            .results
+            .iter()
+            .map(|r| r[oracle].armse_2d_m)
+            .collect();
+        let theirs: Vec<f64> = self
+            .trials
+            .iter()
+            .map(|t| t.pyshoe_best_m.unwrap_or(f64::NAN))
+            .collect();
+        let better = ours.iter().zip(&theirs).filter(|(a, b)| a <= b).count();
+        if theirs.iter().any(|x| x.is_finite()) {
+            format!(
+                "\nFilter check against pyshoe (same labels, same metric — pyshoe's 2-D ARMSE with its own alignment): this navigator driven by each trial's best labels, median {:.3} m; pyshoe's filter on the same labels (`best_error_m` in `_summary.csv`), median {:.3} m; ours is as good or better on {better} of {} trials.\n",
+                median(ours),
+                median(theirs),
+                self.trials.len()
             )
-        });
-        // No running sample in the folder: no agreement to state.
-        let zv = if n == 0 {
-            f64::NAN
         } else {
-            a as f64 / n as f64 * 100.0
-        };
-        let ch = median(
-            walk.iter()
-                .map(|&i| results[i][j].closure_h_pct)
-                .collect::<Vec<f64>>(),
-        );
-        let c3 = median(
-            walk.iter()
-                .map(|&i| results[i][j].closure_pct)
-                .collect::<Vec<f64>>(),
-        );
-        let (zv_cell, zv_met) = if zv.is_finite() {
-            (format!("{zv:.1}"), yes(zv >= 98.0))
-        } else {
-            ("–".to_string(), "no running samples")
-        };
-        out.push_str(&format!(
-            "| {name} | {rmse:.3} | {} | {zv_cell} | {zv_met} | {ch:.2} / {c3:.2} | {} (horizontal), {} (3-D) |\n",
-            yes(rmse <= med_oracle),
-            yes(ch <= 0.3),
-            yes(c3 <= 0.3),
-        ));
+            format!(
+                "\nFilter check against pyshoe: this navigator driven by each trial's best labels, median {:.3} m in pyshoe's metric; pyshoe's own errors (`_summary.csv`) are not in this folder.\n",
+                median(ours),
+            )
+        }
     }
-    Ok(out)
+
+    /// Each method against the targets (median RMSE, ZV on running samples, closure).
+    fn target_check(&self) -> String {
+        let MethodResults { names, results } = &self.results;
+        let oracle = self.oracle();
+        let med_oracle = median(
+            results
+                .iter()
+                .map(|r| r[oracle].rmse_m)
+                .collect::<Vec<f64>>(),
+        );
+        let mut out = format!(
+            "\nTarget check (all trials): median RMSE ≤ oracle labels' {med_oracle:.3} m; ZV agreement ≥ 98 % on running samples; median loop closure ≤ 0.3 % on walking trials.\n\n"
+        );
+        let mut t = TextTable::new([
+            "method",
+            "median RMSE m",
+            "≤ oracle?",
+            "ZV % run samples",
+            "≥ 98 %?",
+            "closure % walk, horizontal / 3-D",
+            "≤ 0.3 %?",
+        ]);
+        let walk: Vec<usize> = (0..self.trials.len())
+            .filter(|&i| self.infos[i].kind() == GaitClass::Walk)
+            .collect();
+        let yes = |b: bool| if b { "yes" } else { "no" };
+        for (j, name) in names.iter().enumerate() {
+            let rmse = median(results.iter().map(|r| r[j].rmse_m).collect::<Vec<f64>>());
+            let (a, n) = results.iter().fold((0, 0), |(a, n), r| {
+                (
+                    a + r[j].zv_agree[GaitClass::Run as usize],
+                    n + r[j].zv_total[GaitClass::Run as usize],
+                )
+            });
+            // No running sample in the folder: no agreement to state.
+            let zv = if n == 0 {
+                f64::NAN
+            } else {
+                a as f64 / n as f64 * 100.0
+            };
+            let walk_median = |f: fn(&Outcome) -> f64| {
+                median(
+                    walk.iter()
+                        .map(|&i| f(&results[i][j]))
+                        .collect::<Vec<f64>>(),
+                )
+            };
+            let ch = walk_median(|o| o.closure_h_pct);
+            let c3 = walk_median(|o| o.closure_pct);
+            let (zv_cell, zv_met) = if zv.is_finite() {
+                (format!("{zv:.1}"), yes(zv >= 98.0))
+            } else {
+                ("–".to_string(), "no running samples")
+            };
+            t.row([
+                name.clone(),
+                format!("{rmse:.3}"),
+                yes(rmse <= med_oracle).to_string(),
+                zv_cell,
+                zv_met.to_string(),
+                format!("{ch:.2} / {c3:.2}"),
+                format!("{} (horizontal), {} (3-D)", yes(ch <= 0.3), yes(c3 <= 0.3)),
+            ]);
+        }
+        out.push_str(&t.render());
+        out
+    }
+}
+
+/// A tuning score: geometric mean and median of the trials' position RMSE, m.
+#[derive(Clone, Copy, Debug)]
+pub struct Score {
+    pub geo_mean_m: f64,
+    pub median_m: f64,
+}
+
+/// One SVM setting scored by 3-fold cross-validation inside the training split.
+#[derive(Clone, Copy, Debug)]
+pub struct SvmTrial {
+    pub gamma: f64,
+    pub c: f64,
+    pub score: Score,
+}
+
+/// One adaptive-threshold setting: gait boundaries and the jog / run scale factors of
+/// the walking (fixed) thresholds.
+#[derive(Clone, Copy, Debug)]
+pub struct AdaptiveTrial {
+    pub jog_peak_mps2: f64,
+    pub run_peak_mps2: f64,
+    pub jog_scale: f64,
+    pub run_scale: f64,
+    pub detector: AdaptiveThresholds,
+    pub score: Score,
+}
+
+/// The grid searches at one detector window.
+#[derive(Clone, Debug)]
+pub struct WindowTuning {
+    pub window_s: f64,
+    pub svm: Vec<SvmTrial>,
+    pub shoe: Vec<(ShoeDetector, Score)>,
+    /// The best SHOE threshold (lowest geometric mean; the default when none scores).
+    pub best_shoe: (f64, ShoeDetector),
+    /// The full fixed-threshold grid, best first.
+    pub fixed: Vec<(FixedThresholds, Score)>,
+    pub adaptive: Vec<AdaptiveTrial>,
+    /// The best adaptive setting (lowest geometric mean; the default when none scores).
+    pub best_adaptive: (f64, AdaptiveThresholds),
+}
+
+/// `eval foot --tune`, computed ([`TuneReport::render`] writes it).
+#[derive(Clone, Debug)]
+pub struct TuneReport {
+    pub train_trials: usize,
+    pub windows: Vec<WindowTuning>,
+    /// `eval foot --tune-adaptive-shoe` as it renders (its last part).
+    pub adaptive_shoe: String,
+}
+
+/// The scores of one configuration over the training trials.
+fn objective(train: &[Trial], config: &FootConfig) -> Result<Score, String> {
+    let m = Method {
+        name: "tune".into(),
+        config: config.clone(),
+        labels: None,
+    };
+    let mut r = Vec::new();
+    for t in train {
+        r.push(score(t, &replay(t, &m)?).rmse_m);
+    }
+    Ok(Score {
+        geo_mean_m: geo_mean(&r),
+        median_m: median(r),
+    })
 }
 
 /// `eval foot --tune`: the grid searches that chose the detector window and the
 /// detector defaults, on the training split only (objective: geometric mean of the
 /// trials' position RMSE). The SVM is scored by 3-fold cross-validation inside the
 /// training split.
-pub fn tune(dir: &Path, windows: &[f64]) -> Result<String, String> {
+pub fn tune(dir: &Path, windows: &[f64]) -> Result<TuneReport, String> {
     let loaded = load_with_info(dir)?;
     let train: Vec<Trial> = loaded
         .iter()
@@ -1031,157 +1256,246 @@ pub fn tune(dir: &Path, windows: &[f64]) -> Result<String, String> {
         .filter(|(i, _)| i % 2 == 0)
         .map(|(_, (t, _))| t.clone())
         .collect();
-    let objective = |config: &FootConfig| -> Result<(f64, f64), String> {
-        let m = Method {
-            name: "tune".into(),
-            config: config.clone(),
-            labels: None,
+    let windows = windows
+        .iter()
+        .map(|&w| tune_window(&train, w))
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok(TuneReport {
+        train_trials: train.len(),
+        windows,
+        adaptive_shoe: crate::foot::tune_shoe::run(dir)?,
+    })
+}
+
+/// Every grid search at one detector window.
+fn tune_window(train: &[Trial], window_s: f64) -> Result<WindowTuning, String> {
+    let base = FootConfig {
+        detector_window_s: window_s,
+        ..base_config()
+    };
+    let svm = tune_svm(train, &base)?;
+    let shoe = tune_shoe_threshold(train, &base)?;
+    let mut best_shoe = (f64::INFINITY, ShoeDetector::default());
+    for (d, s) in &shoe {
+        if s.geo_mean_m < best_shoe.0 {
+            best_shoe = (s.geo_mean_m, *d);
+        }
+    }
+    let fixed = tune_fixed(train, &base)?;
+    let adaptive = tune_adaptive(train, &base, fixed[0].0)?;
+    let mut best_adaptive = (f64::INFINITY, AdaptiveThresholds::default());
+    for a in &adaptive {
+        if a.score.geo_mean_m < best_adaptive.0 {
+            best_adaptive = (a.score.geo_mean_m, a.detector);
+        }
+    }
+    Ok(WindowTuning {
+        window_s,
+        svm,
+        shoe,
+        best_shoe,
+        fixed,
+        adaptive,
+        best_adaptive,
+    })
+}
+
+/// SVM settings, 3-fold cross-validation inside the training split.
+fn tune_svm(train: &[Trial], base: &FootConfig) -> Result<Vec<SvmTrial>, String> {
+    const FOLDS: usize = 3;
+    let stats = all_stats(train, base)?;
+    let mut out = Vec::new();
+    for (gamma, c) in [(1.0, 1.0), (2.0, 10.0), (0.5, 1.0)] {
+        let p = train_zupt::TrainParams {
+            gamma,
+            c,
+            ..train_zupt::TrainParams::default()
         };
         let mut r = Vec::new();
-        for t in &train {
-            r.push(score(t, &replay(t, &m)?).rmse_m);
-        }
-        Ok((geo_mean(&r), median(r)))
-    };
-    let mut out = format!(
-        "Tuning on the training split ({} trials; objective: geometric mean of the position RMSE, m; median in brackets).\n",
-        train.len()
-    );
-    for &win in windows {
-        let base = FootConfig {
-            detector_window_s: win,
-            ..base_config()
-        };
-        out.push_str(&format!("\n## detector window {win} s\n\n"));
-        // SVM, 3-fold CV inside the training split.
-        let stats = all_stats(&train, &base)?;
-        for (gamma, c) in [(1.0, 1.0), (2.0, 10.0), (0.5, 1.0)] {
-            let p = train_zupt::TrainParams {
-                gamma,
-                c,
-                ..train_zupt::TrainParams::default()
-            };
-            let folds = 3;
-            let mut r = Vec::new();
-            for f in 0..folds {
-                let mut data = Vec::new();
-                for (i, (t, st)) in train.iter().zip(&stats).enumerate() {
-                    if i % folds != f {
-                        data.extend(train_zupt::labelled_from(t, st)?);
-                    }
-                }
-                let model = train_zupt::train(&data, &p, vec![])?;
-                let m = with("svm", ZeroVelocityDetector::Svm(std::sync::Arc::new(model)));
-                let m = Method {
-                    config: FootConfig {
-                        detector: m.config.detector,
-                        ..base.clone()
-                    },
-                    ..m
-                };
-                for (i, t) in train.iter().enumerate() {
-                    if i % folds == f {
-                        r.push(score(t, &replay(t, &m)?).rmse_m);
-                    }
+        for f in 0..FOLDS {
+            let mut data = Vec::new();
+            for (i, (t, st)) in train.iter().zip(&stats).enumerate() {
+                if i % FOLDS != f {
+                    data.extend(train_zupt::labelled_from(t, st)?);
                 }
             }
-            out.push_str(&format!(
-                "svm γ {gamma} C {c} (3-fold CV): {:.3} ({:.3})\n",
-                geo_mean(&r),
-                median(r)
-            ));
+            let model = train_zupt::train(&data, &p, vec![])?;
+            let m = Method {
+                name: "svm".into(),
+                config: FootConfig {
+                    detector: ZeroVelocityDetector::Svm(std::sync::Arc::new(model)),
+                    ..base.clone()
+                },
+                labels: None,
+            };
+            for (i, t) in train.iter().enumerate() {
+                if i % FOLDS == f {
+                    r.push(score(t, &replay(t, &m)?).rmse_m);
+                }
+            }
         }
-        // SHOE threshold.
-        let mut best_shoe = (f64::INFINITY, ShoeDetector::default());
-        for gamma in [3e4, 1e5, 3e5, 1e6, 3e6, 1e7] {
+        let score = Score {
+            geo_mean_m: geo_mean(&r),
+            median_m: median(r),
+        };
+        out.push(SvmTrial { gamma, c, score });
+    }
+    Ok(out)
+}
+
+/// The SHOE threshold grid.
+fn tune_shoe_threshold(
+    train: &[Trial],
+    base: &FootConfig,
+) -> Result<Vec<(ShoeDetector, Score)>, String> {
+    [3e4, 1e5, 3e5, 1e6, 3e6, 1e7]
+        .into_iter()
+        .map(|gamma| {
             let d = ShoeDetector {
                 threshold: gamma,
                 ..ShoeDetector::default()
             };
-            let (g, m) = objective(&FootConfig {
+            let config = FootConfig {
                 detector: ZeroVelocityDetector::Shoe(d),
                 ..base.clone()
-            })?;
-            out.push_str(&format!("shoe γ {gamma:e}: {g:.3} ({m:.3})\n"));
-            if g < best_shoe.0 {
-                best_shoe = (g, d);
+            };
+            Ok((d, objective(train, &config)?))
+        })
+        .collect()
+}
+
+/// The fixed thresholds' full grid, best first.
+fn tune_fixed(train: &[Trial], base: &FootConfig) -> Result<Vec<(FixedThresholds, Score)>, String> {
+    let mut rows = Vec::new();
+    for acc_dev in [1.0, 2.0, 4.0] {
+        for gyro in [0.3, 0.6, 1.2] {
+            for acc_std in [0.3, 0.8, 2.4] {
+                for gyro_std in [0.1, 0.3, 0.9] {
+                    let d = FixedThresholds {
+                        acc_dev_mps2: acc_dev,
+                        gyro_rads: gyro,
+                        acc_std_mps2: acc_std,
+                        gyro_std_rads: gyro_std,
+                    };
+                    let config = FootConfig {
+                        detector: ZeroVelocityDetector::Fixed(d),
+                        ..base.clone()
+                    };
+                    rows.push((d, objective(train, &config)?));
+                }
             }
+        }
+    }
+    rows.sort_by(|a, b| a.1.geo_mean_m.total_cmp(&b.1.geo_mean_m));
+    Ok(rows)
+}
+
+/// Adaptive: walk = the fixed choice; jog and run scaled versions of it, and the gait
+/// boundaries, by a grid over the scale factors and boundaries.
+fn tune_adaptive(
+    train: &[Trial],
+    base: &FootConfig,
+    walk: FixedThresholds,
+) -> Result<Vec<AdaptiveTrial>, String> {
+    let scale = |d: FixedThresholds, k: f64| FixedThresholds {
+        acc_dev_mps2: d.acc_dev_mps2 * k,
+        gyro_rads: d.gyro_rads * k,
+        acc_std_mps2: d.acc_std_mps2 * k,
+        gyro_std_rads: d.gyro_std_rads * k,
+    };
+    let mut out = Vec::new();
+    for (jog_peak, run_peak) in [(40.0, 60.0), (50.0, 80.0)] {
+        for (kj, kr) in [
+            (1.0, 1.5),
+            (1.0, 2.0),
+            (1.5, 2.0),
+            (1.5, 3.0),
+            (2.0, 3.0),
+            (2.0, 4.0),
+        ] {
+            let d = AdaptiveThresholds {
+                jog_peak_mps2: jog_peak,
+                run_peak_mps2: run_peak,
+                walk,
+                jog: scale(walk, kj),
+                run: scale(walk, kr),
+            };
+            let config = FootConfig {
+                detector: ZeroVelocityDetector::Adaptive(d),
+                ..base.clone()
+            };
+            out.push(AdaptiveTrial {
+                jog_peak_mps2: jog_peak,
+                run_peak_mps2: run_peak,
+                jog_scale: kj,
+                run_scale: kr,
+                detector: d,
+                score: objective(train, &config)?,
+            });
+        }
+    }
+    Ok(out)
+}
+
+impl TuneReport {
+    /// The report as text.
+    pub fn render(&self) -> String {
+        let mut out = format!(
+            "Tuning on the training split ({} trials; objective: geometric mean of the position RMSE, m; median in brackets).\n",
+            self.train_trials
+        );
+        for w in &self.windows {
+            out.push_str(&w.render());
+        }
+        out.push_str("\n## adaptive shoe (detector window 0.025 s)\n\n");
+        out.push_str(&self.adaptive_shoe);
+        out
+    }
+}
+
+impl WindowTuning {
+    fn render(&self) -> String {
+        let mut out = format!("\n## detector window {} s\n\n", self.window_s);
+        for SvmTrial { gamma, c, score } in &self.svm {
+            out.push_str(&format!(
+                "svm γ {gamma} C {c} (3-fold CV): {:.3} ({:.3})\n",
+                score.geo_mean_m, score.median_m
+            ));
+        }
+        for (d, s) in &self.shoe {
+            out.push_str(&format!(
+                "shoe γ {:e}: {:.3} ({:.3})\n",
+                d.threshold, s.geo_mean_m, s.median_m
+            ));
         }
         out.push_str(&format!(
             "→ shoe γ {:e}: {:.3}\n",
-            best_shoe.1.threshold, best_shoe.0
+            self.best_shoe.1.threshold, self.best_shoe.0
         ));
-        // Fixed thresholds: full grid.
-        let mut rows = Vec::new();
-        for acc_dev in [1.0, 2.0, 4.0] {
-            for gyro in [0.3, 0.6, 1.2] {
-                for acc_std in [0.3, 0.8, 2.4] {
-                    for gyro_std in [0.1, 0.3, 0.9] {
-                        let d = FixedThresholds {
-                            acc_dev_mps2: acc_dev,
-                            gyro_rads: gyro,
-                            acc_std_mps2: acc_std,
-                            gyro_std_rads: gyro_std,
-                        };
-                        let (g, m) = objective(&FootConfig {
-                            detector: ZeroVelocityDetector::Fixed(d),
-                            ..base.clone()
-                        })?;
-                        rows.push((g, m, d));
-                    }
-                }
-            }
+        out.push_str(&format!("fixed, best 3 of {}:\n", self.fixed.len()));
+        for (d, s) in self.fixed.iter().take(3) {
+            out.push_str(&format!("{d:?}: {:.3} ({:.3})\n", s.geo_mean_m, s.median_m));
         }
-        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
-        out.push_str(&format!("fixed, best 3 of {}:\n", rows.len()));
-        for (g, m, d) in rows.iter().take(3) {
-            out.push_str(&format!("{d:?}: {g:.3} ({m:.3})\n"));
-        }
-        let best_fixed = (rows[0].0, rows[0].2);
+        let (best_fixed, best_score) = &self.fixed[0];
         out.push_str(&format!(
-            "→ fixed {:?}: {:.3}\n",
-            best_fixed.1, best_fixed.0
+            "→ fixed {best_fixed:?}: {:.3}\n",
+            best_score.geo_mean_m
         ));
-        // Adaptive: walk = the fixed choice; jog and run scaled versions of it, and the
-        // gait boundaries, by a grid over the scale factors and boundaries.
-        let scale = |d: FixedThresholds, k: f64| FixedThresholds {
-            acc_dev_mps2: d.acc_dev_mps2 * k,
-            gyro_rads: d.gyro_rads * k,
-            acc_std_mps2: d.acc_std_mps2 * k,
-            gyro_std_rads: d.gyro_std_rads * k,
-        };
-        let mut best_ad = (f64::INFINITY, AdaptiveThresholds::default());
-        for (jog_peak, run_peak) in [(40.0, 60.0), (50.0, 80.0)] {
-            for (kj, kr) in [
-                (1.0, 1.5),
-                (1.0, 2.0),
-                (1.5, 2.0),
-                (1.5, 3.0),
-                (2.0, 3.0),
-                (2.0, 4.0),
-            ] {
-                let d = AdaptiveThresholds {
-                    jog_peak_mps2: jog_peak,
-                    run_peak_mps2: run_peak,
-                    walk: best_fixed.1,
-                    jog: scale(best_fixed.1, kj),
-                    run: scale(best_fixed.1, kr),
-                };
-                let (g, m) = objective(&FootConfig {
-                    detector: ZeroVelocityDetector::Adaptive(d),
-                    ..base.clone()
-                })?;
-                out.push_str(&format!(
-                    "adaptive peaks {jog_peak}/{run_peak} m/s², jog ×{kj}, run ×{kr}: {g:.3} ({m:.3})\n"
-                ));
-                if g < best_ad.0 {
-                    best_ad = (g, d);
-                }
-            }
+        for a in &self.adaptive {
+            out.push_str(&format!(
+                "adaptive peaks {}/{} m/s², jog ×{}, run ×{}: {:.3} ({:.3})\n",
+                a.jog_peak_mps2,
+                a.run_peak_mps2,
+                a.jog_scale,
+                a.run_scale,
+                a.score.geo_mean_m,
+                a.score.median_m
+            ));
         }
-        out.push_str(&format!("→ adaptive {:?}: {:.3}\n", best_ad.1, best_ad.0));
+        out.push_str(&format!(
+            "→ adaptive {:?}: {:.3}\n",
+            self.best_adaptive.1, self.best_adaptive.0
+        ));
+        out
     }
-    out.push_str("\n## adaptive shoe (detector window 0.025 s)\n\n");
-    out.push_str(&crate::foot::tune_shoe::run(dir)?);
-    Ok(out)
 }

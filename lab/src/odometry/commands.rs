@@ -8,8 +8,8 @@ use std::time::Instant;
 
 use crate::odometry::evaluate::{run_methods, Scores, METHODS};
 use crate::odometry::train::{
-    fit_model, labelled_windows, samples_of, sim_scenario, simulated_windows, LabelledWindow,
-    RecTruth, Truth, FIRST_EVAL_SEED,
+    fit_model, labelled_windows, samples_of, sim_scenario, simulated_windows, write_model,
+    LabelledWindow, RecTruth, Truth, FEATURES_COMMENT, FIRST_EVAL_SEED,
 };
 use stridekit_core::odometry::{
     ImuSample, OdometryConfig, OdometryModel, PhoneOdometry, PipelineParams, PlacementSource,
@@ -130,15 +130,13 @@ pub fn train(
     let comments = vec![
         format!("trained by: {command}"),
         format!("data: {what}; {} windows", windows.len()),
-        "features: core/src/odometry/features.rs (scalars sd_az sqrt_sd_az sd_ah sd_gz sd_gh zc_hz zc_hz2 zc_sqrt_sd_az ln_sd_az mean_g_norm)".into(),
+        FEATURES_COMMENT.into(),
     ];
     let model = fit_model(&windows, params, comments).ok_or("too few windows to fit")?;
-    std::fs::write(out, model.to_text()).map_err(|e| format!("{}: {e}", out.display()))?;
+    let written = write_model(&model, out)?;
     Ok(format!(
-        "{} windows, {} regressors, {} bytes of weights, {:.1} s; wrote {}",
+        "{} windows, {written}, {:.1} s; wrote {}",
         windows.len(),
-        model.regressors.iter().flatten().count(),
-        model.size_bytes(),
         started.elapsed().as_secs_f64(),
         out.display()
     ))

@@ -229,6 +229,19 @@ pub fn fit_regressor(windows: &[&LabelledWindow]) -> Option<Regressor> {
     })
 }
 
+/// The comment line naming the features, written into every trained model file.
+pub const FEATURES_COMMENT: &str = "features: core/src/odometry/features.rs (scalars sd_az sqrt_sd_az sd_ah sd_gz sd_gh zc_hz zc_hz2 zc_sqrt_sd_az ln_sd_az mean_g_norm)";
+
+/// Write a trained model to `out` as text; returns "N regressors, B bytes of weights".
+pub fn write_model(model: &OdometryModel, out: &std::path::Path) -> Result<String, String> {
+    std::fs::write(out, model.to_text()).map_err(|e| format!("{}: {e}", out.display()))?;
+    Ok(format!(
+        "{} regressors, {} bytes of weights",
+        model.regressors.iter().flatten().count(),
+        model.size_bytes()
+    ))
+}
+
 /// Fit the general regressor on every window and one per placement class present
 /// (the simulator's front and back pockets both train `Pocket`).
 pub fn fit_model(

@@ -34,8 +34,11 @@ use stridekit_core::ahrs::ImuSample;
 use stridekit_core::angle::wrap;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
 
+use stridekit_formats::InertialRecording;
+
 use crate::pdr::metrics::{evaluate, median, Metrics, TrackPoint};
 use crate::pdr::walks::Walk;
+use crate::table::Table;
 
 /// Legs shorter than this (m) or quicker (s) carry no direction.
 const MIN_LEG_M: f64 = 2.0;
@@ -92,6 +95,7 @@ fn circ_mean(v: &[(f64, f64)]) -> f64 {
     s.atan2(c)
 }
 
+/// Per-walk and per-leg values of every diagnosed quantity.
 #[derive(Default)]
 struct Acc {
     first_step_s: Vec<f64>,
@@ -175,448 +179,552 @@ fn pct(v: &[f64], q: f64) -> f64 {
     v[((v.len() - 1) as f64 * q).round() as usize]
 }
 
-fn row(out: &mut String, name: &str, v: &[f64], scale: f64, unit: &str) {
+/// The percentiles of one diagnosed quantity: its row of the table.
+fn percentile_row(name: &str, v: &[f64], scale: f64, unit: &str) -> Vec<String> {
     let s: Vec<f64> = v.iter().map(|x| x * scale).collect();
-    let _ = writeln!(
-        out,
-        "| {name} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {unit} |",
-        s.len(),
-        pct(&s, 0.1),
-        pct(&s, 0.25),
-        median(s.iter().copied()),
-        pct(&s, 0.75),
-        pct(&s, 0.9),
-    );
+    vec![
+        name.to_string(),
+        s.len().to_string(),
+        format!("{:.2}", pct(&s, 0.1)),
+        format!("{:.2}", pct(&s, 0.25)),
+        format!("{:.2}", median(s.iter().copied())),
+        format!("{:.2}", pct(&s, 0.75)),
+        format!("{:.2}", pct(&s, 0.9)),
+        unit.to_string(),
+    ]
 }
 
-pub fn run(walks: &[Walk], mag: bool) -> Result<String, String> {
+/// `eval pdr --diagnose`, one magnetometer setting, computed
+/// ([`DiagnoseReport::render`] writes it).
+pub struct DiagnoseReport {
+    pub walks: usize,
+    pub mag: bool,
+    samples: Acc,
+    noise: WaypointNoise,
+    /// [`crate::pdr::legs::report`] as it renders.
+    legs: String,
+    /// [`crate::pdr::shared::report`] as it renders (with the magnetometer only: the
+    /// distance does not depend on it, once is enough).
+    shared: Option<String>,
+}
+
+/// Where the PDR error on the real walks comes from (see the module doc).
+pub fn diagnose(walks: &[Walk], mag: bool) -> Result<DiagnoseReport, String> {
     let mut a = Acc::default();
     for w in walks {
-        let rec = &w.rec;
-        let wp = &rec.truth;
-        let (t0, t1) = (wp[0].0, wp[wp.len() - 1].0);
-        let mut nav = PhoneNavigator::new(NavigatorConfig::default()).map_err(|e| e.to_string())?;
-        let mut pts: Vec<Pt> = Vec::new();
-        let mut ri = 0;
-        for s in &rec.samples {
-            let imu = ImuSample {
-                t_s: s.t_s,
-                gyro_rads: s.gyro_rads,
-                accel_mps2: s.accel_mps2,
-                mag_ut: if mag { s.mag_ut } else { None },
-            };
-            if nav.push_imu(&imu).is_err() {
-                continue;
-            }
-            let Some(e) = nav.estimate() else { continue };
-            let wd = nav.walking_direction();
-            let [qw, qx, qy, qz] = wd.orientation();
-            let q = UnitQuaternion::new_normalize(Quaternion::new(qw, qx, qy, qz));
-            let ahrs_y = azimuth_of(&q, Vector3::y()).map(|az| wrap(az - wd.yaw_correction().0));
-            while ri + 1 < rec.orientation.len() && rec.orientation[ri + 1].0 <= s.t_s {
-                ri += 1;
-            }
-            let rv_y = rec.orientation.get(ri).and_then(|(_, q)| {
-                let q = UnitQuaternion::new_normalize(Quaternion::new(q[0], q[1], q[2], q[3]));
-                azimuth_of(&q, Vector3::y())
-            });
-            pts.push(Pt {
-                t_s: s.t_s,
-                east_m: e.east_m,
-                north_m: e.north_m,
-                steps: e.steps,
-                distance_m: e.distance_m,
-                attitude_y_rad: ahrs_y,
-                rotation_vector_y_rad: rv_y,
-                walking_rad: e.walking_azimuth_rad,
-            });
-        }
-        if pts.is_empty() {
-            continue;
-        }
-        {
-            use stridekit_core::stepdetect::{StepDetector, StepDetectorConfig};
-            let mut d =
-                StepDetector::new(StepDetectorConfig::default()).map_err(|e| e.to_string())?;
-            let mut events = Vec::new();
-            for s in &rec.samples {
-                if let Ok(first) = d.push_accel(s.t_s, s.accel_mps2) {
-                    for e in first.into_iter().chain(std::iter::from_fn(|| d.pop_step())) {
-                        events.push((e.t_s, s.t_s));
-                    }
-                }
-            }
-            if let Some(e) = events.first() {
-                a.first_event_s.push(e.0 - t0);
-            }
-            for e in &events {
-                a.release_lag_s.push(e.1 - e.0);
-            }
-            let n = events.iter().filter(|e| e.0 >= t0 && e.0 <= t1).count() as f64;
-            let poly: f64 = wp
-                .windows(2)
-                .map(|x| (x[1].1 - x[0].1).hypot(x[1].2 - x[0].2))
-                .sum();
-            if n > 5.0 {
-                a.events_per_poly.push(poly / n);
-            }
-        }
-        let at = |t: f64| {
-            let i = pts.partition_point(|p| p.t_s <= t).saturating_sub(1);
-            pts[i]
-        };
-        // Start.
-        let first_step = pts.iter().find(|p| p.steps > 0).map(|p| p.t_s);
-        let first_move = pts
-            .iter()
-            .find(|p| p.east_m != 0.0 || p.north_m != 0.0)
-            .map(|p| p.t_s);
-        a.first_step_s.push(first_step.map_or(f64::NAN, |t| t - t0));
-        a.first_move_s.push(first_move.map_or(f64::NAN, |t| t - t0));
-        let poly: f64 = wp
-            .windows(2)
-            .map(|x| (x[1].1 - x[0].1).hypot(x[1].2 - x[0].2))
-            .sum();
-        if let Some(tm) = first_move {
-            // Waypoint distance walked before the position moved.
-            let mut d = 0.0;
-            for x in wp.windows(2) {
-                let leg = (x[1].1 - x[0].1).hypot(x[1].2 - x[0].2);
-                if tm >= x[1].0 {
-                    d += leg;
-                } else if tm > x[0].0 {
-                    d += leg * (tm - x[0].0) / (x[1].0 - x[0].0);
-                }
-            }
-            a.lost_start_pct.push(100.0 * d / poly);
-        }
-        // Step length.
-        let (p0, p1) = (at(t0), at(t1));
-        let steps = p1.steps.saturating_sub(p0.steps) as f64;
-        let walked_m = p1.distance_m - p0.distance_m;
-        a.dist_steps_pct.push(100.0 * (walked_m - poly) / poly);
-        if steps > 5.0 {
-            a.true_step_m.push(poly / steps);
-            a.model_step_m.push(walked_m / steps);
-            a.cadence_hz.push(steps / (t1 - t0));
-            a.speed_mps.push(poly / (t1 - t0));
-        }
-        // Heading per leg.
-        let mut legs: Vec<Leg> = Vec::new();
-        for x in wp.windows(2) {
-            let (dx, dy) = (x[1].1 - x[0].1, x[1].2 - x[0].2);
-            let len = dx.hypot(dy);
-            if len < MIN_LEG_M || x[1].0 - x[0].0 < MIN_LEG_S {
-                continue;
-            }
-            let map_az = dx.atan2(dy);
-            let (e0, e1) = (at(x[0].0), at(x[1].0));
-            let (ex, ey) = (e1.east_m - e0.east_m, e1.north_m - e0.north_m);
-            let nav_az = (ex.hypot(ey) > 0.5).then(|| ex.atan2(ey));
-            // Mean +y azimuths over the leg.
-            let mean_of = |f: &dyn Fn(&Pt) -> Option<f64>| {
-                let v: Vec<(f64, f64)> = pts
-                    .iter()
-                    .filter(|p| p.t_s >= x[0].0 && p.t_s <= x[1].0)
-                    .filter_map(|p| f(p).map(|a| (a, 1.0)))
-                    .collect();
-                (!v.is_empty()).then(|| circ_mean(&v))
-            };
-            legs.push(Leg {
-                length_m: len,
-                map_rad: map_az,
-                track_rad: nav_az,
-                attitude_y_rad: mean_of(&|p| p.attitude_y_rad),
-                rotation_vector_y_rad: mean_of(&|p| p.rotation_vector_y_rad),
-                walking_rad: mean_of(&|p| p.walking_rad),
-                t_into_walk_s: 0.5 * (x[0].0 + x[1].0) - t0,
-            });
-        }
-        // Turn timing at turning waypoints.
-        let rv_az: Vec<(f64, f64)> = pts
-            .iter()
-            .filter_map(|p| p.rotation_vector_y_rad.map(|a| (p.t_s, a)))
-            .collect();
-        let nav_az: Vec<(f64, f64)> = pts
-            .iter()
-            .filter_map(|p| p.walking_rad.map(|a| (p.t_s, a)))
-            .collect();
-        for k in 1..wp.len().saturating_sub(1) {
-            let a1 = (wp[k].1 - wp[k - 1].1).atan2(wp[k].2 - wp[k - 1].2);
-            let a2 = (wp[k + 1].1 - wp[k].1).atan2(wp[k + 1].2 - wp[k].2);
-            let turn = wrap(a2 - a1);
-            if turn.abs() < TURN_MIN_RAD {
-                continue;
-            }
-            let (c_rv, c_nav) = (
-                turn_centre(&rv_az, wp[k].0, turn.signum()),
-                turn_centre(&nav_az, wp[k].0, turn.signum()),
-            );
-            if let (Some(r), Some(n)) = (c_rv, c_nav) {
-                a.turn_rv_s.push(r);
-                a.turn_nav_s.push(n);
-            }
-        }
-        // Along-track residual per leg, the walk's scale removed.
-        let mut walk_legs: Vec<(f64, f64)> = Vec::new();
-        for x in wp.windows(2) {
-            if x[1].0 - x[0].0 < MIN_LEG_S {
-                continue;
-            }
-            let (e0, e1) = (at(x[0].0), at(x[1].0));
-            let d = (e1.east_m - e0.east_m).hypot(e1.north_m - e0.north_m);
-            walk_legs.push((d, (x[1].1 - x[0].1).hypot(x[1].2 - x[0].2)));
-        }
-        let (sl, sd) = walk_legs
-            .iter()
-            .fold((0.0, 0.0), |s, l| (s.0 + l.1, s.1 + l.0));
-        if walk_legs.len() >= 2 && sd > 0.0 {
-            let k = sl / sd;
-            a.leg_resid
-                .extend(walk_legs.iter().map(|&(d, len)| (k * d, len - k * d)));
-        }
-        let rot = |get: &dyn Fn(&Leg) -> Option<f64>| {
-            let v: Vec<(f64, f64)> = legs
-                .iter()
-                .filter_map(|l| get(l).map(|az| (wrap(az - l.map_rad), l.length_m)))
-                .collect();
-            (v.len() >= 2).then(|| circ_mean(&v))
-        };
-        if let Some(r) = rot(&|l| l.track_rad) {
-            a.walk_rot_nav.push(r);
-            for l in &legs {
-                if let Some(az) = l.track_rad {
-                    let e = wrap(az - l.map_rad - r);
-                    a.leg_err_nav.push(e.abs());
-                    a.leg_err_by_time.push(LegError {
-                        t_into_walk_s: l.t_into_walk_s,
-                        err_rad: e,
-                        length_m: l.length_m,
-                    });
-                }
-            }
-        }
-        if let Some(r) = rot(&|l| l.attitude_y_rad) {
-            for l in &legs {
-                if let Some(az) = l.attitude_y_rad {
-                    a.leg_err_ahrs_y.push(wrap(az - l.map_rad - r).abs());
-                }
-            }
-        }
-        if let Some(r) = rot(&|l| l.rotation_vector_y_rad) {
-            a.walk_rot_rv.push(r);
-            for l in &legs {
-                if let Some(az) = l.rotation_vector_y_rad {
-                    a.leg_err_rv_y.push(wrap(az - l.map_rad - r).abs());
-                }
-            }
-        }
-        // Carrying: walking direction (legs, via RV's map rotation) minus +y.
-        for l in &legs {
-            if let (Some(w), Some(y)) = (l.walking_rad, l.attitude_y_rad) {
-                a.carry_nav.push(wrap(w - y));
-            }
-        }
-        if let Some(r) = rot(&|l| l.rotation_vector_y_rad) {
-            for l in &legs {
-                if let Some(y) = l.rotation_vector_y_rad {
-                    // true walking azimuth in RV frame = map_az + r
-                    a.carry_rv.push(wrap(l.map_rad + r - y));
-                }
-            }
-        }
+        diagnose_walk(&mut a, &w.rec, mag)?;
     }
-    let deg = 180.0 / std::f64::consts::PI;
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "Diagnosis on {} walks ({}): percentiles over walks or legs.\n",
-        walks.len(),
-        if mag {
-            "magnetometer"
-        } else {
-            "no magnetometer"
-        }
-    );
-    let _ = writeln!(out, "| what | n | p10 | p25 | median | p75 | p90 | unit |");
-    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|");
-    row(
-        &mut out,
-        "first step counted after the first waypoint",
-        &a.first_step_s,
-        1.0,
-        "s",
-    );
-    row(
-        &mut out,
-        "first step event's own time after the first waypoint",
-        &a.first_event_s,
-        1.0,
-        "s",
-    );
-    row(
-        &mut out,
-        "release time − step time (all steps)",
-        &a.release_lag_s,
-        1.0,
-        "s",
-    );
-    row(
-        &mut out,
-        "polyline / step events in the waypoint span",
-        &a.events_per_poly,
-        1.0,
-        "m",
-    );
-    row(
-        &mut out,
-        "position starts moving after the first waypoint",
-        &a.first_move_s,
-        1.0,
-        "s",
-    );
-    row(
-        &mut out,
-        "waypoint distance walked before the position moves",
-        &a.lost_start_pct,
-        1.0,
-        "% of polyline",
-    );
-    row(
-        &mut out,
-        "Σ step lengths − polyline",
-        &a.dist_steps_pct,
-        1.0,
-        "% of polyline",
-    );
-    row(
-        &mut out,
-        "polyline / steps (step length the waypoints imply)",
-        &a.true_step_m,
-        1.0,
-        "m",
-    );
-    row(&mut out, "model step length", &a.model_step_m, 1.0, "m");
-    row(&mut out, "cadence", &a.cadence_hz, 1.0, "steps/s");
-    row(&mut out, "waypoint speed", &a.speed_mps, 1.0, "m/s");
-    row(
-        &mut out,
-        "|leg azimuth error|, navigator track (per-walk rotation)",
-        &a.leg_err_nav,
-        deg,
-        "°",
-    );
-    row(
-        &mut out,
-        "|leg azimuth error|, navigator attitude +y",
-        &a.leg_err_ahrs_y,
-        deg,
-        "°",
-    );
-    row(
-        &mut out,
-        "|leg azimuth error|, rotation vector +y",
-        &a.leg_err_rv_y,
-        deg,
-        "°",
-    );
-    let spread = |v: &[f64]| {
-        let m = circ_mean(&v.iter().map(|x| (*x, 1.0)).collect::<Vec<_>>());
-        v.iter().map(|x| wrap(x - m)).collect::<Vec<_>>()
-    };
-    row(
-        &mut out,
-        "per-walk rotation map → navigator, minus its circular mean",
-        &spread(&a.walk_rot_nav),
-        deg,
-        "°",
-    );
-    row(
-        &mut out,
-        "per-walk rotation map → rotation vector, minus its circular mean",
-        &spread(&a.walk_rot_rv),
-        deg,
-        "°",
-    );
-    row(
-        &mut out,
-        "walking direction − +y (rotation vector, per leg)",
-        &a.carry_rv,
-        deg,
-        "°",
-    );
-    row(
-        &mut out,
-        "navigator walking azimuth − its +y azimuth (per leg)",
-        &a.carry_nav,
-        deg,
-        "°",
-    );
-    row(
-        &mut out,
-        "turn centre − waypoint time, rotation vector (waypoints turning ≥ 45°)",
-        &a.turn_rv_s,
-        1.0,
-        "s",
-    );
-    row(
-        &mut out,
-        "turn centre − waypoint time, navigator walking azimuth",
-        &a.turn_nav_s,
-        1.0,
-        "s",
-    );
-    // The surveyor walks where the top edge points (the rotation vector's row above):
-    // a leg more than 90° off it was dead-reckoned backwards.
-    let backwards = a.carry_nav.iter().filter(|x| x.abs() > FRAC_PI_2).count();
-    let _ = writeln!(
-        out,
-        "\nLegs dead-reckoned backwards (navigator walking azimuth more than 90° from its +y): {backwards} of {}.",
-        a.carry_nav.len()
-    );
     let azimuth: Vec<(f64, f64)> = a
         .leg_err_by_time
         .iter()
         .map(|l| (l.length_m, l.err_rad))
         .collect();
-    waypoint_noise(&mut out, &a.leg_resid, &azimuth, walks);
-    // Heading error against time into the walk.
-    let _ = writeln!(
-        out,
-        "\nNavigator leg azimuth error against time into the walk (median |error|, °):\n"
-    );
-    let _ = writeln!(
-        out,
-        "| time into walk | legs | median abs error | median signed |"
-    );
-    let _ = writeln!(out, "|---|---|---|---|");
-    for (lo, hi) in [
-        (0.0, 5.0),
-        (5.0, 10.0),
-        (10.0, 20.0),
-        (20.0, 40.0),
-        (40.0, 80.0),
-        (80.0, 200.0),
-    ] {
-        let v: Vec<&LegError> = a
-            .leg_err_by_time
-            .iter()
-            .filter(|l| l.t_into_walk_s >= lo && l.t_into_walk_s < hi)
-            .collect();
+    let noise = WaypointNoise::fit(&a.leg_resid, &azimuth, walks);
+    let mut legs = String::new();
+    crate::pdr::legs::report(&mut legs, walks, mag)?;
+    let shared = if mag {
+        let mut s = String::new();
+        crate::pdr::shared::report(&mut s, walks)?;
+        Some(s)
+    } else {
+        None
+    };
+    Ok(DiagnoseReport {
+        walks: walks.len(),
+        mag,
+        samples: a,
+        noise,
+        legs,
+        shared,
+    })
+}
+
+/// One walk's contribution to every diagnosed quantity.
+fn diagnose_walk(a: &mut Acc, rec: &InertialRecording, mag: bool) -> Result<(), String> {
+    let pts = navigator_track(rec, mag)?;
+    if pts.is_empty() {
+        return Ok(());
+    }
+    step_events(a, rec)?;
+    start_delay(a, &pts, &rec.truth);
+    step_length(a, &pts, &rec.truth);
+    let legs = waypoint_legs(&pts, &rec.truth);
+    turn_timing(a, &pts, &rec.truth);
+    along_track_residuals(a, &pts, &rec.truth);
+    leg_headings(a, &legs);
+    Ok(())
+}
+
+/// The navigator over the walk: one [`Pt`] per sample with an estimate.
+fn navigator_track(rec: &InertialRecording, mag: bool) -> Result<Vec<Pt>, String> {
+    let mut nav = PhoneNavigator::new(NavigatorConfig::default()).map_err(|e| e.to_string())?;
+    let mut pts: Vec<Pt> = Vec::new();
+    let mut ri = 0;
+    for s in &rec.samples {
+        let imu = ImuSample {
+            t_s: s.t_s,
+            gyro_rads: s.gyro_rads,
+            accel_mps2: s.accel_mps2,
+            mag_ut: if mag { s.mag_ut } else { None },
+        };
+        if nav.push_imu(&imu).is_err() {
+            continue;
+        }
+        let Some(e) = nav.estimate() else { continue };
+        let wd = nav.walking_direction();
+        let [qw, qx, qy, qz] = wd.orientation();
+        let q = UnitQuaternion::new_normalize(Quaternion::new(qw, qx, qy, qz));
+        let ahrs_y = azimuth_of(&q, Vector3::y()).map(|az| wrap(az - wd.yaw_correction().0));
+        while ri + 1 < rec.orientation.len() && rec.orientation[ri + 1].0 <= s.t_s {
+            ri += 1;
+        }
+        let rv_y = rec.orientation.get(ri).and_then(|(_, q)| {
+            let q = UnitQuaternion::new_normalize(Quaternion::new(q[0], q[1], q[2], q[3]));
+            azimuth_of(&q, Vector3::y())
+        });
+        pts.push(Pt {
+            t_s: s.t_s,
+            east_m: e.east_m,
+            north_m: e.north_m,
+            steps: e.steps,
+            distance_m: e.distance_m,
+            attitude_y_rad: ahrs_y,
+            rotation_vector_y_rad: rv_y,
+            walking_rad: e.walking_azimuth_rad,
+        });
+    }
+    Ok(pts)
+}
+
+/// The step detector alone: when its first event falls, how late events are
+/// released, and the polyline per event in the waypoint span.
+fn step_events(a: &mut Acc, rec: &InertialRecording) -> Result<(), String> {
+    use stridekit_core::stepdetect::{StepDetector, StepDetectorConfig};
+    let wp = &rec.truth;
+    let (t0, t1) = (wp[0].0, wp[wp.len() - 1].0);
+    let mut d = StepDetector::new(StepDetectorConfig::default()).map_err(|e| e.to_string())?;
+    let mut events = Vec::new();
+    for s in &rec.samples {
+        if let Ok(first) = d.push_accel(s.t_s, s.accel_mps2) {
+            for e in first.into_iter().chain(std::iter::from_fn(|| d.pop_step())) {
+                events.push((e.t_s, s.t_s));
+            }
+        }
+    }
+    if let Some(e) = events.first() {
+        a.first_event_s.push(e.0 - t0);
+    }
+    for e in &events {
+        a.release_lag_s.push(e.1 - e.0);
+    }
+    let n = events.iter().filter(|e| e.0 >= t0 && e.0 <= t1).count() as f64;
+    if n > 5.0 {
+        a.events_per_poly.push(polyline_m(wp) / n);
+    }
+    Ok(())
+}
+
+/// Length of the waypoint polyline, m.
+fn polyline_m(wp: &[(f64, f64, f64)]) -> f64 {
+    wp.windows(2)
+        .map(|x| (x[1].1 - x[0].1).hypot(x[1].2 - x[0].2))
+        .sum()
+}
+
+/// The last track point at or before `t` (the first one before the track starts).
+fn at(pts: &[Pt], t: f64) -> Pt {
+    let i = pts.partition_point(|p| p.t_s <= t).saturating_sub(1);
+    pts[i]
+}
+
+/// Start: first step and first movement after the first waypoint, and the waypoint
+/// distance walked before the position moved.
+fn start_delay(a: &mut Acc, pts: &[Pt], wp: &[(f64, f64, f64)]) {
+    let t0 = wp[0].0;
+    let first_step = pts.iter().find(|p| p.steps > 0).map(|p| p.t_s);
+    let first_move = pts
+        .iter()
+        .find(|p| p.east_m != 0.0 || p.north_m != 0.0)
+        .map(|p| p.t_s);
+    a.first_step_s.push(first_step.map_or(f64::NAN, |t| t - t0));
+    a.first_move_s.push(first_move.map_or(f64::NAN, |t| t - t0));
+    if let Some(tm) = first_move {
+        let mut d = 0.0;
+        for x in wp.windows(2) {
+            let leg = (x[1].1 - x[0].1).hypot(x[1].2 - x[0].2);
+            if tm >= x[1].0 {
+                d += leg;
+            } else if tm > x[0].0 {
+                d += leg * (tm - x[0].0) / (x[1].0 - x[0].0);
+            }
+        }
+        a.lost_start_pct.push(100.0 * d / polyline_m(wp));
+    }
+}
+
+/// Step length, cadence and speed over the waypoint span.
+fn step_length(a: &mut Acc, pts: &[Pt], wp: &[(f64, f64, f64)]) {
+    let (t0, t1) = (wp[0].0, wp[wp.len() - 1].0);
+    let poly = polyline_m(wp);
+    let (p0, p1) = (at(pts, t0), at(pts, t1));
+    let steps = p1.steps.saturating_sub(p0.steps) as f64;
+    let walked_m = p1.distance_m - p0.distance_m;
+    a.dist_steps_pct.push(100.0 * (walked_m - poly) / poly);
+    if steps > 5.0 {
+        a.true_step_m.push(poly / steps);
+        a.model_step_m.push(walked_m / steps);
+        a.cadence_hz.push(steps / (t1 - t0));
+        a.speed_mps.push(poly / (t1 - t0));
+    }
+}
+
+/// The legs long enough to carry a direction, with the navigator's azimuths over them.
+fn waypoint_legs(pts: &[Pt], wp: &[(f64, f64, f64)]) -> Vec<Leg> {
+    let t0 = wp[0].0;
+    let mut legs: Vec<Leg> = Vec::new();
+    for x in wp.windows(2) {
+        let (dx, dy) = (x[1].1 - x[0].1, x[1].2 - x[0].2);
+        let len = dx.hypot(dy);
+        if len < MIN_LEG_M || x[1].0 - x[0].0 < MIN_LEG_S {
+            continue;
+        }
+        let map_az = dx.atan2(dy);
+        let (e0, e1) = (at(pts, x[0].0), at(pts, x[1].0));
+        let (ex, ey) = (e1.east_m - e0.east_m, e1.north_m - e0.north_m);
+        let nav_az = (ex.hypot(ey) > 0.5).then(|| ex.atan2(ey));
+        // Mean +y azimuths over the leg.
+        let mean_of = |f: &dyn Fn(&Pt) -> Option<f64>| {
+            let v: Vec<(f64, f64)> = pts
+                .iter()
+                .filter(|p| p.t_s >= x[0].0 && p.t_s <= x[1].0)
+                .filter_map(|p| f(p).map(|a| (a, 1.0)))
+                .collect();
+            (!v.is_empty()).then(|| circ_mean(&v))
+        };
+        legs.push(Leg {
+            length_m: len,
+            map_rad: map_az,
+            track_rad: nav_az,
+            attitude_y_rad: mean_of(&|p| p.attitude_y_rad),
+            rotation_vector_y_rad: mean_of(&|p| p.rotation_vector_y_rad),
+            walking_rad: mean_of(&|p| p.walking_rad),
+            t_into_walk_s: 0.5 * (x[0].0 + x[1].0) - t0,
+        });
+    }
+    legs
+}
+
+/// Turn timing at the waypoints where the polyline turns by [`TURN_MIN_RAD`] or more.
+fn turn_timing(a: &mut Acc, pts: &[Pt], wp: &[(f64, f64, f64)]) {
+    let rv_az: Vec<(f64, f64)> = pts
+        .iter()
+        .filter_map(|p| p.rotation_vector_y_rad.map(|a| (p.t_s, a)))
+        .collect();
+    let nav_az: Vec<(f64, f64)> = pts
+        .iter()
+        .filter_map(|p| p.walking_rad.map(|a| (p.t_s, a)))
+        .collect();
+    for k in 1..wp.len().saturating_sub(1) {
+        let a1 = (wp[k].1 - wp[k - 1].1).atan2(wp[k].2 - wp[k - 1].2);
+        let a2 = (wp[k + 1].1 - wp[k].1).atan2(wp[k + 1].2 - wp[k].2);
+        let turn = wrap(a2 - a1);
+        if turn.abs() < TURN_MIN_RAD {
+            continue;
+        }
+        let (c_rv, c_nav) = (
+            turn_centre(&rv_az, wp[k].0, turn.signum()),
+            turn_centre(&nav_az, wp[k].0, turn.signum()),
+        );
+        if let (Some(r), Some(n)) = (c_rv, c_nav) {
+            a.turn_rv_s.push(r);
+            a.turn_nav_s.push(n);
+        }
+    }
+}
+
+/// Along-track residual per leg, the walk's scale removed.
+fn along_track_residuals(a: &mut Acc, pts: &[Pt], wp: &[(f64, f64, f64)]) {
+    let mut walk_legs: Vec<(f64, f64)> = Vec::new();
+    for x in wp.windows(2) {
+        if x[1].0 - x[0].0 < MIN_LEG_S {
+            continue;
+        }
+        let (e0, e1) = (at(pts, x[0].0), at(pts, x[1].0));
+        let d = (e1.east_m - e0.east_m).hypot(e1.north_m - e0.north_m);
+        walk_legs.push((d, (x[1].1 - x[0].1).hypot(x[1].2 - x[0].2)));
+    }
+    let (sl, sd) = walk_legs
+        .iter()
+        .fold((0.0, 0.0), |s, l| (s.0 + l.1, s.1 + l.0));
+    if walk_legs.len() >= 2 && sd > 0.0 {
+        let k = sl / sd;
+        a.leg_resid
+            .extend(walk_legs.iter().map(|&(d, len)| (k * d, len - k * d)));
+    }
+}
+
+/// The walk's rotation map → `get` (length-weighted circular mean over its legs).
+fn walk_rotation(legs: &[Leg], get: &dyn Fn(&Leg) -> Option<f64>) -> Option<f64> {
+    let v: Vec<(f64, f64)> = legs
+        .iter()
+        .filter_map(|l| get(l).map(|az| (wrap(az - l.map_rad), l.length_m)))
+        .collect();
+    (v.len() >= 2).then(|| circ_mean(&v))
+}
+
+/// Leg azimuth errors after each source's walk rotation, and the carrying angles.
+fn leg_headings(a: &mut Acc, legs: &[Leg]) {
+    if let Some(r) = walk_rotation(legs, &|l| l.track_rad) {
+        a.walk_rot_nav.push(r);
+        for l in legs {
+            if let Some(az) = l.track_rad {
+                let e = wrap(az - l.map_rad - r);
+                a.leg_err_nav.push(e.abs());
+                a.leg_err_by_time.push(LegError {
+                    t_into_walk_s: l.t_into_walk_s,
+                    err_rad: e,
+                    length_m: l.length_m,
+                });
+            }
+        }
+    }
+    if let Some(r) = walk_rotation(legs, &|l| l.attitude_y_rad) {
+        for l in legs {
+            if let Some(az) = l.attitude_y_rad {
+                a.leg_err_ahrs_y.push(wrap(az - l.map_rad - r).abs());
+            }
+        }
+    }
+    if let Some(r) = walk_rotation(legs, &|l| l.rotation_vector_y_rad) {
+        a.walk_rot_rv.push(r);
+        for l in legs {
+            if let Some(az) = l.rotation_vector_y_rad {
+                a.leg_err_rv_y.push(wrap(az - l.map_rad - r).abs());
+            }
+        }
+    }
+    // Carrying: walking direction (legs, via RV's map rotation) minus +y.
+    for l in legs {
+        if let (Some(w), Some(y)) = (l.walking_rad, l.attitude_y_rad) {
+            a.carry_nav.push(wrap(w - y));
+        }
+    }
+    if let Some(r) = walk_rotation(legs, &|l| l.rotation_vector_y_rad) {
+        for l in legs {
+            if let Some(y) = l.rotation_vector_y_rad {
+                // true walking azimuth in RV frame = map_az + r
+                a.carry_rv.push(wrap(l.map_rad + r - y));
+            }
+        }
+    }
+}
+
+/// Bins of time into the walk for the heading-error table, s.
+const TIME_BINS_S: [(f64, f64); 6] = [
+    (0.0, 5.0),
+    (5.0, 10.0),
+    (10.0, 20.0),
+    (20.0, 40.0),
+    (40.0, 80.0),
+    (80.0, 200.0),
+];
+
+impl DiagnoseReport {
+    /// The report as markdown.
+    pub fn render(&self) -> String {
+        let a = &self.samples;
+        let mut out = format!(
+            "Diagnosis on {} walks ({}): percentiles over walks or legs.\n\n",
+            self.walks,
+            if self.mag {
+                "magnetometer"
+            } else {
+                "no magnetometer"
+            }
+        );
+        out.push_str(&self.percentile_table().render());
+        // The surveyor walks where the top edge points (the rotation vector's row above):
+        // a leg more than 90° off it was dead-reckoned backwards.
+        let backwards = a.carry_nav.iter().filter(|x| x.abs() > FRAC_PI_2).count();
         let _ = writeln!(
             out,
-            "| {lo}–{hi} s | {} | {:.1} | {:.1} |",
-            v.len(),
-            median(v.iter().map(|l| l.err_rad.abs() * deg)),
-            median(v.iter().map(|l| l.err_rad * deg)),
+            "\nLegs dead-reckoned backwards (navigator walking azimuth more than 90° from its +y): {backwards} of {}.",
+            a.carry_nav.len()
         );
+        out.push_str(&self.noise.render());
+        let _ = writeln!(
+            out,
+            "\nNavigator leg azimuth error against time into the walk (median |error|, °):\n"
+        );
+        out.push_str(&self.time_table().render());
+        out.push_str(&self.legs);
+        if let Some(s) = &self.shared {
+            out.push_str(s);
+        }
+        out
     }
-    crate::pdr::legs::report(&mut out, walks, mag)?;
-    if mag {
-        // The distance does not depend on the magnetometer: once is enough.
-        crate::pdr::shared::report(&mut out, walks)?;
+
+    /// Percentiles of every quantity over walks or legs.
+    fn percentile_table(&self) -> Table {
+        let mut t = Table::new(["what", "n", "p10", "p25", "median", "p75", "p90", "unit"]);
+        for (name, v, scale, unit) in self.start_and_step_rows() {
+            t.row(percentile_row(name, v, scale, unit));
+        }
+        for (name, v, scale, unit) in self.heading_rows() {
+            t.row(percentile_row(name, &v, scale, unit));
+        }
+        t
     }
-    Ok(out)
+
+    /// Start delay and step length: (what, values, scale, unit).
+    fn start_and_step_rows(&self) -> [(&'static str, &[f64], f64, &'static str); 11] {
+        let a = &self.samples;
+        [
+            (
+                "first step counted after the first waypoint",
+                &a.first_step_s,
+                1.0,
+                "s",
+            ),
+            (
+                "first step event's own time after the first waypoint",
+                &a.first_event_s,
+                1.0,
+                "s",
+            ),
+            (
+                "release time − step time (all steps)",
+                &a.release_lag_s,
+                1.0,
+                "s",
+            ),
+            (
+                "polyline / step events in the waypoint span",
+                &a.events_per_poly,
+                1.0,
+                "m",
+            ),
+            (
+                "position starts moving after the first waypoint",
+                &a.first_move_s,
+                1.0,
+                "s",
+            ),
+            (
+                "waypoint distance walked before the position moves",
+                &a.lost_start_pct,
+                1.0,
+                "% of polyline",
+            ),
+            (
+                "Σ step lengths − polyline",
+                &a.dist_steps_pct,
+                1.0,
+                "% of polyline",
+            ),
+            (
+                "polyline / steps (step length the waypoints imply)",
+                &a.true_step_m,
+                1.0,
+                "m",
+            ),
+            ("model step length", &a.model_step_m, 1.0, "m"),
+            ("cadence", &a.cadence_hz, 1.0, "steps/s"),
+            ("waypoint speed", &a.speed_mps, 1.0, "m/s"),
+        ]
+    }
+
+    /// Heading, carrying angle and turn timing: (what, values, scale, unit).
+    fn heading_rows(&self) -> [(&'static str, Vec<f64>, f64, &'static str); 9] {
+        let a = &self.samples;
+        let deg = 180.0 / std::f64::consts::PI;
+        let spread = |v: &[f64]| {
+            let m = circ_mean(&v.iter().map(|x| (*x, 1.0)).collect::<Vec<_>>());
+            v.iter().map(|x| wrap(x - m)).collect::<Vec<_>>()
+        };
+        [
+            (
+                "|leg azimuth error|, navigator track (per-walk rotation)",
+                a.leg_err_nav.clone(),
+                deg,
+                "°",
+            ),
+            (
+                "|leg azimuth error|, navigator attitude +y",
+                a.leg_err_ahrs_y.clone(),
+                deg,
+                "°",
+            ),
+            (
+                "|leg azimuth error|, rotation vector +y",
+                a.leg_err_rv_y.clone(),
+                deg,
+                "°",
+            ),
+            (
+                "per-walk rotation map → navigator, minus its circular mean",
+                spread(&a.walk_rot_nav),
+                deg,
+                "°",
+            ),
+            (
+                "per-walk rotation map → rotation vector, minus its circular mean",
+                spread(&a.walk_rot_rv),
+                deg,
+                "°",
+            ),
+            (
+                "walking direction − +y (rotation vector, per leg)",
+                a.carry_rv.clone(),
+                deg,
+                "°",
+            ),
+            (
+                "navigator walking azimuth − its +y azimuth (per leg)",
+                a.carry_nav.clone(),
+                deg,
+                "°",
+            ),
+            (
+                "turn centre − waypoint time, rotation vector (waypoints turning ≥ 45°)",
+                a.turn_rv_s.clone(),
+                1.0,
+                "s",
+            ),
+            (
+                "turn centre − waypoint time, navigator walking azimuth",
+                a.turn_nav_s.clone(),
+                1.0,
+                "s",
+            ),
+        ]
+    }
+
+    /// Navigator leg azimuth error against time into the walk.
+    fn time_table(&self) -> Table {
+        let deg = 180.0 / std::f64::consts::PI;
+        let mut t = Table::new([
+            "time into walk",
+            "legs",
+            "median abs error",
+            "median signed",
+        ]);
+        for (lo, hi) in TIME_BINS_S {
+            let v: Vec<&LegError> = self
+                .samples
+                .leg_err_by_time
+                .iter()
+                .filter(|l| l.t_into_walk_s >= lo && l.t_into_walk_s < hi)
+                .collect();
+            t.row([
+                format!("{lo}–{hi} s"),
+                v.len().to_string(),
+                format!("{:.1}", median(v.iter().map(|l| l.err_rad.abs() * deg))),
+                format!("{:.1}", median(v.iter().map(|l| l.err_rad * deg))),
+            ]);
+        }
+        t
+    }
 }
 
 /// Bins of leg displacement for the along-track noise fit, m.
@@ -680,60 +788,110 @@ fn noise_fit(rows: &[NoiseBin]) -> Option<(f64, f64)> {
     Some((my - b * mx, b))
 }
 
+/// The noise fits of [`WaypointNoise`] and the perfect tracks they imply.
+struct NoiseFits {
+    /// Along-track sd² = a + b·d²: `(a, b)`.
+    along: (f64, f64),
+    /// Azimuth sd² = h² + c/L²: `(h², c)` (NaN without enough bins).
+    azimuth: (f64, f64),
+    sigma_along: f64,
+    sigma_cross: f64,
+    /// The RMS of the two (σ_along alone when there is no azimuth fit).
+    sigma: f64,
+    along_only: Metrics,
+    both: Metrics,
+}
+
 /// The waypoints' own noise from the leg residuals (see the module doc), and the ATE
-/// of a perfect track against waypoints with that noise. `along`: (displacement,
-/// along-track residual) per leg; `azimuth`: (leg length, azimuth error after the
-/// walk's rotation) per leg.
-fn waypoint_noise(out: &mut String, along: &[(f64, f64)], azimuth: &[(f64, f64)], walks: &[Walk]) {
-    let _ = writeln!(
-        out,
-        "\nWaypoint noise. Along the leg: leg length − the navigator's displacement (the walk's scale removed), by displacement; across it: the leg's azimuth error after the walk's rotation, by leg length:\n"
-    );
-    let _ = writeln!(out, "| residual | bin | legs | robust sd |");
-    let _ = writeln!(out, "|---|---|---|---|");
-    let rows = residual_bins(along, &NOISE_BINS_M, |d| d * d);
-    for (lo, hi, n, sd, _) in &rows {
-        let _ = writeln!(out, "| along | {lo}–{hi} m | {n} | {sd:.2} m |");
+/// of a perfect track against waypoints with that noise.
+struct WaypointNoise {
+    along_bins: Vec<NoiseBin>,
+    azimuth_bins: Vec<NoiseBin>,
+    fits: Option<NoiseFits>,
+}
+
+impl WaypointNoise {
+    /// `along`: (displacement, along-track residual) per leg; `azimuth`: (leg length,
+    /// azimuth error after the walk's rotation) per leg.
+    fn fit(along: &[(f64, f64)], azimuth: &[(f64, f64)], walks: &[Walk]) -> Self {
+        let along_bins = residual_bins(along, &NOISE_BINS_M, |d| d * d);
+        let azimuth_bins = residual_bins(azimuth, &AZIMUTH_BINS_M, |l| 1.0 / (l * l));
+        let fits = noise_fit(&along_bins).map(|(a0, b)| {
+            let sigma_along = (a0.max(0.0) / 2.0).sqrt();
+            // Azimuth: sd² = h² + c/L² (a heading error that does not shrink with the
+            // leg, and the waypoints' cross-track noise, 2σ² = c).
+            let (h2, c) = noise_fit(&azimuth_bins).unwrap_or((f64::NAN, f64::NAN));
+            let sigma_cross = (c.max(0.0) / 2.0).sqrt();
+            let sigma = if sigma_cross.is_finite() {
+                (0.5 * (sigma_along * sigma_along + sigma_cross * sigma_cross)).sqrt()
+            } else {
+                sigma_along
+            };
+            NoiseFits {
+                along: (a0, b),
+                azimuth: (h2, c),
+                sigma_along,
+                sigma_cross,
+                sigma,
+                along_only: perfect_track(walks, sigma_along),
+                both: perfect_track(walks, sigma),
+            }
+        });
+        Self {
+            along_bins,
+            azimuth_bins,
+            fits,
+        }
     }
-    let az_rows = residual_bins(azimuth, &AZIMUTH_BINS_M, |l| 1.0 / (l * l));
-    for (lo, hi, n, sd, _) in &az_rows {
+
+    fn render(&self) -> String {
+        let mut out = String::from("\nWaypoint noise. Along the leg: leg length − the navigator's displacement (the walk's scale removed), by displacement; across it: the leg's azimuth error after the walk's rotation, by leg length:\n\n");
+        let mut t = Table::new(["residual", "bin", "legs", "robust sd"]);
+        for (lo, hi, n, sd, _) in &self.along_bins {
+            t.row([
+                "along".to_string(),
+                format!("{lo}–{hi} m"),
+                n.to_string(),
+                format!("{sd:.2} m"),
+            ]);
+        }
+        for (lo, hi, n, sd, _) in &self.azimuth_bins {
+            t.row([
+                "azimuth".to_string(),
+                format!("{lo}–{hi} m"),
+                n.to_string(),
+                format!("{:.1}°", sd.to_degrees()),
+            ]);
+        }
+        out.push_str(&t.render());
+        let Some(f) = &self.fits else {
+            return out;
+        };
+        let NoiseFits {
+            along: (a0, b),
+            azimuth: (h2, _),
+            sigma_along,
+            sigma_cross,
+            sigma,
+            along_only,
+            both,
+        } = f;
         let _ = writeln!(
             out,
-            "| azimuth | {lo}–{hi} m | {n} | {:.1}° |",
-            sd.to_degrees()
+            "\nFits: along-track sd² = a + b·d² gives a = {a0:.3} m² (relative along-track scatter √b = {:.1} %), per-waypoint noise σ_along = √(a/2) = {sigma_along:.2} m; azimuth sd² = h² + c/L² gives a heading error h = {:.1}° that does not shrink with the leg and σ_across = √(c/2) = {sigma_cross:.2} m. A perfect track against these waypoints with isotropic noise σ = {sigma:.2} m (the RMS of the two) added: median ATE {:.2} m, start-pinned {:.2} m, end {:.1} %, |distance| {:.1} % (with σ_along alone {:.2} m, {:.2} m, {:.1} %, {:.1} %; 5 draws per walk): what the waypoints alone charge a navigator with no error of its own.",
+            100.0 * b.max(0.0).sqrt(),
+            h2.max(0.0).sqrt().to_degrees(),
+            both.ate_m,
+            both.start_pinned_m,
+            both.end_pct,
+            both.distance_pct,
+            along_only.ate_m,
+            along_only.start_pinned_m,
+            along_only.end_pct,
+            along_only.distance_pct,
         );
+        out
     }
-    let Some((a0, b)) = noise_fit(&rows) else {
-        return;
-    };
-    let sigma_along = (a0.max(0.0) / 2.0).sqrt();
-    // Azimuth: sd² = h² + c/L² (a heading error that does not shrink with the leg,
-    // and the waypoints' cross-track noise, 2σ² = c).
-    let (h2, c) = noise_fit(&az_rows).unwrap_or((f64::NAN, f64::NAN));
-    let sigma_cross = (c.max(0.0) / 2.0).sqrt();
-    let sigma = if sigma_cross.is_finite() {
-        (0.5 * (sigma_along * sigma_along + sigma_cross * sigma_cross)).sqrt()
-    } else {
-        sigma_along
-    };
-    let (along_only, both) = (
-        perfect_track(walks, sigma_along),
-        perfect_track(walks, sigma),
-    );
-    let _ = writeln!(
-        out,
-        "\nFits: along-track sd² = a + b·d² gives a = {a0:.3} m² (relative along-track scatter √b = {:.1} %), per-waypoint noise σ_along = √(a/2) = {sigma_along:.2} m; azimuth sd² = h² + c/L² gives a heading error h = {:.1}° that does not shrink with the leg and σ_across = √(c/2) = {sigma_cross:.2} m. A perfect track against these waypoints with isotropic noise σ = {sigma:.2} m (the RMS of the two) added: median ATE {:.2} m, start-pinned {:.2} m, end {:.1} %, |distance| {:.1} % (with σ_along alone {:.2} m, {:.2} m, {:.1} %, {:.1} %; 5 draws per walk): what the waypoints alone charge a navigator with no error of its own.",
-        100.0 * b.max(0.0).sqrt(),
-        h2.max(0.0).sqrt().to_degrees(),
-        both.ate_m,
-        both.start_pinned_m,
-        both.end_pct,
-        both.distance_pct,
-        along_only.ate_m,
-        along_only.start_pinned_m,
-        along_only.end_pct,
-        along_only.distance_pct,
-    );
 }
 
 /// Medians of the measures (ATE, start-pinned error, end error, |distance

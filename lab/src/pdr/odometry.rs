@@ -19,7 +19,10 @@ use std::fmt::Write;
 use std::path::Path;
 
 use crate::odometry::simulator_model;
-use crate::odometry::train::{fit_model, labelled_windows, samples_of, LabelledWindow, RecTruth};
+use crate::odometry::train::{
+    fit_model, labelled_windows, samples_of, write_model, LabelledWindow, RecTruth,
+    FEATURES_COMMENT,
+};
 use stridekit_core::odometry::{
     OdometryConfig, OdometryModel, PhoneOdometry, PipelineParams, PlacementSource,
 };
@@ -239,20 +242,18 @@ pub fn train_command(
             fl.join(", ")
         ),
         "labels: the velocity between consecutive waypoints, turned into the engine's frame by the rotation that maps each walk's waypoints onto the track of lab/models/odometry_sim_v1.txt (lab/src/pdr/odometry.rs)".into(),
-        "features: core/src/odometry/features.rs (scalars sd_az sqrt_sd_az sd_ah sd_gz sd_gh zc_hz zc_hz2 zc_sqrt_sd_az ln_sd_az mean_g_norm)".into(),
+        FEATURES_COMMENT.into(),
         measured.clone(),
         "experimental: the PDR (PhoneNavigator) is more accurate on the same walks (`stridekit eval pdr --data DIR`); only hand-held walks trained it".into(),
     ];
     let model = OdometryModel { comments, ..model };
-    std::fs::write(out, model.to_text()).map_err(|e| format!("{}: {e}", out.display()))?;
+    let written = write_model(&model, out)?;
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{} walks ({} floors), {n_windows} windows, {} regressors, {} bytes of weights; wrote {}",
+        "{} walks ({} floors), {n_windows} windows, {written}; wrote {}",
         walks.len(),
         fl.len(),
-        model.regressors.iter().flatten().count(),
-        model.size_bytes(),
         out.display()
     );
     let _ = writeln!(s, "{measured}");

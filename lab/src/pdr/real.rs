@@ -151,8 +151,8 @@ pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
         ));
     }
     if diagnose {
-        let mut s = crate::pdr::diagnose::run(&walks, true)?;
-        s += &crate::pdr::diagnose::run(&walks, false)?;
+        let mut s = crate::pdr::diagnose::diagnose(&walks, true)?.render();
+        s += &crate::pdr::diagnose::diagnose(&walks, false)?.render();
         return Ok(s);
     }
     let config = NavigatorConfig::default();

@@ -102,61 +102,14 @@ impl RobustDetector {
     }
 
     pub(crate) fn read(r: &mut Reader, p: RobustStepParams) -> Result<Self, SnapshotError> {
-        let started = r.bool()?;
-        let lp1 = r.f64_in(0.0, A, "step detector low-pass")?;
-        let lp2 = r.f64_in(0.0, A, "step detector low-pass")?;
-        let prev_t_s = r.f64_in(-T, T, "step detector time")?;
-        let prev_y = r.f64_in(0.0, A, "step detector low-pass")?;
-        let next_grid_t_s = r.f64_in(-T, T, "step detector grid time")?;
-        let mean = r.f64_in(0.0, A, "step detector mean")?;
-        let ms = r.f64_in(0.0, A * A, "step detector variance")?;
-        check_grid_time(started, prev_t_s, next_grid_t_s)?;
-        let mut carry = [0.0; 3];
-        for v in &mut carry {
-            *v = r.f64_in(-A, A, "step detector carrying")?;
-        }
+        // In the writer's order: signal, history, peak search, candidates, bout.
+        let sig = read_signal(r)?;
         let xs = read_history(r)?;
-        let seeking_peak = r.bool()?;
-        // ext_x starts at −∞; valley_x is NaN before the first valley.
-        let ext_x = r.f64_any()?;
-        if !(ext_x == f64::NEG_INFINITY || (-A..=A).contains(&ext_x)) {
-            return Err(SnapshotError::Invalid("step detector extremum"));
-        }
-        let ext_t_s = r.f64_in(-T, T, "step detector time")?;
-        let valley_x = r.f64_or_nan()?;
-        if valley_x.abs() > A {
-            return Err(SnapshotError::Invalid("step detector valley"));
-        }
+        let peak = read_peak(r)?;
         let moments = Moments::read(r)?;
         let pending = read_candidates(r)?;
         let short_walk = read_candidates(r)?;
-        let in_bout = r.bool()?;
-        // NaN before the first bout / step / bout end.
-        let period_s = r.f64_or_nan()?;
-        let prev_interval_s = r.f64_or_nan()?;
-        let last_t_s = r.f64_or_nan()?;
-        let missing_s = r.f64_in(0.0, 2.0 * T, "step detector missing time")?;
-        let hf_sum_sq = r.f64()?;
-        let hf_n = r.f64()?;
-        let hp = [
-            r.f64_in(0.0, A, "step detector high-pass")?,
-            r.f64_in(-A, A, "step detector high-pass")?,
-        ];
-        let amplitude_ref_mps2 = r.f64_in(0.0, 2.0 * A, "step amplitude")?;
-        let bout_end_t_s = r.f64_or_nan()?;
-        let bout_end_period_s = r.f64_or_nan()?;
-        // NaN before the first gap in the data.
-        let data_gap_end_t_s = r.f64_or_nan()?;
-        let data_gap_s = r.f64_in(0.0, MAX_INPUT_GAP_S, "step detector gap")?;
-        let gait = GaitPeriod::read(r)?;
-        let tail = if r.bool()? {
-            Some(read_event(r)?)
-        } else {
-            None
-        };
-        let times = [last_t_s, bout_end_t_s, data_gap_end_t_s];
-        let periods = [period_s, prev_interval_s, bout_end_period_s];
-        check_statistics(hf_n, hf_sum_sq, periods, times, tail)?;
+        let bout = read_bout(r)?;
         let Derived {
             tau_lp_s,
             gain_mean,
@@ -167,40 +120,177 @@ impl RobustDetector {
             tau_lp_s,
             gain_mean,
             gain_ms,
-            started,
-            lp1,
-            lp2,
-            prev_t_s,
-            prev_y,
-            next_grid_t_s,
-            carry,
-            mean,
-            ms,
+            started: sig.started,
+            lp1: sig.lp1,
+            lp2: sig.lp2,
+            prev_t_s: sig.prev_t_s,
+            prev_y: sig.prev_y,
+            next_grid_t_s: sig.next_grid_t_s,
+            carry: sig.carry,
+            mean: sig.mean,
+            ms: sig.ms,
             xs,
-            seeking_peak,
-            ext_x,
-            ext_t_s,
-            valley_x,
+            seeking_peak: peak.seeking_peak,
+            ext_x: peak.ext_x,
+            ext_t_s: peak.ext_t_s,
+            valley_x: peak.valley_x,
             moments,
             pending,
             short_walk,
-            in_bout,
-            period_s,
-            prev_interval_s,
-            last_t_s,
-            missing_s,
-            hf_sum_sq,
-            hf_n,
-            hp,
-            amplitude_ref_mps2,
-            bout_end_t_s,
-            bout_end_period_s,
-            data_gap_end_t_s,
-            data_gap_s,
-            gait,
-            tail,
+            in_bout: bout.in_bout,
+            period_s: bout.period_s,
+            prev_interval_s: bout.prev_interval_s,
+            last_t_s: bout.last_t_s,
+            missing_s: bout.missing_s,
+            hf_sum_sq: bout.hf_sum_sq,
+            hf_n: bout.hf_n,
+            hp: bout.hp,
+            amplitude_ref_mps2: bout.amplitude_ref_mps2,
+            bout_end_t_s: bout.bout_end_t_s,
+            bout_end_period_s: bout.bout_end_period_s,
+            data_gap_end_t_s: bout.data_gap_end_t_s,
+            data_gap_s: bout.data_gap_s,
+            gait: bout.gait,
+            tail: bout.tail,
         })
     }
+}
+
+/// The signal chain's state as read (see [`read_signal`]).
+struct SignalState {
+    started: bool,
+    lp1: f64,
+    lp2: f64,
+    prev_t_s: f64,
+    prev_y: f64,
+    next_grid_t_s: f64,
+    mean: f64,
+    ms: f64,
+    carry: [f64; 3],
+}
+
+/// The low-passes, the grid, the running moments and the carrying, each in bounds.
+fn read_signal(r: &mut Reader) -> Result<SignalState, SnapshotError> {
+    let started = r.bool()?;
+    let lp1 = r.f64_in(0.0, A, "step detector low-pass")?;
+    let lp2 = r.f64_in(0.0, A, "step detector low-pass")?;
+    let prev_t_s = r.f64_in(-T, T, "step detector time")?;
+    let prev_y = r.f64_in(0.0, A, "step detector low-pass")?;
+    let next_grid_t_s = r.f64_in(-T, T, "step detector grid time")?;
+    let mean = r.f64_in(0.0, A, "step detector mean")?;
+    let ms = r.f64_in(0.0, A * A, "step detector variance")?;
+    check_grid_time(started, prev_t_s, next_grid_t_s)?;
+    let mut carry = [0.0; 3];
+    for v in &mut carry {
+        *v = r.f64_in(-A, A, "step detector carrying")?;
+    }
+    Ok(SignalState {
+        started,
+        lp1,
+        lp2,
+        prev_t_s,
+        prev_y,
+        next_grid_t_s,
+        mean,
+        ms,
+        carry,
+    })
+}
+
+/// The peak search's state as read (see [`read_peak`]).
+struct PeakState {
+    seeking_peak: bool,
+    ext_x: f64,
+    ext_t_s: f64,
+    valley_x: f64,
+}
+
+/// The peak search: ext_x starts at −∞; valley_x is NaN before the first valley.
+fn read_peak(r: &mut Reader) -> Result<PeakState, SnapshotError> {
+    let seeking_peak = r.bool()?;
+    let ext_x = r.f64_any()?;
+    if !(ext_x == f64::NEG_INFINITY || (-A..=A).contains(&ext_x)) {
+        return Err(SnapshotError::Invalid("step detector extremum"));
+    }
+    let ext_t_s = r.f64_in(-T, T, "step detector time")?;
+    let valley_x = r.f64_or_nan()?;
+    if valley_x.abs() > A {
+        return Err(SnapshotError::Invalid("step detector valley"));
+    }
+    Ok(PeakState {
+        seeking_peak,
+        ext_x,
+        ext_t_s,
+        valley_x,
+    })
+}
+
+/// The bout, period, impact and gap state as read (see [`read_bout`]).
+struct BoutState {
+    in_bout: bool,
+    period_s: f64,
+    prev_interval_s: f64,
+    last_t_s: f64,
+    missing_s: f64,
+    hf_sum_sq: f64,
+    hf_n: f64,
+    hp: [f64; 2],
+    amplitude_ref_mps2: f64,
+    bout_end_t_s: f64,
+    bout_end_period_s: f64,
+    data_gap_end_t_s: f64,
+    data_gap_s: f64,
+    gait: GaitPeriod,
+    tail: Option<StepEvent>,
+}
+
+/// The bout and its periods, the impact statistics, the gap and the held step, each in
+/// bounds and checked together ([`check_statistics`]).
+fn read_bout(r: &mut Reader) -> Result<BoutState, SnapshotError> {
+    let in_bout = r.bool()?;
+    // NaN before the first bout / step / bout end.
+    let period_s = r.f64_or_nan()?;
+    let prev_interval_s = r.f64_or_nan()?;
+    let last_t_s = r.f64_or_nan()?;
+    let missing_s = r.f64_in(0.0, 2.0 * T, "step detector missing time")?;
+    let hf_sum_sq = r.f64()?;
+    let hf_n = r.f64()?;
+    let hp = [
+        r.f64_in(0.0, A, "step detector high-pass")?,
+        r.f64_in(-A, A, "step detector high-pass")?,
+    ];
+    let amplitude_ref_mps2 = r.f64_in(0.0, 2.0 * A, "step amplitude")?;
+    let bout_end_t_s = r.f64_or_nan()?;
+    let bout_end_period_s = r.f64_or_nan()?;
+    // NaN before the first gap in the data.
+    let data_gap_end_t_s = r.f64_or_nan()?;
+    let data_gap_s = r.f64_in(0.0, MAX_INPUT_GAP_S, "step detector gap")?;
+    let gait = GaitPeriod::read(r)?;
+    let tail = if r.bool()? {
+        Some(read_event(r)?)
+    } else {
+        None
+    };
+    let times = [last_t_s, bout_end_t_s, data_gap_end_t_s];
+    let periods = [period_s, prev_interval_s, bout_end_period_s];
+    check_statistics(hf_n, hf_sum_sq, periods, times, tail)?;
+    Ok(BoutState {
+        in_bout,
+        period_s,
+        prev_interval_s,
+        last_t_s,
+        missing_s,
+        hf_sum_sq,
+        hf_n,
+        hp,
+        amplitude_ref_mps2,
+        bout_end_t_s,
+        bout_end_period_s,
+        data_gap_end_t_s,
+        data_gap_s,
+        gait,
+        tail,
+    })
 }
 
 /// The impact sums, the periods (NaN before the first bout), the times (NaN before the

@@ -12,9 +12,6 @@ import io.stridekit.mapConfigDefault
 import io.stridekit.mapReferenceReplay
 import org.junit.jupiter.api.Assumptions.assumeTrue
 import java.io.File
-import java.nio.ByteBuffer
-import java.nio.ByteOrder
-import java.util.zip.GZIPInputStream
 import kotlin.math.hypot
 import kotlin.test.Test
 import kotlin.test.assertContentEquals
@@ -34,64 +31,16 @@ class MapWalkTest {
     private val floor = "site1/F1"
     private val walk = "$floor/5dd9e7aac5b77e0006b1732b.txt.gz"
 
-    private fun dataDir(): File? =
-        (System.getenv("STRIDEKIT_DATA") ?: System.getProperty("stridekit.data"))?.let { File(it, "phone-indoor") }
-
-    /** The log: 80-byte IMU records (gyroscope and magnetometer interpolated at the accelerometer's times, as the Rust reader does) and the waypoints (t, x, y). */
-    private fun readLog(file: File): Pair<ByteArray, List<DoubleArray>> {
-        val acc = ArrayList<DoubleArray>()
-        val gyr = ArrayList<DoubleArray>()
-        val mag = ArrayList<DoubleArray>()
-        val wp = ArrayList<DoubleArray>()
-        GZIPInputStream(file.inputStream()).bufferedReader().useLines { lines ->
-            for (line in lines) {
-                if (line.isBlank() || line.startsWith("#")) continue
-                val f = line.trim().split(Regex("\\s+"))
-                val t = f[0].toDouble() / 1000.0
-                when (f[1]) {
-                    "TYPE_ACCELEROMETER" -> acc.add(doubleArrayOf(t, f[2].toDouble(), f[3].toDouble(), f[4].toDouble()))
-                    "TYPE_GYROSCOPE" -> gyr.add(doubleArrayOf(t, f[2].toDouble(), f[3].toDouble(), f[4].toDouble()))
-                    "TYPE_MAGNETIC_FIELD" -> mag.add(doubleArrayOf(t, f[2].toDouble(), f[3].toDouble(), f[4].toDouble()))
-                    "TYPE_WAYPOINT" -> wp.add(doubleArrayOf(t, f[2].toDouble(), f[3].toDouble()))
-                }
-            }
-        }
-        gyr.sortBy { it[0] }
-        mag.sortBy { it[0] }
-        fun at(s: List<DoubleArray>, t: Double): DoubleArray? {
-            if (s.isEmpty()) return null
-            val i = s.indexOfLast { it[0] <= t }
-            if (i < 0) return if (s[0][0] - t <= 0.1) s[0].copyOfRange(1, 4) else null
-            val a = s[i]
-            val b = s.getOrNull(i + 1)
-            if (b == null || b[0] <= a[0]) return if (t - a[0] <= 0.1) a.copyOfRange(1, 4) else null
-            val k = (t - a[0]) / (b[0] - a[0])
-            return DoubleArray(3) { a[it + 1] + k * (b[it + 1] - a[it + 1]) }
-        }
-        val out = ByteBuffer.allocate(acc.size * 80).order(ByteOrder.LITTLE_ENDIAN)
-        var n = 0
-        for (a in acc) {
-            val g = at(gyr, a[0]) ?: continue
-            val m = at(mag, a[0]) ?: doubleArrayOf(Double.NaN, Double.NaN, Double.NaN)
-            out.putDouble(a[0])
-            for (j in 1..3) out.putDouble(a[j])
-            g.forEach { out.putDouble(it) }
-            m.forEach { out.putDouble(it) }
-            n++
-        }
-        return Pair(out.array().copyOf(n * 80), wp)
-    }
-
-    private fun timeOf(packed: ByteArray, i: Int): Double = ByteBuffer.wrap(packed, i * 80, 8).order(ByteOrder.LITTLE_ENDIAN).double
-
     @Test
     fun `a real walk on its plan through the FFI is exactly the Rust track`() {
-        val dir = dataDir()?.let { File(it, floor) }
-        val log = dataDir()?.let { File(it, walk) }
+        val dir = AndroidLog.dataDir()?.let { File(it, floor) }
+        val log = AndroidLog.dataDir()?.let { File(it, walk) }
         assumeTrue(log?.isFile == true && dir?.isDirectory == true, "skipping: ../shared/data/phone-indoor not found (set STRIDEKIT_DATA)")
         val plan = FloorPlan.fromCompetitionGeojson(File(dir, "geojson_map.json").readText(), File(dir, "floor_info.json").readText())
         assertEquals(1, plan.floor())
-        val (packed, wp) = readLog(log!!)
+        val androidLog = AndroidLog.read(log!!)
+        val packed = androidLog.packedImu
+        val wp = androidLog.waypoints
         val start = PlanPoint(wp[0][1], wp[0][2])
         assertTrue(plan.isWalkable(start.xM, start.yM))
         // Two fixes from waypoints, 3 m off, in latitude/longitude through the plan's reference.
@@ -112,10 +61,10 @@ class MapWalkTest {
             var fi = 0
             while (i < samples) {
                 // Batches of up to 1 000 samples, cut where a fix comes in.
-                while (fi < fixes.size && fixes[fi].tS <= timeOf(packed, i)) nav.pushFix(fixes[fi++])
+                while (fi < fixes.size && fixes[fi].tS <= AndroidLog.timeOf(packed, i)) nav.pushFix(fixes[fi++])
                 var end = minOf(samples, i + 1000)
                 if (fi < fixes.size) {
-                    val cut = (i until end).firstOrNull { timeOf(packed, it) >= fixes[fi].tS }
+                    val cut = (i until end).firstOrNull { AndroidLog.timeOf(packed, it) >= fixes[fi].tS }
                     if (cut != null && cut > i) end = cut
                 }
                 val r = nav.pushImuPacked(packed.copyOfRange(i * 80, end * 80))

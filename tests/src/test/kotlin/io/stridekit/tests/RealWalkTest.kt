@@ -7,9 +7,6 @@ import io.stridekit.pdrCalibrationToText
 import io.stridekit.pdrReferenceReplay
 import org.junit.jupiter.api.Assumptions.assumeTrue
 import java.io.File
-import java.nio.ByteBuffer
-import java.nio.ByteOrder
-import java.util.zip.GZIPInputStream
 import kotlin.math.hypot
 import kotlin.test.Test
 import kotlin.test.assertContentEquals
@@ -36,62 +33,11 @@ class RealWalkTest {
         carrying 0.08 0.996 0.0
     """.trimIndent()
 
-    private fun dataDir(): File? =
-        (System.getenv("STRIDEKIT_DATA") ?: System.getProperty("stridekit.data"))?.let { File(it, "phone-indoor") }
-
-    /**
-     * The log's IMU samples as 80-byte records (t, accel xyz, gyro xyz, mag xyz), built as
-     * the Rust reader does: at the accelerometer's times, gyroscope and magnetometer
-     * interpolated linearly between their events around it (held 0.1 s past the ends).
-     */
-    private fun packedImu(file: File): ByteArray {
-        val acc = ArrayList<DoubleArray>()
-        val gyr = ArrayList<DoubleArray>()
-        val mag = ArrayList<DoubleArray>()
-        GZIPInputStream(file.inputStream()).bufferedReader().useLines { lines ->
-            for (line in lines) {
-                if (line.isBlank() || line.startsWith("#")) continue
-                val f = line.trim().split(Regex("\\s+"))
-                val stream = when (f[1]) {
-                    "TYPE_ACCELEROMETER" -> acc
-                    "TYPE_GYROSCOPE" -> gyr
-                    "TYPE_MAGNETIC_FIELD" -> mag
-                    else -> continue
-                }
-                stream.add(doubleArrayOf(f[0].toDouble() / 1000.0, f[2].toDouble(), f[3].toDouble(), f[4].toDouble()))
-            }
-        }
-        gyr.sortBy { it[0] }
-        mag.sortBy { it[0] }
-        fun at(s: List<DoubleArray>, t: Double): DoubleArray? {
-            if (s.isEmpty()) return null
-            var i = s.indexOfLast { it[0] <= t }
-            if (i < 0) return if (s[0][0] - t <= 0.1) s[0].copyOfRange(1, 4) else null
-            val a = s[i]
-            val b = s.getOrNull(i + 1)
-            if (b == null || b[0] <= a[0]) return if (t - a[0] <= 0.1) a.copyOfRange(1, 4) else null
-            val k = (t - a[0]) / (b[0] - a[0])
-            return DoubleArray(3) { a[it + 1] + k * (b[it + 1] - a[it + 1]) }
-        }
-        val out = ByteBuffer.allocate(acc.size * 80).order(ByteOrder.LITTLE_ENDIAN)
-        var n = 0
-        for (a in acc) {
-            val g = at(gyr, a[0]) ?: continue
-            val m = at(mag, a[0]) ?: doubleArrayOf(Double.NaN, Double.NaN, Double.NaN)
-            out.putDouble(a[0])
-            for (j in 1..3) out.putDouble(a[j])
-            g.forEach { out.putDouble(it) }
-            m.forEach { out.putDouble(it) }
-            n++
-        }
-        return out.array().copyOf(n * 80)
-    }
-
     @Test
     fun `a real walk in batches with a calibration is exactly the Rust replay`() {
-        val file = dataDir()?.let { File(it, walk) }
+        val file = AndroidLog.dataDir()?.let { File(it, walk) }
         assumeTrue(file?.isFile == true, "skipping: ../shared/data/phone-indoor not found (set STRIDEKIT_DATA)")
-        val packed = packedImu(file!!)
+        val packed = AndroidLog.read(file!!).packedImu
         val calibration = pdrCalibrationFromText(calibrationText)
         val reference = pdrReferenceReplay(packed, calibration)
         PhoneNavigator.withCalibration(calibration).use { nav ->

@@ -1,13 +1,14 @@
-//! The engine's own random numbers: xoshiro256** seeded by SplitMix64; normal draws as
-//! the sum of four 16-bit uniforms of one draw (Irwin-Hall, scaled to unit variance:
-//! tails end at ±3.46 σ, which process noise does not miss), no logarithm, so a step
-//! of a thousand particles stays cheap and the numbers are plain arithmetic. In-tree so
-//! that a seed gives the same particles in every build; its four words are the state.
+//! The SDK's one random-number generator: xoshiro256** seeded by SplitMix64; normal
+//! draws as the sum of four 16-bit uniforms of one draw (Irwin-Hall, scaled to unit
+//! variance: tails end at ±3.46 σ, which process noise does not miss), no logarithm, so
+//! a step of a thousand particles stays cheap. In-tree so that a seed gives the same
+//! numbers in every build (the map engine's particles; the simulators build on it).
 
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
+/// xoshiro256**: its four words are the state (snapshotted by the map engine).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Rng {
+pub struct Rng {
     s: [u64; 4],
 }
 
@@ -17,7 +18,7 @@ const IRWIN_HALL_SCALE: f64 = 1.732_050_807_568_877_2 / 65_536.0;
 const IRWIN_HALL_MEAN: f64 = 131_070.0;
 
 impl Rng {
-    pub(crate) fn new(seed: u64) -> Self {
+    pub fn new(seed: u64) -> Self {
         let mut x = seed;
         let mut next = || {
             x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
@@ -31,8 +32,9 @@ impl Rng {
         }
     }
 
+    /// The next 64 random bits.
     #[inline]
-    pub(crate) fn next_u64(&mut self) -> u64 {
+    pub fn next_u64(&mut self) -> u64 {
         let r = self.s[1].wrapping_mul(5).rotate_left(7).wrapping_mul(9);
         let t = self.s[1] << 17;
         self.s[2] ^= self.s[0];
@@ -46,13 +48,13 @@ impl Rng {
 
     /// Uniform in [0, 1).
     #[inline]
-    pub(crate) fn uniform(&mut self) -> f64 {
+    pub fn uniform(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
 
     /// Standard normal (approximately: see the module docs).
     #[inline]
-    pub(crate) fn normal(&mut self) -> f64 {
+    pub fn normal(&mut self) -> f64 {
         let r = self.next_u64();
         let sum = (r & 0xFFFF) + (r >> 16 & 0xFFFF) + (r >> 32 & 0xFFFF) + (r >> 48);
         (sum as f64 - IRWIN_HALL_MEAN) * IRWIN_HALL_SCALE
