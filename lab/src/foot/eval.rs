@@ -1016,6 +1016,7 @@ pub fn run(dir: &Path) -> Result<String, String> {
             yes(c3 <= 0.3),
         ));
     }
+    out.push_str(&crate::foot::sessions::DetectorLoso::measure(&trials)?.table());
     Ok(out)
 }
 
