@@ -914,6 +914,8 @@ pub struct EvalReport {
     pub results: MethodResults,
     pub mirror: Vec<MirrorFit>,
     pub gyro: GyroCeilings,
+    /// The default detector's thresholds refitted leave one session out.
+    pub detector_loso: crate::foot::sessions::DetectorLoso,
 }
 
 /// The whole evaluation (`stridekit eval foot`), computed.
@@ -936,7 +938,9 @@ pub fn eval(dir: &Path) -> Result<EvalReport, String> {
     let loso = Loso::train(&trials, &stats)?;
     sp.finish_and_clear();
     let results = evaluate(&trials, &infos, &svm, &loso)?;
+    let detector_loso = crate::foot::sessions::DetectorLoso::measure(&trials)?;
     Ok(EvalReport {
+        detector_loso,
         dir: dir.to_path_buf(),
         svm_folds: svm.len(),
         mirror: mirror_check(&trials, &infos)?,
@@ -975,6 +979,7 @@ impl EvalReport {
         ));
         out.push_str(&self.filter_check());
         out.push_str(&self.target_check());
+        out.push_str(&self.detector_loso.table());
         out
     }
 

@@ -12,8 +12,14 @@ use stridekit_core::foot::{
 
 use crate::foot::eval::{base_config, load_with_info, median, replay, score, Method, Trial};
 
+/// The grid of the adaptive SHOE's constants: γ₀, p₀ (m/s²) and k. Leave-one-session-out
+/// in `eval foot` refits on the same grid (`sessions::DetectorLoso`).
+pub const G0_GRID: [f64; 5] = [2.5e3, 5e3, 1e4, 2e4, 4e4];
+pub const P0_GRID_MPS2: [f64; 4] = [10.0, 15.0, 20.0, 30.0];
+pub const K_GRID: [f64; 6] = [2.0, 2.5, 3.0, 3.5, 4.0, 5.0];
+
 /// `f` over `items` on two threads (the machine is shared), results in order.
-fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+pub(crate) fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
     let chunk = items.len().div_ceil(2).max(1);
     std::thread::scope(|s| {
         let hs: Vec<_> = items
@@ -35,7 +41,7 @@ fn objective(trials: &[Trial], m: &Method) -> Result<(f64, f64), String> {
     Ok((geo, median(r)))
 }
 
-fn adaptive(g0: f64, p0: f64, k: f64) -> ZeroVelocityDetector {
+pub(crate) fn adaptive(g0: f64, p0: f64, k: f64) -> ZeroVelocityDetector {
     ZeroVelocityDetector::AdaptiveShoe(AdaptiveShoe {
         shoe: ShoeDetector {
             threshold: g0,
@@ -79,9 +85,9 @@ pub fn run(dir: &Path) -> Result<String, String> {
     // 2. Gyro timing × γ₀ × p₀ × k, jointly, with the device profile.
     let mut rows = Vec::new();
     for timing in [GyroTiming::Instantaneous, GyroTiming::IntervalMean] {
-        for g0 in [2.5e3, 5e3, 1e4, 2e4, 4e4] {
-            for p0 in [10.0, 15.0, 20.0, 30.0] {
-                for k in [2.0, 2.5, 3.0, 3.5, 4.0, 5.0] {
+        for g0 in G0_GRID {
+            for p0 in P0_GRID_MPS2 {
+                for k in K_GRID {
                     let m = Method {
                         name: "tune".into(),
                         config: FootConfig {
