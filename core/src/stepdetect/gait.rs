@@ -78,7 +78,10 @@ impl GaitPeriod {
         }
     }
 
-    /// Add one grid sample (50 Hz) of the de-meaned signal.
+    /// Add one grid sample (50 Hz) of the de-meaned signal; NaN: no measurement (a gap
+    /// in the data bridged by interpolation). A decimated sample with a missing part is
+    /// missing; the windowed products leave out every pair with a missing sample, so
+    /// each lag averages the pairs that were measured.
     pub(crate) fn push(&mut self, x: f64) {
         self.acc += x;
         self.acc_n += 1;
@@ -90,16 +93,20 @@ impl GaitPeriod {
         self.acc_n = 0;
         self.z[self.pos] = z;
         let n = MAX_LAG + 1;
-        let g = self.gain;
-        self.r[0] += g * (z * z - self.r[0]);
-        let avail = self.len.min(MAX_LAG);
-        for lag in MIN_LAG..=avail {
-            let past = self.z[(self.pos + n - lag) % n];
-            self.r[lag] += g * (z * past - self.r[lag]);
+        if !z.is_nan() {
+            let g = self.gain;
+            self.r[0] += g * (z * z - self.r[0]);
+            let avail = self.len.min(MAX_LAG);
+            for lag in MIN_LAG..=avail {
+                let past = self.z[(self.pos + n - lag) % n];
+                if !past.is_nan() {
+                    self.r[lag] += g * (z * past - self.r[lag]);
+                }
+            }
+            self.seen = (self.seen + 1).min(SETTLED_SEEN);
         }
         self.pos = (self.pos + 1) % n;
         self.len = (self.len + 1).min(n);
-        self.seen = (self.seen + 1).min(SETTLED_SEEN);
     }
 
     /// Whether enough signal was seen for [`Self::step_period`] to answer.
@@ -204,11 +211,14 @@ impl GaitPeriod {
 
     pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
         let mut g = Self::new();
-        g.acc = r.f64()?;
+        // NaN: a missing (bridged) sample.
+        g.acc = r.f64_or_nan()?;
         g.acc_n = r.len(DECIMATION - 1)?;
         g.pos = r.len(MAX_LAG)?;
         g.len = r.len(MAX_LAG + 1)?;
-        r.f64s(&mut g.z)?;
+        for v in &mut g.z {
+            *v = r.f64_or_nan()?;
+        }
         r.f64s(&mut g.r)?;
         g.seen = r.len(SETTLED_SEEN)?;
         // De-meaned magnitudes within the door's limit, their sum over a decimation

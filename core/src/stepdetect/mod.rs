@@ -44,14 +44,15 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 /// Snapshot engine kind byte for the step detector.
 const SNAPSHOT_KIND: u8 = 3;
 /// Snapshot format version written by this build.
-/// Version 9: the default detector's held last step of a bout. Version 8: the input
+/// Version 10: each buffered candidate keeps the input time gaps hid before it, and
+/// the autocorrelation's samples may be NaN (bridged across a gap). Version 9: the default detector's held last step of a bout. Version 8: the input
 /// time the gaps hid since the last candidate, and the length of the latest gap. Version 7: the default detector's previous in-bout interval
 /// (the period follows pairs of steps). Version 6: how the phone is held (the default detector's low-passed acceleration,
 /// and its direction at each buffered candidate). Version 5: the default detector's
 /// short walk before a stop. Version 4: the time
 /// state of the input layer ([`TimeGuard`]) replaces the last time (version 3 added
 /// the autocorrelation state of the default detector).
-const SNAPSHOT_VERSION: u16 = 9;
+const SNAPSHOT_VERSION: u16 = 10;
 /// Steps waiting to be popped.
 const QUEUE: usize = 32;
 

@@ -55,6 +55,90 @@ fn f1(detected: &[f64], reference: &[f64]) -> f64 {
     2.0 * m as f64 / (detected.len() + reference.len()) as f64
 }
 
+/// Heel strikes (s) of a trace's `stepcounter.csv`: each 0→1 contact transition.
+fn strikes_of(trace: &std::path::Path) -> Vec<f64> {
+    let mut strikes = Vec::new();
+    let steps = rows(&trace.join("stepcounter.csv"));
+    for w in steps.windows(2) {
+        for c in [1, 2] {
+            if w[0][c] == 0.0 && w[1][c] == 1.0 {
+                strikes.push(w[1][0] * 1e-9);
+            }
+        }
+    }
+    strikes
+}
+
+/// Dropped samples do not lock the cadence at three steps (issue 39): a walk in hand
+/// with 10 % of its samples dropped in 24 bursts of 0.1–1 s (the perturbation bench's
+/// bursts for this trace, times from its first sample) stays within 3 % of the
+/// reference. Bridged gaps are straight lines on the grid; three of them, 0.6 and
+/// 1.6 s apart at 55–58 s, correlated with each other and the autocorrelation's
+/// stride came out at three steps (1.65 s), read as one slow step: the bout's period
+/// was reset to it and every other step taken for a double peak (−4.5 %, 7 steps
+/// lost at 62–68 s).
+#[test]
+fn dropped_bursts_do_not_lock_the_cadence_of_a_real_walk() {
+    const NAME: &str = "Samsung_Jamie_Hard_InHand_2";
+    const GAPS: [(f64, f64); 24] = [
+        (2.27, 2.96),
+        (16.38, 16.99),
+        (18.09, 19.07),
+        (23.03, 23.35),
+        (27.04, 27.95),
+        (32.09, 33.03),
+        (42.29, 42.74),
+        (55.43, 55.60),
+        (56.07, 56.68),
+        (57.64, 58.30),
+        (62.54, 63.03),
+        (65.43, 66.05),
+        (69.56, 70.19),
+        (70.75, 71.75),
+        (75.86, 76.32),
+        (105.40, 106.10),
+        (112.03, 112.12),
+        (116.09, 117.03),
+        (117.96, 118.82),
+        (131.06, 131.75),
+        (137.00, 137.59),
+        (140.94, 141.04),
+        (149.26, 150.16),
+        (151.43, 152.04),
+    ];
+    let Some(trace) = oxford_dir().map(|d| d.join(NAME)).filter(|t| t.is_dir()) else {
+        eprintln!("SKIPPED: {NAME} not found (../shared/data/steps/oxford; set STRIDEKIT_DATA)");
+        return;
+    };
+    let strikes = strikes_of(&trace);
+    let mut d = StepDetector::new(StepDetectorConfig::default()).unwrap();
+    let (mut n, mut t0, mut last) = (0usize, f64::NAN, f64::NEG_INFINITY);
+    for r in rows(&trace.join("accelerometer.csv")) {
+        let t = r[0] * 1e-9;
+        if t0.is_nan() {
+            t0 = t;
+        }
+        let dropped = GAPS.iter().any(|&(a, b)| t - t0 >= a && t - t0 < b);
+        if t <= last || dropped {
+            continue;
+        }
+        last = t;
+        n += usize::from(d.push_accel(t, [r[2], r[3], r[4]]).unwrap().is_some());
+        while d.pop_step().is_some() {
+            n += 1;
+        }
+    }
+    let err = 100.0 * (n as f64 - strikes.len() as f64) / strikes.len() as f64;
+    eprintln!(
+        "{NAME} with dropped bursts: {n} steps, reference {}, error {err:+.2} %",
+        strikes.len()
+    );
+    assert!(
+        err.abs() <= 3.0,
+        "{NAME} with dropped bursts: count error {err:+.2} %"
+    );
+}
+
 #[test]
 fn default_detector_counts_real_traces_within_target() {
     let Some(dir) = oxford_dir() else {
@@ -69,15 +153,7 @@ fn default_detector_counts_real_traces_within_target() {
             eprintln!("SKIPPED {name}: not in {}", dir.display());
             continue;
         }
-        let mut strikes = Vec::new();
-        let steps = rows(&trace.join("stepcounter.csv"));
-        for w in steps.windows(2) {
-            for c in [1, 2] {
-                if w[0][c] == 0.0 && w[1][c] == 1.0 {
-                    strikes.push(w[1][0] * 1e-9);
-                }
-            }
-        }
+        let strikes = strikes_of(&trace);
         let mut d = StepDetector::new(StepDetectorConfig::default()).unwrap();
         let mut detected = Vec::new();
         let mut last = f64::NEG_INFINITY;

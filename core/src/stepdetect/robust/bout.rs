@@ -18,6 +18,12 @@ const PERIOD_GAIN_OFF_CADENCE: f64 = 0.03;
 /// cadence (about half or double it) and is reset.
 const PERIOD_LOCK_MIN: f64 = 0.7;
 const PERIOD_LOCK_MAX: f64 = 1.45;
+/// ... but not to about three times it: a bout follows steps or, having lost every
+/// other one, strides, never three steps; a lag of three steps is the
+/// autocorrelation's own mistake (an odd multiple of the step is anti-correlated at
+/// its half, which reads as one slow step; a purse swinging at its own pendulum
+/// period, Samsung_Dario_Hard_Purse_2 at 131 s with dropped samples).
+const PERIOD_LOCK_MAX_MULTIPLE: f64 = 2.5;
 /// A stretch without a step this many periods long ends the bout (or
 /// `max_step_interval_s` if longer).
 pub(super) const GAP_END_PERIODS: f64 = 2.5;
@@ -99,7 +105,8 @@ impl RobustDetector {
             // A shorter period must itself be a correlated lag: half a slow step is
             // anti-correlated (peak against valley) and is not taken.
             let shorter_ok = self.gait.rho_at(acf_period) > 0.0;
-            if ratio > PERIOD_LOCK_MAX || (ratio < PERIOD_LOCK_MIN && shorter_ok) {
+            let longer_ok = ratio < PERIOD_LOCK_MAX_MULTIPLE;
+            if (ratio > PERIOD_LOCK_MAX && longer_ok) || (ratio < PERIOD_LOCK_MIN && shorter_ok) {
                 self.period_s = acf_period;
             }
         }

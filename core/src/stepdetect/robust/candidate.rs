@@ -35,7 +35,7 @@ impl RobustDetector {
         if interval < p.min_step_interval_s {
             return;
         }
-        if interval.is_nan() || interval > p.max_step_interval_s {
+        if self.silent(interval) {
             // Silence (or the first candidate): no walk continues across it.
             self.bout_end_t_s = f64::NAN;
         }
@@ -66,7 +66,7 @@ impl RobustDetector {
     /// Buffer a candidate outside a bout, `interval` after the previous one; a silence
     /// before it drops the buffer (kept as a short walk if it looks like one).
     fn buffer(&mut self, t_s: f64, amplitude: f64, impact: f64, interval: f64) {
-        let duration = if interval <= self.p.max_step_interval_s {
+        let duration = if !self.silent(interval) {
             interval
         } else {
             self.keep_short_walk();
@@ -80,6 +80,11 @@ impl RobustDetector {
             impact,
             amplitude_mps2: amplitude,
             carry: vec3::unit(self.carry, 0.0).unwrap_or([0.0; 3]),
+            missing_before_s: if duration.is_nan() {
+                0.0
+            } else {
+                self.missing_s
+            },
         });
         self.amplitude_ref_mps2 = if self.amplitude_ref_mps2 > 0.0 {
             self.amplitude_ref_mps2 + AMPLITUDE_GAIN * (amplitude - self.amplitude_ref_mps2)

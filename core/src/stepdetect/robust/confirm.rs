@@ -4,6 +4,7 @@
 //! candidates join only while they chain back like steps held the same way.
 
 use super::bout::MISSED_STEP_MAX_PERIODS;
+use super::gaps::walks_across_gap;
 use super::pending::{merge, Pending};
 use super::{RobustDetector, Sink, PENDING};
 use crate::signal::Ring;
@@ -42,8 +43,23 @@ impl RobustDetector {
         self.keep_parted_short_walk(dropped, bout_carry);
         self.fill_gap_before_bout(period, out);
         self.release_short_walk(period, out);
+        self.release_pending(period, out);
+    }
+
+    /// Release the bout's candidates, oldest first, with the steps that gaps in the
+    /// data hid between two of them (chained back across the gap) filled at the
+    /// cadence.
+    fn release_pending(&mut self, period: f64, out: &mut Sink<'_>) {
+        let mut prev_t_s = f64::NAN;
         while let Some(c) = self.pending.pop_front() {
-            out.push(c.event);
+            let interval = c.event.t_s - prev_t_s; // NaN for the first
+            prev_t_s = c.event.t_s;
+            let n = (interval / period).round();
+            if n >= 2.0 && walks_across_gap(interval, c.missing_before_s, period) {
+                self.fill_missed(c.event, c.event.t_s, interval, n, out);
+            } else {
+                out.push(c.event);
+            }
         }
     }
 
@@ -124,9 +140,9 @@ impl RobustDetector {
 
     /// Only the newest k candidates were checked. Older ones waiting in the buffer
     /// (handling the phone before walking, a stumble) are steps only while they chain
-    /// back from the bout with step-like intervals (a step, or a step and a missed
-    /// one) and the phone held as in the bout; the first that does not and all
-    /// before it are dropped (returned).
+    /// back from the bout with step-like intervals (a step, a step and a missed one,
+    /// or a walk through dropped samples) and the phone held as in the bout; the
+    /// first that does not and all before it are dropped (returned).
     fn drop_unchained(
         &mut self,
         k: usize,
@@ -141,7 +157,9 @@ impl RobustDetector {
                 break;
             };
             let iv = newer.event.t_s - older.event.t_s;
-            if !((1.0 - ASYMMETRY) * period..MISSED_STEP_MAX_PERIODS * period).contains(&iv) {
+            let step_like =
+                ((1.0 - ASYMMETRY) * period..MISSED_STEP_MAX_PERIODS * period).contains(&iv);
+            if !(step_like || walks_across_gap(iv, newer.missing_before_s, period)) {
                 break;
             }
             if dot(older.carry, bout_carry) < CARRY_MIN_COS {

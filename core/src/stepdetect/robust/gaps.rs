@@ -4,7 +4,7 @@
 //! cadence is one walk (a turn, a message read on the way): the gap is filled too.
 
 use super::bout::{CADENCE_TOLERANCE, GAP_END_PERIODS};
-use super::{RobustDetector, Sink, StepEvent, DATA_GAP_S, MAX_INPUT_GAP_S};
+use super::{RobustDetector, Sink, StepEvent, DATA_GAP_S};
 use crate::signal::Ring;
 
 /// Longest gap filled between two bouts of one walk, s (a purse walk at 50 Hz with
@@ -13,6 +13,16 @@ use crate::signal::Ring;
 const FILL_MAX_GAP_S: f64 = 10.0;
 /// Most steps filled into one gap (10 s at 2.4 steps/s).
 const FILL_MAX_STEPS: usize = 24;
+
+/// Whether an `interval` between two candidates of a walk at `period`, of which gaps
+/// in the data hid `missing_s`, went on through the gaps: what was seen of it is
+/// short of a step-less stretch (2.5 periods, as inside a bout), and it is within the
+/// longest fill.
+pub(super) fn walks_across_gap(interval: f64, missing_s: f64, period: f64) -> bool {
+    missing_s > 0.0
+        && interval - missing_s <= GAP_END_PERIODS * period
+        && interval <= FILL_MAX_GAP_S
+}
 
 impl RobustDetector {
     /// A sample `dt` after the previous one: a spacing over [`DATA_GAP_S`] is a gap in
@@ -30,8 +40,15 @@ impl RobustDetector {
     /// stretch (several gaps close together count by the time they hid).
     pub(super) fn across_gap(&self, interval: f64) -> bool {
         self.data_gap_end_t_s > self.last_t_s
-            && interval <= GAP_END_PERIODS * self.period_s + self.missing_s.max(MAX_INPUT_GAP_S)
-            && interval <= FILL_MAX_GAP_S
+            && walks_across_gap(interval, self.missing_s, self.period_s)
+    }
+
+    /// Whether no walk went on over the `interval` since the last candidate (NaN: there
+    /// was none): more than `max_step_interval_s` of input seen without one (time the
+    /// gaps in the data hid is no silence: samples dropped by a busy phone), or longer
+    /// than the longest fill.
+    pub(super) fn silent(&self, interval: f64) -> bool {
+        !(interval - self.missing_s <= self.p.max_step_interval_s && interval <= FILL_MAX_GAP_S)
     }
 
     /// Time the input has been missing since `t_s`, a candidate's time (it is

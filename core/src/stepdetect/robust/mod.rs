@@ -221,7 +221,7 @@ impl RobustDetector {
         self.prev_y = mag;
         self.next_grid_t_s = t_s;
         self.mean = mag;
-        self.grid(t_s, mag, out);
+        self.grid(t_s, mag, false, out);
         self.next_grid_t_s = t_s + GRID_DT_S;
     }
 
@@ -243,8 +243,10 @@ impl RobustDetector {
     }
 
     /// The filtered magnitude `y` at `t_s`, linearly interpolated onto the grid since
-    /// the previous sample.
+    /// the previous sample (across a gap in the data, the grid points are bridged: no
+    /// measurement, see `grid`).
     fn resample(&mut self, t_s: f64, dt: f64, y: f64, out: &mut Sink<'_>) {
+        let bridged = dt > DATA_GAP_S;
         // Bounded by construction: a sample is at most MAX_INPUT_GAP_S after the
         // previous one (longer gaps restart), so at most MAX_GRID_STEPS grid points
         // fall in between. The cap also ends the loop if adding GRID_DT_S ever stopped
@@ -256,7 +258,7 @@ impl RobustDetector {
             let g = self.next_grid_t_s;
             let f = (g - self.prev_t_s) / dt;
             let yg = self.prev_y + f * (y - self.prev_y);
-            self.grid(g, yg, out);
+            self.grid(g, yg, bridged, out);
             self.next_grid_t_s += GRID_DT_S;
         }
         if self.next_grid_t_s <= t_s {

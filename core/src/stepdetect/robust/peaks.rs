@@ -10,12 +10,16 @@ use super::{RobustDetector, Sink};
 const LOWPASS_SECTIONS: f64 = 2.0;
 
 impl RobustDetector {
-    /// One grid sample `y` (filtered magnitude) at `t_s`.
-    pub(super) fn grid(&mut self, t_s: f64, y: f64, out: &mut Sink<'_>) {
+    /// One grid sample `y` (filtered magnitude) at `t_s`; `bridged`: interpolated
+    /// across a gap in the data. A bridged stretch is a straight line, not gait: the
+    /// step period's autocorrelation leaves it out (two bridged gaps a few steps apart
+    /// correlate with each other, line against line, and that lag could outscore the
+    /// stride).
+    pub(super) fn grid(&mut self, t_s: f64, y: f64, bridged: bool, out: &mut Sink<'_>) {
         self.release_tail_if_due(t_s, out);
         let x = self.demean(y);
         self.xs.push(x);
-        self.gait.push(x);
+        self.gait.push(if bridged { f64::NAN } else { x });
         let delta = self
             .p
             .min_hysteresis_mps2

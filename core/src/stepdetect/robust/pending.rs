@@ -14,6 +14,8 @@ pub(super) struct Pending {
     /// How the phone was held at the candidate: the direction of the slowly
     /// low-passed acceleration (gravity) in the sensor frame, unit vector.
     pub(super) carry: [f64; 3],
+    /// Input time that gaps in the data hid since the previous candidate, s.
+    pub(super) missing_before_s: f64,
 }
 
 impl Default for StepEvent {
@@ -54,6 +56,7 @@ pub(super) fn merge(a: &Pending, b: &Pending) -> Pending {
         impact: big.impact.max(small.impact),
         amplitude_mps2: big.amplitude_mps2,
         carry: big.carry,
+        missing_before_s: a.missing_before_s + b.missing_before_s,
     }
 }
 
@@ -73,6 +76,7 @@ mod tests {
             impact: amplitude_mps2 / 100.0,
             amplitude_mps2,
             carry: [0.0, 0.0, 1.0],
+            missing_before_s: 0.0,
         }
     }
 

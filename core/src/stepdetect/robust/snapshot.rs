@@ -358,11 +358,13 @@ fn write_candidates(w: &mut Writer, ring: &Ring<Pending, PENDING>) {
             impact,
             amplitude_mps2,
             carry,
+            missing_before_s,
         } = c;
         write_event(w, &event);
         w.f64(impact);
         w.f64(amplitude_mps2);
         w.f64s(&carry);
+        w.f64(missing_before_s);
     }
 }
 
@@ -375,6 +377,7 @@ fn read_candidates(r: &mut Reader) -> Result<Ring<Pending, PENDING>, SnapshotErr
         let amplitude_mps2 = r.f64_or_nan()?;
         let mut carry = [0.0; 3];
         r.f64s(&mut carry)?;
+        let missing_before_s = r.f64_in(0.0, 2.0 * T, "step candidate missing time")?;
         // A unit vector (or zero, when the acceleration averaged to nothing).
         if impact < 0.0
             || !(amplitude_mps2.is_nan() || (0.0..=2.0 * A).contains(&amplitude_mps2))
@@ -387,6 +390,7 @@ fn read_candidates(r: &mut Reader) -> Result<Ring<Pending, PENDING>, SnapshotErr
             impact,
             amplitude_mps2,
             carry,
+            missing_before_s,
         });
     }
     Ok(ring)
