@@ -90,7 +90,9 @@ pub struct FootConfig {
     /// not hold): the update's innovation covariance is inflated to meet the bound, so
     /// the update pulls part of the way; repeated over the samples of a true stance it
     /// still brings the velocity to zero. `None`: every update at face value (the
-    /// paper). Default [`ZUPT_GATE_NIS`]; at least 1.
+    /// paper). Default [`ZUPT_GATE_NIS`]; at least 1. It holds at 200 Hz; below,
+    /// it grows in proportion to the sample interval so that a stance pulls as much
+    /// per second at any rate.
     pub zupt_gate_nis: Option<f64>,
     /// Initial 1-σ of the accelerometer and gyroscope biases.
     pub initial_accel_bias_std_mps2: f64,

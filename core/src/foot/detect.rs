@@ -24,6 +24,17 @@ use super::svm::SvmModel;
 /// Standard gravity, m/s².
 pub const G_MPS2: f64 = 9.80665;
 
+/// Span of the stillness floor ([`WindowStats::still_acc_ms2_sq`]), s: a walking foot
+/// stands still at least once in it (a slow stride or a stair step takes up to 2 s).
+pub const STILL_WINDOW_S: f64 = 3.0;
+
+/// The adaptive SHOE's threshold is at least this many times the SHOE statistic of
+/// the stillness floor. A vibration raises every window of a stance, by an amount that
+/// varies with its phase (a 25 ms window holds a quarter period at 10 Hz), so one
+/// stance's windows spread over a few times its quietest one; a swing is orders of
+/// magnitude above. 3, 5 and 10 measure alike (`eval perturb --engine foot`).
+pub const STILL_FLOOR_MARGIN: f64 = 5.0;
+
 /// Statistics of the detector window around the sample being decided (body frame,
 /// after the median pre-filter).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -44,6 +55,12 @@ pub struct WindowStats {
     pub shoe_acc_ss: f64,
     /// Σ_k ‖ω_k‖² over the window, (rad/s)² (the SHOE gyroscope term).
     pub shoe_gyro_ss: f64,
+    /// The accelerometer's stillness floor: the lowest `shoe_acc_ss / n` of the
+    /// windows of the last [`STILL_WINDOW_S`], (m/s²)² (0: unknown).
+    pub still_acc_ms2_sq: f64,
+    /// The gyroscope's stillness floor: the lowest `shoe_gyro_ss / n` of the windows
+    /// of the last [`STILL_WINDOW_S`], (rad/s)² (0: unknown).
+    pub still_gyro_rads_sq: f64,
     /// Samples in the window.
     pub n: usize,
     /// A sample in the window hit the configured sensor range.
@@ -275,6 +292,13 @@ impl ShoeDetector {
             / n
     }
 
+    /// The statistic of the stillness floor (the quietest windows of the last
+    /// [`STILL_WINDOW_S`], accelerometer and gyroscope each).
+    pub fn floor_statistic(&self, s: &WindowStats) -> f64 {
+        s.still_acc_ms2_sq / (self.acc_noise_mps2 * self.acc_noise_mps2)
+            + s.still_gyro_rads_sq / (self.gyro_noise_rads * self.gyro_noise_rads)
+    }
+
     pub fn is_stance(&self, s: &WindowStats) -> bool {
         self.statistic(s) < self.threshold
     }
@@ -299,6 +323,12 @@ impl ShoeDetector {
 /// trials, with the gait). Scaling γ with a power of the stride's peak specific
 /// force keeps the walking detector below `p₀` and widens it with the impacts;
 /// one setting for every gait, no learned model, the same cost as SHOE.
+///
+/// A shoe that vibrates (a treadmill, a vehicle floor, a loose mount) raises every
+/// window's statistic by the vibration's energy, while the foot still stands still
+/// (2 m/s² at 50 Hz moves it by 20 µm): the threshold is also at least
+/// [`STILL_FLOOR_MARGIN`] × the statistic of the stillness floor, the quietest
+/// windows of the last [`STILL_WINDOW_S`] (issue 39).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AdaptiveShoe {
     /// Noise levels and γ₀, the threshold at and below `ref_peak_mps2`.
@@ -327,19 +357,23 @@ impl Default for AdaptiveShoe {
 }
 
 impl AdaptiveShoe {
-    /// The threshold for a window.
+    /// The threshold for a window: the gait's, raised to [`STILL_FLOOR_MARGIN`] × the
+    /// stillness floor's statistic when that is higher.
     #[inline]
     pub fn threshold(&self, s: &WindowStats) -> f64 {
         let r = (s.peak_acc_norm_mps2 / self.ref_peak_mps2).max(1.0);
-        self.shoe.threshold * r.powf(self.exponent)
+        let gait = self.shoe.threshold * r.powf(self.exponent);
+        gait.max(STILL_FLOOR_MARGIN * self.shoe.floor_statistic(s))
     }
 
     #[inline]
     pub fn is_stance(&self, s: &WindowStats) -> bool {
         let t = self.shoe.statistic(s);
-        // The threshold is never below γ₀: the power only when it can matter.
+        // The threshold is never below γ₀: the rest only when it can matter.
         t < self.shoe.threshold
-            || (s.peak_acc_norm_mps2 > self.ref_peak_mps2 && t < self.threshold(s))
+            || ((s.peak_acc_norm_mps2 > self.ref_peak_mps2
+                || STILL_FLOOR_MARGIN * self.shoe.floor_statistic(s) > self.shoe.threshold)
+                && t < self.threshold(s))
     }
 
     fn validate(&self) -> Result<(), FootError> {

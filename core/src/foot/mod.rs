@@ -13,6 +13,7 @@ mod ekf;
 mod error;
 mod median;
 mod navigator;
+mod still;
 mod svm;
 mod types;
 
@@ -26,7 +27,7 @@ pub use config::{
 };
 pub use detect::{
     AdaptiveShoe, AdaptiveThresholds, FixedThresholds, Gait, ShoeDetector, SvmAdaptive,
-    WindowStats, ZeroVelocityDetector,
+    WindowStats, ZeroVelocityDetector, STILL_FLOOR_MARGIN, STILL_WINDOW_S,
 };
 pub use error::FootError;
 pub use navigator::{FootNavigator, FootRejection};

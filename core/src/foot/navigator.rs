@@ -42,6 +42,7 @@ use super::detect::{
 use super::ekf::{Cov, Noise, Strapdown, IA, IP, IV};
 use super::error::FootError;
 use super::median::{MedianFilter, MAX_MEDIAN_WINDOW};
+use super::still::StillFloor;
 use super::svm::SvmModel;
 use super::types::{BodySample, FootEstimate, FootSample, Stride};
 use crate::ahrs::AxisRemap;
@@ -59,6 +60,12 @@ const LOST_INTERVALS: f64 = 2.5;
 /// this, rad (2°); beyond, the attitude and velocity variances grow with what the
 /// interval may hide ([`Strapdown::lost`]).
 const LOST_BRIDGE_RAD: f64 = 2.0 * std::f64::consts::PI / 180.0;
+/// The sample rate [`FootConfig::zupt_gate_nis`] holds at, Hz (the rate it was chosen
+/// at, the UofT trials'): at a lower rate a stance has fewer updates, each bounded
+/// more loosely in proportion, so that a stance's pull per second does not depend on
+/// the rate (at 50 Hz an under-sampled heel strike leaves a velocity error the
+/// gated updates of a stance could not remove).
+const ZUPT_GATE_RATE_HZ: f64 = 200.0;
 /// Physical limits at the door.
 /// Speed above which the state is considered diverged, m/s.
 const MAX_SPEED_MPS: f64 = 50.0;
@@ -116,6 +123,8 @@ pub struct FootNavigator {
     det: Ring<BodySample, MAX_DETECTOR_WINDOW>,
     /// Monotonic queue `(t, ‖f‖)` for the gait-window peak.
     gait: Ring<(f64, f64), GAIT_CAP>,
+    /// The quietest detector windows of the last seconds (the detector's floor).
+    still: StillFloor,
     align: Alignment,
     /// Detector window in samples, set at alignment (0 before).
     window: usize,
@@ -151,6 +160,7 @@ impl FootNavigator {
             units: AccelUnits::new(),
             det: Ring::new(),
             gait: Ring::new(),
+            still: StillFloor::default(),
             align: Alignment::default(),
             window: 0,
             rate_hz: 0.0,
@@ -319,6 +329,8 @@ impl FootNavigator {
             return None;
         }
         let stats = self.window_stats();
+        self.still.push(c.t_s, &stats);
+        let stats = self.still.apply(stats);
         Some(self.integrate(&c, &stats))
     }
 
@@ -435,6 +447,9 @@ impl FootNavigator {
             peak_acc_norm_mps2: self.gait.get(0).map_or(cn, |(_, v)| v),
             shoe_acc_ss: shoe_a,
             shoe_gyro_ss: shoe_w,
+            // Filled in by the stillness floor (`StillFloor::apply`).
+            still_acc_ms2_sq: 0.0,
+            still_gyro_rads_sq: 0.0,
             n,
             saturated: sat,
         }
@@ -455,6 +470,11 @@ impl FootNavigator {
         let zupt_sigma = self.config.zupt_noise_mps;
         let noise = self.noise;
         let interval_mean = self.config.gyro_timing == GyroTiming::IntervalMean;
+        // The bound per update, so that a stance pulls as much per second at any rate.
+        let gate = self
+            .config
+            .zupt_gate_nis
+            .map(|g| g * (ZUPT_GATE_RATE_HZ / self.rate_hz).max(1.0));
         let Some(ins) = self.ins.as_mut() else {
             return FootEstimate::default();
         };
@@ -475,7 +495,7 @@ impl FootNavigator {
             ins.lost(missed);
         }
         if stance {
-            ins.zupt(zupt_sigma, self.config.zupt_gate_nis, correction);
+            ins.zupt(zupt_sigma, gate, correction);
         }
         let cov_finite = ins.condition();
         if !(cov_finite && ins.state_is_finite())
@@ -587,7 +607,7 @@ impl FootNavigator {
     /// for training (`stridekit train zupt`) and evaluations. `None` before alignment.
     pub fn detector_stats(&self) -> Option<WindowStats> {
         (self.ins.is_some() && self.window > 0 && self.det.len() >= self.window)
-            .then(|| self.window_stats())
+            .then(|| self.still.apply(self.window_stats()))
     }
 }
 

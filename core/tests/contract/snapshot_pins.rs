@@ -211,12 +211,14 @@ const PINNED_NAVIGATOR: [(u64, usize); 3] = [
 ];
 const PINNED_AHRS: [(u64, usize); 2] = [(2155343989020176523, 10206), (15874992898461028221, 5474)];
 const PINNED_STEPS: (u64, usize) = (16031065809972957158, 46580);
+// Foot format 7 (issue 39): the detector's stillness floor joins the snapshot, and the
+// adaptive SHOE's threshold follows it (the default detector's estimates may move).
 const PINNED_FOOT: [(u64, usize); 5] = [
-    (540913619786056168, 108772),
-    (14812562377129786451, 109652),
-    (2867120402205973075, 108420),
-    (4810288938076267182, 108596),
-    (6680496829167579126, 110356),
+    (4296907681944822306, 122532),
+    (13222603781401177147, 123412),
+    (10925588611223812772, 122180),
+    (17694956538268588295, 122356),
+    (16979507011411962144, 124116),
 ];
 // Recorded on h37-pace at 06a5b1c, before core/src/pace/adaptive.rs was split.
 const PINNED_PACE: [(u64, usize); 3] = [

@@ -2,3 +2,4 @@
 
 mod foot;
 mod foot_adversarial;
+mod foot_perturbed;

@@ -1,6 +1,7 @@
 //! Snapshot and restore of the [`FootNavigator`]: the configuration, the whole filter state and the latest estimate, versioned and checksummed. Exhaustive destructuring of the navigator and of its configuration makes a field that is not written a compile error.
 
 use super::*;
+use crate::foot::still::{StillFloor, STILL_CAP};
 
 mod config;
 
@@ -8,10 +9,10 @@ use self::config::{read_config, write_config};
 
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
-/// Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
+/// Version 7: the detector's stillness floor (`StillFloor`). Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
 /// ([`TimeGuard`]) replaces the last time (version 2 added `FootConfig::gyro_timing`
 /// and the adaptive SHOE detector).
-const SNAPSHOT_VERSION: u16 = 6;
+const SNAPSHOT_VERSION: u16 = 7;
 
 fn write_body(w: &mut Writer, s: &BodySample) {
     w.f64(s.t_s);
@@ -195,6 +196,7 @@ impl FootNavigator {
             clip,
             det,
             gait,
+            still,
             align,
             window,
             rate_hz,
@@ -227,6 +229,14 @@ impl FootNavigator {
         for (t, v) in gait.iter() {
             w.f64(t);
             w.f64(v);
+        }
+        let StillFloor { acc, gyro } = still;
+        for q in [acc, gyro] {
+            w.u64(q.len() as u64);
+            for (t, v) in q.iter() {
+                w.f64(t);
+                w.f64(v);
+            }
         }
         let Alignment {
             n,
@@ -299,6 +309,14 @@ impl FootNavigator {
             .all(|(t, v)| t_ok(t) && (0.0..=A).contains(&v))
         {
             return Err("gait queue");
+        }
+        let floor_ok = |q: &crate::signal::Ring<(f64, f64), STILL_CAP>, max: f64| {
+            q.iter().all(|(t, v)| t_ok(t) && (0.0..=max).contains(&v))
+        };
+        if !(floor_ok(&self.still.acc, 4.0 * A * A)
+            && floor_ok(&self.still.gyro, 4.0 * w_max * w_max))
+        {
+            return Err("stillness floor");
         }
         let a = &self.align;
         let n = a.n as f64;
@@ -380,6 +398,17 @@ impl FootNavigator {
                 return Err(invalid("gait queue"));
             }
             n.gait.push((t, v));
+        }
+        for q in [&mut n.still.acc, &mut n.still.gyro] {
+            let len = r.len(STILL_CAP)?;
+            for _ in 0..len {
+                let t = r.f64()?;
+                let v = r.f64()?;
+                if !(t.is_finite() && v.is_finite() && v >= 0.0) {
+                    return Err(invalid("stillness floor"));
+                }
+                q.push((t, v));
+            }
         }
         n.align.n = r.u64()?;
         n.align.t_first = r.f64()?;
