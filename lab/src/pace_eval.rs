@@ -11,6 +11,7 @@ use stridekit_core::PaceConfig;
 use stridekit_sim::{simulate_run, RunScenario};
 
 use crate::activity::{degraded, prepare};
+use crate::table::Table;
 
 /// Half-width of the centred smoothing that makes the real-run reference speed, s.
 pub const REFERENCE_HALF_WINDOW_S: f64 = 6.0;
@@ -104,125 +105,188 @@ pub fn simulator_table(seeds: u64, default: PaceConfig) -> (String, Vec<Scores>)
     (out, all)
 }
 
-/// Real-run table: every activity file in `dir` (fit/tcx/gpx) with GNSS and cadence.
-pub fn real_table(dir: &Path, default: PaceConfig) -> Result<String, String> {
+/// One real run scored (see [`real_runs`]).
+#[derive(Clone, Debug)]
+pub struct RealRun {
+    pub name: String,
+    pub minutes: f64,
+    /// Speed RMSE of the four methods on the degraded file.
+    pub scores: Scores,
+    /// The default filter's distance on the clean file against the clean-track
+    /// reference, %.
+    pub distance_error_pct: f64,
+    /// The default filter's distance on the clean file, m.
+    pub distance_m: f64,
+    /// Raw fix-to-fix chord sum, m.
+    pub chords_m: f64,
+    /// The device's own distance (NaN when it has none), m.
+    pub device_m: f64,
+}
+
+/// `eval pace`'s real runs, computed ([`RealRunsReport::render`] writes it).
+#[derive(Clone, Debug)]
+pub struct RealRunsReport {
+    pub dir: std::path::PathBuf,
+    pub runs: Vec<RealRun>,
+    /// Files not scored, with the reason.
+    pub skipped: Vec<String>,
+    /// [`crate::pace_device::outage_table`] as it renders.
+    pub outage_table: String,
+    /// [`crate::pace_device::pedometer_only_table`] as it renders.
+    pub pedometer_only_table: String,
+}
+
+/// Every activity file in `dir` (fit/tcx/gpx) with GNSS and cadence, scored.
+pub fn real_runs(dir: &Path, default: PaceConfig) -> Result<RealRunsReport, String> {
     let files = crate::activity::activity_files(dir)?;
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "Real runs ({}): GNSS degraded by injected bursts and outages on the recorded track; reference = clean-track speed (slope of a centred straight-line fit, ±{REFERENCE_HALF_WINDOW_S} s). Speed RMSE in m/s where GNSS is available / inside the injected disturbance zones / inside the injected outages. Distance: the default filter on the clean file against the integral of the same clean-track reference speed over the same seconds; raw fix-to-fix chord sums are inflated by position noise and device distances come from the watch's own (sometimes foot-pod) fusion, shown for context.\n",
-        dir.display()
-    );
-    let _ = writeln!(out, "| file | min | raw GNSS diff | GNSS EMA | AsPublished | default | default distance vs clean-track reference | distance m: default / raw fix-to-fix chords / device |");
-    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|");
-    let mut dist_errors: Vec<f64> = Vec::new();
+    let mut runs = Vec::new();
     let mut skipped = Vec::new();
-    let mut pooled_rows: Vec<Scores> = Vec::new();
     for (i, path) in files.iter().enumerate() {
-        let activity = match stridekit_formats::read_activity(path) {
-            Ok(a) => a,
-            Err(e) => {
-                skipped.push(format!("{}: {e}", path.display()));
-                continue;
-            }
-        };
-        let p = prepare(&activity);
-        let name = path
-            .file_name()
-            .unwrap_or_default()
-            .to_string_lossy()
-            .to_string();
-        if p.track.len() < 30 || !p.has_steps {
-            skipped.push(format!(
-                "{name}: {} (not scored)",
-                if p.track.len() < 30 {
-                    "too few GNSS fixes"
-                } else {
-                    "no cadence"
-                }
-            ));
-            continue;
+        match real_run(path, i, default) {
+            Ok(r) => runs.push(r),
+            Err(why) => skipped.push(why),
         }
-        let clean = replay(&p.samples, PaceConfig::as_published(), default);
-        let clean_ref = smoothed_track_speed(&p.track, &clean.t_s, REFERENCE_HALF_WINDOW_S);
-        let (ref_m, est_m) = distance_against(&clean, &clean_ref, 1);
-        let (samples, zones) = degraded(&p, 1000 + i as u64);
-        let r = replay(&samples, PaceConfig::as_published(), default);
-        let reference = smoothed_track_speed(&p.track, &r.t_s, REFERENCE_HALF_WINDOW_S);
-        let s = score(&r, &reference, &zones);
-        let chords = clean.gnss_track_distance_m;
-        let device = activity
-            .records
-            .iter()
-            .filter_map(|r| r.device_distance_m)
-            .fold((f64::NAN, f64::NAN), |(a, _), d| {
-                (if a.is_nan() { d } else { a }, d)
-            });
-        let device_m = device.1 - device.0;
-        let dist = clean.distance[1].last().copied().unwrap_or(0.0);
-        let minutes = p.track.last().map(|t| t.0).unwrap_or(0.0) / 60.0;
-        let cell = |m: usize| {
-            format!(
-                "{} / {} / {}",
-                fmt(s.all[m]),
-                fmt(s.disturbed[m]),
-                fmt(s.outage[m])
-            )
-        };
+    }
+    Ok(RealRunsReport {
+        dir: dir.to_path_buf(),
+        runs,
+        skipped,
+        outage_table: crate::pace_device::outage_table(&files, default),
+        pedometer_only_table: crate::pace_device::pedometer_only_table(dir, "2020-12-")?,
+    })
+}
+
+/// One file (the `i`-th: its degradation seed): scored, or why it is not.
+fn real_run(path: &Path, i: usize, default: PaceConfig) -> Result<RealRun, String> {
+    let activity =
+        stridekit_formats::read_activity(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let p = prepare(&activity);
+    let name = path
+        .file_name()
+        .unwrap_or_default()
+        .to_string_lossy()
+        .to_string();
+    if p.track.len() < 30 || !p.has_steps {
+        return Err(format!(
+            "{name}: {} (not scored)",
+            if p.track.len() < 30 {
+                "too few GNSS fixes"
+            } else {
+                "no cadence"
+            }
+        ));
+    }
+    let clean = replay(&p.samples, PaceConfig::as_published(), default);
+    let clean_ref = smoothed_track_speed(&p.track, &clean.t_s, REFERENCE_HALF_WINDOW_S);
+    let (ref_m, est_m) = distance_against(&clean, &clean_ref, 1);
+    let (samples, zones) = degraded(&p, 1000 + i as u64);
+    let r = replay(&samples, PaceConfig::as_published(), default);
+    let reference = smoothed_track_speed(&p.track, &r.t_s, REFERENCE_HALF_WINDOW_S);
+    let device = activity
+        .records
+        .iter()
+        .filter_map(|r| r.device_distance_m)
+        .fold((f64::NAN, f64::NAN), |(a, _), d| {
+            (if a.is_nan() { d } else { a }, d)
+        });
+    Ok(RealRun {
+        name,
+        minutes: p.track.last().map(|t| t.0).unwrap_or(0.0) / 60.0,
+        scores: score(&r, &reference, &zones),
+        distance_error_pct: 100.0 * (est_m - ref_m) / ref_m,
+        distance_m: clean.distance[1].last().copied().unwrap_or(0.0),
+        chords_m: clean.gnss_track_distance_m,
+        device_m: device.1 - device.0,
+    })
+}
+
+/// "all / disturbed / outage" of method `m`, pooled over the runs.
+fn segments_cell<'a>(scores: impl Iterator<Item = &'a Scores> + Clone, m: usize) -> String {
+    format!(
+        "{} / {} / {}",
+        fmt(pooled(scores.clone().map(|s| s.all[m]))),
+        fmt(pooled(scores.clone().map(|s| s.disturbed[m]))),
+        fmt(pooled(scores.map(|s| s.outage[m])))
+    )
+}
+
+impl RealRunsReport {
+    /// The real-run table and the device tables, as markdown.
+    pub fn render(&self) -> String {
+        let mut out = String::new();
         let _ = writeln!(
             out,
-            "| {name} | {minutes:.0} | {} | {} | {} | {} | {} | {dist:.0} / {chords:.0} / {} |",
-            cell(0),
-            cell(1),
-            cell(2),
-            cell(3),
-            pct(100.0 * (est_m - ref_m) / ref_m),
-            if device_m.is_finite() {
-                format!("{device_m:.0}")
+            "Real runs ({}): GNSS degraded by injected bursts and outages on the recorded track; reference = clean-track speed (slope of a centred straight-line fit, ±{REFERENCE_HALF_WINDOW_S} s). Speed RMSE in m/s where GNSS is available / inside the injected disturbance zones / inside the injected outages. Distance: the default filter on the clean file against the integral of the same clean-track reference speed over the same seconds; raw fix-to-fix chord sums are inflated by position noise and device distances come from the watch's own (sometimes foot-pod) fusion, shown for context.\n",
+            self.dir.display()
+        );
+        out.push_str(&self.table().render());
+        for s in &self.skipped {
+            let _ = writeln!(out, "\nSkipped: {s}");
+        }
+        let _ = writeln!(out, "\n{}", self.outage_table);
+        let _ = writeln!(out, "{}", self.pedometer_only_table);
+        out
+    }
+
+    /// One row per run, then the pooled row.
+    fn table(&self) -> Table {
+        let mut t = Table::new([
+            "file",
+            "min",
+            "raw GNSS diff",
+            "GNSS EMA",
+            "AsPublished",
+            "default",
+            "default distance vs clean-track reference",
+            "distance m: default / raw fix-to-fix chords / device",
+        ]);
+        for r in &self.runs {
+            let s = &r.scores;
+            let cell = |m: usize| {
+                format!(
+                    "{} / {} / {}",
+                    fmt(s.all[m]),
+                    fmt(s.disturbed[m]),
+                    fmt(s.outage[m])
+                )
+            };
+            let device = if r.device_m.is_finite() {
+                format!("{:.0}", r.device_m)
             } else {
                 "—".into()
-            },
-        );
-        dist_errors.push(100.0 * (est_m - ref_m) / ref_m);
-        pooled_rows.push(s);
+            };
+            t.row([
+                r.name.clone(),
+                format!("{:.0}", r.minutes),
+                cell(0),
+                cell(1),
+                cell(2),
+                cell(3),
+                pct(r.distance_error_pct),
+                format!("{:.0} / {:.0} / {device}", r.distance_m, r.chords_m),
+            ]);
+        }
+        if !self.runs.is_empty() {
+            let cell = |m: usize| segments_cell(self.runs.iter().map(|r| &r.scores), m);
+            let errors: Vec<f64> = self.runs.iter().map(|r| r.distance_error_pct).collect();
+            let mut a: Vec<f64> = errors.iter().map(|e| e.abs()).collect();
+            a.sort_by(f64::total_cmp);
+            t.row([
+                "**pooled**".to_string(),
+                String::new(),
+                cell(0),
+                cell(1),
+                cell(2),
+                cell(3),
+                format!(
+                    "absolute error: median {:.2} %, mean {:.2} %, max {:.2} %",
+                    a[a.len() / 2],
+                    errors.iter().map(|e| e.abs()).sum::<f64>() / errors.len() as f64,
+                    errors.iter().fold(0.0f64, |m, e| m.max(e.abs())),
+                ),
+                String::new(),
+            ]);
+        }
+        t
     }
-    if !pooled_rows.is_empty() {
-        let cell = |m: usize| {
-            format!(
-                "{} / {} / {}",
-                fmt(pooled(pooled_rows.iter().map(|s| s.all[m]))),
-                fmt(pooled(pooled_rows.iter().map(|s| s.disturbed[m]))),
-                fmt(pooled(pooled_rows.iter().map(|s| s.outage[m])))
-            )
-        };
-        let _ = writeln!(
-            out,
-            "| **pooled** | | {} | {} | {} | {} | absolute error: median {:.2} %, mean {:.2} %, max {:.2} % | |",
-            cell(0),
-            cell(1),
-            cell(2),
-            cell(3),
-            {
-                let mut a: Vec<f64> = dist_errors.iter().map(|e| e.abs()).collect();
-                a.sort_by(f64::total_cmp);
-                a[a.len() / 2]
-            },
-            dist_errors.iter().map(|e| e.abs()).sum::<f64>() / dist_errors.len() as f64,
-            dist_errors.iter().fold(0.0f64, |m, e| m.max(e.abs())),
-        );
-    }
-    for s in skipped {
-        let _ = writeln!(out, "\nSkipped: {s}");
-    }
-    let _ = writeln!(
-        out,
-        "\n{}",
-        crate::pace_device::outage_table(&files, default)
-    );
-    let _ = writeln!(
-        out,
-        "{}",
-        crate::pace_device::pedometer_only_table(dir, "2020-12-")?
-    );
-    Ok(out)
 }

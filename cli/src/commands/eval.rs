@@ -226,7 +226,7 @@ pub fn run(e: Eval) -> Result<(), Failure> {
             let (table, _) = stridekit_lab::pace_eval::simulator_table(seeds, default);
             println!("{table}");
             match data_dir(data, "pace/original", "real runs") {
-                Ok(d) => stridekit_lab::pace_eval::real_table(&d, default)?,
+                Ok(d) => stridekit_lab::pace_eval::real_runs(&d, default)?.render(),
                 Err(why) => format!("Real runs: skipped ({why})"),
             }
         }
@@ -289,7 +289,8 @@ pub fn run(e: Eval) -> Result<(), Failure> {
             model,
             seeds,
             unknown_placement,
-        } => stridekit_lab::odometry::commands::eval(model.as_deref(), seeds, !unknown_placement)?,
+        } => stridekit_lab::odometry::commands::eval(model.as_deref(), seeds, !unknown_placement)?
+            .render(),
         Eval::Orientation {
             data,
             imu_only,

@@ -11,6 +11,7 @@ use crate::odometry::train::{
     fit_model, labelled_windows, samples_of, sim_scenario, simulated_windows, write_model,
     LabelledWindow, RecTruth, Truth, FEATURES_COMMENT, FIRST_EVAL_SEED,
 };
+use crate::table::Table;
 use stridekit_core::odometry::{
     ImuSample, OdometryConfig, OdometryModel, PhoneOdometry, PipelineParams, PlacementSource,
     AUTO_MIN_CONFIDENCE,
@@ -152,11 +153,10 @@ fn load_model(path: Option<&Path>) -> Result<OdometryModel, String> {
     }
 }
 
-fn fmt_source_row(out: &mut String, name: &str, s: &[(f64, f64); 3], auto: &[usize; 4 + CLASSES]) {
-    let _ = write!(out, "| {name} |");
-    for (a, r) in s {
-        let _ = write!(out, " {a:.1} / {r:.1} |");
-    }
+/// A placement-source row: (ATE / RTE) per source, then Auto's placement counts.
+fn source_row(name: &str, s: &[(f64, f64); 3], auto: &[usize; 4 + CLASSES]) -> Vec<String> {
+    let mut row = vec![name.to_string()];
+    row.extend(s.iter().map(|(a, r)| format!("{a:.1} / {r:.1}")));
     let pct = |k: usize| 100.0 * auto[k] as f64 / auto[0].max(1) as f64;
     let mut best = 0;
     for k in 0..CLASSES {
@@ -164,23 +164,17 @@ fn fmt_source_row(out: &mut String, name: &str, s: &[(f64, f64); 3], auto: &[usi
             best = k;
         }
     }
-    let _ = writeln!(
-        out,
-        " {:.0} % | {:.0} % / {:.0} % | {} ({:.0} %) |",
-        pct(1),
-        pct(2),
-        pct(3),
-        Placement::ALL[best],
-        pct(4 + best)
-    );
+    row.push(format!("{:.0} %", pct(1)));
+    row.push(format!("{:.0} % / {:.0} %", pct(2), pct(3)));
+    row.push(format!("{} ({:.0} %)", Placement::ALL[best], pct(4 + best)));
+    row
 }
 
-fn fmt_scores(out: &mut String, name: &str, s: &Scores) {
-    let _ = write!(out, "| {name} |");
-    for (a, r) in s {
-        let _ = write!(out, " {a:.1} / {r:.1} |");
-    }
-    out.push('\n');
+/// A method row: (ATE / RTE) per method.
+fn scores_row(name: &str, s: &Scores) -> Vec<String> {
+    let mut row = vec![name.to_string()];
+    row.extend(s.iter().map(|(a, r)| format!("{a:.1} / {r:.1}")));
+    row
 }
 
 /// The simulator's attitude at `t`: normalised linear interpolation of the 10 Hz
@@ -274,154 +268,247 @@ fn learned_run(
     ((ate(&est, &truth), rte(&est, &truth, 60.0)), c)
 }
 
+/// One simulated placement over the held-out seeds (means over seeds).
+#[derive(Clone, Debug)]
+pub struct PlacementEval {
+    pub name: &'static str,
+    /// (ATE, RTE) of each method of [`METHODS`], m.
+    pub methods: Scores,
+    /// (ATE, RTE) of the learned pipeline per placement source: known, unknown, auto.
+    pub by_source: [(f64, f64); 3],
+    /// Auto's counts (see [`learned_run`]), summed over seeds.
+    pub auto: [usize; 4 + CLASSES],
+    /// (ATE, RTE) of the learned pipeline fed the true attitude, m.
+    pub true_attitude: (f64, f64),
+    /// Per window: the regressor's speed RMSE, m/s, and direction RMSE, °.
+    pub speed_rmse_mps: f64,
+    pub direction_rmse_deg: f64,
+}
+
+/// `eval odometry`, computed ([`OdometryReport::render`] writes it).
+#[derive(Clone, Debug)]
+pub struct OdometryReport {
+    pub seeds: u64,
+    pub placement_known: bool,
+    pub placements: Vec<PlacementEval>,
+    pub model_bytes: usize,
+    pub model_regressors: usize,
+}
+
 /// Per placement (ATE / RTE) of each method on held-out simulator seeds.
-pub fn eval(model: Option<&Path>, seeds: u64, placement_known: bool) -> Result<String, String> {
+pub fn eval(
+    model: Option<&Path>,
+    seeds: u64,
+    placement_known: bool,
+) -> Result<OdometryReport, String> {
     let model = load_model(model)?;
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "Held-out simulator walks (seeds {FIRST_EVAL_SEED}..{}, 250 s each, \
-         core::odometry::train::sim_scenario), mean over seeds of ATE / RTE (1 min), metres; \
-         regressor: {}.\n",
-        FIRST_EVAL_SEED + seeds,
-        if placement_known {
-            "the placement's own"
-        } else {
-            "general (placement unknown)"
-        }
-    );
-    let _ = write!(out, "| placement |");
-    for m in METHODS {
-        let _ = write!(out, " {m} |");
-    }
-    out.push('\n');
-    out.push_str("|---|---|---|---|---|\n");
-    let mut total = [(0.0, 0.0); 4];
-    let mut n_total = 0.0;
-    let mut diag_rows = String::new();
-    let mut oracle_rows = String::new();
-    let mut source_rows = String::new();
-    // Sums over placements of the mean (ATE, RTE) per source, and the Auto counts.
-    let mut source_total = [(0.0, 0.0); 3];
-    let mut auto_total = [0usize; 4 + CLASSES];
-    for p in PhonePlacement::ALL {
-        let class = Placement::from(p);
-        let sources = [
-            PlacementSource::Fixed(class),
-            PlacementSource::Unknown,
-            PlacementSource::Auto,
-        ];
-        let mut by_source = [(0.0, 0.0); 3];
-        let mut auto = [0usize; 4 + CLASSES];
-        let source = if placement_known {
-            PlacementSource::Fixed(class)
-        } else {
-            PlacementSource::Unknown
-        };
-        let mut diag = (0.0, 0.0, 0.0, 0.0);
-        let mut oracle = (0.0, 0.0);
-        let mut mean = [(0.0, 0.0); 4];
-        let reg = *model.regressor(placement_known.then_some(class));
-        for seed in FIRST_EVAL_SEED..FIRST_EVAL_SEED + seeds {
-            let sim = simulate_phone(&sim_scenario(seed, p));
-            let samples: Vec<ImuSample> = sim.samples.iter().map(Into::into).collect();
-            let (a, r) = true_attitude_scores(&sim, &samples, &model, source);
-            oracle.0 += a;
-            oracle.1 += r;
-            for w in labelled_windows(&samples, &sim, Some(class), model.params) {
-                let v = w.velocity_s_mps;
-                let s = (v[0] * v[0] + v[1] * v[1]).sqrt();
-                let est = reg.predict(&w.features);
-                diag.0 += (reg.speed(&w.features) - s).powi(2);
-                diag.1 += 1.0;
-                if s > 0.3 {
-                    let d = (est[1].atan2(est[0]) - v[1].atan2(v[0]) + std::f64::consts::PI)
-                        .rem_euclid(std::f64::consts::TAU)
-                        - std::f64::consts::PI;
-                    diag.2 += d * d;
-                    diag.3 += 1.0;
+    let placements = PhonePlacement::ALL
+        .into_iter()
+        .map(|p| eval_placement(&model, p, seeds, placement_known))
+        .collect();
+    Ok(OdometryReport {
+        seeds,
+        placement_known,
+        placements,
+        model_bytes: model.size_bytes(),
+        model_regressors: model.regressors.iter().flatten().count(),
+    })
+}
+
+/// Every method, source and diagnosis on the held-out seeds of one placement.
+fn eval_placement(
+    model: &OdometryModel,
+    p: PhonePlacement,
+    seeds: u64,
+    placement_known: bool,
+) -> PlacementEval {
+    let class = Placement::from(p);
+    let sources = [
+        PlacementSource::Fixed(class),
+        PlacementSource::Unknown,
+        PlacementSource::Auto,
+    ];
+    let mut by_source = [(0.0, 0.0); 3];
+    let mut auto = [0usize; 4 + CLASSES];
+    let source = if placement_known {
+        PlacementSource::Fixed(class)
+    } else {
+        PlacementSource::Unknown
+    };
+    let mut diag = (0.0, 0.0, 0.0, 0.0);
+    let mut oracle = (0.0, 0.0);
+    let mut mean = [(0.0, 0.0); 4];
+    let reg = *model.regressor(placement_known.then_some(class));
+    for seed in FIRST_EVAL_SEED..FIRST_EVAL_SEED + seeds {
+        let sim = simulate_phone(&sim_scenario(seed, p));
+        let samples: Vec<ImuSample> = sim.samples.iter().map(Into::into).collect();
+        let (a, r) = true_attitude_scores(&sim, &samples, model, source);
+        oracle.0 += a;
+        oracle.1 += r;
+        window_errors(&mut diag, &reg, &samples, &sim, class, model.params);
+        let tracks = run_methods(&samples, &sim, model, source);
+        for (k, &src) in sources.iter().enumerate() {
+            let ((a, r), c) = learned_run(&samples, &sim, model, src, class);
+            by_source[k].0 += a / seeds as f64;
+            by_source[k].1 += r / seeds as f64;
+            if src == PlacementSource::Auto {
+                for i in 0..c.len() {
+                    auto[i] += c[i];
                 }
             }
-            let tracks = run_methods(&samples, &sim, &model, source);
-            for (k, &src) in sources.iter().enumerate() {
-                let ((a, r), c) = learned_run(&samples, &sim, &model, src, class);
-                by_source[k].0 += a / seeds as f64;
-                by_source[k].1 += r / seeds as f64;
-                if src == PlacementSource::Auto {
-                    for i in 0..c.len() {
-                        auto[i] += c[i];
-                    }
-                }
-            }
-            for (k, s) in tracks.scores().iter().enumerate() {
-                mean[k].0 += s.0 / seeds as f64;
-                mean[k].1 += s.1 / seeds as f64;
-            }
         }
-        for k in 0..4 {
-            total[k].0 += mean[k].0;
-            total[k].1 += mean[k].1;
+        for (k, s) in tracks.scores().iter().enumerate() {
+            mean[k].0 += s.0 / seeds as f64;
+            mean[k].1 += s.1 / seeds as f64;
         }
-        n_total += 1.0;
-        let name = sim_name(p);
-        fmt_scores(&mut out, name, &mean);
-        for k in 0..3 {
-            source_total[k].0 += by_source[k].0;
-            source_total[k].1 += by_source[k].1;
-        }
-        for i in 0..auto.len() {
-            auto_total[i] += auto[i];
-        }
-        fmt_source_row(&mut source_rows, name, &by_source, &auto);
-        let _ = writeln!(
-            oracle_rows,
-            "| {name} | {:.1} / {:.1} |",
-            oracle.0 / seeds as f64,
-            oracle.1 / seeds as f64
-        );
-        let _ = writeln!(
-            diag_rows,
-            "| {name} | {:.3} | {:.1} |",
-            (diag.0 / diag.1).sqrt(),
-            (diag.2 / diag.3).sqrt().to_degrees()
-        );
     }
-    let total = total.map(|(a, r)| (a / n_total, r / n_total));
-    fmt_scores(&mut out, "**all**", &total);
-    let source_total = source_total.map(|(a, r)| (a / n_total, r / n_total));
-    fmt_source_row(&mut source_rows, "**all**", &source_total, &auto_total);
-    let _ = writeln!(
-        out,
-        "\nPlacement source (`OdometryConfig::placement`), learned pipeline, same walks, \
-         ATE / RTE, metres. Known = `Fixed(class)`, unknown = general regressor, auto = the \
-         embedded placement classifier (shipped model, trained on real Oxford traces), its \
-         class's regressor at confidence ≥ {AUTO_MIN_CONFIDENCE}. Auto's placement accuracy: \
-         share of estimates whose detected placement is the true class; own / general: share \
-         of estimates that used the true class's regressor / the general one; most detected: \
-         the class the classifier output most often (share of estimates).\n\n\
-         | placement | known | unknown | auto | auto: placement accuracy | auto: own / general regressor | auto: most detected |\n\
-         |---|---|---|---|---|---|---|\n{source_rows}"
-    );
-    let _ = writeln!(
-        out,
-        "\nDiagnosis: the learned pipeline (same model) fed the simulator's true attitude \
-         instead of the AHRS (`PhoneOdometry::push_with_attitude`), ATE / RTE, metres.\n\n\
-         | placement | learned, true attitude |\n|---|---|\n{oracle_rows}"
-    );
-    let _ = writeln!(
-        out,
-        "\nModel: {} bytes of weights ({} regressors); engine state (size_of PhoneOdometry, \
-         heap model included in the weights figure): {} bytes.",
-        model.size_bytes(),
-        model.regressors.iter().flatten().count(),
-        std::mem::size_of::<stridekit_core::odometry::PhoneOdometry>()
-    );
-    let _ = writeln!(
-        out,
-        "\nPer window (same walks): speed RMSE and direction RMSE of the regressor \
-         (windows faster than 0.3 m/s).\n\n| placement | speed RMSE m/s | direction RMSE ° |\n|---|---|---|\n{diag_rows}"
-    );
-    Ok(out)
+    PlacementEval {
+        name: sim_name(p),
+        methods: mean,
+        by_source,
+        auto,
+        true_attitude: (oracle.0 / seeds as f64, oracle.1 / seeds as f64),
+        speed_rmse_mps: (diag.0 / diag.1).sqrt(),
+        direction_rmse_deg: (diag.2 / diag.3).sqrt().to_degrees(),
+    }
+}
+
+/// Adds the regressor's per-window errors to `diag`: (Σ speed error², windows,
+/// Σ direction error² over windows faster than 0.3 m/s, those windows).
+fn window_errors(
+    diag: &mut (f64, f64, f64, f64),
+    reg: &stridekit_core::odometry::Regressor,
+    samples: &[ImuSample],
+    sim: &stridekit_sim::SimulatedPhone,
+    class: Placement,
+    params: PipelineParams,
+) {
+    for w in labelled_windows(samples, sim, Some(class), params) {
+        let v = w.velocity_s_mps;
+        let s = (v[0] * v[0] + v[1] * v[1]).sqrt();
+        let est = reg.predict(&w.features);
+        diag.0 += (reg.speed(&w.features) - s).powi(2);
+        diag.1 += 1.0;
+        if s > 0.3 {
+            let d = (est[1].atan2(est[0]) - v[1].atan2(v[0]) + std::f64::consts::PI)
+                .rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI;
+            diag.2 += d * d;
+            diag.3 += 1.0;
+        }
+    }
+}
+
+impl OdometryReport {
+    /// The report as markdown.
+    pub fn render(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "Held-out simulator walks (seeds {FIRST_EVAL_SEED}..{}, 250 s each, \
+             core::odometry::train::sim_scenario), mean over seeds of ATE / RTE (1 min), metres; \
+             regressor: {}.\n",
+            FIRST_EVAL_SEED + self.seeds,
+            if self.placement_known {
+                "the placement's own"
+            } else {
+                "general (placement unknown)"
+            }
+        );
+        out.push_str(&self.method_table().render());
+        let _ = writeln!(
+            out,
+            "\nPlacement source (`OdometryConfig::placement`), learned pipeline, same walks, \
+             ATE / RTE, metres. Known = `Fixed(class)`, unknown = general regressor, auto = the \
+             embedded placement classifier (shipped model, trained on real Oxford traces), its \
+             class's regressor at confidence ≥ {AUTO_MIN_CONFIDENCE}. Auto's placement accuracy: \
+             share of estimates whose detected placement is the true class; own / general: share \
+             of estimates that used the true class's regressor / the general one; most detected: \
+             the class the classifier output most often (share of estimates).\n\n{}",
+            self.source_table().render()
+        );
+        let mut oracle = Table::new(["placement", "learned, true attitude"]);
+        for p in &self.placements {
+            let (a, r) = p.true_attitude;
+            oracle.row([p.name.to_string(), format!("{a:.1} / {r:.1}")]);
+        }
+        let _ = writeln!(
+            out,
+            "\nDiagnosis: the learned pipeline (same model) fed the simulator's true attitude \
+             instead of the AHRS (`PhoneOdometry::push_with_attitude`), ATE / RTE, metres.\n\n{}",
+            oracle.render()
+        );
+        let _ = writeln!(
+            out,
+            "\nModel: {} bytes of weights ({} regressors); engine state (size_of PhoneOdometry, \
+             heap model included in the weights figure): {} bytes.",
+            self.model_bytes,
+            self.model_regressors,
+            std::mem::size_of::<stridekit_core::odometry::PhoneOdometry>()
+        );
+        let mut windows = Table::new(["placement", "speed RMSE m/s", "direction RMSE °"]);
+        for p in &self.placements {
+            windows.row([
+                p.name.to_string(),
+                format!("{:.3}", p.speed_rmse_mps),
+                format!("{:.1}", p.direction_rmse_deg),
+            ]);
+        }
+        let _ = writeln!(
+            out,
+            "\nPer window (same walks): speed RMSE and direction RMSE of the regressor \
+             (windows faster than 0.3 m/s).\n\n{}",
+            windows.render()
+        );
+        out
+    }
+
+    /// Methods per placement, then their mean over placements.
+    fn method_table(&self) -> Table {
+        let mut header = vec!["placement".to_string()];
+        header.extend(METHODS.iter().map(|m| m.to_string()));
+        let mut t = Table::new(header);
+        let mut total = [(0.0, 0.0); 4];
+        for p in &self.placements {
+            t.row(scores_row(p.name, &p.methods));
+            for (t, m) in total.iter_mut().zip(&p.methods) {
+                t.0 += m.0;
+                t.1 += m.1;
+            }
+        }
+        let n = self.placements.len() as f64;
+        t.row(scores_row("**all**", &total.map(|(a, r)| (a / n, r / n))));
+        t
+    }
+
+    /// Placement sources per placement, then their mean (Auto's counts summed).
+    fn source_table(&self) -> Table {
+        let mut t = Table::new([
+            "placement",
+            "known",
+            "unknown",
+            "auto",
+            "auto: placement accuracy",
+            "auto: own / general regressor",
+            "auto: most detected",
+        ]);
+        let mut total = [(0.0, 0.0); 3];
+        let mut auto_total = [0usize; 4 + CLASSES];
+        for p in &self.placements {
+            t.row(source_row(p.name, &p.by_source, &p.auto));
+            for (t, s) in total.iter_mut().zip(&p.by_source) {
+                t.0 += s.0;
+                t.1 += s.1;
+            }
+            for (t, a) in auto_total.iter_mut().zip(&p.auto) {
+                *t += a;
+            }
+        }
+        let n = self.placements.len() as f64;
+        let total = total.map(|(a, r)| (a / n, r / n));
+        t.row(source_row("**all**", &total, &auto_total));
+        t
+    }
 }
 
 /// Replay a recording (RIDI / RoNIN CSV or a simulator seed `sim:SEED:PLACEMENT`),

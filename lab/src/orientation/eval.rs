@@ -12,6 +12,7 @@ use stridekit_core::ahrs::{Ahrs, AhrsSettings, DecoupledSettings};
 use stridekit_formats::{list_broad_trials, read_broad, OrientationRecording};
 
 use crate::orientation::metric::{ErrorSums, Rmse};
+use crate::table::Table;
 
 /// Options of `stridekit eval orientation`.
 #[derive(Clone, Debug)]
@@ -210,10 +211,8 @@ pub fn load(dir: &Path) -> Result<Vec<OrientationRecording>, String> {
         .collect()
 }
 
-/// The whole report as markdown.
-pub fn run(args: &EvalOrientationArgs) -> Result<String, String> {
-    let trials = load(&args.data)?;
-    let imu = args.imu_only;
+/// The comparison's variants with `--set` applied to the default.
+fn configured_variants(args: &EvalOrientationArgs) -> Result<Vec<Variant>, String> {
     let mut variants = variants();
     for (k, v) in &args.set {
         set_decoupled(&mut variants[0].settings, k, *v)?;
@@ -221,21 +220,53 @@ pub fn run(args: &EvalOrientationArgs) -> Result<String, String> {
     if !args.set.is_empty() {
         variants[0].name = "default with --set changes";
     }
+    Ok(variants)
+}
+
+/// `eval orientation` as text: `--quick` (the default filter alone, per trial) or
+/// [`eval`] rendered.
+pub fn run(args: &EvalOrientationArgs) -> Result<String, String> {
     if args.quick {
-        variants.truncate(1);
-        let r = score_all(variants[0].settings, &trials, imu)?;
-        let mut out = format!(
-            "{}: all {} | undisturbed {} | magnet {}\n",
-            variants[0].name,
-            Rmse::mean(&r).cell(),
-            mean_where(&r, &trials, is_undisturbed).cell(),
-            mean_where(&r, &trials, is_magnet).cell()
-        );
-        for (t, r) in trials.iter().zip(&r) {
-            out.push_str(&format!("  {:<45} {}\n", t.name, r.cell()));
-        }
-        return Ok(out);
+        return quick(args);
     }
+    Ok(eval(args)?.render())
+}
+
+/// The default filter (with `--set` applied) alone: its means and every trial.
+fn quick(args: &EvalOrientationArgs) -> Result<String, String> {
+    let trials = load(&args.data)?;
+    let default = configured_variants(args)?.swap_remove(0);
+    let r = score_all(default.settings, &trials, args.imu_only)?;
+    let mut out = format!(
+        "{}: all {} | undisturbed {} | magnet {}\n",
+        default.name,
+        Rmse::mean(&r).cell(),
+        mean_where(&r, &trials, is_undisturbed).cell(),
+        mean_where(&r, &trials, is_magnet).cell()
+    );
+    for (t, r) in trials.iter().zip(&r) {
+        out.push_str(&format!("  {:<45} {}\n", t.name, r.cell()));
+    }
+    Ok(out)
+}
+
+/// `eval orientation`, computed ([`OrientationReport::render`] writes it).
+pub struct OrientationReport {
+    pub imu_only: bool,
+    pub trials: Vec<OrientationRecording>,
+    pub variants: Vec<Variant>,
+    /// `results[variant][trial]`.
+    pub results: Vec<Vec<Rmse>>,
+    /// The leave-out grid ([`grid`]) and `per[setting][trial]`.
+    pub grid: Vec<(String, AhrsSettings)>,
+    pub per: Vec<Vec<Rmse>>,
+}
+
+/// Every variant and every grid setting on every trial.
+pub fn eval(args: &EvalOrientationArgs) -> Result<OrientationReport, String> {
+    let trials = load(&args.data)?;
+    let imu = args.imu_only;
+    let variants = configured_variants(args)?;
     let mut results = Vec::new();
     let pb = crate::progress::bar(variants.len(), "eval orientation: filters");
     for v in &variants {
@@ -243,63 +274,6 @@ pub fn run(args: &EvalOrientationArgs) -> Result<String, String> {
         eprintln!("eval orientation: {}", v.name);
         results.push(score_all(v.settings, &trials, imu)?);
     }
-    let mut out = String::new();
-    let mode = if imu {
-        "IMU only (no magnetometer): inclination error"
-    } else {
-        "MARG (with magnetometer): total / heading / inclination error"
-    };
-    let cell = |r: &Rmse| {
-        if imu {
-            format!("{:.2}", r.inclination_deg)
-        } else {
-            r.cell()
-        }
-    };
-    out.push_str(&format!(
-        "BROAD, {} trials, {mode}, RMSE during movement in degrees, mean over trials; \
-         one settings set per filter for all trials.\n\n",
-        trials.len()
-    ));
-    out.push_str(
-        "| filter | all trials | undisturbed (1–23) | magnet (28–36) | odd trials | even trials |\n\
-         |---|---|---|---|---|---|\n",
-    );
-    for (v, r) in variants.iter().zip(&results) {
-        out.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} |\n",
-            v.name,
-            cell(&Rmse::mean(r)),
-            cell(&mean_where(r, &trials, is_undisturbed)),
-            cell(&mean_where(r, &trials, is_magnet)),
-            cell(&mean_where(r, &trials, |t| number(t) % 2 == 1)),
-            cell(&mean_where(r, &trials, |t| number(t) % 2 == 0)),
-        ));
-    }
-
-    // Per trial: the default and the two Madgwick rows.
-    out.push_str(&format!(
-        "\nPer trial ({}):\n\n",
-        if imu {
-            "inclination"
-        } else {
-            "total / heading / inclination"
-        }
-    ));
-    out.push_str("| trial |");
-    for v in &variants[..3] {
-        out.push_str(&format!(" {} |", v.name));
-    }
-    out.push_str("\n|---|---|---|---|\n");
-    for (i, t) in trials.iter().enumerate() {
-        out.push_str(&format!("| {} |", t.name));
-        for r in &results[..3] {
-            out.push_str(&format!(" {} |", cell(&r[i])));
-        }
-        out.push('\n');
-    }
-
-    // Leave half out.
     let grid = grid();
     eprintln!(
         "eval orientation: leave-half-out grid of {} settings",
@@ -309,102 +283,224 @@ pub fn run(args: &EvalOrientationArgs) -> Result<String, String> {
     for (_, s) in &grid {
         per.push(score_all(*s, &trials, imu)?);
     }
-    let objective = |r: &Rmse| if imu { r.inclination_deg } else { r.total_deg };
-    out.push_str(&format!(
-        "\nLeave half out: {} settings of the decoupled filter (accelerometer and magnetometer \
-         time constants at ⅔×/1×/1.5× their defaults, motion bias off / 200 s / 100 s); \
-         the one with the lowest mean {} on one half is scored on the other.\n\n",
-        grid.len(),
-        if imu {
-            "inclination error"
-        } else {
-            "total error"
-        }
-    ));
-    out.push_str(
-        "| chosen on | settings chosen (accel τ, mag τ, motion-bias τ) | chosen half | held-out half, chosen | held-out half, fixed default |\n\
-         |---|---|---|---|---|\n",
-    );
-    let default = &results[0];
-    let mut held = Vec::new();
-    for (fit_odd, name) in [(true, "odd trials → even"), (false, "even trials → odd")] {
-        let fit = |t: &OrientationRecording| (number(t) % 2 == 1) == fit_odd;
-        let best = (0..grid.len())
-            .min_by(|&a, &b| {
-                objective(&mean_where(&per[a], &trials, fit))
-                    .total_cmp(&objective(&mean_where(&per[b], &trials, fit)))
-            })
-            .unwrap_or(0);
-        let chosen_fit = mean_where(&per[best], &trials, fit);
-        let chosen_held = mean_where(&per[best], &trials, |t| !fit(t));
-        let default_held = mean_where(default, &trials, |t| !fit(t));
-        held.extend(
-            per[best]
-                .iter()
-                .zip(&trials)
-                .filter(|(_, t)| !fit(t))
-                .map(|(r, _)| *r),
-        );
-        out.push_str(&format!(
-            "| {name} | {} | {} | {} | {} |\n",
-            grid[best].0,
-            cell(&chosen_fit),
-            cell(&chosen_held),
-            cell(&default_held)
-        ));
-    }
-    out.push_str(&format!(
-        "| **both halves held out** | | | **{}** | **{}** |\n",
-        cell(&Rmse::mean(&held)),
-        cell(&Rmse::mean(default))
-    ));
-    out.push_str(&leave_one_trial_out(
-        &grid, &per, &trials, default, objective, cell,
-    ));
-    Ok(out)
+    Ok(OrientationReport {
+        imu_only: imu,
+        trials,
+        variants,
+        results,
+        grid,
+        per,
+    })
 }
 
-/// Leave one trial out over the same grid: for each trial, the setting with the lowest
-/// mean objective on the other trials, scored on it; the per-trial table beside the
-/// fixed defaults, and the mean.
-fn leave_one_trial_out(
-    grid: &[(String, AhrsSettings)],
-    per: &[Vec<Rmse>],
-    trials: &[OrientationRecording],
-    default: &[Rmse],
-    objective: impl Fn(&Rmse) -> f64,
-    cell: impl Fn(&Rmse) -> String,
-) -> String {
-    let mut out = format!(
-        "\nLeave one trial out: for each trial, the setting of the same {} with the lowest \
-         mean on the other {} trials, scored on it.\n\n\
-         | held-out trial | settings chosen on the others | held out, chosen | fixed default |\n\
-         |---|---|---|---|\n",
-        grid.len(),
-        trials.len().saturating_sub(1)
-    );
-    let mut held = Vec::new();
-    for (i, t) in trials.iter().enumerate() {
-        let others = |r: &[Rmse]| {
-            let rest = r.iter().enumerate().filter(|&(j, _)| j != i);
-            objective(&Rmse::mean(rest.map(|(_, r)| r)))
+/// One half's choice in the leave-half-out check.
+struct HalfChoice {
+    name: &'static str,
+    /// The setting was chosen on the odd trials (and is held out on the even ones).
+    fit_odd: bool,
+    /// Index into the grid.
+    setting: usize,
+    chosen_fit: Rmse,
+    chosen_held: Rmse,
+    default_held: Rmse,
+}
+
+impl OrientationReport {
+    /// The report as markdown.
+    pub fn render(&self) -> String {
+        let mode = if self.imu_only {
+            "IMU only (no magnetometer): inclination error"
+        } else {
+            "MARG (with magnetometer): total / heading / inclination error"
         };
-        let best = (0..grid.len())
-            .min_by(|&a, &b| others(&per[a]).total_cmp(&others(&per[b])))
-            .unwrap_or(0);
-        held.push(per[best][i]);
+        let mut out = format!(
+            "BROAD, {} trials, {mode}, RMSE during movement in degrees, mean over trials; \
+             one settings set per filter for all trials.\n\n",
+            self.trials.len()
+        );
+        out.push_str(&self.filter_table().render());
+        // Per trial: the default and the two Madgwick rows.
         out.push_str(&format!(
-            "| {} | {} | {} | {} |\n",
-            t.name,
-            grid[best].0,
-            cell(&per[best][i]),
-            cell(&default[i])
+            "\nPer trial ({}):\n\n",
+            if self.imu_only {
+                "inclination"
+            } else {
+                "total / heading / inclination"
+            }
         ));
+        out.push_str(&self.trial_table().render());
+        out.push_str(&self.leave_half_out());
+        out.push_str(&self.leave_one_trial_out());
+        out
     }
-    out.push_str(&format!(
-        "| **mean** | | **{}** | **{}** |\n",
-        cell(&Rmse::mean(&held)),
-        cell(&Rmse::mean(default))
-    ));
-    out
+
+    fn cell(&self, r: &Rmse) -> String {
+        if self.imu_only {
+            format!("{:.2}", r.inclination_deg)
+        } else {
+            r.cell()
+        }
+    }
+
+    /// What the grid minimises: inclination (IMU only) or total error.
+    fn objective(&self, r: &Rmse) -> f64 {
+        if self.imu_only {
+            r.inclination_deg
+        } else {
+            r.total_deg
+        }
+    }
+
+    /// Each filter's means over all trials, the groups and the two halves.
+    fn filter_table(&self) -> Table {
+        let trials = &self.trials;
+        let mut t = Table::new([
+            "filter",
+            "all trials",
+            "undisturbed (1–23)",
+            "magnet (28–36)",
+            "odd trials",
+            "even trials",
+        ]);
+        for (v, r) in self.variants.iter().zip(&self.results) {
+            t.row([
+                v.name.to_string(),
+                self.cell(&Rmse::mean(r)),
+                self.cell(&mean_where(r, trials, is_undisturbed)),
+                self.cell(&mean_where(r, trials, is_magnet)),
+                self.cell(&mean_where(r, trials, |t| number(t) % 2 == 1)),
+                self.cell(&mean_where(r, trials, |t| number(t) % 2 == 0)),
+            ]);
+        }
+        t
+    }
+
+    /// The default and the two Madgwick rows, per trial.
+    fn trial_table(&self) -> Table {
+        let mut header = vec!["trial".to_string()];
+        header.extend(self.variants[..3].iter().map(|v| v.name.to_string()));
+        let mut t = Table::new(header);
+        for (i, trial) in self.trials.iter().enumerate() {
+            let mut row = vec![trial.name.clone()];
+            row.extend(self.results[..3].iter().map(|r| self.cell(&r[i])));
+            t.row(row);
+        }
+        t
+    }
+
+    /// For each half, the grid setting with the lowest mean objective on it, scored
+    /// on the other half beside the fixed default.
+    fn half_choices(&self) -> Vec<HalfChoice> {
+        let (trials, per, default) = (&self.trials, &self.per, &self.results[0]);
+        let mut out = Vec::new();
+        for (fit_odd, name) in [(true, "odd trials → even"), (false, "even trials → odd")] {
+            let fit = |t: &OrientationRecording| (number(t) % 2 == 1) == fit_odd;
+            let best = (0..self.grid.len())
+                .min_by(|&a, &b| {
+                    self.objective(&mean_where(&per[a], trials, fit))
+                        .total_cmp(&self.objective(&mean_where(&per[b], trials, fit)))
+                })
+                .unwrap_or(0);
+            out.push(HalfChoice {
+                name,
+                fit_odd,
+                setting: best,
+                chosen_fit: mean_where(&per[best], trials, fit),
+                chosen_held: mean_where(&per[best], trials, |t| !fit(t)),
+                default_held: mean_where(default, trials, |t| !fit(t)),
+            });
+        }
+        out
+    }
+
+    /// Leave half out: the paragraph and its table.
+    fn leave_half_out(&self) -> String {
+        let mut out = format!(
+            "\nLeave half out: {} settings of the decoupled filter (accelerometer and magnetometer \
+             time constants at ⅔×/1×/1.5× their defaults, motion bias off / 200 s / 100 s); \
+             the one with the lowest mean {} on one half is scored on the other.\n\n",
+            self.grid.len(),
+            if self.imu_only {
+                "inclination error"
+            } else {
+                "total error"
+            }
+        );
+        let mut t = Table::new([
+            "chosen on",
+            "settings chosen (accel τ, mag τ, motion-bias τ)",
+            "chosen half",
+            "held-out half, chosen",
+            "held-out half, fixed default",
+        ]);
+        let mut held = Vec::new();
+        for c in self.half_choices() {
+            held.extend(
+                self.per[c.setting]
+                    .iter()
+                    .zip(&self.trials)
+                    .filter(|(_, t)| (number(t) % 2 == 1) != c.fit_odd)
+                    .map(|(r, _)| *r),
+            );
+            t.row([
+                c.name.to_string(),
+                self.grid[c.setting].0.clone(),
+                self.cell(&c.chosen_fit),
+                self.cell(&c.chosen_held),
+                self.cell(&c.default_held),
+            ]);
+        }
+        t.row([
+            "**both halves held out**".to_string(),
+            String::new(),
+            String::new(),
+            format!("**{}**", self.cell(&Rmse::mean(&held))),
+            format!("**{}**", self.cell(&Rmse::mean(&self.results[0]))),
+        ]);
+        out.push_str(&t.render());
+        out
+    }
+
+    /// Leave one trial out over the same grid: for each trial, the setting with the
+    /// lowest mean objective on the other trials, scored on it; the per-trial table
+    /// beside the fixed defaults, and the mean.
+    fn leave_one_trial_out(&self) -> String {
+        let (trials, per, default) = (&self.trials, &self.per, &self.results[0]);
+        let out = format!(
+            "\nLeave one trial out: for each trial, the setting of the same {} with the lowest \
+             mean on the other {} trials, scored on it.\n\n",
+            self.grid.len(),
+            trials.len().saturating_sub(1)
+        );
+        let mut t = Table::new([
+            "held-out trial",
+            "settings chosen on the others",
+            "held out, chosen",
+            "fixed default",
+        ]);
+        let mut held = Vec::new();
+        for (i, trial) in trials.iter().enumerate() {
+            let others = |r: &[Rmse]| {
+                let rest = r.iter().enumerate().filter(|&(j, _)| j != i);
+                self.objective(&Rmse::mean(rest.map(|(_, r)| r)))
+            };
+            let best = (0..self.grid.len())
+                .min_by(|&a, &b| others(&per[a]).total_cmp(&others(&per[b])))
+                .unwrap_or(0);
+            held.push(per[best][i]);
+            t.row([
+                trial.name.clone(),
+                self.grid[best].0.clone(),
+                self.cell(&per[best][i]),
+                self.cell(&default[i]),
+            ]);
+        }
+        t.row([
+            "**mean**".to_string(),
+            String::new(),
+            format!("**{}**", self.cell(&Rmse::mean(&held))),
+            format!("**{}**", self.cell(&Rmse::mean(default))),
+        ]);
+        out + &t.render()
+    }
 }

@@ -201,8 +201,8 @@ pub struct DiagnoseReport {
     pub mag: bool,
     samples: Acc,
     noise: WaypointNoise,
-    /// [`crate::pdr::legs::report`] as it renders.
-    legs: String,
+    /// Heading against distance ([`crate::pdr::legs`]).
+    legs: crate::pdr::legs::LegsReport,
     /// [`crate::pdr::shared::report`] as it renders (with the magnetometer only: the
     /// distance does not depend on it, once is enough).
     shared: Option<String>,
@@ -220,8 +220,7 @@ pub fn diagnose(walks: &[Walk], mag: bool) -> Result<DiagnoseReport, String> {
         .map(|l| (l.length_m, l.err_rad))
         .collect();
     let noise = WaypointNoise::fit(&a.leg_resid, &azimuth, walks);
-    let mut legs = String::new();
-    crate::pdr::legs::report(&mut legs, walks, mag)?;
+    let legs = crate::pdr::legs::legs(walks, mag)?;
     let shared = if mag {
         let mut s = String::new();
         crate::pdr::shared::report(&mut s, walks)?;
@@ -557,7 +556,7 @@ impl DiagnoseReport {
             "\nNavigator leg azimuth error against time into the walk (median |error|, °):\n"
         );
         out.push_str(&self.time_table().render());
-        out.push_str(&self.legs);
+        out.push_str(&self.legs.render());
         if let Some(s) = &self.shared {
             out.push_str(s);
         }

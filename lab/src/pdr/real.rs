@@ -41,27 +41,32 @@ pub struct MethodResult {
 }
 
 impl MethodResult {
-    fn cells(ms: &[&Metrics]) -> String {
+    /// walks | median ATE | start-pinned | end | distance (median |distance|).
+    fn cells(ms: &[&Metrics]) -> Vec<String> {
         if ms.is_empty() {
-            return "0 | – | – | – | –".to_string();
+            return ["0", "–", "–", "–", "–"].map(String::from).to_vec();
         }
-        format!(
-            "{} | {:.2} m | {:.2} m | {:.1} % | {:+.1} % ({:.1} %)",
-            ms.len(),
-            median(ms.iter().map(|m| m.ate_m)),
-            median(ms.iter().map(|m| m.start_pinned_m)),
-            median(ms.iter().map(|m| m.end_pct)),
-            median(ms.iter().map(|m| m.distance_pct)),
-            median(ms.iter().map(|m| m.distance_pct.abs())),
-        )
+        vec![
+            ms.len().to_string(),
+            format!("{:.2} m", median(ms.iter().map(|m| m.ate_m))),
+            format!("{:.2} m", median(ms.iter().map(|m| m.start_pinned_m))),
+            format!("{:.1} %", median(ms.iter().map(|m| m.end_pct))),
+            format!(
+                "{:+.1} % ({:.1} %)",
+                median(ms.iter().map(|m| m.distance_pct)),
+                median(ms.iter().map(|m| m.distance_pct.abs())),
+            ),
+        ]
     }
 
-    pub fn overall(&self) -> String {
+    /// The cells over every walk.
+    pub fn overall_cells(&self) -> Vec<String> {
         let all: Vec<&Metrics> = self.by_walk.iter().map(|m| &m.1).collect();
         Self::cells(&all)
     }
 
-    pub fn floor(&self, floor: &str) -> String {
+    /// The cells over the walks of one floor.
+    pub fn floor_cells(&self, floor: &str) -> Vec<String> {
         let f: Vec<&Metrics> = self
             .by_walk
             .iter()
@@ -70,6 +75,33 @@ impl MethodResult {
             .collect();
         Self::cells(&f)
     }
+
+    /// [`Self::overall_cells`] as one string, ` | ` between the cells.
+    pub fn overall(&self) -> String {
+        self.overall_cells().join(" | ")
+    }
+
+    /// [`Self::floor_cells`] as one string, ` | ` between the cells.
+    pub fn floor(&self, floor: &str) -> String {
+        self.floor_cells(floor).join(" | ")
+    }
+}
+
+/// The columns of a method table.
+const METHOD_COLUMNS: [&str; 6] = ["method", "walks", "ATE", "start-pinned", "end", "distance"];
+
+/// A method table: one row per method, its cells from `cells`.
+pub fn method_table(
+    methods: &[MethodResult],
+    cells: impl Fn(&MethodResult) -> Vec<String>,
+) -> crate::table::Table {
+    let mut t = crate::table::Table::new(METHOD_COLUMNS);
+    for m in methods {
+        let mut row = vec![m.name.clone()];
+        row.extend(cells(m));
+        t.row(row);
+    }
+    t
 }
 
 /// Replay every walk with options chosen per walk; a walk without options (its
@@ -141,8 +173,9 @@ pub fn floors(walks: &[Walk]) -> Vec<String> {
     f
 }
 
-/// The whole evaluation as markdown.
-pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
+/// The walks with surveyed waypoints under `dir` (an error when there is none: the
+/// evaluation scores tracks at the waypoints).
+fn scored_walks(dir: &Path) -> Result<Vec<Walk>, String> {
     let walks = load_walks_with_progress(dir)?;
     if walks.is_empty() {
         return Err(format!(
@@ -150,25 +183,69 @@ pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
             dir.display()
         ));
     }
+    Ok(walks)
+}
+
+/// `eval pdr --data DIR [--diagnose]` as markdown: [`eval`] rendered, or the
+/// diagnosis with and without the magnetometer.
+pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
     if diagnose {
+        let walks = scored_walks(dir)?;
         let mut s = crate::pdr::diagnose::diagnose(&walks, true)?.render();
         s += &crate::pdr::diagnose::diagnose(&walks, false)?.render();
         return Ok(s);
     }
+    Ok(eval(dir)?.render())
+}
+
+/// `eval pdr --data DIR`, computed ([`RealReport::render`] writes it).
+pub struct RealReport {
+    pub dir: std::path::PathBuf,
+    pub walks: usize,
+    pub floors: Vec<String>,
+    pub methods: Vec<MethodResult>,
+    /// Leave-one-floor-out calibrations: floor → learned on the others.
+    pub lofo: BTreeMap<String, PdrCalibration>,
+    /// Floors without one, and why.
+    pub no_lofo: BTreeMap<String, String>,
+}
+
+/// Every method on the real walks under `dir`.
+pub fn eval(dir: &Path) -> Result<RealReport, String> {
+    let walks = scored_walks(dir)?;
     let config = NavigatorConfig::default();
     let (lofo, no_lofo) = lofo_calibrations(&walks, &config);
+    let mut methods = pdr_methods(&walks, &config, &lofo)?;
+    methods.extend(crate::pdr::odometry::methods(&walks)?);
+    Ok(RealReport {
+        dir: dir.to_path_buf(),
+        walks: walks.len(),
+        floors: floors(&walks),
+        methods,
+        lofo,
+        no_lofo,
+    })
+}
+
+/// The navigator's rows: defaults, settings, calibrations, the rotation vector.
+fn pdr_methods(
+    walks: &[Walk],
+    config: &NavigatorConfig,
+    lofo: &BTreeMap<String, PdrCalibration>,
+) -> Result<Vec<MethodResult>, String> {
+    let config = *config;
     let all_refs: Vec<&Walk> = walks.iter().collect();
     let fitted = learn(&all_refs, &config, config.step_length_model).ok();
     let base = ReplayOptions::default();
-    let mut methods = vec![
-        score("defaults, magnetometer", &walks, |_| Some(base.clone()))?,
+    Ok(vec![
+        score("defaults, magnetometer", walks, |_| Some(base.clone()))?,
         score_track(
             "defaults, magnetometer, live estimate",
-            &walks,
+            walks,
             |_| Some(base.clone()),
             true,
         )?,
-        score("defaults, no magnetometer", &walks, |_| {
+        score("defaults, no magnetometer", walks, |_| {
             Some(ReplayOptions {
                 mag: false,
                 ..base.clone()
@@ -177,7 +254,7 @@ pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
         // What an app gets that says its gyroscope is raw: the fast magnetic loop.
         score(
             "defaults, magnetometer, raw-gyroscope setting (fast magnetic loop)",
-            &walks,
+            walks,
             |_| {
                 Some(ReplayOptions {
                     config: NavigatorConfig {
@@ -188,19 +265,15 @@ pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
                 })
             },
         )?,
-        score(
-            "calibrated leave-one-floor-out, magnetometer",
-            &walks,
-            |w| {
-                lofo.get(&w.floor).map(|c| ReplayOptions {
-                    calibration: Some(*c),
-                    ..base.clone()
-                })
-            },
-        )?,
+        score("calibrated leave-one-floor-out, magnetometer", walks, |w| {
+            lofo.get(&w.floor).map(|c| ReplayOptions {
+                calibration: Some(*c),
+                ..base.clone()
+            })
+        })?,
         score(
             "calibrated leave-one-floor-out, no magnetometer",
-            &walks,
+            walks,
             |w| {
                 lofo.get(&w.floor).map(|c| ReplayOptions {
                     calibration: Some(*c),
@@ -211,7 +284,7 @@ pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
         )?,
         score(
             "calibrated on all walks (fitted), magnetometer",
-            &walks,
+            walks,
             |_| {
                 fitted.map(|c| ReplayOptions {
                     calibration: Some(c),
@@ -219,66 +292,60 @@ pub fn run(dir: &Path, diagnose: bool) -> Result<String, String> {
                 })
             },
         )?,
-        score(
-            "rotation vector as orientation (comparison)",
-            &walks,
-            |_| {
-                Some(ReplayOptions {
-                    rotation_vector: true,
-                    mag: false,
-                    ..base.clone()
-                })
-            },
-        )?,
-    ];
-    methods.extend(crate::pdr::odometry::methods(&walks)?);
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "Real indoor walks ({} walks with waypoints under {}; no GNSS): one trajectory per walk from its first sample, compared at the waypoint times. Cells: walks | median ATE (best rotation + translation) | median start-pinned mean error | median end error (% of the waypoint polyline) | median distance error (median |distance error|).\n",
-        walks.len(),
-        dir.display()
-    );
-    let _ = writeln!(
-        out,
-        "| method | walks | ATE | start-pinned | end | distance |\n|---|---|---|---|---|---|"
-    );
-    for m in &methods {
-        let _ = writeln!(out, "| {} | {} |", m.name, m.overall());
-    }
-    for f in floors(&walks) {
+        score("rotation vector as orientation (comparison)", walks, |_| {
+            Some(ReplayOptions {
+                rotation_vector: true,
+                mag: false,
+                ..base.clone()
+            })
+        })?,
+    ])
+}
+
+impl RealReport {
+    /// The report as markdown.
+    pub fn render(&self) -> String {
+        let mut out = String::new();
         let _ = writeln!(
             out,
-            "\nFloor {f}:\n\n| method | walks | ATE | start-pinned | end | distance |\n|---|---|---|---|---|---|"
+            "Real indoor walks ({} walks with waypoints under {}; no GNSS): one trajectory per walk from its first sample, compared at the waypoint times. Cells: walks | median ATE (best rotation + translation) | median start-pinned mean error | median end error (% of the waypoint polyline) | median distance error (median |distance error|).\n",
+            self.walks,
+            self.dir.display()
         );
-        for m in &methods {
-            let _ = writeln!(out, "| {} | {} |", m.name, m.floor(&f));
+        out.push_str(&method_table(&self.methods, MethodResult::overall_cells).render());
+        for f in &self.floors {
+            let _ = writeln!(out, "\nFloor {f}:\n");
+            out.push_str(&method_table(&self.methods, |m| m.floor_cells(f)).render());
         }
+        out.push_str(&self.calibrations());
+        out
     }
-    let _ = writeln!(
-        out,
-        "\nCalibrations (leave one floor out, learned on the other floors):\n"
-    );
-    for (f, why) in &no_lofo {
-        let _ = writeln!(
-            out,
-            "- without {f}: none ({why}); the calibrated leave-one-floor-out rows leave its walks out"
-        );
+
+    /// The leave-one-floor-out calibrations, one line per floor.
+    fn calibrations(&self) -> String {
+        let mut out =
+            String::from("\nCalibrations (leave one floor out, learned on the other floors):\n\n");
+        for (f, why) in &self.no_lofo {
+            let _ = writeln!(
+                out,
+                "- without {f}: none ({why}); the calibrated leave-one-floor-out rows leave its walks out"
+            );
+        }
+        for (f, c) in &self.lofo {
+            let _ = writeln!(
+                out,
+                "- without {f}: {:?} θ = [{:.4}, {:.5}, {:.4}], carrying {}",
+                c.step_length_model,
+                c.step_length_theta[0],
+                c.step_length_theta[1],
+                c.step_length_theta[2],
+                c.carrying_body
+                    .map_or("not fixed (estimates disagree)".into(), |v| format!(
+                        "[{:.3}, {:.3}, {:.3}]",
+                        v[0], v[1], v[2]
+                    ))
+            );
+        }
+        out
     }
-    for (f, c) in &lofo {
-        let _ = writeln!(
-            out,
-            "- without {f}: {:?} θ = [{:.4}, {:.5}, {:.4}], carrying {}",
-            c.step_length_model,
-            c.step_length_theta[0],
-            c.step_length_theta[1],
-            c.step_length_theta[2],
-            c.carrying_body
-                .map_or("not fixed (estimates disagree)".into(), |v| format!(
-                    "[{:.3}, {:.3}, {:.3}]",
-                    v[0], v[1], v[2]
-                ))
-        );
-    }
-    Ok(out)
 }
