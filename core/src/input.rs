@@ -513,15 +513,22 @@ pub fn time_after(
 ) -> Result<Option<f64>, InputError> {
     let dt = time_increasing(stream, t_s, last_t_s)?;
     if let (Some(dt), Some(last)) = (dt, last_t_s) {
-        if dt > limits::MAX_TIME_JUMP_S {
-            return Err(InputError::TimeJump {
-                stream,
-                t_s,
-                last_t_s: last,
-            });
-        }
+        refuse_jump(stream, t_s, last, dt)?;
     }
     Ok(dt)
+}
+
+/// A forward jump of more than [`limits::MAX_TIME_JUMP_S`] is refused.
+#[inline]
+fn refuse_jump(stream: Stream, t_s: f64, last_t_s: f64, dt: f64) -> Result<(), InputError> {
+    if dt > limits::MAX_TIME_JUMP_S {
+        return Err(InputError::TimeJump {
+            stream,
+            t_s,
+            last_t_s,
+        });
+    }
+    Ok(())
 }
 
 /// The time state of one input stream: the last accepted time, how many slow
@@ -620,7 +627,11 @@ impl TimeGuard {
                 });
             }
         }
-        time_after(stream, t_s, self.last_t_s)
+        // `time_increasing` passed above, so only the jump is left to check.
+        if let Some(last) = self.last_t_s {
+            refuse_jump(stream, t_s, last, dt)?;
+        }
+        Ok(Some(dt))
     }
 
     /// Record an accepted sample (after [`check`](Self::check) passed).
