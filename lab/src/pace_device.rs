@@ -17,7 +17,8 @@ use stridekit_core::{PaceCalibration, PaceConfig, PaceSample, PaceTracker};
 use stridekit_formats::Activity;
 use stridekit_sim::{Zone, ZoneKind};
 
-use crate::activity::{degraded, prepare};
+use crate::activity::{degraded, prepare, Prepared};
+use crate::table::Table;
 
 /// The watch's speed channel on a replay grid (NaN where no record within 1.5 s).
 fn device_speed(activity: &Activity, grid: &[f64]) -> Vec<f64> {
@@ -145,11 +146,50 @@ pub fn steps_only(samples: &[PaceSample], config: PaceConfig) -> (Vec<f64>, Vec<
     (grid, speed)
 }
 
-/// Pedometer-only pace, leave one run out, on the runs of one runner (file names
-/// starting with `prefix`): each run is replayed with its steps only, the calibration
-/// exported from every other run (replayed with GNSS) imported; RMSE against the
-/// device's speed channel and the GNSS-track reference, and the distance error.
-pub fn pedometer_only_table(dir: &Path, prefix: &str) -> Result<String, String> {
+/// Pedometer-only pace on one runner's real runs, leave one run out, rendered by
+/// [`PedometerOnlyReport::render`].
+#[derive(Clone, Debug)]
+pub struct PedometerOnlyReport {
+    /// The file-name prefix of the runner's runs.
+    prefix: String,
+    rows: Vec<PedometerRow>,
+}
+
+/// One held-out run: speed RMSE vs the device and vs the GNSS track, and distance
+/// error, %.
+#[derive(Clone, Debug)]
+struct PedometerRow {
+    name: String,
+    /// Calibrations of the other runs.
+    calibrations: usize,
+    /// The mean over those calibrations; `None` with no other run to calibrate from.
+    calibrated: Option<[f64; 3]>,
+    /// With the population prior only.
+    prior: [f64; 3],
+}
+
+/// One run with its GNSS session's calibration.
+struct CalibratedRun {
+    path: PathBuf,
+    activity: Activity,
+    prepared: Prepared,
+    calibration: Option<PaceCalibration>,
+}
+
+/// Pedometer-only pace on the runs `prefix*` in `dir`, each calibrated from the others.
+pub fn pedometer_only(dir: &Path, prefix: &str) -> Result<PedometerOnlyReport, String> {
+    let runs = runner_files(dir, prefix)?
+        .iter()
+        .map(|f| calibrated_run(f))
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok(PedometerOnlyReport {
+        prefix: prefix.to_string(),
+        rows: (0..runs.len()).map(|i| held_out_row(&runs, i)).collect(),
+    })
+}
+
+/// The files of `dir` whose names start with `prefix`, sorted.
+fn runner_files(dir: &Path, prefix: &str) -> Result<Vec<PathBuf>, String> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .map_err(|e| format!("cannot read {}: {e}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -159,94 +199,141 @@ pub fn pedometer_only_table(dir: &Path, prefix: &str) -> Result<String, String> 
         })
         .collect();
     files.sort();
-    let mut runs = Vec::new();
-    for f in &files {
-        let a = stridekit_formats::read_activity(f).map_err(|e| format!("{}: {e}", f.display()))?;
-        let p = prepare(&a);
-        // Session with GNSS: what the user's phone or watch would export.
-        let mut tr = PaceTracker::new(PaceConfig::default()).expect("valid");
-        for s in &p.samples {
-            let _ = tr.push(s);
-        }
-        runs.push((f.clone(), a, p, tr.calibration()));
+    Ok(files)
+}
+
+/// One run read and replayed with GNSS: what the user's phone or watch would export.
+fn calibrated_run(f: &Path) -> Result<CalibratedRun, String> {
+    let activity =
+        stridekit_formats::read_activity(f).map_err(|e| format!("{}: {e}", f.display()))?;
+    let prepared = prepare(&activity);
+    let mut tr = PaceTracker::new(PaceConfig::default()).expect("valid");
+    for s in &prepared.samples {
+        let _ = tr.push(s);
     }
-    let mut out = String::new();
-    let _ = writeln!(out, "Pedometer-only pace on the real runs of one runner ({} runs, {prefix}*): every fix removed (a treadmill, an indoor track, a watch without GNSS), cadence only. Calibration: exported by `PaceTracker::calibration()` after replaying each *other* run with GNSS, imported through `PaceConfig::calibration` (leave one run out; the cell is the mean over the other runs); or none (population prior 1.0 m at 168 steps/min). Speed RMSE in m/s against the watch's speed channel / the GNSS-track reference (±6 s), distance error against the GNSS-track reference integral.\n", runs.len());
-    let _ = writeln!(
-        out,
-        "| held-out run | calibrations (other runs) | calibrated: RMSE vs device / vs GNSS track, distance | prior only: RMSE vs device / vs GNSS track, distance |"
-    );
-    let _ = writeln!(out, "|---|---|---|---|");
-    let mut pooled = [[0.0f64; 3]; 2];
-    let mut n = [0usize; 2];
-    for (i, (path, act, p, _)) in runs.iter().enumerate() {
-        let cals: Vec<PaceCalibration> = runs
-            .iter()
-            .enumerate()
-            .filter(|&(j, _)| j != i)
-            .filter_map(|(_, r)| r.3)
-            .collect();
-        let score = |config: PaceConfig| {
-            let (grid, speed) = steps_only(&p.samples, config);
-            let dev = device_speed(act, &grid);
-            let reference = crate::pace::smoothed_track_speed(
-                &p.track,
-                &grid,
-                crate::pace_eval::REFERENCE_HALF_WINDOW_S,
-            );
-            let (mut de, mut dr) = (0.0, 0.0);
-            for k in 1..grid.len() {
-                if reference[k].is_finite() && reference[k - 1].is_finite() {
-                    de += 0.5 * (speed[k] + speed[k - 1]);
-                    dr += 0.5 * (reference[k] + reference[k - 1]);
-                }
-            }
-            [
-                rmse(&speed, &dev, |_| true),
-                rmse(&speed, &reference, |_| true),
-                100.0 * (de - dr) / dr,
-            ]
-        };
-        let mut cal = [0.0f64; 3];
-        for c in &cals {
-            let s = score(PaceConfig {
+    Ok(CalibratedRun {
+        path: f.to_path_buf(),
+        activity,
+        prepared,
+        calibration: tr.calibration(),
+    })
+}
+
+/// Run `i` held out: scored with each other run's calibration (mean) and with the prior.
+fn held_out_row(runs: &[CalibratedRun], i: usize) -> PedometerRow {
+    let run = &runs[i];
+    let cals: Vec<PaceCalibration> = runs
+        .iter()
+        .enumerate()
+        .filter(|&(j, _)| j != i)
+        .filter_map(|(_, r)| r.calibration)
+        .collect();
+    let mut cal = [0.0f64; 3];
+    for c in &cals {
+        let s = pedometer_score(
+            run,
+            PaceConfig {
                 calibration: Some(*c),
                 ..PaceConfig::default()
-            });
-            for (a, b) in cal.iter_mut().zip(s) {
-                *a += b / cals.len() as f64;
-            }
-        }
-        let prior = score(PaceConfig::default());
-        // A run with no other run to calibrate from (a folder of one run) has no
-        // calibrated cell and stays out of that pool.
-        let calibrated = !cals.is_empty();
-        for (k, v) in [cal, prior].iter().enumerate() {
-            if k == 0 && !calibrated {
-                continue;
-            }
-            pooled[k][0] += v[0] * v[0];
-            pooled[k][1] += v[1] * v[1];
-            pooled[k][2] += v[2].abs();
-            n[k] += 1;
-        }
-        let name = path.file_name().unwrap_or_default().to_string_lossy();
-        let cal_cell = if calibrated {
-            format!("{} / {} / {:+.1} %", fmt(cal[0]), fmt(cal[1]), cal[2])
-        } else {
-            "– (no other run to calibrate from)".to_string()
-        };
-        let _ = writeln!(
-            out,
-            "| {name} | {} | {cal_cell} | {} / {} / {:+.1} % |",
-            cals.len(),
-            fmt(prior[0]),
-            fmt(prior[1]),
-            prior[2]
+            },
         );
+        for (a, b) in cal.iter_mut().zip(s) {
+            *a += b / cals.len() as f64;
+        }
     }
-    if n[1] > 0 {
-        let c = |k: usize| {
+    PedometerRow {
+        name: run
+            .path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned(),
+        calibrations: cals.len(),
+        calibrated: (!cals.is_empty()).then_some(cal),
+        prior: pedometer_score(run, PaceConfig::default()),
+    }
+}
+
+/// Cadence-only pace of `run` under `config`: speed RMSE vs the device, vs the GNSS
+/// track reference, and the distance error against the reference integral, %.
+fn pedometer_score(run: &CalibratedRun, config: PaceConfig) -> [f64; 3] {
+    let p = &run.prepared;
+    let (grid, speed) = steps_only(&p.samples, config);
+    let dev = device_speed(&run.activity, &grid);
+    let reference = crate::pace::smoothed_track_speed(
+        &p.track,
+        &grid,
+        crate::pace_eval::REFERENCE_HALF_WINDOW_S,
+    );
+    let (mut de, mut dr) = (0.0, 0.0);
+    for k in 1..grid.len() {
+        if reference[k].is_finite() && reference[k - 1].is_finite() {
+            de += 0.5 * (speed[k] + speed[k - 1]);
+            dr += 0.5 * (reference[k] + reference[k - 1]);
+        }
+    }
+    [
+        rmse(&speed, &dev, |_| true),
+        rmse(&speed, &reference, |_| true),
+        100.0 * (de - dr) / dr,
+    ]
+}
+
+impl PedometerOnlyReport {
+    /// The text, then the table with its **pooled** row.
+    pub fn render(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(out, "Pedometer-only pace on the real runs of one runner ({} runs, {}*): every fix removed (a treadmill, an indoor track, a watch without GNSS), cadence only. Calibration: exported by `PaceTracker::calibration()` after replaying each *other* run with GNSS, imported through `PaceConfig::calibration` (leave one run out; the cell is the mean over the other runs); or none (population prior 1.0 m at 168 steps/min). Speed RMSE in m/s against the watch's speed channel / the GNSS-track reference (±6 s), distance error against the GNSS-track reference integral.\n", self.rows.len(), self.prefix);
+        out.push_str(&self.table().render());
+        out
+    }
+
+    fn table(&self) -> Table {
+        let mut t = Table::new([
+            "held-out run",
+            "calibrations (other runs)",
+            "calibrated: RMSE vs device / vs GNSS track, distance",
+            "prior only: RMSE vs device / vs GNSS track, distance",
+        ]);
+        for r in &self.rows {
+            let cal_cell = match r.calibrated {
+                Some(cal) => format!("{} / {} / {:+.1} %", fmt(cal[0]), fmt(cal[1]), cal[2]),
+                None => "– (no other run to calibrate from)".to_string(),
+            };
+            t.row([
+                r.name.clone(),
+                r.calibrations.to_string(),
+                cal_cell,
+                format!(
+                    "{} / {} / {:+.1} %",
+                    fmt(r.prior[0]),
+                    fmt(r.prior[1]),
+                    r.prior[2]
+                ),
+            ]);
+        }
+        if !self.rows.is_empty() {
+            let [c, p] = self.pooled();
+            t.row(["**pooled**".to_string(), String::new(), c, p]);
+        }
+        t
+    }
+
+    /// The pooled cells, calibrated and prior only: RMS of the RMSEs, mean |distance
+    /// error| (a run without a calibrated cell stays out of that pool).
+    fn pooled(&self) -> [String; 2] {
+        let mut pooled = [[0.0f64; 3]; 2];
+        let mut n = [0usize; 2];
+        for r in &self.rows {
+            for (k, v) in [r.calibrated, Some(r.prior)].iter().enumerate() {
+                let Some(v) = v else { continue };
+                pooled[k][0] += v[0] * v[0];
+                pooled[k][1] += v[1] * v[1];
+                pooled[k][2] += v[2].abs();
+                n[k] += 1;
+            }
+        }
+        [0, 1].map(|k| {
             if n[k] == 0 {
                 return "–".to_string();
             }
@@ -257,8 +344,6 @@ pub fn pedometer_only_table(dir: &Path, prefix: &str) -> Result<String, String> 
                 fmt((pooled[k][1] / m).sqrt()),
                 pooled[k][2] / m
             )
-        };
-        let _ = writeln!(out, "| **pooled** | | {} | {} |", c(0), c(1));
+        })
     }
-    Ok(out)
 }

@@ -132,8 +132,8 @@ pub struct RealRunsReport {
     pub skipped: Vec<String>,
     /// [`crate::pace_device::outage_table`] as it renders.
     pub outage_table: String,
-    /// [`crate::pace_device::pedometer_only_table`] as it renders.
-    pub pedometer_only_table: String,
+    /// Pedometer-only pace of one runner's runs.
+    pub pedometer_only: crate::pace_device::PedometerOnlyReport,
 }
 
 /// Every activity file in `dir` (fit/tcx/gpx) with GNSS and cadence, scored.
@@ -152,7 +152,7 @@ pub fn real_runs(dir: &Path, default: PaceConfig) -> Result<RealRunsReport, Stri
         runs,
         skipped,
         outage_table: crate::pace_device::outage_table(&files, default),
-        pedometer_only_table: crate::pace_device::pedometer_only_table(dir, "2020-12-")?,
+        pedometer_only: crate::pace_device::pedometer_only(dir, "2020-12-")?,
     })
 }
 
@@ -224,7 +224,7 @@ impl RealRunsReport {
             let _ = writeln!(out, "\nSkipped: {s}");
         }
         let _ = writeln!(out, "\n{}", self.outage_table);
-        let _ = writeln!(out, "{}", self.pedometer_only_table);
+        let _ = writeln!(out, "{}", self.pedometer_only.render());
         out
     }
 

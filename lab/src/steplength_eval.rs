@@ -8,6 +8,7 @@ use std::path::Path;
 use crate::steplength::{
     carried_outage, mixes, run_cases, scenario, tracker_outage, Case, CARRIED_WARM_UP_S, OUTAGE_S,
 };
+use crate::table::Table;
 use stridekit_core::geo::LocalFrame;
 use stridekit_core::stepdetect::StepEvent;
 use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
@@ -361,8 +362,37 @@ fn outage_distance(
     (d, est.calibration().fits)
 }
 
-/// The real-run table for the activity files in `dir`.
-pub fn real_table(dir: &Path) -> Result<String, String> {
+/// The real-run outage table, rendered by [`RealRunsReport::render`].
+pub struct RealRunsReport {
+    /// The folder of the activity files, as displayed.
+    dir: String,
+    rows: Vec<RealRow>,
+    /// Why each skipped file was skipped (its name first).
+    skipped: Vec<String>,
+}
+
+/// One real run's outage stretch.
+struct RealRow {
+    name: String,
+    run_min: f64,
+    /// The outage stretch, s.
+    start_s: f64,
+    end_s: f64,
+    steps: usize,
+    /// GNSS distance over the stretch (≥ 5 s chords, all-fix chords), m.
+    reference_m: f64,
+    all_chords_m: f64,
+    /// The device's own distance over the stretch (NaN when it has none), m.
+    device_m: f64,
+    /// Distance error of the constant and the frequency-only linear model, %.
+    constant_pct: f64,
+    linear_pct: f64,
+    /// Fits of the frequency-only linear model's calibration.
+    fits: u32,
+}
+
+/// The real-run outage of every activity file in `dir`.
+pub fn real_runs(dir: &Path) -> Result<RealRunsReport, String> {
     let files = crate::activity::activity_files(dir)?;
     // Records come every 1–3 s in these files and carry no accuracy: fixes up to
     // 5 s apart still locate steps.
@@ -370,99 +400,144 @@ pub fn real_table(dir: &Path) -> Result<String, String> {
         max_fix_gap_s: CLEAN_MAX_FIX_GAP_S,
         ..StepLengthConfig::default()
     };
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "Real runs ({}): GNSS + cadence only (no accelerometer), so only the constant and the frequency-only linear model apply; steps are synthesised from the cadence series. Each model calibrates on all GNSS before the first clean 5-minute stretch that starts ≥ {:.0} min into the run (clean: fixes ≤ {CLEAN_MAX_FIX_GAP_S:.0} s apart, cadence ≥ {CLEAN_MIN_CADENCE_SPM:.0} steps/min throughout); that stretch is then treated as an outage. Reference distance = sum of GNSS chords between fixes ≥ {CHORD_MIN_S:.0} s apart: fix-to-fix chords over 1–3 s are inflated by position noise (noise is a large share of a 3–9 m chord), while chords of ≥ 5 s (15–20 m running) are inflated by < ~1 % and still follow the road's bends. All-fix chords and the device's distance (its own fusion, sometimes a foot pod) are shown for context.\n",
-        dir.display(),
-        REAL_CALIBRATION_S / 60.0
-    );
-    let _ = writeln!(out, "| file | run min | stretch min | steps | reference m (≥ 5 s chords) | all-fix chords m | device m | constant | linear F only | fits (linear F) |");
-    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|---|");
-    let mut skipped = Vec::new();
-    let mut errs = [Vec::new(), Vec::new()];
+    let mut report = RealRunsReport {
+        dir: dir.display().to_string(),
+        rows: Vec::new(),
+        skipped: Vec::new(),
+    };
     for path in &files {
-        let run = match load(path) {
-            Ok(r) => r,
-            Err(e) => {
-                skipped.push(format!("{}: {e}", path.display()));
-                continue;
-            }
+        let row = match load(path) {
+            Ok(run) => real_row(&run, config),
+            Err(e) => Err(format!("{}: {e}", path.display())),
         };
-        if run.fixes.len() < 30 || run.cadence.len() < 30 {
-            skipped.push(format!(
-                "{}: {}",
-                run.name,
-                if run.fixes.len() < 30 {
-                    "no GNSS track"
-                } else {
-                    "no cadence"
-                }
-            ));
-            continue;
+        match row {
+            Ok(r) => report.rows.push(r),
+            Err(why) => report.skipped.push(why),
         }
-        let Some((s, e)) = clean_stretch(&run) else {
-            skipped.push(format!(
-                "{}: no clean 5-minute stretch after {:.0} min (run {:.0} min)",
-                run.name,
-                REAL_CALIBRATION_S / 60.0,
-                run.fixes.last().map(|f| f.0).unwrap_or(0.0) / 60.0
-            ));
-            continue;
-        };
-        let steps = synth_steps(&run.cadence);
-        let n_steps = steps.iter().filter(|x| x.t_s >= s && x.t_s < e).count();
-        let reference = chord_distance(&run.fixes, s, e, CHORD_MIN_S);
-        let all_chords = chord_distance(&run.fixes, s, e, 0.0);
-        let dev_at = |t: f64| {
-            run.device
-                .iter()
-                .find(|d| d.0 >= t)
-                .map(|d| d.1)
-                .unwrap_or(f64::NAN)
-        };
-        let device = dev_at(e) - dev_at(s);
-        let (dc, _) = outage_distance(StepLengthModel::Constant, config, &run, &steps, s, e);
-        let (dl, fits) = outage_distance(
-            StepLengthModel::LinearFrequencyOnly,
-            config,
-            &run,
-            &steps,
-            s,
-            e,
-        );
-        let ec = 100.0 * (dc - reference) / reference;
-        let el = 100.0 * (dl - reference) / reference;
-        errs[0].push(ec);
-        errs[1].push(el);
-        let _ = writeln!(
-            out,
-            "| {} | {:.0} | {:.1}–{:.1} | {n_steps} | {reference:.0} | {all_chords:.0} | {} | {} | {} | {fits} |",
+    }
+    Ok(report)
+}
+
+/// The outage row of `run`, or why it is skipped (no GNSS track, no cadence, no clean
+/// stretch).
+fn real_row(run: &RealRun, config: StepLengthConfig) -> Result<RealRow, String> {
+    if run.fixes.len() < 30 || run.cadence.len() < 30 {
+        return Err(format!(
+            "{}: {}",
             run.name,
-            run.fixes.last().map(|f| f.0).unwrap_or(0.0) / 60.0,
-            s / 60.0,
-            e / 60.0,
-            if device.is_finite() {
-                format!("{device:.0}")
+            if run.fixes.len() < 30 {
+                "no GNSS track"
             } else {
-                "—".into()
-            },
-            pct(ec),
-            pct(el),
-        );
+                "no cadence"
+            }
+        ));
     }
-    if !errs[0].is_empty() {
-        let (mc, xc, wc, nc) = mean_max(errs[0].iter().copied());
-        let (ml, xl, wl, nl) = mean_max(errs[1].iter().copied());
+    let run_s = run.fixes.last().map(|f| f.0).unwrap_or(0.0);
+    let Some((s, e)) = clean_stretch(run) else {
+        return Err(format!(
+            "{}: no clean 5-minute stretch after {:.0} min (run {:.0} min)",
+            run.name,
+            REAL_CALIBRATION_S / 60.0,
+            run_s / 60.0
+        ));
+    };
+    let steps = synth_steps(&run.cadence);
+    let reference_m = chord_distance(&run.fixes, s, e, CHORD_MIN_S);
+    let dev_at = |t: f64| {
+        run.device
+            .iter()
+            .find(|d| d.0 >= t)
+            .map(|d| d.1)
+            .unwrap_or(f64::NAN)
+    };
+    let (dc, _) = outage_distance(StepLengthModel::Constant, config, run, &steps, s, e);
+    let (dl, fits) = outage_distance(
+        StepLengthModel::LinearFrequencyOnly,
+        config,
+        run,
+        &steps,
+        s,
+        e,
+    );
+    Ok(RealRow {
+        name: run.name.clone(),
+        run_min: run_s / 60.0,
+        start_s: s,
+        end_s: e,
+        steps: steps.iter().filter(|x| x.t_s >= s && x.t_s < e).count(),
+        reference_m,
+        all_chords_m: chord_distance(&run.fixes, s, e, 0.0),
+        device_m: dev_at(e) - dev_at(s),
+        constant_pct: 100.0 * (dc - reference_m) / reference_m,
+        linear_pct: 100.0 * (dl - reference_m) / reference_m,
+        fits,
+    })
+}
+
+impl RealRunsReport {
+    /// The text, the table with its **all** row, then the skipped files.
+    pub fn render(&self) -> String {
+        let mut out = String::new();
         let _ = writeln!(
             out,
-            "| **all** | | | | | | | mean {mc:.2} %, worst {xc:.2} %, {wc}/{nc} within 3 % | mean {ml:.2} %, worst {xl:.2} %, {wl}/{nl} within 3 % | |"
+            "Real runs ({}): GNSS + cadence only (no accelerometer), so only the constant and the frequency-only linear model apply; steps are synthesised from the cadence series. Each model calibrates on all GNSS before the first clean 5-minute stretch that starts ≥ {:.0} min into the run (clean: fixes ≤ {CLEAN_MAX_FIX_GAP_S:.0} s apart, cadence ≥ {CLEAN_MIN_CADENCE_SPM:.0} steps/min throughout); that stretch is then treated as an outage. Reference distance = sum of GNSS chords between fixes ≥ {CHORD_MIN_S:.0} s apart: fix-to-fix chords over 1–3 s are inflated by position noise (noise is a large share of a 3–9 m chord), while chords of ≥ 5 s (15–20 m running) are inflated by < ~1 % and still follow the road's bends. All-fix chords and the device's distance (its own fusion, sometimes a foot pod) are shown for context.\n",
+            self.dir,
+            REAL_CALIBRATION_S / 60.0
         );
+        out.push_str(&self.table().render());
+        for s in &self.skipped {
+            let _ = writeln!(out, "\nSkipped: {s}");
+        }
+        out
     }
-    for s in skipped {
-        let _ = writeln!(out, "\nSkipped: {s}");
+
+    fn table(&self) -> Table {
+        let mut t = Table::new([
+            "file",
+            "run min",
+            "stretch min",
+            "steps",
+            "reference m (≥ 5 s chords)",
+            "all-fix chords m",
+            "device m",
+            "constant",
+            "linear F only",
+            "fits (linear F)",
+        ]);
+        for r in &self.rows {
+            t.row([
+                r.name.clone(),
+                format!("{:.0}", r.run_min),
+                format!("{:.1}–{:.1}", r.start_s / 60.0, r.end_s / 60.0),
+                r.steps.to_string(),
+                format!("{:.0}", r.reference_m),
+                format!("{:.0}", r.all_chords_m),
+                if r.device_m.is_finite() {
+                    format!("{:.0}", r.device_m)
+                } else {
+                    "—".into()
+                },
+                pct(r.constant_pct),
+                pct(r.linear_pct),
+                r.fits.to_string(),
+            ]);
+        }
+        if !self.rows.is_empty() {
+            let (mc, xc, wc, nc) = mean_max(self.rows.iter().map(|r| r.constant_pct));
+            let (ml, xl, wl, nl) = mean_max(self.rows.iter().map(|r| r.linear_pct));
+            let mut cells = vec![String::from("**all**")];
+            cells.extend(std::iter::repeat_n(String::new(), 6));
+            cells.push(format!(
+                "mean {mc:.2} %, worst {xc:.2} %, {wc}/{nc} within 3 %"
+            ));
+            cells.push(format!(
+                "mean {ml:.2} %, worst {xl:.2} %, {wl}/{nl} within 3 %"
+            ));
+            cells.push(String::new());
+            t.row(cells);
+        }
+        t
     }
-    Ok(out)
 }
 
 /// The whole report. `data_dir` is the folder of real activity files (default:
@@ -478,7 +553,7 @@ pub fn report(data_dir: Option<&Path>) -> Result<String, String> {
         .map(Path::to_path_buf)
         .or_else(|| stridekit_formats::data_dir().map(|d| d.join("pace/original")));
     match dir {
-        Some(d) if d.is_dir() => out.push_str(&real_table(&d)?),
+        Some(d) if d.is_dir() => out.push_str(&real_runs(&d)?.render()),
         _ => out.push_str(
             "Real runs: skipped (../shared/data/pace/original not found; pass a data folder or set STRIDEKIT_DATA)\n",
         ),

@@ -11,6 +11,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use crate::table::Table;
 use stridekit_core::stepdetect::{AccelSample, RobustStepParams, StepDetector, StepDetectorConfig};
 use stridekit_formats::{list_oxford_traces, read_oxford_trace, OxfordPosition, OxfordTrace};
 
@@ -315,7 +316,7 @@ use crate::stats::median;
 
 /// Summary of a set of scores: median |count error| %, worst |count error| %, median F1,
 /// mean F1.
-fn summary(s: &[Score]) -> (f64, f64, f64, f64) {
+fn summary(s: &[Score]) -> Summary {
     let abs: Vec<f64> = s.iter().map(|s| s.count_error_pct.abs()).collect();
     let worst = abs.iter().copied().fold(0.0, f64::max);
     let f1: Vec<f64> = s.iter().map(|s| s.f1).collect();
@@ -358,11 +359,58 @@ fn scores_of(config: StepDetectorConfig, traces: &[(OxfordTrace, Vec<AccelSample
         .collect()
 }
 
+/// A summary of scores: median |count error| %, worst |count error| %, median F1, mean F1.
+type Summary = (f64, f64, f64, f64);
+
+/// The sensitivity and leave-one-user-out checks of the default detector, rendered by
+/// [`RobustnessReport::render`].
+pub struct RobustnessReport {
+    /// Traces scored (all, native rate, alternation-checked reference).
+    traces: usize,
+    /// The default detector's summary.
+    defaults: Summary,
+    knobs: Vec<KnobRow>,
+    held_out: Vec<HeldOut>,
+}
+
+/// One parameter of the default detector scaled by 0.75 and 1.25.
+struct KnobRow {
+    name: &'static str,
+    default: f64,
+    /// The summary at ×0.75 and ×1.25; `None` when the scaled setting is invalid.
+    scaled: [Option<Summary>; 2],
+}
+
+/// One held-out user of the leave-one-user-out check.
+struct HeldOut {
+    user: String,
+    traces: usize,
+    /// The grid setting chosen on the other users and its held-out summary; `None`
+    /// when there is no other user to choose on.
+    chosen: Option<(RobustStepParams, Summary)>,
+    /// The fixed default's held-out summary.
+    fixed: Summary,
+}
+
 /// Sensitivity of the default detector to each parameter (×0.75, ×1.25), and a
 /// leave-one-user-out check: a grid search over three parameters picks the best setting
 /// on two users (lowest mean |count error|) and is scored on the third, next to the
 /// fixed default.
-pub fn robustness(dir: &Path) -> Result<String, String> {
+pub fn robustness(dir: &Path) -> Result<RobustnessReport, String> {
+    let traces = checked_traces(dir)?;
+    let base = StepDetectorConfig::default();
+    let fixed = scores_of(base, &traces);
+    Ok(RobustnessReport {
+        traces: traces.len(),
+        defaults: summary(&fixed),
+        knobs: sensitivity(base, &traces),
+        held_out: leave_one_user_out(base, &traces, &fixed),
+    })
+}
+
+/// Every trace under `dir` at its native rate, its reference replaced by the
+/// alternation-checked one.
+fn checked_traces(dir: &Path) -> Result<Vec<(OxfordTrace, Vec<AccelSample>)>, String> {
     let paths = list_oxford_traces(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut traces = Vec::new();
     for p in &paths {
@@ -371,115 +419,185 @@ pub fn robustness(dir: &Path) -> Result<String, String> {
         t.heel_strikes_t_s = alternation_checked(&strikes_by_foot(p)?).0;
         traces.push((t, s));
     }
-    let base = StepDetectorConfig::default();
-    let mut out = String::new();
-    let _ = writeln!(out, "Sensitivity of the default detector (native rate, all {} traces, alternation-checked reference): each parameter scaled by 0.75 and 1.25, the others at their defaults.\n", traces.len());
-    let _ = writeln!(
-        out,
-        "| parameter | default | ×0.75: med / worst / med F1 | ×1.25: med / worst / med F1 |"
-    );
-    let _ = writeln!(out, "|---|---|---|---|");
-    let b = summary(&scores_of(base, &traces));
-    let _ = writeln!(
-        out,
-        "| (defaults) | | {:.2} % / {:.2} % / {:.3} | |",
-        b.0, b.1, b.2
-    );
-    let pb = crate::progress::bar(KNOBS.len(), "eval steps: sensitivity");
-    for (name, get) in KNOBS {
-        pb.inc(1);
-        let mut cells = Vec::new();
-        for f in [0.75, 1.25] {
-            let mut c = base;
-            *get(&mut c.robust) *= f;
-            let cell = match StepDetector::new(c) {
-                Ok(_) => {
-                    let s = summary(&scores_of(c, &traces));
-                    format!("{:.2} % / {:.2} % / {:.3}", s.0, s.1, s.2)
-                }
-                Err(_) => "invalid".into(),
-            };
-            cells.push(cell);
-        }
-        let mut c = base;
-        let _ = writeln!(
-            out,
-            "| {name} | {} | {} | {} |",
-            *get(&mut c.robust),
-            cells[0],
-            cells[1]
-        );
-    }
+    Ok(traces)
+}
 
-    // Leave one user out.
-    let grid: Vec<StepDetectorConfig> = {
-        let mut g = Vec::new();
-        for ra in [0.35, 0.45, 0.55] {
-            for mp in [0.3, 0.4, 0.5] {
-                for hr in [0.4, 0.5, 0.6] {
-                    for rg in [0.2, 0.3] {
-                        for rf in [0.6, 0.65, 0.7] {
-                            let mut c = base;
-                            c.robust.relative_amplitude = ra;
-                            c.robust.min_periodicity = mp;
-                            c.robust.hysteresis_rel = hr;
-                            c.robust.regularity = rg;
-                            c.robust.refractory = rf;
-                            g.push(c);
-                        }
+/// Each knob of `base` scaled by 0.75 and 1.25, the others at their defaults.
+fn sensitivity(
+    base: StepDetectorConfig,
+    traces: &[(OxfordTrace, Vec<AccelSample>)],
+) -> Vec<KnobRow> {
+    let pb = crate::progress::bar(KNOBS.len(), "eval steps: sensitivity");
+    KNOBS
+        .iter()
+        .map(|&(name, get)| {
+            pb.inc(1);
+            let scaled = [0.75, 1.25].map(|f| {
+                let mut c = base;
+                *get(&mut c.robust) *= f;
+                StepDetector::new(c)
+                    .ok()
+                    .map(|_| summary(&scores_of(c, traces)))
+            });
+            let mut c = base;
+            KnobRow {
+                name,
+                default: *get(&mut c.robust),
+                scaled,
+            }
+        })
+        .collect()
+}
+
+/// The settings the leave-one-user-out check chooses among: `base` with relative
+/// amplitude, periodicity, hysteresis, regularity and refractory varied.
+fn grid(base: StepDetectorConfig) -> Vec<StepDetectorConfig> {
+    let mut g = Vec::new();
+    for ra in [0.35, 0.45, 0.55] {
+        for mp in [0.3, 0.4, 0.5] {
+            for hr in [0.4, 0.5, 0.6] {
+                for rg in [0.2, 0.3] {
+                    for rf in [0.6, 0.65, 0.7] {
+                        let mut c = base;
+                        c.robust.relative_amplitude = ra;
+                        c.robust.min_periodicity = mp;
+                        c.robust.hysteresis_rel = hr;
+                        c.robust.regularity = rg;
+                        c.robust.refractory = rf;
+                        g.push(c);
                     }
                 }
             }
         }
-        g
-    };
-    let all: Vec<Vec<Score>> = grid.iter().map(|c| scores_of(*c, &traces)).collect();
-    let fixed = scores_of(base, &traces);
-    let _ = writeln!(out, "\nLeave one user out (alternation-checked reference): grid over relative_amplitude ∈ {{0.35, 0.45, 0.55}} × min_periodicity ∈ {{0.3, 0.4, 0.5}} × hysteresis_rel ∈ {{0.4, 0.5, 0.6}} × regularity ∈ {{0.2, 0.3}} × refractory ∈ {{0.6, 0.65, 0.7}}; the setting with the lowest mean |count error| on the two other users is scored on the held-out user.\n");
-    let _ = writeln!(out, "| held-out user | traces | setting chosen on the others (rel. amp., periodicity, hysteresis, regularity, refractory) | held out, chosen: med / worst / med F1 | held out, fixed default: med / worst / med F1 |");
-    let _ = writeln!(out, "|---|---|---|---|---|");
-    for user in users_of(traces.iter().map(|t| &t.0)) {
-        let held: Vec<usize> = (0..traces.len())
-            .filter(|&i| traces[i].0.user == user)
-            .collect();
-        let train: Vec<usize> = (0..traces.len())
-            .filter(|&i| traces[i].0.user != user)
-            .collect();
-        if train.is_empty() {
-            let f = summary(&held.iter().map(|&i| fixed[i]).collect::<Vec<_>>());
-            let _ = writeln!(
-                out,
-                "| {user} | {} | – (no other user to choose on) | – | {:.2} % / {:.2} % / {:.3} |",
-                held.len(),
-                f.0,
-                f.1,
-                f.2
-            );
-            continue;
-        }
-        let mean_abs = |g: &Vec<Score>, idx: &[usize]| {
-            idx.iter().map(|&i| g[i].count_error_pct.abs()).sum::<f64>() / idx.len() as f64
+    }
+    g
+}
+
+/// Each user held out in turn: the grid setting with the lowest mean |count error| on
+/// the others, scored on this user next to the fixed default (`fixed`: its scores).
+fn leave_one_user_out(
+    base: StepDetectorConfig,
+    traces: &[(OxfordTrace, Vec<AccelSample>)],
+    fixed: &[Score],
+) -> Vec<HeldOut> {
+    let grid = grid(base);
+    let all: Vec<Vec<Score>> = grid.iter().map(|c| scores_of(*c, traces)).collect();
+    users_of(traces.iter().map(|t| &t.0))
+        .into_iter()
+        .map(|user| held_out(user, traces, &grid, &all, fixed))
+        .collect()
+}
+
+/// `user` held out: the best of `grid` (scores `all`) on the other users, scored on
+/// this user's traces.
+fn held_out(
+    user: String,
+    traces: &[(OxfordTrace, Vec<AccelSample>)],
+    grid: &[StepDetectorConfig],
+    all: &[Vec<Score>],
+    fixed: &[Score],
+) -> HeldOut {
+    let (held, train): (Vec<usize>, Vec<usize>) =
+        (0..traces.len()).partition(|&i| traces[i].0.user == user);
+    let pick = |g: &[Score]| held.iter().map(|&i| g[i]).collect::<Vec<_>>();
+    let chosen = (!train.is_empty()).then(|| {
+        let mean_abs = |g: &[Score]| {
+            train
+                .iter()
+                .map(|&i| g[i].count_error_pct.abs())
+                .sum::<f64>()
+                / train.len() as f64
         };
         let best = (0..grid.len())
-            .min_by(|&a, &b| mean_abs(&all[a], &train).total_cmp(&mean_abs(&all[b], &train)))
+            .min_by(|&a, &b| mean_abs(&all[a]).total_cmp(&mean_abs(&all[b])))
             .unwrap_or(0);
-        let pick = |g: &Vec<Score>| held.iter().map(|&i| g[i]).collect::<Vec<_>>();
-        let (c, f) = (summary(&pick(&all[best])), summary(&pick(&fixed)));
-        let r = grid[best].robust;
-        let _ =
-            writeln!(
-            out,
-            "| {user} | {} | {}, {}, {}, {}, {} | {:.2} % / {:.2} % / {:.3} | {:.2} % / {:.2} % / {:.3} |",
-            held.len(),
-            r.relative_amplitude,
-            r.min_periodicity,
-            r.hysteresis_rel,
-            r.regularity,
-            r.refractory,
-            c.0, c.1, c.2, f.0, f.1, f.2
-        );
+        (grid[best].robust, summary(&pick(&all[best])))
+    });
+    HeldOut {
+        user,
+        traces: held.len(),
+        chosen,
+        fixed: summary(&pick(fixed)),
     }
-    Ok(out)
+}
+
+/// `med % / worst % / med F1`.
+fn three(s: Summary) -> String {
+    format!("{:.2} % / {:.2} % / {:.3}", s.0, s.1, s.2)
+}
+
+/// `med % / worst % / med F1 / mean F1`.
+fn four(s: Summary) -> String {
+    format!("{:.2} % / {:.2} % / {:.3} / {:.3}", s.0, s.1, s.2, s.3)
+}
+
+impl RobustnessReport {
+    /// The two checks as markdown: text, then a table each.
+    pub fn render(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(out, "Sensitivity of the default detector (native rate, all {} traces, alternation-checked reference): each parameter scaled by 0.75 and 1.25, the others at their defaults.\n", self.traces);
+        out.push_str(&self.sensitivity_table().render());
+        let _ = writeln!(out, "\nLeave one user out (alternation-checked reference): grid over relative_amplitude ∈ {{0.35, 0.45, 0.55}} × min_periodicity ∈ {{0.3, 0.4, 0.5}} × hysteresis_rel ∈ {{0.4, 0.5, 0.6}} × regularity ∈ {{0.2, 0.3}} × refractory ∈ {{0.6, 0.65, 0.7}}; the setting with the lowest mean |count error| on the two other users is scored on the held-out user.\n");
+        out.push_str(&self.held_out_table().render());
+        out
+    }
+
+    fn sensitivity_table(&self) -> Table {
+        let mut t = Table::new([
+            "parameter",
+            "default",
+            "×0.75: med / worst / med F1",
+            "×1.25: med / worst / med F1",
+        ]);
+        t.row([
+            "(defaults)".to_string(),
+            String::new(),
+            three(self.defaults),
+            String::new(),
+        ]);
+        for k in &self.knobs {
+            let [a, b] = k.scaled.map(|s| s.map_or_else(|| "invalid".into(), three));
+            t.row([k.name.to_string(), k.default.to_string(), a, b]);
+        }
+        t
+    }
+
+    fn held_out_table(&self) -> Table {
+        let mut t = Table::new([
+            "held-out user",
+            "traces",
+            "setting chosen on the others (rel. amp., periodicity, hysteresis, regularity, refractory)",
+            "held out, chosen: med / worst / med F1",
+            "held out, fixed default: med / worst / med F1",
+        ]);
+        for h in &self.held_out {
+            let (setting, chosen) = match h.chosen {
+                None => (
+                    "– (no other user to choose on)".to_string(),
+                    "–".to_string(),
+                ),
+                Some((r, c)) => (
+                    format!(
+                        "{}, {}, {}, {}, {}",
+                        r.relative_amplitude,
+                        r.min_periodicity,
+                        r.hysteresis_rel,
+                        r.regularity,
+                        r.refractory
+                    ),
+                    three(c),
+                ),
+            };
+            t.row([
+                h.user.clone(),
+                h.traces.to_string(),
+                setting,
+                chosen,
+                three(h.fixed),
+            ]);
+        }
+        t
+    }
 }
 
 /// The users of `traces` in order of first appearance (the traces are sorted by
@@ -494,8 +612,16 @@ fn users_of<'a>(traces: impl Iterator<Item = &'a OxfordTrace>) -> Vec<String> {
     users
 }
 
-/// The full evaluation as markdown.
-pub fn run(dir: &Path) -> Result<String, String> {
+/// Every trace scored by both detectors on every variant, rendered by
+/// [`StepsReport::render`].
+pub struct StepsReport {
+    /// The folder of the traces, as displayed.
+    dir: String,
+    rows: Vec<Row>,
+}
+
+/// The full evaluation: the AsPublished and default detectors on every trace.
+pub fn run(dir: &Path) -> Result<StepsReport, String> {
     let paths = list_oxford_traces(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     if paths.is_empty() {
         return Err(format!("no Oxford traces in {}", dir.display()));
@@ -508,110 +634,151 @@ pub fn run(dir: &Path) -> Result<String, String> {
     let pb = crate::progress::bar(paths.len(), "eval steps: traces");
     for p in &paths {
         pb.inc(1);
-        let trace = read_oxford_trace(p).map_err(|e| format!("{}: {e}", p.display()))?;
-        let mut scores = [[None; 2]; NV];
-        let mut checked = [[None; 2]; NV];
-        let (clean_ref, dropped, inserted) = alternation_checked(&strikes_by_foot(p)?);
-        for (vi, v) in Variant::ALL.iter().enumerate() {
-            let s = samples(&trace, *v);
-            for (ci, c) in configs.iter().enumerate() {
-                let det = detect(*c, &s);
-                scores[vi][ci] = Some(score(&det, &trace.heel_strikes_t_s));
-                checked[vi][ci] = Some(score(&det, &clean_ref));
-            }
-        }
-        let checked = checked.map(|v| v.map(|s| s.expect("scored")));
-        let scores = scores.map(|v| v.map(|s| s.expect("scored")));
-        let rate_hz = trace.rate_hz();
-        let mut trace = trace;
-        trace.accel = Vec::new();
-        rows.push(Row {
-            trace,
-            rate_hz,
-            scores,
-            checked,
-            fixes: (dropped, inserted),
-        });
+        rows.push(score_trace(p, &configs)?);
     }
+    Ok(StepsReport {
+        dir: dir.display().to_string(),
+        rows,
+    })
+}
 
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "Oxford Step Counter traces ({}, {} traces; Salvi et al. 2018, CC BY 4.0). Reference: heel strikes of the shoe-worn sensor. Count error = (detected − reference) / reference; F1: detected step within ±{MATCH_TOLERANCE_S} s of a reference heel strike, one-to-one. One configuration for all traces.\n",
-        dir.display(),
-        rows.len()
-    );
-    let _ = writeln!(out, "Per trace, native rate:\n");
-    let _ = writeln!(out, "| trace | Hz | reference | AsPublished steps | AsPublished error | AsPublished F1 | default steps | default error | default F1 | default lag s | default error @100 Hz / @50 Hz / jittered / 50 Hz jittered / bursts / @25 Hz | alternation check: reference strikes dropped / inserted | default vs checked reference: error / F1 |");
-    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|");
-    for r in &rows {
-        let [p, d] = r.scores[0];
-        let db = r.checked[0][1];
-        let others: Vec<String> = (1..NV)
-            .map(|v| format!("{:+.1} %", r.scores[v][1].count_error_pct))
-            .collect();
+/// One trace scored by `configs` on every variant, against the recorded and the
+/// alternation-checked reference (the samples are dropped after).
+fn score_trace(p: &Path, configs: &[StepDetectorConfig; 2]) -> Result<Row, String> {
+    let mut trace = read_oxford_trace(p).map_err(|e| format!("{}: {e}", p.display()))?;
+    let (clean_ref, dropped, inserted) = alternation_checked(&strikes_by_foot(p)?);
+    let mut scores = [[None; 2]; NV];
+    let mut checked = [[None; 2]; NV];
+    for (vi, v) in Variant::ALL.iter().enumerate() {
+        let s = samples(&trace, *v);
+        for (ci, c) in configs.iter().enumerate() {
+            let det = detect(*c, &s);
+            scores[vi][ci] = Some(score(&det, &trace.heel_strikes_t_s));
+            checked[vi][ci] = Some(score(&det, &clean_ref));
+        }
+    }
+    let rate_hz = trace.rate_hz();
+    trace.accel = Vec::new();
+    Ok(Row {
+        trace,
+        rate_hz,
+        scores: scores.map(|v| v.map(|s| s.expect("scored"))),
+        checked: checked.map(|v| v.map(|s| s.expect("scored"))),
+        fixes: (dropped, inserted),
+    })
+}
+
+impl StepsReport {
+    /// The evaluation as markdown: the per-trace table, then the summaries against the
+    /// recorded and the alternation-checked reference.
+    pub fn render(&self) -> String {
+        let mut out = String::new();
         let _ = writeln!(
             out,
-            "| {} | {:.0} | {} | {} | {:+.1} % | {:.3} | {} | {:+.1} % | {:.3} | {:+.3} | {} | {} / {} | {:+.1} % / {:.3} |",
-            r.trace.name,
-            r.rate_hz,
-            p.reference,
-            p.detected,
-            p.count_error_pct,
-            p.f1,
-            d.detected,
-            d.count_error_pct,
-            d.f1,
-            d.lag_s,
-            others.join(" / "),
-            r.fixes.0,
-            r.fixes.1,
-            db.count_error_pct,
-            db.f1,
+            "Oxford Step Counter traces ({}, {} traces; Salvi et al. 2018, CC BY 4.0). Reference: heel strikes of the shoe-worn sensor. Count error = (detected − reference) / reference; F1: detected step within ±{MATCH_TOLERANCE_S} s of a reference heel strike, one-to-one. One configuration for all traces.\n",
+            self.dir,
+            self.rows.len()
         );
+        let _ = writeln!(out, "Per trace, native rate:\n");
+        out.push_str(&self.per_trace_table().render());
+        let [recorded, checked] = self.summary_tables();
+        let _ = writeln!(
+            out,
+            "\nSummary (median |count error|, worst |count error|, median F1, mean F1):\n"
+        );
+        out.push_str(&recorded.render());
+        let _ = writeln!(out, "\nAgainst the alternation-checked reference (walking alternates feet: a strike of the same foot as the previous one within 1.5 median step intervals is contact chatter and dropped; one a stride later means the other foot's strike was not registered and one is inserted; the per-trace table gives the counts):\n\n{}", checked.render());
+        out
     }
-    let _ = writeln!(
-        out,
-        "\nSummary (median |count error|, worst |count error|, median F1, mean F1):\n"
-    );
-    let header = "| group | traces | AsPublished: med / worst / med F1 / mean F1 | default: med / worst / med F1 / mean F1 |\n|---|---|---|---|";
-    let _ = writeln!(out, "{header}");
-    let mut out_checked = format!("{header}\n");
-    let mut line = |name: String, sel: &dyn Fn(&Row) -> bool, vi: usize| {
-        line_of(&mut out, &rows, &name, sel, &|r: &Row| r.scores[vi]);
-        line_of(&mut out_checked, &rows, &name, sel, &|r: &Row| {
-            r.checked[vi]
-        });
-    };
-    for (vi, v) in Variant::ALL.iter().enumerate() {
-        line(format!("**all, {}**", v.name()), &|_| true, vi);
-    }
-    for pos in OxfordPosition::ALL
-        .into_iter()
-        .chain([OxfordPosition::Other])
-    {
-        line(format!("{pos}"), &|r: &Row| r.trace.position == pos, 0);
-    }
-    let users = users_of(rows.iter().map(|r| &r.trace));
-    for user in &users {
-        line(format!("user {user}"), &|r: &Row| &r.trace.user == user, 0);
-    }
-    for (vi, v) in Variant::ALL.iter().enumerate().skip(1) {
-        for user in &users {
-            line(
-                format!("user {user}, {}", v.name()),
-                &|r: &Row| &r.trace.user == user,
-                vi,
-            );
+
+    fn per_trace_table(&self) -> Table {
+        let mut t = Table::new([
+            "trace",
+            "Hz",
+            "reference",
+            "AsPublished steps",
+            "AsPublished error",
+            "AsPublished F1",
+            "default steps",
+            "default error",
+            "default F1",
+            "default lag s",
+            "default error @100 Hz / @50 Hz / jittered / 50 Hz jittered / bursts / @25 Hz",
+            "alternation check: reference strikes dropped / inserted",
+            "default vs checked reference: error / F1",
+        ]);
+        for r in &self.rows {
+            let [p, d] = r.scores[0];
+            let db = r.checked[0][1];
+            let others: Vec<String> = (1..NV)
+                .map(|v| format!("{:+.1} %", r.scores[v][1].count_error_pct))
+                .collect();
+            t.row([
+                r.trace.name.clone(),
+                format!("{:.0}", r.rate_hz),
+                p.reference.to_string(),
+                p.detected.to_string(),
+                format!("{:+.1} %", p.count_error_pct),
+                format!("{:.3}", p.f1),
+                d.detected.to_string(),
+                format!("{:+.1} %", d.count_error_pct),
+                format!("{:.3}", d.f1),
+                format!("{:+.3}", d.lag_s),
+                others.join(" / "),
+                format!("{} / {}", r.fixes.0, r.fixes.1),
+                format!("{:+.1} % / {:.3}", db.count_error_pct, db.f1),
+            ]);
         }
+        t
     }
-    let _ = writeln!(out, "\nAgainst the alternation-checked reference (walking alternates feet: a strike of the same foot as the previous one within 1.5 median step intervals is contact chatter and dropped; one a stride later means the other foot's strike was not registered and one is inserted; the per-trace table gives the counts):\n\n{out_checked}");
-    Ok(out)
+
+    /// The summary tables against the recorded and the alternation-checked reference:
+    /// every variant, each position and user at the native rate, each user per variant.
+    fn summary_tables(&self) -> [Table; 2] {
+        let header = [
+            "group",
+            "traces",
+            "AsPublished: med / worst / med F1 / mean F1",
+            "default: med / worst / med F1 / mean F1",
+        ];
+        let mut tables = [Table::new(header), Table::new(header)];
+        let mut line = |name: String, sel: &dyn Fn(&Row) -> bool, vi: usize| {
+            line_of(&mut tables[0], &self.rows, &name, sel, &|r: &Row| {
+                r.scores[vi]
+            });
+            line_of(&mut tables[1], &self.rows, &name, sel, &|r: &Row| {
+                r.checked[vi]
+            });
+        };
+        for (vi, v) in Variant::ALL.iter().enumerate() {
+            line(format!("**all, {}**", v.name()), &|_| true, vi);
+        }
+        for pos in OxfordPosition::ALL
+            .into_iter()
+            .chain([OxfordPosition::Other])
+        {
+            line(format!("{pos}"), &|r: &Row| r.trace.position == pos, 0);
+        }
+        let users = users_of(self.rows.iter().map(|r| &r.trace));
+        for user in &users {
+            line(format!("user {user}"), &|r: &Row| &r.trace.user == user, 0);
+        }
+        for (vi, v) in Variant::ALL.iter().enumerate().skip(1) {
+            for user in &users {
+                line(
+                    format!("user {user}, {}", v.name()),
+                    &|r: &Row| &r.trace.user == user,
+                    vi,
+                );
+            }
+        }
+        tables
+    }
 }
 
 /// One summary row: the scores `pick` selects of the rows `sel` accepts.
 fn line_of(
-    out: &mut String,
+    table: &mut Table,
     rows: &[Row],
     name: &str,
     sel: &dyn Fn(&Row) -> bool,
@@ -628,14 +795,12 @@ fn line_of(
     if d.is_empty() {
         return;
     }
-    let (a, b) = (summary(&p), summary(&d));
-    let _ =
-        writeln!(
-        out,
-        "| {name} | {} | {:.2} % / {:.2} % / {:.3} / {:.3} | {:.2} % / {:.2} % / {:.3} / {:.3} |",
-        d.len(),
-        a.0, a.1, a.2, a.3, b.0, b.1, b.2, b.3
-    );
+    table.row([
+        name.to_string(),
+        d.len().to_string(),
+        four(summary(&p)),
+        four(summary(&d)),
+    ]);
 }
 
 #[cfg(test)]

@@ -232,10 +232,10 @@ pub fn run(e: Eval) -> Result<(), Failure> {
         }
         Eval::Steps { data, sensitivity } => {
             let d = data_dir(data, "steps/oxford", "Oxford traces")?;
-            let mut t = stridekit_lab::steps_eval::run(&d)?;
+            let mut t = stridekit_lab::steps_eval::run(&d)?.render();
             if sensitivity {
                 t.push('\n');
-                t += &stridekit_lab::steps_eval::robustness(&d)?;
+                t += &stridekit_lab::steps_eval::robustness(&d)?.render();
             }
             t
         }

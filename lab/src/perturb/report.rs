@@ -131,10 +131,30 @@ fn delta(x: f64, decimals: usize) -> String {
     }
 }
 
-/// The report as markdown.
+/// The report as markdown: the title and notes, the summary per perturbation, the
+/// worst cases, and one per-recording table per kind.
 pub fn render(r: &Report) -> String {
-    let d = r.decimals;
-    let agg = r.aggregate;
+    let mut out = intro(r);
+    let _ = writeln!(out, "Summary:\n");
+    out.push_str(&summary_table(r));
+    let _ = writeln!(
+        out,
+        "\nThe worst {:.0} % of the {} (recording, perturbation) cases by Δ (the failure modes):\n",
+        WORST_SHARE * 100.0,
+        r.cases.len() * r.recordings.len()
+    );
+    out.push_str(&worst_table(r));
+    let mut kinds: Vec<&'static str> = r.cases.iter().map(|c| c.perturbation.kind()).collect();
+    kinds.dedup();
+    for kind in kinds {
+        let _ = writeln!(out, "\nPer recording, {kind}: error (Δ)\n");
+        out.push_str(&kind_table(r, kind));
+    }
+    out
+}
+
+/// What the sweep is, then its notes (and a blank line after them).
+fn intro(r: &Report) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -143,7 +163,7 @@ pub fn render(r: &Report) -> String {
         r.recordings.len(),
         r.cases.len(),
         r.metric,
-        agg.name(),
+        r.aggregate.name(),
     );
     for n in &r.notes {
         let _ = writeln!(out, "{n}");
@@ -151,7 +171,12 @@ pub fn render(r: &Report) -> String {
     if !r.notes.is_empty() {
         out.push('\n');
     }
-    let _ = writeln!(out, "Summary:\n");
+    out
+}
+
+/// The summary: the unperturbed row, then one row per perturbation.
+fn summary_table(r: &Report) -> String {
+    let (d, agg) = (r.decimals, r.aggregate);
     let header: Vec<String> = [
         "perturbation".to_string(),
         "level".into(),
@@ -162,7 +187,6 @@ pub fn render(r: &Report) -> String {
         "refused samples".into(),
     ]
     .to_vec();
-    let base_agg = agg.of(&r.baseline);
     let worst_base = r
         .baseline
         .iter()
@@ -172,7 +196,7 @@ pub fn render(r: &Report) -> String {
     let mut rows = vec![vec![
         "none (as recorded)".to_string(),
         String::new(),
-        cell(base_agg, d),
+        cell(agg.of(&r.baseline), d),
         String::new(),
         worst_base.map_or("–".into(), |(i, e)| {
             format!("{} {}", r.recordings[i], cell(*e, d))
@@ -180,50 +204,53 @@ pub fn render(r: &Report) -> String {
         String::new(),
         String::new(),
     ]];
-    for c in &r.cases {
-        let deltas: Vec<f64> = c
-            .errors
-            .iter()
-            .zip(&r.baseline)
-            .map(|(e, b)| e - b)
-            .collect();
-        let worst = c.errors.iter().enumerate().max_by(|a, b| {
-            let key = |x: &f64| if x.is_finite() { *x } else { f64::INFINITY };
-            key(a.1).total_cmp(&key(b.1))
-        });
-        let worst_delta = deltas
-            .iter()
-            .map(|x| if x.is_finite() { *x } else { f64::INFINITY })
-            .fold(f64::NEG_INFINITY, f64::max);
-        rows.push(vec![
-            c.perturbation.kind().to_string(),
-            c.perturbation.level(),
-            cell(agg.of(&c.errors), d),
-            delta(agg.of(&deltas), d),
-            worst.map_or("–".into(), |(i, e)| {
-                format!("{} {}", r.recordings[i], cell(*e, d))
-            }),
-            if worst_delta == f64::INFINITY {
-                "no output".into()
-            } else {
-                delta(worst_delta, d)
-            },
-            c.refused.to_string(),
-        ]);
-    }
-    out.push_str(&table(&header, &rows));
+    rows.extend(r.cases.iter().map(|c| summary_row(r, c)));
+    table(&header, &rows)
+}
 
-    let worst = r.worst();
-    let _ = writeln!(
-        out,
-        "\nThe worst {:.0} % of the {} (recording, perturbation) cases by Δ (the failure modes):\n",
-        WORST_SHARE * 100.0,
-        r.cases.len() * r.recordings.len()
-    );
+/// One perturbation's summary row: its error and Δ over the recordings, its worst
+/// recording and worst Δ ("no output" when the engine produced nothing), refusals.
+fn summary_row(r: &Report, c: &Case) -> Vec<String> {
+    let (d, agg) = (r.decimals, r.aggregate);
+    let deltas: Vec<f64> = c
+        .errors
+        .iter()
+        .zip(&r.baseline)
+        .map(|(e, b)| e - b)
+        .collect();
+    let worst = c.errors.iter().enumerate().max_by(|a, b| {
+        let key = |x: &f64| if x.is_finite() { *x } else { f64::INFINITY };
+        key(a.1).total_cmp(&key(b.1))
+    });
+    let worst_delta = deltas
+        .iter()
+        .map(|x| if x.is_finite() { *x } else { f64::INFINITY })
+        .fold(f64::NEG_INFINITY, f64::max);
+    vec![
+        c.perturbation.kind().to_string(),
+        c.perturbation.level(),
+        cell(agg.of(&c.errors), d),
+        delta(agg.of(&deltas), d),
+        worst.map_or("–".into(), |(i, e)| {
+            format!("{} {}", r.recordings[i], cell(*e, d))
+        }),
+        if worst_delta == f64::INFINITY {
+            "no output".into()
+        } else {
+            delta(worst_delta, d)
+        },
+        c.refused.to_string(),
+    ]
+}
+
+/// The worst [`WORST_SHARE`] of the cases ([`Report::worst`]).
+fn worst_table(r: &Report) -> String {
+    let d = r.decimals;
     let header: Vec<String> = ["recording", "perturbation", "unperturbed", "perturbed", "Δ"]
         .map(String::from)
         .to_vec();
-    let rows: Vec<Vec<String>> = worst
+    let rows: Vec<Vec<String>> = r
+        .worst()
         .iter()
         .map(|w| {
             vec![
@@ -235,36 +262,33 @@ pub fn render(r: &Report) -> String {
             ]
         })
         .collect();
-    out.push_str(&table(&header, &rows));
+    table(&header, &rows)
+}
 
-    // Per recording, one table per kind: error (Δ) at every level.
-    let mut kinds: Vec<&'static str> = r.cases.iter().map(|c| c.perturbation.kind()).collect();
-    kinds.dedup();
-    for kind in kinds {
-        let cases: Vec<&Case> = r
-            .cases
-            .iter()
-            .filter(|c| c.perturbation.kind() == kind)
-            .collect();
-        let _ = writeln!(out, "\nPer recording, {kind}: error (Δ)\n");
-        let mut header = vec!["recording".to_string(), "unperturbed".into()];
-        header.extend(cases.iter().map(|c| c.perturbation.level()));
-        let rows: Vec<Vec<String>> = r
-            .recordings
-            .iter()
-            .enumerate()
-            .map(|(i, name)| {
-                let mut row = vec![name.clone(), cell(r.baseline[i], d)];
-                row.extend(cases.iter().map(|c| {
-                    let e = c.errors[i];
-                    format!("{} ({})", cell(e, d), delta(e - r.baseline[i], d))
-                }));
-                row
-            })
-            .collect();
-        out.push_str(&table(&header, &rows));
-    }
-    out
+/// Per recording, the perturbations of one kind: error (Δ) at every level.
+fn kind_table(r: &Report, kind: &str) -> String {
+    let d = r.decimals;
+    let cases: Vec<&Case> = r
+        .cases
+        .iter()
+        .filter(|c| c.perturbation.kind() == kind)
+        .collect();
+    let mut header = vec!["recording".to_string(), "unperturbed".into()];
+    header.extend(cases.iter().map(|c| c.perturbation.level()));
+    let rows: Vec<Vec<String>> = r
+        .recordings
+        .iter()
+        .enumerate()
+        .map(|(i, name)| {
+            let mut row = vec![name.clone(), cell(r.baseline[i], d)];
+            row.extend(cases.iter().map(|c| {
+                let e = c.errors[i];
+                format!("{} ({})", cell(e, d), delta(e - r.baseline[i], d))
+            }));
+            row
+        })
+        .collect();
+    table(&header, &rows)
 }
 
 #[cfg(test)]
