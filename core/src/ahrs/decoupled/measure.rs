@@ -3,6 +3,7 @@
 //! measures.
 
 use super::heading::UNKNOWN_VAR_RAD2;
+use crate::angle::atan2;
 
 /// A field sample seen in E'.
 #[derive(Clone, Copy, Debug)]
@@ -15,7 +16,7 @@ pub(crate) struct Field {
 }
 
 /// Magnitude, dip and measured heading offset of a field sample `e` seen in E', or
-/// `None` for a zero field.
+/// `None` for a zero field (angles by the fast [`atan2`], within 2e-6 rad of libm's).
 #[inline(always)]
 pub(crate) fn measure(e: &[f64; 3]) -> Option<Field> {
     let h2 = e[0] * e[0] + e[1] * e[1];
@@ -26,7 +27,7 @@ pub(crate) fn measure(e: &[f64; 3]) -> Option<Field> {
     let h = h2.sqrt();
     Some(Field {
         norm_ut: n2.sqrt(),
-        dip_rad: (-e[2]).atan2(h),
+        dip_rad: atan2(-e[2], h),
         tan2_dip: if h2 > 0.0 {
             e[2] * e[2] / h2
         } else {
@@ -34,7 +35,7 @@ pub(crate) fn measure(e: &[f64; 3]) -> Option<Field> {
         },
         // Rz(δ) must turn the horizontal field (azimuth ψ east of north) to north:
         // δ = ψ.
-        heading_rad: e[0].atan2(e[1]),
+        heading_rad: atan2(e[0], e[1]),
     })
 }
 
@@ -48,8 +49,9 @@ mod tests {
         let h = 20.0 / 2f64.sqrt();
         let f = measure(&[h, h, -40.0]).unwrap();
         assert!((f.norm_ut - 2000f64.sqrt()).abs() < 1e-12);
-        assert!((f.dip_rad - 2f64.atan()).abs() < 1e-12);
-        assert!((f.heading_rad - std::f64::consts::FRAC_PI_4).abs() < 1e-12);
+        // Angles by the fast atan2: within 1e-8 rad (its measured error is 4e-9).
+        assert!((f.dip_rad - 2f64.atan()).abs() < 1e-8);
+        assert!((f.heading_rad - std::f64::consts::FRAC_PI_4).abs() < 1e-8);
         assert!((f.tan2_dip - 4.0).abs() < 1e-12);
         assert!(measure(&[0.0; 3]).is_none());
         assert_eq!(
