@@ -193,7 +193,32 @@ pub fn learn(base: &FootConfig, walks: &[(String, Vec<FootSample>)]) -> Result<L
         level_stride_max_grade: None,
         ..base.clone()
     };
-    let start = base.accel_alignment_rad;
+    let (before, stance_sets) = replay_walks(base, walks)?;
+    let p = Problem {
+        base,
+        walks,
+        stances: stance_sets,
+    };
+    let (a, iterations) = fit_lateral(&p)?;
+    let after_config = p.config(a);
+    let fits = walks
+        .iter()
+        .zip(&p.stances)
+        .zip(&before)
+        .map(|(((name, samples), st), b)| walk_fit(&after_config, name, samples, st, b))
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok(LevelFit {
+        alignment_rad: a,
+        walks: fits,
+        iterations,
+    })
+}
+
+/// Every walk replayed with `base`, and its stances (at least 4 each).
+fn replay_walks(
+    base: &FootConfig,
+    walks: &[(String, Vec<FootSample>)],
+) -> Result<(Vec<Replay>, Vec<Vec<Stance>>), String> {
     let mut stance_sets = Vec::new();
     let mut before = Vec::new();
     for (name, samples) in walks {
@@ -209,16 +234,17 @@ pub fn learn(base: &FootConfig, walks: &[(String, Vec<FootSample>)]) -> Result<L
         before.push(r);
         stance_sets.push(st);
     }
-    let p = Problem {
-        base,
-        walks,
-        stances: stance_sets,
-    };
-    // One angle: about the body's lateral axis (y). A tilt about it is what leaks the
-    // swing's forward acceleration into the vertical; a turn about the forward axis
-    // leaks the small lateral accelerations (barely seen in the heights), one about the
-    // vertical none (invisible to them): fitting those too only fits noise (measured
-    // on x-io's walks: 2–4° about x and z, the horizontal closure spoiled).
+    Ok((before, stance_sets))
+}
+
+/// The alignment (and the iterations) by Gauss–Newton on one angle: about the body's
+/// lateral axis (y). A tilt about it is what leaks the swing's forward acceleration
+/// into the vertical; a turn about the forward axis leaks the small lateral
+/// accelerations (barely seen in the heights), one about the vertical none (invisible
+/// to them): fitting those too only fits noise (measured on x-io's walks: 2–4° about x
+/// and z, the horizontal closure spoiled).
+fn fit_lateral(p: &Problem) -> Result<([f64; 3], usize), String> {
+    let start = p.base.accel_alignment_rad;
     let at = |y: f64| [start[0], y, start[2]];
     let mut y = start[1];
     let mut r = p.residuals(at(y))?;
@@ -260,51 +286,58 @@ pub fn learn(base: &FootConfig, walks: &[(String, Vec<FootSample>)]) -> Result<L
             break;
         }
     }
-    let a = at(y);
-    let after_config = p.config(a);
-    let mut fits = Vec::new();
-    for (((name, samples), st), b) in walks.iter().zip(&p.stances).zip(&before) {
-        let after = replay(&after_config, samples)?;
-        let rms = |r: &Replay| {
-            let h = heights(r, st);
-            let d: Vec<f64> = h.windows(2).map(|w| w[1] - w[0]).collect();
-            (sum_sq(&d) / d.len().max(1) as f64).sqrt()
-        };
-        let closure = |r: &Replay| {
-            let d: Vec<f64> = (0..3).map(|k| r.end_m[k] - r.start_m[k]).collect();
-            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
-        };
-        let series = |r: &Replay| -> Vec<(f64, f64)> {
-            let h = heights(r, st);
-            st.iter()
-                .zip(&h)
-                .map(|(s, z)| {
-                    (
-                        r.t_s.get(s.start).map_or(f64::NAN, |t| t - r.t_s[0]),
-                        z - h[0],
-                    )
-                })
-                .collect()
-        };
-        fits.push(WalkFit {
-            name: name.clone(),
-            steps: st.len() - 1,
-            distance_m: after.distance_m,
-            rms_before_m: rms(b),
-            rms_after_m: rms(&after),
-            height_before_m: b.end_m[2] - b.start_m[2],
-            height_after_m: after.end_m[2] - after.start_m[2],
-            closure_before_m: closure(b),
-            closure_after_m: closure(&after),
-            stances_before: series(b),
-            stances_after: series(&after),
-        });
-    }
-    Ok(LevelFit {
-        alignment_rad: a,
-        walks: fits,
-        iterations,
+    Ok((at(y), iterations))
+}
+
+/// One walk before (`b`) and after the fit (replayed with `after_config`).
+fn walk_fit(
+    after_config: &FootConfig,
+    name: &str,
+    samples: &[FootSample],
+    st: &[Stance],
+    b: &Replay,
+) -> Result<WalkFit, String> {
+    let after = replay(after_config, samples)?;
+    Ok(WalkFit {
+        name: name.to_string(),
+        steps: st.len() - 1,
+        distance_m: after.distance_m,
+        rms_before_m: stride_rms(b, st),
+        rms_after_m: stride_rms(&after, st),
+        height_before_m: b.end_m[2] - b.start_m[2],
+        height_after_m: after.end_m[2] - after.start_m[2],
+        closure_before_m: closure(b),
+        closure_after_m: closure(&after),
+        stances_before: stance_series(b, st),
+        stances_after: stance_series(&after, st),
     })
+}
+
+/// RMS of the stance-to-stance height changes, m.
+fn stride_rms(r: &Replay, st: &[Stance]) -> f64 {
+    let h = heights(r, st);
+    let d: Vec<f64> = h.windows(2).map(|w| w[1] - w[0]).collect();
+    (sum_sq(&d) / d.len().max(1) as f64).sqrt()
+}
+
+/// Distance from the start to the end, m.
+fn closure(r: &Replay) -> f64 {
+    let d: Vec<f64> = (0..3).map(|k| r.end_m[k] - r.start_m[k]).collect();
+    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+}
+
+/// Each stance's time since the start and height above the first, (s, m).
+fn stance_series(r: &Replay, st: &[Stance]) -> Vec<(f64, f64)> {
+    let h = heights(r, st);
+    st.iter()
+        .zip(&h)
+        .map(|(s, z)| {
+            (
+                r.t_s.get(s.start).map_or(f64::NAN, |t| t - r.t_s[0]),
+                z - h[0],
+            )
+        })
+        .collect()
 }
 
 /// The calibration file's text for `alignment_rad`.

@@ -180,6 +180,39 @@ impl Trained {
 /// C-SVM with a Gaussian kernel by SMO (LIBSVM's second-order working-set selection
 /// and ρ). `y` is ±1.
 pub fn smo(x: &[[f64; 2]], y: &[f64], gamma: f64, c: f64, eps: f64, max_iter: usize) -> Trained {
+    let mut s = Smo {
+        n: x.len(),
+        y,
+        c,
+        kmat: kernel_matrix(x, gamma),
+        alpha: vec![0.0_f64; x.len()],
+        grad: vec![-1.0_f64; x.len()],
+    };
+    let mut iterations = 0;
+    while iterations < max_iter {
+        iterations += 1;
+        let Some((i, j)) = s.working_set(eps) else {
+            break;
+        };
+        s.step(i, j);
+    }
+    let rho = s.rho();
+    let support = (0..s.n)
+        .filter(|&t| s.alpha[t] > 0.0)
+        .map(|t| (s.alpha[t] * y[t], x[t]))
+        .collect();
+    Trained {
+        support,
+        rho,
+        iterations,
+    }
+}
+
+/// Floor of the curvature along a working-set direction (LIBSVM's τ).
+const SMO_TAU: f64 = 1e-12;
+
+/// The Gaussian kernel matrix of `x`, row-major n × n.
+fn kernel_matrix(x: &[[f64; 2]], gamma: f64) -> Vec<f64> {
     let n = x.len();
     let k = |a: usize, b: usize| -> f64 {
         let d0 = x[a][0] - x[b][0];
@@ -194,17 +227,31 @@ pub fn smo(x: &[[f64; 2]], y: &[f64], gamma: f64, c: f64, eps: f64, max_iter: us
             kmat[b * n + a] = v;
         }
     }
-    let q = |a: usize, b: usize| y[a] * y[b] * kmat[a * n + b];
-    let mut alpha = vec![0.0_f64; n];
-    let mut grad = vec![-1.0_f64; n];
-    let tau = 1e-12;
-    let mut iterations = 0;
-    while iterations < max_iter {
-        iterations += 1;
-        // Working set: i maximises −y G over I_up, j by second-order gain over I_low.
+    kmat
+}
+
+/// The SMO state: labels, bound, kernel matrix, multipliers and gradient.
+struct Smo<'a> {
+    n: usize,
+    y: &'a [f64],
+    c: f64,
+    kmat: Vec<f64>,
+    alpha: Vec<f64>,
+    grad: Vec<f64>,
+}
+
+impl Smo<'_> {
+    fn q(&self, a: usize, b: usize) -> f64 {
+        self.y[a] * self.y[b] * self.kmat[a * self.n + b]
+    }
+
+    /// The pair to update: i maximises −y G over I_up, j by second-order gain over
+    /// I_low; `None` when optimal within `eps` (or no pair is left).
+    fn working_set(&self, eps: f64) -> Option<(usize, usize)> {
+        let (y, alpha, grad, c) = (self.y, &self.alpha, &self.grad, self.c);
         let mut gmax = f64::NEG_INFINITY;
         let mut i = usize::MAX;
-        for t in 0..n {
+        for t in 0..self.n {
             let up = if y[t] > 0.0 {
                 alpha[t] < c
             } else {
@@ -216,8 +263,9 @@ pub fn smo(x: &[[f64; 2]], y: &[f64], gamma: f64, c: f64, eps: f64, max_iter: us
             }
         }
         if i == usize::MAX {
-            break;
+            return None;
         }
+        let (n, kmat) = (self.n, &self.kmat);
         let mut gmin = f64::INFINITY;
         let mut j = usize::MAX;
         let mut best = f64::INFINITY;
@@ -234,7 +282,7 @@ pub fn smo(x: &[[f64; 2]], y: &[f64], gamma: f64, c: f64, eps: f64, max_iter: us
             gmin = gmin.min(v);
             let b = gmax - v;
             if b > 0.0 {
-                let a = (kmat[i * n + i] + kmat[t * n + t] - 2.0 * kmat[i * n + t]).max(tau);
+                let a = (kmat[i * n + i] + kmat[t * n + t] - 2.0 * kmat[i * n + t]).max(SMO_TAU);
                 let obj = -b * b / a;
                 if obj <= best {
                     best = obj;
@@ -243,98 +291,113 @@ pub fn smo(x: &[[f64; 2]], y: &[f64], gamma: f64, c: f64, eps: f64, max_iter: us
             }
         }
         if j == usize::MAX || gmax - gmin < eps {
-            break;
+            return None;
         }
-        let (ai, aj) = (alpha[i], alpha[j]);
-        if y[i] != y[j] {
-            let quad = (kmat[i * n + i] + kmat[j * n + j] - 2.0 * kmat[i * n + j]).max(tau);
-            let delta = (-grad[i] - grad[j]) / quad;
-            let diff = alpha[i] - alpha[j];
-            alpha[i] += delta;
-            alpha[j] += delta;
-            if diff > 0.0 {
-                if alpha[j] < 0.0 {
-                    alpha[j] = 0.0;
-                    alpha[i] = diff;
-                }
-            } else if alpha[i] < 0.0 {
-                alpha[i] = 0.0;
-                alpha[j] = -diff;
-            }
-            if diff > 0.0 {
-                if alpha[i] > c {
-                    alpha[i] = c;
-                    alpha[j] = c - diff;
-                }
-            } else if alpha[j] > c {
-                alpha[j] = c;
-                alpha[i] = c + diff;
-            }
+        Some((i, j))
+    }
+
+    /// Update α_i, α_j (clipped to the box) and the gradient.
+    fn step(&mut self, i: usize, j: usize) {
+        let (ai, aj) = (self.alpha[i], self.alpha[j]);
+        let n = self.n;
+        let quad =
+            (self.kmat[i * n + i] + self.kmat[j * n + j] - 2.0 * self.kmat[i * n + j]).max(SMO_TAU);
+        if self.y[i] != self.y[j] {
+            self.step_opposite(i, j, quad);
         } else {
-            let quad = (kmat[i * n + i] + kmat[j * n + j] - 2.0 * kmat[i * n + j]).max(tau);
-            let delta = (grad[i] - grad[j]) / quad;
-            let sum = alpha[i] + alpha[j];
-            alpha[i] -= delta;
-            alpha[j] += delta;
-            if sum > c {
-                if alpha[i] > c {
-                    alpha[i] = c;
-                    alpha[j] = sum - c;
-                }
-            } else if alpha[j] < 0.0 {
+            self.step_same(i, j, quad);
+        }
+        let (di, dj) = (self.alpha[i] - ai, self.alpha[j] - aj);
+        for t in 0..n {
+            let d = self.q(t, i) * di + self.q(t, j) * dj;
+            self.grad[t] += d;
+        }
+    }
+
+    /// y_i ≠ y_j: α_i − α_j stays constant.
+    fn step_opposite(&mut self, i: usize, j: usize, quad: f64) {
+        let (c, alpha) = (self.c, &mut self.alpha);
+        let delta = (-self.grad[i] - self.grad[j]) / quad;
+        let diff = alpha[i] - alpha[j];
+        alpha[i] += delta;
+        alpha[j] += delta;
+        if diff > 0.0 {
+            if alpha[j] < 0.0 {
                 alpha[j] = 0.0;
-                alpha[i] = sum;
+                alpha[i] = diff;
             }
-            if sum > c {
-                if alpha[j] > c {
-                    alpha[j] = c;
-                    alpha[i] = sum - c;
+        } else if alpha[i] < 0.0 {
+            alpha[i] = 0.0;
+            alpha[j] = -diff;
+        }
+        if diff > 0.0 {
+            if alpha[i] > c {
+                alpha[i] = c;
+                alpha[j] = c - diff;
+            }
+        } else if alpha[j] > c {
+            alpha[j] = c;
+            alpha[i] = c + diff;
+        }
+    }
+
+    /// y_i = y_j: α_i + α_j stays constant.
+    fn step_same(&mut self, i: usize, j: usize, quad: f64) {
+        let (c, alpha) = (self.c, &mut self.alpha);
+        let delta = (self.grad[i] - self.grad[j]) / quad;
+        let sum = alpha[i] + alpha[j];
+        alpha[i] -= delta;
+        alpha[j] += delta;
+        if sum > c {
+            if alpha[i] > c {
+                alpha[i] = c;
+                alpha[j] = sum - c;
+            }
+        } else if alpha[j] < 0.0 {
+            alpha[j] = 0.0;
+            alpha[i] = sum;
+        }
+        if sum > c {
+            if alpha[j] > c {
+                alpha[j] = c;
+                alpha[i] = sum - c;
+            }
+        } else if alpha[i] < 0.0 {
+            alpha[i] = 0.0;
+            alpha[j] = sum;
+        }
+    }
+
+    /// ρ as in LIBSVM: the mean of y G over the free multipliers, else the middle of
+    /// the bounds.
+    fn rho(&self) -> f64 {
+        let (y, alpha, c) = (self.y, &self.alpha, self.c);
+        let (mut ub, mut lb) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut nfree, mut sfree) = (0usize, 0.0);
+        for t in 0..self.n {
+            let yg = y[t] * self.grad[t];
+            if alpha[t] >= c {
+                if y[t] < 0.0 {
+                    ub = ub.min(yg);
+                } else {
+                    lb = lb.max(yg);
                 }
-            } else if alpha[i] < 0.0 {
-                alpha[i] = 0.0;
-                alpha[j] = sum;
+            } else if alpha[t] <= 0.0 {
+                if y[t] > 0.0 {
+                    ub = ub.min(yg);
+                } else {
+                    lb = lb.max(yg);
+                }
+            } else {
+                nfree += 1;
+                sfree += yg;
             }
         }
-        let (di, dj) = (alpha[i] - ai, alpha[j] - aj);
-        for (t, g) in grad.iter_mut().enumerate() {
-            *g += q(t, i) * di + q(t, j) * dj;
-        }
-    }
-    // ρ as in LIBSVM.
-    let (mut ub, mut lb) = (f64::INFINITY, f64::NEG_INFINITY);
-    let (mut nfree, mut sfree) = (0usize, 0.0);
-    for t in 0..n {
-        let yg = y[t] * grad[t];
-        if alpha[t] >= c {
-            if y[t] < 0.0 {
-                ub = ub.min(yg);
-            } else {
-                lb = lb.max(yg);
-            }
-        } else if alpha[t] <= 0.0 {
-            if y[t] > 0.0 {
-                ub = ub.min(yg);
-            } else {
-                lb = lb.max(yg);
-            }
+        if nfree > 0 {
+            sfree / nfree as f64
         } else {
-            nfree += 1;
-            sfree += yg;
+            0.5 * (ub + lb)
         }
-    }
-    let rho = if nfree > 0 {
-        sfree / nfree as f64
-    } else {
-        0.5 * (ub + lb)
-    };
-    let support = (0..n)
-        .filter(|&t| alpha[t] > 0.0)
-        .map(|t| (alpha[t] * y[t], x[t]))
-        .collect();
-    Trained {
-        support,
-        rho,
-        iterations,
     }
 }
 
