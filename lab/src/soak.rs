@@ -580,69 +580,79 @@ pub fn memory_kib() -> (Option<u64>, Option<u64>) {
 
 // ------------------------------------------------------------------ the soak
 
-/// Runs the soak; `progress` gets one line per simulated hour.
-pub fn run(args: &SoakArgs, mut progress: impl FnMut(&str)) -> SoakReport {
-    let start = Instant::now();
-    let total_s = args.hours * 3600.0;
-    let frame = LocalFrame::new(47.0, 8.0, 0.0);
+/// The eight engines of the soak, each as an A/B pair.
+struct Engines {
+    pace: Pair<PaceTracker>,
+    ahrs: Pair<Ahrs>,
+    steps: Pair<StepDetector>,
+    length: Pair<StepLengthEstimator>,
+    nav: Pair<PhoneNavigator>,
+    placement: Pair<PlacementClassifier>,
+    odometry: Pair<PhoneOdometry>,
+    foot: Pair<FootNavigator>,
+}
 
-    let mut pace = Pair::new("pace::PaceTracker", || {
-        PaceTracker::new(PaceConfig::default()).expect("default pace config")
-    });
-    let mut ahrs = Pair::new("ahrs::Ahrs", || {
-        Ahrs::new(AhrsSettings::default()).expect("default AHRS settings")
-    });
-    let mut steps = Pair::new("stepdetect::StepDetector", StepDetector::default);
-    let mut length = Pair::new("steplength::StepLengthEstimator", || {
-        StepLengthEstimator::new(StepLengthModel::Linear, StepLengthConfig::default())
-            .expect("default step-length config")
-    });
-    let mut nav = Pair::new("pdr::PhoneNavigator", || {
-        PhoneNavigator::new(NavigatorConfig::default()).expect("default navigator config")
-    });
-    let mut placement = Pair::new(
-        "placement::PlacementClassifier",
-        PlacementClassifier::shipped,
-    );
-    let mut odometry = Pair::new("odometry::PhoneOdometry", || {
-        PhoneOdometry::shipped(OdometryConfig::default()).expect("shipped odometry model")
-    });
-    let mut foot = Pair::new("foot::FootNavigator", || {
-        FootNavigator::new(FootConfig::default()).expect("default foot config")
-    });
+/// Where the chained foot-mounted walks stand.
+#[derive(Default)]
+struct FootClock {
+    t_s: f64,
+    walks: u64,
+}
 
-    let mut report = SoakReport {
-        hours: args.hours,
-        seed: args.seed,
-        ..SoakReport::default()
-    };
-    let mut offset = (0.0, 0.0);
-    let mut foot_t = 0.0;
-    let mut foot_k = 0u64;
-    let mut next_hour = 1.0;
-    let n_chunks = (total_s / PHONE_SEGMENT_S).ceil() as u64;
-    for k in 0..n_chunks {
-        let t0 = k as f64 * PHONE_SEGMENT_S;
-        let dur = PHONE_SEGMENT_S.min(total_s - t0);
-        let t_sim = Instant::now();
-        let chunk = phone_chunk(args.seed, k, t0, dur, offset, &frame);
-        report.sim_s += t_sim.elapsed().as_secs_f64();
-        offset = chunk.end_en;
-        report.phone_imu_samples += chunk.imu.len() as u64;
-        report.phone_fixes += chunk.fixes.len() as u64;
+impl Engines {
+    fn new() -> Self {
+        Engines {
+            pace: Pair::new("pace::PaceTracker", || {
+                PaceTracker::new(PaceConfig::default()).expect("default pace config")
+            }),
+            ahrs: Pair::new("ahrs::Ahrs", || {
+                Ahrs::new(AhrsSettings::default()).expect("default AHRS settings")
+            }),
+            steps: Pair::new("stepdetect::StepDetector", StepDetector::default),
+            length: Pair::new("steplength::StepLengthEstimator", || {
+                StepLengthEstimator::new(StepLengthModel::Linear, StepLengthConfig::default())
+                    .expect("default step-length config")
+            }),
+            nav: Pair::new("pdr::PhoneNavigator", || {
+                PhoneNavigator::new(NavigatorConfig::default()).expect("default navigator config")
+            }),
+            placement: Pair::new(
+                "placement::PlacementClassifier",
+                PlacementClassifier::shipped,
+            ),
+            odometry: Pair::new("odometry::PhoneOdometry", || {
+                PhoneOdometry::shipped(OdometryConfig::default()).expect("shipped odometry model")
+            }),
+            foot: Pair::new("foot::FootNavigator", || {
+                FootNavigator::new(FootConfig::default()).expect("default foot config")
+            }),
+        }
+    }
 
-        // Pace: fixes and raw accelerometer; the estimate after every push.
+    /// One phone segment through the seven phone engines, in the soak's fixed order.
+    fn feed_phone(&mut self, chunk: &PhoneChunk) {
+        self.feed_pace(chunk);
+        self.feed_ahrs(chunk);
+        let detected = self.feed_steps(chunk);
+        self.feed_length(chunk, &detected);
+        self.feed_nav(chunk);
+        self.feed_placement(chunk);
+        self.feed_odometry(chunk);
+    }
+
+    /// Pace: fixes and raw accelerometer; the estimate after every push.
+    fn feed_pace(&mut self, chunk: &PhoneChunk) {
         let t = Instant::now();
         let (mut ii, mut fi) = (0, 0);
         for &is_fix in &chunk.order {
             if is_fix {
                 let f = &chunk.fixes[fi].0;
                 fi += 1;
-                pace.step(f.t_s, |p| p.push_fix(f), cmp_pace);
+                self.pace.step(f.t_s, |p| p.push_fix(f), cmp_pace);
             } else {
                 let s = &chunk.imu[ii];
                 ii += 1;
-                pace.step(
+                self.pace.step(
                     s.t_s,
                     |p| {
                         p.push_accel(s.t_s, s.accel_mps2)
@@ -652,12 +662,14 @@ pub fn run(args: &SoakArgs, mut progress: impl FnMut(&str)) -> SoakReport {
                 );
             }
         }
-        pace.stats.wall_s += t.elapsed().as_secs_f64();
+        self.pace.stats.wall_s += t.elapsed().as_secs_f64();
+    }
 
-        // AHRS: every IMU sample with the magnetometer; flags and output.
+    /// AHRS: every IMU sample with the magnetometer; flags and output.
+    fn feed_ahrs(&mut self, chunk: &PhoneChunk) {
         let t = Instant::now();
         for s in &chunk.imu {
-            ahrs.step(
+            self.ahrs.step(
                 s.t_s,
                 |a| {
                     a.update(s.t_s, s.gyro_rads, s.accel_mps2, s.mag_ut)
@@ -669,13 +681,15 @@ pub fn run(args: &SoakArgs, mut progress: impl FnMut(&str)) -> SoakReport {
                 },
             );
         }
-        ahrs.stats.wall_s += t.elapsed().as_secs_f64();
+        self.ahrs.stats.wall_s += t.elapsed().as_secs_f64();
+    }
 
-        // Step detector; A's steps feed the step-length estimator.
+    /// Step detector; returns A's steps, which feed the step-length estimator.
+    fn feed_steps(&mut self, chunk: &PhoneChunk) -> Vec<StepEvent> {
         let t = Instant::now();
         let mut detected = Vec::new();
         for s in &chunk.imu {
-            if let Some(Some(e)) = steps.step(
+            if let Some(Some(e)) = self.steps.step(
                 s.t_s,
                 |d| d.push_accel(s.t_s, s.accel_mps2),
                 cmp_opt(cmp_step),
@@ -683,56 +697,66 @@ pub fn run(args: &SoakArgs, mut progress: impl FnMut(&str)) -> SoakReport {
                 detected.push(e);
             }
         }
-        steps.stats.wall_s += t.elapsed().as_secs_f64();
+        self.steps.stats.wall_s += t.elapsed().as_secs_f64();
+        detected
+    }
 
-        // Step length: fixes (ENU) and detected steps in time order.
+    /// Step length: fixes (ENU) and detected steps in time order.
+    fn feed_length(&mut self, chunk: &PhoneChunk, detected: &[StepEvent]) {
         let t = Instant::now();
         let mut fi = 0;
-        for e in &detected {
+        for e in detected {
             while fi < chunk.fixes.len() && chunk.fixes[fi].0.t_s <= e.t_s {
-                let (f, east, north, acc) = chunk.fixes[fi];
+                self.length_fix(chunk.fixes[fi]);
                 fi += 1;
-                length.step(
-                    f.t_s,
-                    |l| l.push_gnss_fix(f.t_s, east, north, Some(acc)),
-                    cmp_unit,
-                );
             }
-            length.step(e.t_s, |l| l.push_step(e), |c, x: &f64, y| c.f(*x, *y));
+            self.length
+                .step(e.t_s, |l| l.push_step(e), |c, x: &f64, y| c.f(*x, *y));
         }
-        for &(f, east, north, acc) in &chunk.fixes[fi..] {
-            length.step(
-                f.t_s,
-                |l| l.push_gnss_fix(f.t_s, east, north, Some(acc)),
-                cmp_unit,
-            );
+        for &fix in &chunk.fixes[fi..] {
+            self.length_fix(fix);
         }
-        length.stats.wall_s += t.elapsed().as_secs_f64();
+        self.length.stats.wall_s += t.elapsed().as_secs_f64();
+    }
 
-        // Phone navigator: IMU and fixes; the estimate after every push.
+    fn length_fix(&mut self, (f, east, north, acc): (GnssFix, f64, f64, f64)) {
+        self.length.step(
+            f.t_s,
+            |l| l.push_gnss_fix(f.t_s, east, north, Some(acc)),
+            cmp_unit,
+        );
+    }
+
+    /// Phone navigator: IMU and fixes; the estimate after every push.
+    fn feed_nav(&mut self, chunk: &PhoneChunk) {
         let t = Instant::now();
         let (mut ii, mut fi) = (0, 0);
         for &is_fix in &chunk.order {
             if is_fix {
                 let f = &chunk.fixes[fi].0;
                 fi += 1;
-                nav.step(f.t_s, |n| n.push_fix(f), cmp_nav);
+                self.nav.step(f.t_s, |n| n.push_fix(f), cmp_nav);
             } else {
                 let s = &chunk.imu[ii];
                 ii += 1;
-                nav.step(s.t_s, |n| n.push(s), cmp_opt(cmp_nav));
+                self.nav.step(s.t_s, |n| n.push(s), cmp_opt(cmp_nav));
             }
         }
-        nav.stats.wall_s += t.elapsed().as_secs_f64();
+        self.nav.stats.wall_s += t.elapsed().as_secs_f64();
+    }
 
-        // Placement classifier: accelerometer.
+    /// Placement classifier: accelerometer.
+    fn feed_placement(&mut self, chunk: &PhoneChunk) {
         let t = Instant::now();
         for s in &chunk.imu {
-            placement.step(s.t_s, |p| p.push(&s.into()), cmp_opt(cmp_placement));
+            self.placement
+                .step(s.t_s, |p| p.push(&s.into()), cmp_opt(cmp_placement));
         }
-        placement.stats.wall_s += t.elapsed().as_secs_f64();
+        self.placement.stats.wall_s += t.elapsed().as_secs_f64();
+    }
 
-        // Learned odometry: IMU with magnetometer.
+    /// Learned odometry: IMU with magnetometer.
+    fn feed_odometry(&mut self, chunk: &PhoneChunk) {
         let t = Instant::now();
         for s in &chunk.imu {
             let o = ImuSample {
@@ -741,92 +765,145 @@ pub fn run(args: &SoakArgs, mut progress: impl FnMut(&str)) -> SoakReport {
                 gyro_rads: s.gyro_rads,
                 mag_ut: s.mag_ut,
             };
-            odometry.step(s.t_s, |p| p.push(&o), cmp_opt(cmp_odometry));
+            self.odometry
+                .step(s.t_s, |p| p.push(&o), cmp_opt(cmp_odometry));
         }
-        odometry.stats.wall_s += t.elapsed().as_secs_f64();
-        drop(chunk);
+        self.odometry.stats.wall_s += t.elapsed().as_secs_f64();
+    }
 
-        // Foot navigator: foot-mounted walks chained in time up to this chunk's end.
-        let chunk_end = t0 + dur;
-        while foot_t < chunk_end {
-            let remaining = total_s - foot_t;
+    /// Foot navigator: foot-mounted walks chained in time up to `until_s`.
+    fn feed_foot(
+        &mut self,
+        clock: &mut FootClock,
+        until_s: f64,
+        args: &SoakArgs,
+        report: &mut SoakReport,
+    ) {
+        let total_s = args.hours * 3600.0;
+        while clock.t_s < until_s {
+            let remaining = total_s - clock.t_s;
             let laps = ((remaining / FOOT_LAP_S).ceil() as u32).clamp(1, FOOT_LAPS);
-            let mut sc = FootScenario::walk(args.seed.wrapping_add(1_000_000 + foot_k), laps);
+            let mut sc = FootScenario::walk(args.seed.wrapping_add(1_000_000 + clock.walks), laps);
             sc.sample_rate_hz = RATE_HZ;
-            sc.start_t_s = foot_t;
-            foot_k += 1;
+            sc.start_t_s = clock.t_s;
+            clock.walks += 1;
             let t_sim = Instant::now();
             let sim = simulate_foot(&sc);
             report.sim_s += t_sim.elapsed().as_secs_f64();
             let t = Instant::now();
-            let mut last = foot_t;
+            let mut last = clock.t_s;
             for s in sim.samples.iter().filter(|s| s.t_s < total_s) {
                 let s: FootSample = *s;
-                foot.step(s.t_s, |n| n.push(&s), cmp_opt(cmp_foot));
+                self.foot.step(s.t_s, |n| n.push(&s), cmp_opt(cmp_foot));
                 last = s.t_s;
                 report.foot_samples += 1;
             }
-            foot.stats.wall_s += t.elapsed().as_secs_f64();
-            foot_t = if sim.samples.last().is_some_and(|s| s.t_s < total_s) {
+            self.foot.stats.wall_s += t.elapsed().as_secs_f64();
+            clock.t_s = if sim.samples.last().is_some_and(|s| s.t_s < total_s) {
                 last + 1.0 / RATE_HZ
             } else {
                 total_s
             };
         }
+    }
 
-        // Memory every simulated hour (and at the end).
+    /// Mismatches, snapshot mismatches and non-finite outputs so far, all engines.
+    fn bad(&self) -> u64 {
+        self.all_stats()
+            .iter()
+            .map(|s| s.mismatches + s.snapshot_mismatches + s.non_finite)
+            .sum()
+    }
+
+    fn all_stats(&self) -> [&EngineStats; 8] {
+        [
+            &self.pace.stats,
+            &self.ahrs.stats,
+            &self.steps.stats,
+            &self.length.stats,
+            &self.nav.stats,
+            &self.placement.stats,
+            &self.odometry.stats,
+            &self.foot.stats,
+        ]
+    }
+
+    fn finish(self) -> Vec<EngineStats> {
+        vec![
+            self.pace.finish(),
+            self.ahrs.finish(),
+            self.steps.finish(),
+            self.length.finish(),
+            self.nav.finish(),
+            self.placement.finish(),
+            self.odometry.finish(),
+            self.foot.finish(),
+        ]
+    }
+}
+
+/// Runs the soak; `progress` gets one line per simulated hour.
+pub fn run(args: &SoakArgs, mut progress: impl FnMut(&str)) -> SoakReport {
+    let start = Instant::now();
+    let total_s = args.hours * 3600.0;
+    let frame = LocalFrame::new(47.0, 8.0, 0.0);
+    let mut engines = Engines::new();
+    let mut report = SoakReport {
+        hours: args.hours,
+        seed: args.seed,
+        ..SoakReport::default()
+    };
+    let mut offset = (0.0, 0.0);
+    let mut foot = FootClock::default();
+    let mut next_hour = 1.0;
+    let n_chunks = (total_s / PHONE_SEGMENT_S).ceil() as u64;
+    for k in 0..n_chunks {
+        let t0 = k as f64 * PHONE_SEGMENT_S;
+        let dur = PHONE_SEGMENT_S.min(total_s - t0);
+        let t_sim = Instant::now();
+        let chunk = phone_chunk(args.seed, k, t0, dur, offset, &frame);
+        report.sim_s += t_sim.elapsed().as_secs_f64();
+        offset = chunk.end_en;
+        report.phone_imu_samples += chunk.imu.len() as u64;
+        report.phone_fixes += chunk.fixes.len() as u64;
+        engines.feed_phone(&chunk);
+        drop(chunk);
+        let chunk_end = t0 + dur;
+        engines.feed_foot(&mut foot, chunk_end, args, &mut report);
         let hours_done = chunk_end / 3600.0;
-        let last_chunk = k + 1 == n_chunks;
-        if hours_done >= next_hour - 1e-9 || last_chunk {
+        if hours_done >= next_hour - 1e-9 || k + 1 == n_chunks {
             while next_hour <= hours_done + 1e-9 {
                 next_hour += 1.0;
             }
-            let (rss, hwm) = memory_kib();
-            let mark = HourMark {
-                hour: hours_done,
-                wall_s: start.elapsed().as_secs_f64(),
-                rss_kib: rss,
-            };
-            report.marks.push(mark);
-            let mib = |k: Option<u64>| k.map_or(f64::NAN, |k| k as f64 / 1024.0);
-            let bad: u64 = [
-                &pace.stats,
-                &ahrs.stats,
-                &steps.stats,
-                &length.stats,
-                &nav.stats,
-                &placement.stats,
-                &odometry.stats,
-                &foot.stats,
-            ]
-            .iter()
-            .map(|s| s.mismatches + s.snapshot_mismatches + s.non_finite)
-            .sum();
-            progress(&format!(
-                "simulated hour {:5.2}  wall {:7.1} s  RSS {:6.1} MiB  peak {:6.1} MiB  mismatches+non-finite {bad}",
-                mark.hour,
-                mark.wall_s,
-                mib(rss),
-                mib(hwm)
-            ));
+            let line = mark_hour(&mut report, hours_done, start, engines.bad());
+            progress(&line);
         }
     }
-
-    report.engines = vec![
-        pace.finish(),
-        ahrs.finish(),
-        steps.finish(),
-        length.finish(),
-        nav.finish(),
-        placement.finish(),
-        odometry.finish(),
-        foot.finish(),
-    ];
+    report.engines = engines.finish();
     let (rss, hwm) = memory_kib();
     report.rss_end_kib = rss;
     report.peak_kib = hwm;
     report.wall_s = start.elapsed().as_secs_f64();
     report
+}
+
+/// Memory at a simulated hour (and at the end): recorded, and the progress line.
+fn mark_hour(report: &mut SoakReport, hours_done: f64, start: Instant, bad: u64) -> String {
+    let (rss, hwm) = memory_kib();
+    let mark = HourMark {
+        hour: hours_done,
+        wall_s: start.elapsed().as_secs_f64(),
+        rss_kib: rss,
+    };
+    report.marks.push(mark);
+    let mib = |k: Option<u64>| k.map_or(f64::NAN, |k| k as f64 / 1024.0);
+    format!(
+        "simulated hour {:5.2}  wall {:7.1} s  RSS {:6.1} MiB  peak {:6.1} MiB  mismatches+non-finite {bad}",
+        mark.hour,
+        mark.wall_s,
+        mib(rss),
+        mib(hwm)
+    )
 }
 
 /// `stridekit soak [--hours H] [--seed N]`: runs, prints, fails on any mismatch.
