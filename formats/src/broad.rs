@@ -81,33 +81,7 @@ pub fn parse_broad(mut input: impl BufRead) -> Result<OrientationRecording, Form
     if input.read_line(&mut header)? == 0 {
         return Err(FormatError::Empty);
     }
-    let c = Columns(header.trim_end().split(',').map(str::trim).collect());
-    let t = c.get("t_s")?;
-    let gyr = [
-        c.get("gyr_x_rads")?,
-        c.get("gyr_y_rads")?,
-        c.get("gyr_z_rads")?,
-    ];
-    let acc = [
-        c.get("acc_x_mps2")?,
-        c.get("acc_y_mps2")?,
-        c.get("acc_z_mps2")?,
-    ];
-    let mag = match (c.opt("mag_x_ut"), c.opt("mag_y_ut"), c.opt("mag_z_ut")) {
-        (Some(x), Some(y), Some(z)) => Some([x, y, z]),
-        _ => None,
-    };
-    let opt = match (
-        c.opt("opt_qw"),
-        c.opt("opt_qx"),
-        c.opt("opt_qy"),
-        c.opt("opt_qz"),
-    ) {
-        (Some(w), Some(x), Some(y), Some(z)) => Some([w, x, y, z]),
-        _ => None,
-    };
-    let movement = c.opt("movement");
-    let width = c.0.len();
+    let layout = Layout::of(&header)?;
     let mut rec = OrientationRecording::default();
     let mut first_error = None;
     let mut text = String::new();
@@ -129,62 +103,9 @@ pub fn parse_broad(mut input: impl BufRead) -> Result<OrientationRecording, Form
         if line.trim().is_empty() {
             continue;
         }
-        let row = || -> Result<(InertialSample, Option<[f64; 4]>, bool), FormatError> {
-            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-            if fields.len() < width {
-                return Err(FormatError::parse(
-                    FORMAT,
-                    format!("line {line_no}: {} cells, header has {width}", fields.len()),
-                ));
-            }
-            // Empty cell → None; text that is not a number → error.
-            let cell = |i: usize| -> Result<Option<f64>, FormatError> {
-                let s = fields[i];
-                if s.is_empty() {
-                    return Ok(None);
-                }
-                s.parse::<f64>().map(Some).map_err(|_| {
-                    FormatError::parse(
-                        FORMAT,
-                        format!("line {line_no}: column {} is not a number: {s:?}", i + 1),
-                    )
-                })
-            };
-            let sensor = |cols: [usize; 3]| -> Result<[f64; 3], FormatError> {
-                let v = |i| cell(i).map(|x| x.unwrap_or(f64::NAN));
-                Ok([v(cols[0])?, v(cols[1])?, v(cols[2])?])
-            };
-            let t_s = cell(t)?
-                .ok_or_else(|| FormatError::parse(FORMAT, format!("line {line_no}: empty t_s")))?;
-            let sample = InertialSample {
-                t_s,
-                gyro_rads: sensor(gyr)?,
-                accel_mps2: sensor(acc)?,
-                mag_ut: mag.map(sensor).transpose()?,
-            };
-            let truth = match opt {
-                Some(q) => {
-                    let q = [cell(q[0])?, cell(q[1])?, cell(q[2])?, cell(q[3])?];
-                    match q {
-                        [Some(w), Some(x), Some(y), Some(z)]
-                            if [w, x, y, z].iter().all(|v| v.is_finite()) =>
-                        {
-                            Some([w, x, y, z])
-                        }
-                        _ => None,
-                    }
-                }
-                None => None,
-            };
-            let moving = match movement {
-                Some(i) => cell(i)?.is_some_and(|v| v > 0.5),
-                None => true,
-            };
-            Ok((sample, truth, moving))
-        };
         // A row that cannot be read (too few cells, text, no time: a truncated last
         // line) is skipped and counted, not fatal.
-        match row() {
+        match layout.row(line, line_no) {
             Ok((sample, truth, moving)) => {
                 rec.samples.push(sample);
                 rec.truth.push(truth);
@@ -204,6 +125,137 @@ pub fn parse_broad(mut input: impl BufRead) -> Result<OrientationRecording, Form
         return Err(FormatError::Empty);
     }
     Ok(rec)
+}
+
+/// One row as read: the sample, the optical truth (None where occluded) and whether
+/// it lies in a movement phase.
+type Row = (InertialSample, Option<[f64; 4]>, bool);
+
+/// Where each quantity sits in a BROAD file's rows, from its header.
+struct Layout {
+    t: usize,
+    gyr: [usize; 3],
+    acc: [usize; 3],
+    mag: Option<[usize; 3]>,
+    opt: Option<[usize; 4]>,
+    movement: Option<usize>,
+    width: usize,
+}
+
+impl Layout {
+    fn of(header: &str) -> Result<Self, FormatError> {
+        let c = Columns(header.trim_end().split(',').map(str::trim).collect());
+        let three = |x: &'static str,
+                     y: &'static str,
+                     z: &'static str|
+         -> Result<[usize; 3], FormatError> {
+            Ok([c.get(x)?, c.get(y)?, c.get(z)?])
+        };
+        let mag = match (c.opt("mag_x_ut"), c.opt("mag_y_ut"), c.opt("mag_z_ut")) {
+            (Some(x), Some(y), Some(z)) => Some([x, y, z]),
+            _ => None,
+        };
+        let opt = match (
+            c.opt("opt_qw"),
+            c.opt("opt_qx"),
+            c.opt("opt_qy"),
+            c.opt("opt_qz"),
+        ) {
+            (Some(w), Some(x), Some(y), Some(z)) => Some([w, x, y, z]),
+            _ => None,
+        };
+        Ok(Layout {
+            t: c.get("t_s")?,
+            gyr: three("gyr_x_rads", "gyr_y_rads", "gyr_z_rads")?,
+            acc: three("acc_x_mps2", "acc_y_mps2", "acc_z_mps2")?,
+            mag,
+            opt,
+            movement: c.opt("movement"),
+            width: c.0.len(),
+        })
+    }
+
+    /// One data line (`line_no` for messages).
+    fn row(&self, line: &str, line_no: usize) -> Result<Row, FormatError> {
+        let cells = Cells::split(line, line_no, self.width)?;
+        let t_s = cells
+            .get(self.t)?
+            .ok_or_else(|| FormatError::parse(FORMAT, format!("line {line_no}: empty t_s")))?;
+        let sample = InertialSample {
+            t_s,
+            gyro_rads: cells.sensor(self.gyr)?,
+            accel_mps2: cells.sensor(self.acc)?,
+            mag_ut: self.mag.map(|m| cells.sensor(m)).transpose()?,
+        };
+        let truth = match self.opt {
+            Some(q) => cells.quaternion(q)?,
+            None => None,
+        };
+        let moving = match self.movement {
+            Some(i) => cells.get(i)?.is_some_and(|v| v > 0.5),
+            None => true,
+        };
+        Ok((sample, truth, moving))
+    }
+}
+
+/// The cells of one data line.
+struct Cells<'a> {
+    fields: Vec<&'a str>,
+    line_no: usize,
+}
+
+impl<'a> Cells<'a> {
+    fn split(line: &'a str, line_no: usize, width: usize) -> Result<Self, FormatError> {
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        if fields.len() < width {
+            return Err(FormatError::parse(
+                FORMAT,
+                format!("line {line_no}: {} cells, header has {width}", fields.len()),
+            ));
+        }
+        Ok(Cells { fields, line_no })
+    }
+
+    /// Empty cell → None; text that is not a number → error.
+    fn get(&self, i: usize) -> Result<Option<f64>, FormatError> {
+        let s = self.fields[i];
+        if s.is_empty() {
+            return Ok(None);
+        }
+        s.parse::<f64>().map(Some).map_err(|_| {
+            FormatError::parse(
+                FORMAT,
+                format!(
+                    "line {}: column {} is not a number: {s:?}",
+                    self.line_no,
+                    i + 1
+                ),
+            )
+        })
+    }
+
+    /// Three axes; an empty cell is NaN (refused by the engines' door).
+    fn sensor(&self, cols: [usize; 3]) -> Result<[f64; 3], FormatError> {
+        let v = |i| self.get(i).map(|x| x.unwrap_or(f64::NAN));
+        Ok([v(cols[0])?, v(cols[1])?, v(cols[2])?])
+    }
+
+    /// The optical quaternion, None unless all four cells are finite numbers.
+    fn quaternion(&self, q: [usize; 4]) -> Result<Option<[f64; 4]>, FormatError> {
+        let q = [
+            self.get(q[0])?,
+            self.get(q[1])?,
+            self.get(q[2])?,
+            self.get(q[3])?,
+        ];
+        Ok(match q {
+            [Some(w), Some(x), Some(y), Some(z)] if [w, x, y, z].iter().all(|v| v.is_finite()) => {
+                Some([w, x, y, z])
+            }
+            _ => None,
+        })
+    }
 }
 
 /// The trial files of a folder (`*.csv` / `*.csv.gz` not starting with `_`), sorted
