@@ -13,29 +13,10 @@ use stridekit_sim::Rng;
 use super::imu::{bursts, jittered};
 use super::report::{Aggregate, Report};
 use super::{measure, Engine, Perturbation, Scored};
-use crate::activity::{degraded, prepare, Prepared};
+use crate::activity::{activity_files, degraded, prepare, Prepared};
 use crate::pace::{replay, rmse, smoothed_track_speed};
 use crate::pace_eval::REFERENCE_HALF_WINDOW_S;
 use crate::stats::median;
-
-/// Files of `dir` the pace evaluation reads.
-fn activity_files(dir: &Path) -> Result<Vec<std::path::PathBuf>, String> {
-    let mut files: Vec<_> = std::fs::read_dir(dir)
-        .map_err(|e| format!("cannot read {}: {e}", dir.display()))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| {
-            matches!(
-                p.extension()
-                    .and_then(|e| e.to_str())
-                    .map(|e| e.to_ascii_lowercase())
-                    .as_deref(),
-                Some("fit" | "tcx" | "gpx")
-            )
-        })
-        .collect();
-    files.sort();
-    Ok(files)
-}
 
 fn with_time(s: &PaceSample, t: f64) -> PaceSample {
     match *s {
