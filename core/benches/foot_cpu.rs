@@ -15,31 +15,16 @@ use stridekit_core::foot::{
 };
 use stridekit_sim::{simulate_foot, FootScenario};
 
+#[path = "common/cpu_time.rs"]
+mod cpu_time;
+use cpu_time::cpu_s;
+
 const N: usize = 100_000;
 const RUNS: usize = 40;
 
 /// `n` samples: the simulated walk repeated with shifted timestamps.
 fn samples(n: usize) -> Vec<FootSample> {
     simulate_foot(&FootScenario::walk(42, 2)).repeated_samples(n)
-}
-
-/// Seconds of CPU time this thread has used (wall time where there is no such clock).
-#[cfg(unix)]
-#[allow(unsafe_code)] // one libc call; the engines have none
-fn cpu_s(_start: Instant) -> f64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
-    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
-}
-
-#[cfg(not(unix))]
-fn cpu_s(start: Instant) -> f64 {
-    start.elapsed().as_secs_f64()
 }
 
 fn main() {

@@ -25,6 +25,10 @@ use stridekit_core::map::{FloorPlan, MapConfig, MapMatcher};
 use stridekit_core::pdr::{NavStep, NavigatorConfig, PhoneNavigator};
 use stridekit_sim::phone::{simulate_phone, PhonePlacement, PhoneScenario};
 
+#[path = "common/cpu_time.rs"]
+mod cpu_time;
+use cpu_time::cpu_s;
+
 /// The navigator's steps over `samples`.
 fn steps_of(samples: &[ImuSample]) -> Vec<NavStep> {
     let mut nav = PhoneNavigator::new(NavigatorConfig::default()).unwrap();
@@ -136,25 +140,6 @@ fn bench(c: &mut Criterion) {
         });
     }
     group.finish();
-}
-
-/// Seconds of CPU time this thread has used (wall time where there is no such clock).
-#[cfg(unix)]
-#[allow(unsafe_code)] // one libc call; the engines have none
-fn cpu_s(_start: Instant) -> f64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
-    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
-}
-
-#[cfg(not(unix))]
-fn cpu_s(start: Instant) -> f64 {
-    start.elapsed().as_secs_f64()
 }
 
 /// CPU time per step over rounds of the walk: best and median, µs.
