@@ -18,7 +18,9 @@
 //! input's clock): inside a walk, about 0.15 s after it; the first steps of a walk, when
 //! the bout is confirmed (a few steps later, 2–3 s); the gentle last step of a walk
 //! (default detector), once no step has followed it for 1.2 step periods (about 0.7 s);
-//! a few steps before a stop, when the walk after the stop is confirmed.
+//! a step sooner than the cadence (default detector: perhaps a secondary bump), with the
+//! next step or 1.2 step periods after it; a few steps before a stop, when the walk
+//! after the stop is confirmed.
 //!
 //! Units at the door: the checks and limits of [`crate::input`] (finite, per axis
 //! ≤ 2 000 m/s², time after the previous sample and in seconds, the g-units check
@@ -44,7 +46,7 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 /// Snapshot engine kind byte for the step detector.
 const SNAPSHOT_KIND: u8 = 3;
 /// Snapshot format version written by this build.
-/// Version 10: each buffered candidate keeps the input time gaps hid before it, and
+/// Version 11: the default detector's steps held off the cadence. Version 10: each buffered candidate keeps the input time gaps hid before it, and
 /// the autocorrelation's samples may be NaN (bridged across a gap). Version 9: the default detector's held last step of a bout. Version 8: the input
 /// time the gaps hid since the last candidate, and the length of the latest gap. Version 7: the default detector's previous in-bout interval
 /// (the period follows pairs of steps). Version 6: how the phone is held (the default detector's low-passed acceleration,
@@ -52,7 +54,7 @@ const SNAPSHOT_KIND: u8 = 3;
 /// short walk before a stop. Version 4: the time
 /// state of the input layer ([`TimeGuard`]) replaces the last time (version 3 added
 /// the autocorrelation state of the default detector).
-const SNAPSHOT_VERSION: u16 = 10;
+const SNAPSHOT_VERSION: u16 = 11;
 /// Steps waiting to be popped.
 const QUEUE: usize = 32;
 

@@ -1098,3 +1098,61 @@ fn a_gap_after_the_walk_is_not_filled() {
         );
     }
 }
+
+/// Putting the phone away just before a walk is not counted: two jolts at a step-like
+/// rhythm while the phone is still held 40° from its carrying pose, each with several
+/// times the walk's impact ratio, chained back into the bout (the 45° carrying bound
+/// alone let them through; Pixel_Jamie_Hard_FrontPocket_1 counted two such bumps, 34°
+/// and 41° off, 2–6 times the walk's impact ratio). A walk whose first steps are
+/// taken while the phone still turns into place keeps them (no jolts).
+#[test]
+fn putting_the_phone_away_before_a_walk_is_not_counted() {
+    let period = 0.55;
+    let walk_t0 = 3.1;
+    let walk_end = walk_t0 + 20.0;
+    for (seed, jolts) in [(0x51u64, true), (0x52, true), (0x53, false)] {
+        let mut rng = Rng(seed);
+        let mut strikes = Vec::new();
+        let mut t = walk_t0;
+        while t < walk_end {
+            strikes.push(t);
+            t += period * (1.0 + 0.03 * rng.sym());
+        }
+        let jolt_t = [walk_t0 - 1.6, walk_t0 - 1.05];
+        let mut samples = Vec::new();
+        for t in times(200.0, 0.0, walk_end + 3.0, &mut rng) {
+            let mut m = G + 0.03 * rng.gauss();
+            if jolts {
+                for tj in jolt_t {
+                    let d = t - tj;
+                    m += 1.5 * (-(d / 0.08).powi(2)).exp() + 20.0 * (-(d / 0.006).powi(2)).exp();
+                }
+            }
+            if let Some(&t0) = strikes.iter().rev().find(|&&s| s <= t) {
+                if t < walk_end {
+                    let w = std::f64::consts::TAU * (t - t0) / period;
+                    m += 0.5 * WALK.swing_mps2 * (w.cos() + 0.3 * (2.0 * w + 0.5).cos());
+                    m += WALK.impact_mps2 * (-((t - t0) / 0.02).powi(2)).exp();
+                }
+            }
+            // Held 40° from the carrying pose until the phone is in place (3.0–3.2 s).
+            let tilt = 40f64.to_radians() * ((3.2 - t) / 0.2).clamp(0.0, 1.0);
+            samples.push(AccelSample {
+                t_s: t,
+                accel_mps2: [m * tilt.sin(), 0.0, m * tilt.cos()],
+            });
+        }
+        let got = count(DetectorMode::Default, &samples);
+        let truth = strikes.len();
+        assert!(
+            got.abs_diff(truth) <= 1,
+            "seed {seed}, jolts {jolts}: {got} steps, truth {truth}"
+        );
+        if jolts {
+            assert!(
+                got <= truth,
+                "seed {seed}: {got} steps, truth {truth}: a jolt counted"
+            );
+        }
+    }
+}

@@ -4,6 +4,7 @@
 //! and is reset when it drifts to about half or twice the autocorrelation's.
 
 use super::candidate::AMPLITUDE_GAIN;
+use super::gaps::fill_missed;
 use super::{Moments, RobustDetector, Sink};
 use crate::stepdetect::gait::ACF_TAU_S;
 
@@ -57,6 +58,7 @@ impl RobustDetector {
         let p = self.p;
         self.relock_period(t_s);
         if interval < p.refractory * self.period_s {
+            self.replace_bump(t_s, out);
             return true;
         }
         let gap_end = p.max_step_interval_s.max(GAP_END_PERIODS * self.period_s);
@@ -81,7 +83,8 @@ impl RobustDetector {
     /// The bout ended (long gap or lost periodicity) before a candidate `interval`
     /// after its last step; a bout that lost its periodicity without a silence is
     /// remembered (the next may be the same walk, see `gaps`).
-    pub(super) fn end_bout(&mut self, interval: f64) {
+    pub(super) fn end_bout(&mut self, interval: f64, out: &mut Sink<'_>) {
+        self.release_held(out);
         self.in_bout = false;
         self.prev_interval_s = f64::NAN;
         if interval <= self.p.max_step_interval_s {
@@ -113,16 +116,23 @@ impl RobustDetector {
     }
 
     /// Release the step at `t_s`, and the steps missed before it (a weak one, or
-    /// samples dropped) evenly in its interval.
+    /// samples dropped) evenly in its interval; a step sooner than the cadence is held
+    /// one step (see `held`).
     fn release_step(&mut self, t_s: f64, interval: f64, across_gap: bool, out: &mut Sink<'_>) {
         let ev = self.moments.event(t_s, interval);
         self.moments = Moments::EMPTY;
+        if self.too_soon(interval) {
+            self.hold(ev, out);
+            self.follow_period(interval, true);
+            return;
+        }
+        self.release_held(out);
         let period = self.period_s;
         let n = (interval / period).round();
         let missed = interval > MISSED_STEP_MIN_PERIODS * period
             && interval < MISSED_STEP_MAX_PERIODS * period;
         if missed || (across_gap && n >= 2.0) {
-            let step = self.fill_missed(ev, t_s, interval, n, out);
+            let step = fill_missed(ev, t_s, interval, n, &mut |e| out.push(e));
             self.follow_period(step, false);
         } else {
             out.push(ev);
@@ -154,6 +164,42 @@ impl RobustDetector {
 mod tests {
     use super::super::RobustStepParams;
     use super::*;
+    use crate::signal::Ring;
+
+    /// In a bout at 0.68 s steps, the step at `t0` and the steps released after it.
+    fn released(steps: &[(f64, bool)]) -> Vec<f64> {
+        let mut d = RobustDetector::new(RobustStepParams::default());
+        (d.in_bout, d.period_s, d.prev_interval_s, d.last_t_s) = (true, 0.68, 0.68, 10.0);
+        let mut queue = Ring::new();
+        let mut n = 0;
+        let mut out = Sink {
+            queue: &mut queue,
+            released: &mut n,
+        };
+        for &(t_s, refractory) in steps {
+            if refractory {
+                d.replace_bump(t_s, &mut out);
+            } else {
+                d.release_step(t_s, t_s - d.last_t_s, false, &mut out);
+                d.last_t_s = t_s;
+            }
+        }
+        d.release_held(&mut out);
+        queue.iter().map(|e| e.t_s).collect()
+    }
+
+    #[test]
+    fn a_secondary_bump_gives_way_to_the_heel_strike_on_cadence_after_it() {
+        // A bump 0.44 s after the step, the strike 0.26 s later (inside the refractory
+        // time of the bump): the strike is the step.
+        assert_eq!(released(&[(10.44, false), (10.70, true)]), [10.70]);
+        // A step sooner than the cadence followed by a step: both count.
+        assert_eq!(released(&[(10.44, false), (11.12, false)]), [10.44, 11.12]);
+        // Short and long steps of a phone on one side (one stride) are not held.
+        let mut d = RobustDetector::new(RobustStepParams::default());
+        (d.period_s, d.prev_interval_s) = (0.54, 0.74);
+        assert!(!d.too_soon(0.34) && d.too_soon(0.20));
+    }
 
     #[test]
     fn the_period_follows_half_the_stride_of_unequal_steps() {

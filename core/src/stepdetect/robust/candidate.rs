@@ -43,7 +43,7 @@ impl RobustDetector {
             if self.continue_bout(t_s, amplitude, interval, out) {
                 return;
             }
-            self.end_bout(interval);
+            self.end_bout(interval, out);
         }
         self.buffer(t_s, amplitude, impact, interval);
         self.try_confirm(out);

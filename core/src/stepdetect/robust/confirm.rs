@@ -4,7 +4,7 @@
 //! candidates join only while they chain back like steps held the same way.
 
 use super::bout::MISSED_STEP_MAX_PERIODS;
-use super::gaps::walks_across_gap;
+use super::gaps::{fill_missed, walks_across_gap};
 use super::pending::{merge, Pending};
 use super::{RobustDetector, Sink, PENDING};
 use crate::signal::Ring;
@@ -18,6 +18,12 @@ pub(super) const ASYMMETRY: f64 = 0.5;
 /// checked candidate. Putting the phone into a pocket or bag turns it further; a
 /// stride's ±30° thigh or arm swing, averaged over the stride, does not.
 pub(super) const CARRY_MIN_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
+/// An older candidate still turned more than 30° (cosine) from how the phone is held in
+/// the bout ...
+const SETTLED_MIN_COS: f64 = 0.866;
+/// ... and a jolt (impact ratio over this factor times the bout's median) is the phone
+/// being put away (into a pocket: 34–41° and 2–6 times the walk's), not a first step.
+const HANDLING_IMPACT_FACTOR: f64 = 2.0;
 
 impl RobustDetector {
     /// Confirm a bout from the newest `confirm_steps` pending candidates and release
@@ -56,7 +62,7 @@ impl RobustDetector {
             prev_t_s = c.event.t_s;
             let n = (interval / period).round();
             if n >= 2.0 && walks_across_gap(interval, c.missing_before_s, period) {
-                self.fill_missed(c.event, c.event.t_s, interval, n, out);
+                fill_missed(c.event, c.event.t_s, interval, n, &mut |e| out.push(e));
             } else {
                 out.push(c.event);
             }
@@ -141,8 +147,9 @@ impl RobustDetector {
     /// Only the newest k candidates were checked. Older ones waiting in the buffer
     /// (handling the phone before walking, a stumble) are steps only while they chain
     /// back from the bout with step-like intervals (a step, a step and a missed one,
-    /// or a walk through dropped samples) and the phone held as in the bout; the
-    /// first that does not and all before it are dropped (returned).
+    /// or a walk through dropped samples) and the phone held as in the bout, not
+    /// being put away ([`SETTLED_MIN_COS`]); the first that does not and all before it
+    /// are dropped (returned).
     fn drop_unchained(
         &mut self,
         k: usize,
@@ -150,6 +157,7 @@ impl RobustDetector {
         bout_carry: [f64; 3],
     ) -> Ring<Pending, PENDING> {
         let n = self.pending.len();
+        let jolt = HANDLING_IMPACT_FACTOR * newest_median(&self.pending, k, |c| c.impact);
         let mut keep = k;
         while keep < n {
             let (Some(older), Some(newer)) = (self.pending.back(keep), self.pending.back(keep - 1))
@@ -162,7 +170,8 @@ impl RobustDetector {
             if !(step_like || walks_across_gap(iv, newer.missing_before_s, period)) {
                 break;
             }
-            if dot(older.carry, bout_carry) < CARRY_MIN_COS {
+            let cos = dot(older.carry, bout_carry);
+            if cos < CARRY_MIN_COS || (cos < SETTLED_MIN_COS && older.impact > jolt) {
                 break;
             }
             keep += 1;

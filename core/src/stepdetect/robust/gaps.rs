@@ -24,6 +24,32 @@ pub(super) fn walks_across_gap(interval: f64, missing_s: f64, period: f64) -> bo
         && interval <= FILL_MAX_GAP_S
 }
 
+/// Emit the step `ev` at `t_s` after the `n` − 1 (at least 1, capped) steps missed
+/// in its `interval` before it, evenly; the filled step length, s.
+pub(super) fn fill_missed(
+    ev: StepEvent,
+    t_s: f64,
+    interval: f64,
+    n: f64,
+    emit: &mut impl FnMut(StepEvent),
+) -> f64 {
+    let n = n.clamp(2.0, FILL_MAX_STEPS as f64 + 1.0) as usize;
+    let step = interval / n as f64;
+    let t0 = t_s - interval;
+    for i in 1..n {
+        emit(StepEvent {
+            t_s: t0 + i as f64 * step,
+            duration_s: step,
+            ..ev
+        });
+    }
+    emit(StepEvent {
+        duration_s: step,
+        ..ev
+    });
+    step
+}
+
 impl RobustDetector {
     /// A sample `dt` after the previous one: a spacing over [`DATA_GAP_S`] is a gap in
     /// the data (samples dropped).
@@ -60,33 +86,6 @@ impl RobustDetector {
         } else {
             0.0
         }
-    }
-
-    /// Release the step `ev` at `t_s` and the `n` − 1 (at least 1, capped) steps
-    /// missed in its `interval` before it, evenly; the filled step length, s.
-    pub(super) fn fill_missed(
-        &self,
-        ev: StepEvent,
-        t_s: f64,
-        interval: f64,
-        n: f64,
-        out: &mut Sink<'_>,
-    ) -> f64 {
-        let n = n.clamp(2.0, FILL_MAX_STEPS as f64 + 1.0) as usize;
-        let step = interval / n as f64;
-        let t0 = t_s - interval;
-        for i in 1..n {
-            out.push(StepEvent {
-                t_s: t0 + i as f64 * step,
-                duration_s: step,
-                ..ev
-            });
-        }
-        out.push(StepEvent {
-            duration_s: step,
-            ..ev
-        });
-        step
     }
 
     /// A bout was just confirmed at `period`: if the previous bout lost its

@@ -7,6 +7,7 @@ mod bout;
 mod candidate;
 mod confirm;
 mod gaps;
+mod held;
 mod history;
 mod impact;
 mod params;
@@ -109,6 +110,8 @@ pub(crate) struct RobustDetector {
     /// A weak candidate on cadence held as the possible last step of the bout (see
     /// `tail`).
     tail: Option<StepEvent>,
+    /// Steps sooner than the cadence, held one step (see `held`).
+    held: Ring<StepEvent, { held::HELD }>,
 }
 
 /// The constants a detector derives from its parameters (not serialised).
@@ -172,6 +175,7 @@ impl RobustDetector {
             data_gap_s: 0.0,
             gait: GaitPeriod::new(),
             tail: None,
+            held: Ring::new(),
         }
     }
 
@@ -204,6 +208,7 @@ impl RobustDetector {
     /// inconsistent restored state, and starts over too. A last step held when the
     /// input stopped ended the walk.
     fn restart(&mut self, out: &mut Sink<'_>) {
+        self.release_held(out);
         if let (Some(ev), true) = (self.tail, self.in_bout) {
             out.push(ev);
         }

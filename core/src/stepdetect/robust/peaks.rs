@@ -17,6 +17,7 @@ impl RobustDetector {
     /// stride).
     pub(super) fn grid(&mut self, t_s: f64, y: f64, bridged: bool, out: &mut Sink<'_>) {
         self.release_tail_if_due(t_s, out);
+        self.release_held_if_due(t_s, out);
         let x = self.demean(y);
         self.xs.push(x);
         self.gait.push(if bridged { f64::NAN } else { x });

@@ -2,6 +2,7 @@
 //! destructures every level without `..` (a new field left out is a compile error),
 //! the reader builds the detector field by field, each checked against its bounds.
 
+use super::held::HELD;
 use super::history::{History, HISTORY};
 use super::pending::Pending;
 use super::{
@@ -67,6 +68,7 @@ impl RobustDetector {
             data_gap_s,
             gait,
             tail,
+            held,
         } = self;
         w.bool(*started);
         w.f64s(&[*lp1, *lp2, *prev_t_s, *prev_y, *next_grid_t_s, *mean, *ms]);
@@ -99,6 +101,10 @@ impl RobustDetector {
         if let Some(ev) = tail {
             write_event(w, ev);
         }
+        w.u64(held.len() as u64);
+        for ev in held.iter() {
+            write_event(w, &ev);
+        }
     }
 
     pub(crate) fn read(r: &mut Reader, p: RobustStepParams) -> Result<Self, SnapshotError> {
@@ -110,6 +116,7 @@ impl RobustDetector {
         let pending = read_candidates(r)?;
         let short_walk = read_candidates(r)?;
         let bout = read_bout(r)?;
+        let held = read_held(r, &bout)?;
         let Derived {
             tau_lp_s,
             gain_mean,
@@ -152,8 +159,29 @@ impl RobustDetector {
             data_gap_s: bout.data_gap_s,
             gait: bout.gait,
             tail: bout.tail,
+            held,
         })
     }
+}
+
+/// The steps held off the cadence: only inside a bout and without a held last step,
+/// in time order, none after the bout's last step.
+fn read_held(r: &mut Reader, bout: &BoutState) -> Result<Ring<StepEvent, HELD>, SnapshotError> {
+    let n = r.len(HELD)?;
+    let mut held = Ring::new();
+    let mut prev_t_s = f64::NEG_INFINITY;
+    for _ in 0..n {
+        let ev = read_event(r)?;
+        if !(ev.t_s >= prev_t_s && ev.t_s <= bout.last_t_s) {
+            return Err(SnapshotError::Invalid("step detector held steps"));
+        }
+        prev_t_s = ev.t_s;
+        held.push(ev);
+    }
+    if n > 0 && (!bout.in_bout || bout.tail.is_some()) {
+        return Err(SnapshotError::Invalid("step detector held steps"));
+    }
+    Ok(held)
 }
 
 /// The signal chain's state as read (see [`read_signal`]).

@@ -10,7 +10,7 @@ use super::{RobustDetector, Sink};
 /// of Samsung_Dario_Hard_InHand_1) ...
 const TAIL_CADENCE: f64 = 0.2;
 /// ... and released when no step has come this many periods after it.
-const TAIL_WAIT_PERIODS: f64 = 1.2;
+pub(super) const TAIL_WAIT_PERIODS: f64 = 1.2;
 
 impl RobustDetector {
     /// A weak candidate at `t_s`, `interval_s` after the last step: held as the
@@ -18,6 +18,7 @@ impl RobustDetector {
     pub(super) fn hold_tail(&mut self, t_s: f64, interval_s: f64) {
         if self.in_bout
             && self.tail.is_none()
+            && self.held.is_empty()
             && self.moments.n > 0.0
             && (interval_s - self.period_s).abs() <= TAIL_CADENCE * self.period_s
         {
