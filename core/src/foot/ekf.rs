@@ -46,6 +46,9 @@ const VAR_CAP: [f64; 15] = [
 /// Speed assumed for the position uncertainty across a gap, m/s (a brisk walk: the
 /// foot may have gone anywhere within it).
 const GAP_SPEED_MPS: f64 = 2.0;
+/// Tilt error past which the small-angle error model cannot re-level the foot, rad
+/// (90°: beyond it the sine of the error falls as the error grows).
+pub(crate) const UPSIDE_DOWN_RAD: f64 = std::f64::consts::FRAC_PI_2;
 /// Longest gap the covariance grows with, s (a year; keeps the arithmetic finite).
 const MAX_GAP_GROWTH_S: f64 = 3.2e7;
 
@@ -167,6 +170,54 @@ impl Strapdown {
             self.cov[(IA + i, IA + i)] += var;
             self.cov[(IV + i, IV + i)] += GAP_SPEED_MPS * GAP_SPEED_MPS;
         }
+    }
+
+    /// The heading of the foot's x axis, rad (ENU, counter-clockwise from East).
+    pub fn toe_yaw(&self) -> f64 {
+        let x = self.q * Vector3::x();
+        x.y.atan2(x.x)
+    }
+
+    /// Turn the attitude by `angle` rad about the vertical.
+    #[cold]
+    pub fn turn(&mut self, angle: f64) {
+        self.q = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), angle) * self.q;
+    }
+
+    /// At rest: if the attitude puts the measured specific force `f_b` (body axes,
+    /// gravity alone) more than [`UPSIDE_DOWN_RAD`] from the vertical, roll and pitch
+    /// are taken from it (by the smallest rotation that does it) with variance
+    /// `tilt_var`, tied to no other state. The error model is of small angles: past
+    /// 90° the update turns the attitude the wrong way (a hole in a swing can leave
+    /// the foot upside down, the velocity then runs to 20 m/s). Returns whether it did.
+    #[cold]
+    pub fn relevel_if_upside_down(&mut self, f_b: &Vector3<f64>, tilt_var: f64) -> bool {
+        let f = f_b - self.ba;
+        if (self.q * f).angle(&Vector3::z()) <= UPSIDE_DOWN_RAD {
+            return false;
+        }
+        // The smallest rotation that puts gravity back up: an error in one axis (the
+        // swing's pitch) is undone exactly, where keeping the toe's heading would
+        // turn the foot round when the error tipped the toe past the vertical.
+        let Some(r) = UnitQuaternion::rotation_between(&(self.q * f), &Vector3::z()) else {
+            return false;
+        };
+        self.q = r * self.q;
+        let heading_var = self.cov[(IA + 2, IA + 2)];
+        for i in 0..3 {
+            self.decouple(IA + i, tilt_var);
+        }
+        self.cov[(IA + 2, IA + 2)] = heading_var;
+        true
+    }
+
+    /// State `i` with variance `var` and no covariance with the others.
+    fn decouple(&mut self, i: usize, var: f64) {
+        for j in 0..15 {
+            self.cov[(i, j)] = 0.0;
+            self.cov[(j, i)] = 0.0;
+        }
+        self.cov[(i, i)] = var;
     }
 
     /// Grow the diagonal of the covariance for `extra` seconds without data.

@@ -11,6 +11,7 @@ mod config;
 mod detect;
 mod ekf;
 mod error;
+mod hole;
 mod median;
 mod navigator;
 mod still;

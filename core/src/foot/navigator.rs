@@ -41,6 +41,7 @@ use super::detect::{
 };
 use super::ekf::{Cov, Noise, Strapdown, IA, IP, IV};
 use super::error::FootError;
+use super::hole::Hole;
 use super::median::{MedianFilter, MAX_MEDIAN_WINDOW};
 use super::still::StillFloor;
 use super::svm::SvmModel;
@@ -60,6 +61,9 @@ const LOST_INTERVALS: f64 = 2.5;
 /// this, rad (2°); beyond, the attitude and velocity variances grow with what the
 /// interval may hide ([`Strapdown::lost`]).
 const LOST_BRIDGE_RAD: f64 = 2.0 * std::f64::consts::PI / 180.0;
+/// Tilt error of a foot re-levelled from gravity at rest, rad (1°, as the start's
+/// alignment).
+const RELEVEL_TILT_RAD: f64 = std::f64::consts::PI / 180.0;
 /// The sample rate [`FootConfig::zupt_gate_nis`] holds at, Hz (the rate it was chosen
 /// at, the UofT trials'): at a lower rate a stance has fewer updates, each bounded
 /// more loosely in proportion, so that a stance's pull per second does not depend on
@@ -135,6 +139,10 @@ pub struct FootNavigator {
     stance: bool,
     swing_start_t: f64,
     last_onset: Option<(f64, [f64; 3])>,
+    /// The walker's turn rate and a hole waiting for a stance.
+    hole: Hole,
+    /// Stances re-levelled from gravity after a hole left the foot upside down.
+    relevels: u64,
     strides: u64,
     distance_m: f64,
     resets: u64,
@@ -169,6 +177,8 @@ impl FootNavigator {
             stance: true,
             swing_start_t: 0.0,
             last_onset: None,
+            hole: Hole::default(),
+            relevels: 0,
             strides: 0,
             distance_m: 0.0,
             resets: 0,
@@ -198,6 +208,12 @@ impl FootNavigator {
     /// How many samples the estimates lag the newest input.
     pub fn delay_samples(&self) -> usize {
         self.median.delay() + self.window / 2
+    }
+
+    /// Stances re-levelled from gravity because samples lost mid-swing had left the
+    /// attitude more than 90° from it.
+    pub fn relevels(&self) -> u64 {
+        self.relevels
     }
 
     /// Times the divergence guard reset the velocity.
@@ -493,9 +509,18 @@ impl FootNavigator {
         ins.propagate(&c.f, &c.w, dt_int, dt, &noise, interval_mean);
         if missed > LOST_BRIDGE_RAD {
             ins.lost(missed);
+            // The heading keeps turning as the walker did over the time not integrated.
+            ins.turn(self.hole.turn_over(c.t_s, dt - dt_int));
+            self.hole.pending = true;
         }
         if stance {
             ins.zupt(zupt_sigma, gate, correction);
+            if std::mem::take(&mut self.hole.pending) {
+                let f = window_mean_f(&self.det, self.window);
+                if ins.relevel_if_upside_down(&f, RELEVEL_TILT_RAD * RELEVEL_TILT_RAD) {
+                    self.relevels = self.relevels.saturating_add(1);
+                }
+            }
         }
         let cov_finite = ins.condition();
         if !(cov_finite && ins.state_is_finite())
@@ -549,6 +574,7 @@ impl FootNavigator {
                     self.distance_m += len;
                 }
                 self.last_onset = Some((c.t_s, p));
+                self.hole.onset(c.t_s, ins.toe_yaw());
             }
         } else if !stance && self.stance {
             self.swing_start_t = c.t_s;
@@ -609,6 +635,17 @@ impl FootNavigator {
         (self.ins.is_some() && self.window > 0 && self.det.len() >= self.window)
             .then(|| self.still.apply(self.window_stats()))
     }
+}
+
+/// Mean specific force (body axes) of the newest `n` filtered samples (the detector's
+/// window).
+fn window_mean_f(det: &Ring<BodySample, MAX_DETECTOR_WINDOW>, n: usize) -> Vector3<f64> {
+    let n = n.clamp(1, det.len().max(1));
+    let mut m = Vector3::zeros();
+    for k in 0..n {
+        m += Vector3::from(det.back(k).unwrap_or_default().f);
+    }
+    m / n as f64
 }
 
 /// Whether a stride that rose `climb_m` over `length_m` horizontally is taken as

@@ -215,14 +215,15 @@ const PINNED_NAVIGATOR: [(u64, usize); 3] = [
 // (issue 39 speed; within 4e-9 rad of libm's, eval outputs unchanged).
 const PINNED_AHRS: [(u64, usize); 2] = [(3135113793863170862, 10206), (15874992898461028221, 5474)];
 const PINNED_STEPS: (u64, usize) = (12544845488881009756, 46692);
-// Foot format 7 (issue 39): the detector's stillness floor joins the snapshot, and the
+// Foot format 8 (issue 39, i39-foot2): the hole state (turn rate, pending stance check)
+// joins the snapshot (estimates unchanged on this walk). Format 7: the stillness floor, and the
 // adaptive SHOE's threshold follows it (the default detector's estimates may move).
 const PINNED_FOOT: [(u64, usize); 5] = [
-    (4296907681944822306, 122532),
-    (13222603781401177147, 123412),
-    (10925588611223812772, 122180),
-    (17694956538268588295, 122356),
-    (16979507011411962144, 124116),
+    (18120138683774435852, 123280),
+    (592782141576309098, 124160),
+    (3948387610814439252, 122928),
+    (694776107298159666, 123104),
+    (1687698206261789095, 124864),
 ];
 // Recorded on h37-pace at 06a5b1c, before core/src/pace/adaptive.rs was split.
 const PINNED_PACE: [(u64, usize); 3] = [

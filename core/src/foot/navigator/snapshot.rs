@@ -1,6 +1,7 @@
 //! Snapshot and restore of the [`FootNavigator`]: the configuration, the whole filter state and the latest estimate, versioned and checksummed. Exhaustive destructuring of the navigator and of its configuration makes a field that is not written a compile error.
 
 use super::*;
+use crate::foot::hole::Hole;
 use crate::foot::still::{StillFloor, STILL_CAP};
 
 mod config;
@@ -9,10 +10,10 @@ use self::config::{read_config, write_config};
 
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
-/// Version 7: the detector's stillness floor (`StillFloor`). Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
+/// Version 8: the hole state (`Hole`: the last stance onset's heading, the turn rate, a hole waiting for its stance) and the count of re-levelled stances. Version 7: the detector's stillness floor (`StillFloor`). Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
 /// ([`TimeGuard`]) replaces the last time (version 2 added `FootConfig::gyro_timing`
 /// and the adaptive SHOE detector).
-const SNAPSHOT_VERSION: u16 = 7;
+const SNAPSHOT_VERSION: u16 = 8;
 
 fn write_body(w: &mut Writer, s: &BodySample) {
     w.f64(s.t_s);
@@ -205,6 +206,8 @@ impl FootNavigator {
             stance,
             swing_start_t,
             last_onset,
+            hole,
+            relevels,
             strides,
             distance_m,
             resets,
@@ -281,6 +284,16 @@ impl FootNavigator {
         let (t0, p0) = last_onset.unwrap_or_default();
         w.f64(t0);
         w.f64s(&p0);
+        let Hole {
+            onset,
+            turn_rads,
+            pending,
+        } = hole;
+        w.bool(onset.is_some());
+        let (t, yaw) = onset.unwrap_or_default();
+        w.f64s(&[t, yaw, *turn_rads]);
+        w.bool(*pending);
+        w.u64(*relevels);
         w.u64(*strides);
         w.f64(*distance_m);
         w.u64(*resets);
@@ -365,6 +378,14 @@ impl FootNavigator {
         {
             return Err("stride state");
         }
+        // A heading in [−π, π]; a turn rate the gyroscope could report.
+        let h = &self.hole;
+        if h.onset
+            .is_some_and(|(t, yaw)| !(t_ok(t) && yaw.abs() <= std::f64::consts::PI))
+            || h.turn_rads.abs() > w_max
+        {
+            return Err("hole state");
+        }
         Ok(())
     }
 
@@ -432,6 +453,18 @@ impl FootNavigator {
         let mut p0 = [0.0; 3];
         r.f64s(&mut p0)?;
         n.last_onset = has_onset.then_some((t0, p0));
+        let has_onset = r.bool()?;
+        let mut h = [0.0; 3];
+        r.f64s(&mut h)?;
+        if !h.iter().all(|v| v.is_finite()) {
+            return Err(invalid("hole state"));
+        }
+        n.hole = Hole {
+            onset: has_onset.then_some((h[0], h[1])),
+            turn_rads: h[2],
+            pending: r.bool()?,
+        };
+        n.relevels = r.u64()?;
         n.strides = r.u64()?;
         n.distance_m = r.f64()?;
         n.resets = r.u64()?;
