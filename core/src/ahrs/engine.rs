@@ -18,7 +18,7 @@
 //! [`SnapshotError::UnsupportedVersion`].
 
 use super::decoupled::{Decoupled, DecoupledSettings};
-use super::door::Door;
+use super::door::{Admitted, Door};
 use super::error::AhrsError;
 use super::flags::AhrsFlags;
 use super::frame::{AxisRemap, EarthFrame};
@@ -87,8 +87,8 @@ impl Ahrs {
         self.door.started()
     }
 
-    /// Flags of the latest accepted sample. Kept by the filter only: a second copy
-    /// here cost a 12-byte copy per update (see [`Ahrs::update`]).
+    /// Flags of the latest accepted sample (kept by the filter only: a second copy here
+    /// cost a 12-byte copy per update).
     #[inline(always)]
     pub fn flags(&self) -> AhrsFlags {
         match &self.filter {
@@ -185,37 +185,9 @@ impl Ahrs {
         // --- Accepted.
         self.door.commit(&s);
         self.last_accel_mps2 = s.accel;
-        let settings = &self.settings;
-        // The flags are kept by the filter, packed, and not copied into `self`: each
-        // copy of the struct built byte by byte was a wide load of narrow stores, which
-        // stalls store-to-load forwarding.
         match &mut self.filter {
-            Filter::Decoupled(f) => {
-                // Returned as read back from the filter's packed copy: unpacked in
-                // registers, not copied from the struct built byte by byte.
-                if s.restart {
-                    f.start(settings, &s.gyro, &s.accel, s.mag.as_ref());
-                } else {
-                    f.step(s.dt, s.gyro, &s.accel, s.mag.as_ref());
-                }
-                Ok(f.flags())
-            }
-            Filter::Madgwick(f) => {
-                let flags = if s.restart {
-                    f.start(settings, &s.accel, s.a_norm, s.mag.as_ref())
-                } else {
-                    f.step(
-                        settings,
-                        s.dt,
-                        s.gyro,
-                        &s.accel,
-                        s.a2,
-                        s.a_norm,
-                        s.mag.as_ref(),
-                    )
-                };
-                Ok(madgwick_flags(flags))
-            }
+            Filter::Decoupled(f) => Ok(step_decoupled(f, &self.settings, &s)),
+            Filter::Madgwick(f) => Ok(step_madgwick(f, &self.settings, &s)),
         }
     }
 
@@ -359,6 +331,47 @@ impl Ahrs {
         }
         Ok(a)
     }
+}
+
+/// One admitted sample through the decoupled filter; its flags. The flags are kept by
+/// the filter only, packed, and returned as read back from there (unpacked in
+/// registers): every copy of the struct built byte by byte was a wide load of narrow
+/// stores, which stalls store-to-load forwarding.
+#[inline(always)]
+fn step_decoupled(f: &mut Decoupled, settings: &AhrsSettings, s: &Admitted) -> AhrsFlags {
+    if s.restart {
+        start_decoupled(f, settings, s);
+    } else {
+        f.step(s.dt, s.gyro, &s.accel, s.mag.as_ref());
+    }
+    f.flags()
+}
+
+/// A (re)start of the decoupled filter: rare (the first sample, a gap), so kept out of
+/// line, away from the per-sample code.
+#[cold]
+#[inline(never)]
+fn start_decoupled(f: &mut Decoupled, settings: &AhrsSettings, s: &Admitted) {
+    f.start(settings, &s.gyro, &s.accel, s.mag.as_ref());
+}
+
+/// One admitted sample through the Madgwick filter; its flags.
+#[inline(always)]
+fn step_madgwick(f: &mut Madgwick, settings: &AhrsSettings, s: &Admitted) -> AhrsFlags {
+    let flags = if s.restart {
+        f.start(settings, &s.accel, s.a_norm, s.mag.as_ref())
+    } else {
+        f.step(
+            settings,
+            s.dt,
+            s.gyro,
+            &s.accel,
+            s.a2,
+            s.a_norm,
+            s.mag.as_ref(),
+        )
+    };
+    madgwick_flags(flags)
 }
 
 /// The flags of the Madgwick filter as the engine reports them: it has no rest
