@@ -18,7 +18,7 @@
 //! [`SnapshotError::UnsupportedVersion`].
 
 use super::decoupled::{Decoupled, DecoupledSettings};
-use super::door::Door;
+use super::door::{Admitted, Door};
 use super::error::AhrsError;
 use super::flags::AhrsFlags;
 use super::frame::{AxisRemap, EarthFrame};
@@ -57,7 +57,7 @@ pub struct Ahrs {
     door: Door,
     /// Latest accepted specific force, body frame, m/s².
     last_accel_mps2: [f64; 3],
-    flags: AhrsFlags,
+    /// The filter; it also keeps the flags of the latest sample ([`Ahrs::flags`]).
     filter: Filter,
 }
 
@@ -74,7 +74,6 @@ impl Ahrs {
             remap: (settings.axis_remap != AxisRemap::IDENTITY).then_some(settings.axis_remap),
             door: Door::default(),
             last_accel_mps2: [0.0; 3],
-            flags: AhrsFlags::default(),
             filter,
         })
     }
@@ -88,9 +87,14 @@ impl Ahrs {
         self.door.started()
     }
 
-    /// Flags of the latest accepted sample.
+    /// Flags of the latest accepted sample (kept by the filter only: a second copy here
+    /// cost a 12-byte copy per update).
+    #[inline(always)]
     pub fn flags(&self) -> AhrsFlags {
-        self.flags
+        match &self.filter {
+            Filter::Decoupled(f) => f.flags(),
+            Filter::Madgwick(f) => madgwick_flags(f.flags()),
+        }
     }
 
     /// Estimated gyroscope bias, rad/s, body frame.
@@ -181,39 +185,10 @@ impl Ahrs {
         // --- Accepted.
         self.door.commit(&s);
         self.last_accel_mps2 = s.accel;
-        let settings = &self.settings;
-        // The flags are returned from the local copy: reading them back from `self`
-        // right after their byte-wise store stalls store-to-load forwarding.
-        let flags = match &mut self.filter {
-            Filter::Decoupled(f) => {
-                if s.restart {
-                    f.start(settings, &s.gyro, &s.accel, s.mag.as_ref())
-                } else {
-                    f.step(s.dt, s.gyro, &s.accel, s.mag.as_ref())
-                }
-            }
-            Filter::Madgwick(f) => {
-                let mut flags = if s.restart {
-                    f.start(settings, &s.accel, s.a_norm, s.mag.as_ref())
-                } else {
-                    f.step(
-                        settings,
-                        s.dt,
-                        s.gyro,
-                        &s.accel,
-                        s.a2,
-                        s.a_norm,
-                        s.mag.as_ref(),
-                    )
-                };
-                flags.at_rest = flags.bias_learning;
-                flags.mag_disturbed = flags.mag_rejected;
-                flags.heading_held = flags.mag_rejected;
-                flags
-            }
-        };
-        self.flags = flags;
-        Ok(flags)
+        match &mut self.filter {
+            Filter::Decoupled(f) => Ok(step_decoupled(f, &self.settings, &s)),
+            Filter::Madgwick(f) => Ok(step_madgwick(f, &self.settings, &s)),
+        }
     }
 
     /// Orientation and derived quantities after the latest accepted sample; `None`
@@ -282,7 +257,7 @@ impl Ahrs {
             linear_accel_body_mps2,
             linear_accel_earth_mps2,
             gyro_bias_rads: self.gyro_bias_rads(),
-            flags: self.flags,
+            flags: self.flags(),
         }
     }
 
@@ -315,7 +290,7 @@ impl Ahrs {
         write_settings(&mut w, &self.settings);
         self.door.write(&mut w);
         w.f64s(&self.last_accel_mps2);
-        let flags = self.flags.to_bits();
+        let flags = self.flags().to_bits();
         w.u8(flags as u8);
         w.u8((flags >> 8) as u8);
         match &self.filter {
@@ -339,15 +314,15 @@ impl Ahrs {
         if bits >> AhrsFlags::NAMES.len() != 0 {
             return Err(SnapshotError::Invalid("flags").into());
         }
-        a.flags = AhrsFlags::from_bits(bits);
+        let flags = AhrsFlags::from_bits(bits);
         match &mut a.filter {
             Filter::Decoupled(f) => {
                 f.read_state(&mut r)?;
-                f.set_flags(a.flags);
+                f.set_flags(flags);
             }
             Filter::Madgwick(f) => {
                 f.read_state(&mut r, &settings)?;
-                f.set_flags(a.flags);
+                f.set_flags(flags);
             }
         }
         r.end()?;
@@ -356,6 +331,58 @@ impl Ahrs {
         }
         Ok(a)
     }
+}
+
+/// One admitted sample through the decoupled filter; its flags. The flags are kept by
+/// the filter only, packed, and returned as read back from there (unpacked in
+/// registers): every copy of the struct built byte by byte was a wide load of narrow
+/// stores, which stalls store-to-load forwarding.
+#[inline(always)]
+fn step_decoupled(f: &mut Decoupled, settings: &AhrsSettings, s: &Admitted) -> AhrsFlags {
+    if s.restart {
+        start_decoupled(f, settings, s);
+    } else {
+        f.step(s.dt, s.gyro, &s.accel, s.mag.as_ref());
+    }
+    f.flags()
+}
+
+/// A (re)start of the decoupled filter: rare (the first sample, a gap), so kept out of
+/// line, away from the per-sample code.
+#[cold]
+#[inline(never)]
+fn start_decoupled(f: &mut Decoupled, settings: &AhrsSettings, s: &Admitted) {
+    f.start(settings, &s.gyro, &s.accel, s.mag.as_ref());
+}
+
+/// One admitted sample through the Madgwick filter; its flags.
+#[inline(always)]
+fn step_madgwick(f: &mut Madgwick, settings: &AhrsSettings, s: &Admitted) -> AhrsFlags {
+    let flags = if s.restart {
+        f.start(settings, &s.accel, s.a_norm, s.mag.as_ref())
+    } else {
+        f.step(
+            settings,
+            s.dt,
+            s.gyro,
+            &s.accel,
+            s.a2,
+            s.a_norm,
+            s.mag.as_ref(),
+        )
+    };
+    madgwick_flags(flags)
+}
+
+/// The flags of the Madgwick filter as the engine reports them: it has no rest
+/// detector and no field check of its own, so `at_rest` is `bias_learning`, and
+/// `mag_disturbed` and `heading_held` are `mag_rejected`.
+#[inline(always)]
+fn madgwick_flags(mut flags: AhrsFlags) -> AhrsFlags {
+    flags.at_rest = flags.bias_learning;
+    flags.mag_disturbed = flags.mag_rejected;
+    flags.heading_held = flags.mag_rejected;
+    flags
 }
 
 fn write_settings(w: &mut Writer, s: &AhrsSettings) {

@@ -51,6 +51,7 @@ pub struct AhrsFlags {
 }
 
 impl AhrsFlags {
+    #[inline(always)]
     pub(crate) fn to_bits(self) -> u16 {
         (self.reinitialised as u16)
             | (self.initialising as u16) << 1
@@ -66,6 +67,7 @@ impl AhrsFlags {
             | (self.heading_held as u16) << 11
     }
 
+    #[inline(always)]
     pub(crate) fn from_bits(b: u16) -> Self {
         let bit = |i: u16| b & (1 << i) != 0;
         Self {
@@ -107,6 +109,24 @@ impl AhrsFlags {
     }
 }
 
+/// The flags packed into one integer (bit i: [`AhrsFlags::NAMES`]`[i]`), as a filter
+/// carries them from one sample to the next: one 2-byte store per update, where a copy
+/// of the 12-byte struct, built byte by byte, stalls store-to-load forwarding.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct PackedFlags(u16);
+
+impl PackedFlags {
+    #[inline(always)]
+    pub(crate) fn pack(flags: AhrsFlags) -> Self {
+        Self(flags.to_bits())
+    }
+
+    #[inline(always)]
+    pub(crate) fn unpack(self) -> AhrsFlags {
+        AhrsFlags::from_bits(self.0)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -121,6 +141,7 @@ mod tests {
             ..AhrsFlags::default()
         };
         assert!(f.to_array()[11]);
+        assert_eq!(PackedFlags::pack(f).unpack(), f);
         assert_eq!(AhrsFlags::NAMES[11], "heading_held");
     }
 }

@@ -496,6 +496,12 @@ impl Madgwick {
         Ok(())
     }
 
+    /// The flags of the latest sample.
+    #[inline(always)]
+    pub(crate) fn flags(&self) -> AhrsFlags {
+        self.flags
+    }
+
     /// The flags carried from sample to sample (restored from a snapshot).
     pub(crate) fn set_flags(&mut self, flags: AhrsFlags) {
         self.flags = flags;

@@ -52,7 +52,7 @@ use self::magnetic::{gain, MagDisturbance, MagLimits};
 use self::measure::{measure, Field};
 use self::rest::{Rest, RestLimits};
 use self::tilt::Tilt;
-use super::flags::AhrsFlags;
+use super::flags::{AhrsFlags, PackedFlags};
 use super::frame::EarthFrame;
 use super::madgwick::GYRO_CLIP_SHARE;
 use super::quat::{self, Quat};
@@ -144,8 +144,8 @@ pub(crate) struct Decoupled {
     gyro_prev: [f64; 3],
     plateau_run: u8,
     /// Flags carried from sample to sample (angular-rate and magnetic recovery, the
-    /// last magnetometer verdict).
-    flags: AhrsFlags,
+    /// last magnetometer verdict), packed: the engine reads the latest sample's from here.
+    flags: PackedFlags,
 }
 
 impl Decoupled {
@@ -197,7 +197,7 @@ impl Decoupled {
             dt_typ_s: 0.0,
             gyro_prev: [0.0; 3],
             plateau_run: 0,
-            flags: AhrsFlags::default(),
+            flags: PackedFlags::default(),
         }
     }
 
@@ -254,12 +254,13 @@ impl Decoupled {
                 };
             }
         }
-        self.flags = AhrsFlags {
+        let flags = AhrsFlags {
             reinitialised: true,
             initialising: true,
             ..AhrsFlags::default()
         };
-        self.flags
+        self.flags = PackedFlags::pack(flags);
+        flags
     }
 
     /// One accepted sample after the first.
@@ -358,14 +359,15 @@ impl Decoupled {
         self.mag_elapsed_s += dt;
         let mag_due = mag.is_some() & ((self.mag_elapsed_s >= SLOW_PERIOD_S) | !self.heading.valid);
         let bias_due = self.bias_elapsed_s >= SLOW_PERIOD_S;
-        let recovery = self.flags.mag_recovery;
+        let carried = self.flags.unpack();
+        let recovery = carried.mag_recovery;
         if !(mag_due | bias_due) {
             return match mag {
                 // Between magnetometer updates the verdict of the last one stands.
                 Some(_) => MagFlags {
-                    disturbed: self.flags.mag_disturbed,
-                    rejected: self.flags.mag_rejected,
-                    held: self.flags.heading_held,
+                    disturbed: carried.mag_disturbed,
+                    rejected: carried.mag_rejected,
+                    held: carried.heading_held,
                     recovery,
                 },
                 None => MagFlags {
@@ -430,7 +432,7 @@ impl Decoupled {
         bias_motion: bool,
         mag: MagFlags,
     ) -> AhrsFlags {
-        let mut angular_rate_recovery = self.flags.angular_rate_recovery | rate.lost;
+        let mut angular_rate_recovery = self.flags.unpack().angular_rate_recovery | rate.lost;
         if angular_rate_recovery & !span.init & !self.heading_init {
             angular_rate_recovery = rate.lost;
         }
@@ -448,7 +450,7 @@ impl Decoupled {
             mag_disturbed: mag.disturbed,
             heading_held: mag.held,
         };
-        self.flags = flags;
+        self.flags = PackedFlags::pack(flags);
         flags
     }
 
@@ -516,9 +518,15 @@ impl Decoupled {
         }
     }
 
+    /// The flags of the latest sample.
+    #[inline(always)]
+    pub(crate) fn flags(&self) -> AhrsFlags {
+        self.flags.unpack()
+    }
+
     /// The flags carried from sample to sample (restored from a snapshot).
     pub(crate) fn set_flags(&mut self, flags: AhrsFlags) {
-        self.flags = flags;
+        self.flags = PackedFlags::pack(flags);
     }
 }
 
