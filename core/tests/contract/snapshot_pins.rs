@@ -204,14 +204,17 @@ fn pace_tracker_snapshots_are_pinned() {
 // all re-recorded on main at 3b5df39, before the refactor was merged (the input
 // guard's byte now packs the stream's unit, issue 36; navigator format 9; the
 // decoupled filter's heading variance and gap handling, AHRS format 4, issue 39).
+// Navigator and AHRS re-recorded on i39-omag (AHRS format 5: the decoupled filter's
+// magnetometer offset estimate and its setting; the navigator carries the AHRS).
 const PINNED_NAVIGATOR: [(u64, usize); 3] = [
-    (851144434025936761, 300242),
-    (937502087682504489, 300242),
-    (13811768539328959075, 325300),
+    (12086658790089874788, 303504),
+    (16333398121094024062, 303504),
+    (9946074106186864895, 328562),
 ];
 // The default filter's pin re-recorded for the fast atan2 of its magnetometer update
-// (issue 39 speed; within 4e-9 rad of libm's, eval outputs unchanged).
-const PINNED_AHRS: [(u64, usize); 2] = [(3135113793863170862, 10206), (15874992898461028221, 5474)];
+// (issue 39 speed; within 4e-9 rad of libm's, eval outputs unchanged), then for AHRS
+// format 5 (i39-omag).
+const PINNED_AHRS: [(u64, usize); 2] = [(3065919062550459980, 13468), (7911633498652317887, 5586)];
 const PINNED_STEPS: (u64, usize) = (16031065809972957158, 46580);
 // Foot format 7 (issue 39): the detector's stillness floor joins the snapshot, and the
 // adaptive SHOE's threshold follows it (the default detector's estimates may move).
