@@ -93,6 +93,10 @@ pub struct OrientationSettings {
     /// A disturbance longer than this becomes the new local field, s.
     #[uniffi(default = 60.0)]
     pub mag_max_rejection_s: f64,
+    /// Largest magnetometer offset (hard iron) learned online, per axis, µT; 0: off
+    /// (readings the app or the OS calibrated itself).
+    #[uniffi(default = 200.0)]
+    pub mag_offset_max_ut: f64,
     /// Madgwick's gain β, rad/s (used with `algorithm = MADGWICK`).
     #[uniffi(default = 0.1)]
     pub madgwick_gain: f64,
@@ -143,6 +147,7 @@ impl From<core::AhrsSettings> for OrientationSettings {
             mag_dip_threshold_rad: d.mag_dip_threshold_rad,
             mag_min_undisturbed_s: d.mag_min_undisturbed_s,
             mag_max_rejection_s: d.mag_max_rejection_s,
+            mag_offset_max_ut: d.mag_offset_max_ut,
             madgwick_gain: s.gain,
             gyro_range_rads: s.gyro_range_rads,
             bias_estimation: s.bias_estimation,
@@ -182,6 +187,7 @@ impl TryFrom<OrientationSettings> for core::AhrsSettings {
                 mag_dip_threshold_rad: r.mag_dip_threshold_rad,
                 mag_min_undisturbed_s: r.mag_min_undisturbed_s,
                 mag_max_rejection_s: r.mag_max_rejection_s,
+                mag_offset_max_ut: r.mag_offset_max_ut,
             },
             gain: r.madgwick_gain,
             gyro_range_rads: r.gyro_range_rads,
@@ -231,6 +237,9 @@ pub struct OrientationFlags {
     pub mag_disturbed: bool,
     /// The heading follows the gyroscope alone on this sample.
     pub heading_held: bool,
+    /// The magnetometer offset (hard iron) is still being learned: the heading may be
+    /// off by several degrees until the device has turned about two axes.
+    pub mag_calibrating: bool,
 }
 
 impl From<core::AhrsFlags> for OrientationFlags {
@@ -248,6 +257,7 @@ impl From<core::AhrsFlags> for OrientationFlags {
             bias_motion: f.bias_motion,
             mag_disturbed: f.mag_disturbed,
             heading_held: f.heading_held,
+            mag_calibrating: f.mag_calibrating,
         }
     }
 }
@@ -546,8 +556,9 @@ mod tests {
                 dd.mag_dip_threshold_rad,
                 dd.mag_min_undisturbed_s,
                 dd.mag_max_rejection_s,
+                dd.mag_offset_max_ut,
             ),
-            (0.1, 0.17453292519943295, 0.5, 60.0)
+            (0.1, 0.17453292519943295, 0.5, 60.0, 200.0)
         );
         assert_eq!(
             (

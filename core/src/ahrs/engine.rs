@@ -31,10 +31,11 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Snapshot engine kind byte for the AHRS.
 const SNAPSHOT_KIND: u8 = 2;
-/// Snapshot format version written by this build (4: the decoupled filter's gap,
+/// Snapshot format version written by this build (5: the decoupled filter's
+/// magnetometer offset estimate and its setting; 4: the decoupled filter's gap,
 /// plateau, trusted-dip and heading-variance state; 3: the input layer's time state and g-units
 /// check; 2: both filters; 1: Madgwick only).
-const SNAPSHOT_VERSION: u16 = 4;
+const SNAPSHOT_VERSION: u16 = 5;
 
 // Not boxed: the state is a few hundred bytes, created once, and an indirection
 // would sit on every update.
@@ -102,6 +103,17 @@ impl Ahrs {
         match &self.filter {
             Filter::Decoupled(f) => f.gyro_bias_rads(),
             Filter::Madgwick(f) => f.gyro_bias_rads(),
+        }
+    }
+
+    /// Decoupled filter: the magnetometer offset (hard iron) it estimates and removes,
+    /// µT, body frame, and whether that is still being learned (flag
+    /// `mag_calibrating`). `None` for the Madgwick filter or with
+    /// `mag_offset_max_ut` = 0.
+    pub fn mag_offset_ut(&self) -> Option<([f64; 3], bool)> {
+        match &self.filter {
+            Filter::Decoupled(f) => f.mag_offset_ut(),
+            Filter::Madgwick(_) => None,
         }
     }
 
@@ -459,7 +471,7 @@ fn read_common_settings(
 fn read_settings(r: &mut Reader) -> Result<AhrsSettings, AhrsError> {
     let algorithm = AhrsAlgorithm::from_u8(r.u8()?).ok_or(SnapshotError::Invalid("algorithm"))?;
     let mut s = read_common_settings(r, algorithm)?;
-    let mut d = [0.0; 15];
+    let mut d = [0.0; 16];
     r.f64s_any(&mut d)?;
     s.decoupled = DecoupledSettings::from_array(d);
     Ok(s)

@@ -48,6 +48,11 @@ pub struct AhrsFlags {
     /// magnetometer reading came with it (the field was rejected). Decoupled filter:
     /// the inclination is unaffected by this; Madgwick: same as `mag_rejected`.
     pub heading_held: bool,
+    /// Decoupled filter: the magnetometer offset (hard iron) is still being learned
+    /// (its uncertainty is above 2 µT on some axis, so the heading may be off by
+    /// several degrees); it clears once the device has turned about two axes. Never
+    /// set with `mag_offset_max_ut` = 0, nor by the Madgwick filter.
+    pub mag_calibrating: bool,
 }
 
 impl AhrsFlags {
@@ -65,6 +70,7 @@ impl AhrsFlags {
             | (self.bias_motion as u16) << 9
             | (self.mag_disturbed as u16) << 10
             | (self.heading_held as u16) << 11
+            | (self.mag_calibrating as u16) << 12
     }
 
     #[inline(always)]
@@ -83,11 +89,12 @@ impl AhrsFlags {
             bias_motion: bit(9),
             mag_disturbed: bit(10),
             heading_held: bit(11),
+            mag_calibrating: bit(12),
         }
     }
 
     /// Names of the flags, in bit order (the CSV header of `stridekit orientation`).
-    pub const NAMES: [&'static str; 12] = [
+    pub const NAMES: [&'static str; 13] = [
         "reinitialised",
         "initialising",
         "angular_rate_recovery",
@@ -100,10 +107,11 @@ impl AhrsFlags {
         "bias_motion",
         "mag_disturbed",
         "heading_held",
+        "mag_calibrating",
     ];
 
     /// The flags as booleans in the order of [`AhrsFlags::NAMES`].
-    pub fn to_array(self) -> [bool; 12] {
+    pub fn to_array(self) -> [bool; 13] {
         let b = self.to_bits();
         std::array::from_fn(|i| b & (1 << i) != 0)
     }
@@ -133,7 +141,7 @@ mod tests {
 
     #[test]
     fn bits_roundtrip() {
-        for b in 0..(1u16 << 12) {
+        for b in 0..(1u16 << 13) {
             assert_eq!(AhrsFlags::from_bits(b).to_bits(), b);
         }
         let f = AhrsFlags {

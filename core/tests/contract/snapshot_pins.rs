@@ -205,15 +205,17 @@ fn pace_tracker_snapshots_are_pinned() {
 // guard's byte now packs the stream's unit, issue 36; navigator format 9; the
 // decoupled filter's heading variance and gap handling, AHRS format 4, issue 39).
 // Step detector format 11 (issue 39, i39-steps2): the steps held one step when sooner
-// than the cadence join the snapshot (navigator and step detector pins).
+// than the cadence join the snapshot; AHRS format 5 (i39-omag): the decoupled filter's
+// magnetometer offset estimate and its setting. The navigator carries both.
 const PINNED_NAVIGATOR: [(u64, usize); 3] = [
-    (7172676408961767254, 300354),
-    (9771392544384541554, 300354),
-    (14922805470834051708, 325412),
+    (1825107677328534035, 303616),
+    (12112524890782891777, 303616),
+    (14576098624184900102, 328674),
 ];
 // The default filter's pin re-recorded for the fast atan2 of its magnetometer update
-// (issue 39 speed; within 4e-9 rad of libm's, eval outputs unchanged).
-const PINNED_AHRS: [(u64, usize); 2] = [(3135113793863170862, 10206), (15874992898461028221, 5474)];
+// (issue 39 speed; within 4e-9 rad of libm's, eval outputs unchanged), then for AHRS
+// format 5 (i39-omag).
+const PINNED_AHRS: [(u64, usize); 2] = [(3065919062550459980, 13468), (7911633498652317887, 5586)];
 const PINNED_STEPS: (u64, usize) = (12544845488881009756, 46692);
 // Foot format 8 (issue 39, i39-foot2): the hole state (turn rate, pending stance check)
 // joins the snapshot (estimates unchanged on this walk). Format 7: the stillness floor, and the

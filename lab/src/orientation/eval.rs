@@ -46,6 +46,7 @@ pub fn set_decoupled(s: &mut AhrsSettings, name: &str, v: f64) -> Result<(), Str
         "mag_dip_threshold_rad" => &mut d.mag_dip_threshold_rad,
         "mag_min_undisturbed_s" => &mut d.mag_min_undisturbed_s,
         "mag_max_rejection_s" => &mut d.mag_max_rejection_s,
+        "mag_offset_max_ut" => &mut d.mag_offset_max_ut,
         _ => return Err(format!("unknown setting {name} (see DecoupledSettings)")),
     };
     *field = v;

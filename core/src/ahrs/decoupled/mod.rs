@@ -27,6 +27,9 @@
 //!   the vertical, so a disturbed field cannot tilt it; disturbances (magnitude or
 //!   dip off the learned field) are rejected and the heading is held on the
 //!   gyroscope, with recovery after a long disturbance ([`magnetic`]).
+//! - **Magnetometer offset** ([`hard_iron`]): a constant offset in the body frame
+//!   (hard iron) is learned online from how the field turns with the gyroscope, and
+//!   removed from every reading before the heading and the disturbance checks see it.
 //! - **Clipped readings and gaps** ([`angular_rate`]): the averages keep only the
 //!   weight the rotation the gyroscope may have missed leaves them.
 //!
@@ -37,6 +40,7 @@
 
 mod angular_rate;
 mod bias;
+mod hard_iron;
 mod heading;
 mod magnetic;
 mod measure;
@@ -47,6 +51,7 @@ mod tilt;
 
 use self::angular_rate::RateCheck;
 use self::bias::Bias;
+use self::hard_iron::HardIron;
 use self::heading::{Heading, MAG_HEADING_NOISE_RAD2_S};
 use self::magnetic::{gain, MagDisturbance, MagLimits};
 use self::measure::{measure, Field};
@@ -64,8 +69,8 @@ pub use self::settings::DecoupledSettings;
 pub use self::settings::{
     DEFAULT_ACCEL_TIME_CONSTANT_S, DEFAULT_BIAS_RANDOM_WALK, DEFAULT_HEADING_BIAS_TIME_CONSTANT_S,
     DEFAULT_MAG_DIP_THRESHOLD_RAD, DEFAULT_MAG_MAX_REJECTION_S, DEFAULT_MAG_MIN_UNDISTURBED_S,
-    DEFAULT_MAG_NORM_THRESHOLD, DEFAULT_MAG_TIME_CONSTANT_S, DEFAULT_MAX_BIAS_RADS,
-    DEFAULT_MOTION_BIAS_ACCURACY_RADS, DEFAULT_MOTION_BIAS_TIME_CONSTANT_S,
+    DEFAULT_MAG_NORM_THRESHOLD, DEFAULT_MAG_OFFSET_MAX_UT, DEFAULT_MAG_TIME_CONSTANT_S,
+    DEFAULT_MAX_BIAS_RADS, DEFAULT_MOTION_BIAS_ACCURACY_RADS, DEFAULT_MOTION_BIAS_TIME_CONSTANT_S,
     DEFAULT_REST_ACCEL_MPS2, DEFAULT_REST_BIAS_TIME_CONSTANT_S, DEFAULT_REST_GYRO_RADS,
     DEFAULT_REST_TIME_S,
 };
@@ -97,6 +102,16 @@ const MAX_MEASUREMENT_VAR_RAD2: f64 = 1e12;
 /// The heading counts as converged (flag `initialising` off) once its gain is within
 /// this factor of the steady-state dt/τ.
 const HEADING_CONVERGED_GAINS: f64 = 2.0;
+/// Once the magnetometer offset estimate has moved this far from the one the learned
+/// field (magnitude, dip) was seen through, µT, that field is learned anew: it was
+/// measured through the wrong offset (half the magnitude gate of a 45 µT field).
+const OFFSET_RELEARN_UT: f64 = 2.0;
+/// The offset estimate is removed from the readings only from this size on, µT: below
+/// it the estimate's own error on real devices (soft iron, field gradients along the
+/// path, timing between the sensors: 1–3 µT on BROAD's calibrated magnetometers) is
+/// as large as the offset, and removing it costs more heading than it saves (measured:
+/// with 0 µT the BROAD mean rises from 2.30° to 2.6–4.9°).
+const MIN_OFFSET_UT: f64 = 5.0;
 
 /// The decoupled filter's state; driven by [`Ahrs`](super::Ahrs), which owns the
 /// door checks.
@@ -121,12 +136,20 @@ pub(crate) struct Decoupled {
     bias_estimation: bool,
     rest_limits: RestLimits,
     mag_limits: MagLimits,
+    /// Largest magnetometer offset, µT (0: not estimated).
+    mag_offset_max_ut: f64,
     // State.
     tilt: Tilt,
     bias: Bias,
     rest: Rest,
     heading: Heading,
     mag: MagDisturbance,
+    /// The magnetometer offset estimate; the offset removed from the readings (the
+    /// estimate, from when it is first known on), and the one removed when the learned
+    /// field was seen, µT.
+    hard_iron: HardIron,
+    offset_applied_ut: [f64; 3],
+    offset_seen_ut: [f64; 3],
     /// Time since the (re)start, s (capped at the averaging time): the averaging time
     /// grows with it, so the first seconds converge as fast as the data allow.
     accel_elapsed_s: f64,
@@ -177,6 +200,7 @@ impl Decoupled {
                 min_undisturbed_s: d.mag_min_undisturbed_s,
                 max_rejection_s: d.mag_max_rejection_s,
             },
+            mag_offset_max_ut: d.mag_offset_max_ut,
             tilt: Tilt {
                 q_gyr: [1.0, 0.0, 0.0, 0.0],
                 q_inc: [1.0, 0.0, 0.0, 0.0],
@@ -189,6 +213,9 @@ impl Decoupled {
             rest: Rest::default(),
             heading: Heading::default(),
             mag: MagDisturbance::default(),
+            hard_iron: HardIron::new(d.mag_offset_max_ut),
+            offset_applied_ut: [0.0; 3],
+            offset_seen_ut: [0.0; 3],
             accel_elapsed_s: 0.0,
             bias_corr: [0.0; 3],
             bias_elapsed_s: 0.0,
@@ -219,6 +246,12 @@ impl Decoupled {
         self.bias.b
     }
 
+    /// The magnetometer offset estimate, µT, body frame, and whether it is still being
+    /// learned (`None` when not estimated).
+    pub(crate) fn mag_offset_ut(&self) -> Option<([f64; 3], bool)> {
+        (self.mag_offset_max_ut > 0.0).then(|| (self.hard_iron.b, self.hard_iron.calibrating()))
+    }
+
     /// (Re)start from one sample (the learned bias is kept).
     pub(crate) fn start(
         &mut self,
@@ -236,7 +269,10 @@ impl Decoupled {
         self.bias_corr = [0.0; 3];
         self.bias_elapsed_s = 0.0;
         self.mag_elapsed_s = 0.0;
-        let measured = mag.and_then(|m| measure(&quat::rotate(&self.tilt.q_body_to_e(), m)));
+        self.hard_iron.drop_anchor();
+        self.offset_seen_ut = self.offset_applied_ut;
+        let m_c = mag.map(|m| self.remove_offset(m));
+        let measured = m_c.and_then(|m| measure(&quat::rotate(&self.tilt.q_body_to_e(), &m)));
         self.heading_init = measured.is_some();
         match measured {
             Some(f) => {
@@ -257,6 +293,7 @@ impl Decoupled {
         let flags = AhrsFlags {
             reinitialised: true,
             initialising: true,
+            mag_calibrating: (self.mag_offset_max_ut > 0.0) & self.hard_iron.calibrating(),
             ..AhrsFlags::default()
         };
         self.flags = PackedFlags::pack(flags);
@@ -277,6 +314,7 @@ impl Decoupled {
         self.tilt.integrate(&rate.rate(&gyro, &self.bias.b), dt);
         if rate.lost {
             self.recover(rate.missed_rad(&gyro, dt));
+            self.hard_iron.drop_anchor();
         }
         let span = self.accel_span(dt);
         let learn_motion = self.bias_estimation & !at_rest & !span.init & !rate.lost;
@@ -384,7 +422,8 @@ impl Decoupled {
             (true, Some(m)) => {
                 let dt_m = self.mag_elapsed_s;
                 self.mag_elapsed_s = 0.0;
-                let e = quat::rotate(&q_be, m);
+                let m = self.learn_offset(m, dt_m);
+                let e = quat::rotate(&q_be, &m);
                 let v = self.correct_heading(&q_be, &e, dt_m, t_avg);
                 MagFlags {
                     disturbed: v.disturbed,
@@ -397,6 +436,51 @@ impl Decoupled {
                 recovery,
                 ..MagFlags::default()
             },
+        }
+    }
+
+    /// The raw reading `m` (`dt` s after the previous one) teaches the offset
+    /// estimate, and the offset removed from the readings is updated from it once it
+    /// is known (an estimate still converging can be far off along an axis the turns
+    /// have not yet shown); the reading is returned without the offset removed.
+    #[inline(always)]
+    fn learn_offset(&mut self, m: &[f64; 3], dt: f64) -> [f64; 3] {
+        if self.mag_offset_max_ut <= 0.0 {
+            return *m;
+        }
+        let seen = self
+            .hard_iron
+            .observe(m, &self.tilt.q_gyr, dt, self.mag_offset_max_ut);
+        if (seen.shift_ut > 0.0) & !self.hard_iron.calibrating() {
+            self.apply_offset();
+        }
+        self.remove_offset(m)
+    }
+
+    #[inline(always)]
+    fn remove_offset(&self, m: &[f64; 3]) -> [f64; 3] {
+        let b = &self.offset_applied_ut;
+        [m[0] - b[0], m[1] - b[1], m[2] - b[2]]
+    }
+
+    /// The known estimate becomes the offset removed if it is at least
+    /// [`MIN_OFFSET_UT`] (none otherwise); once that has moved [`OFFSET_RELEARN_UT`]
+    /// since the learned field (magnitude, dip) was seen, the field is learned anew.
+    #[cold]
+    fn apply_offset(&mut self) {
+        let b = self.hard_iron.b;
+        let norm2 = b[0] * b[0] + b[1] * b[1] + b[2] * b[2];
+        self.offset_applied_ut = if norm2 >= MIN_OFFSET_UT * MIN_OFFSET_UT {
+            b
+        } else {
+            [0.0; 3]
+        };
+        let a = &self.offset_applied_ut;
+        let seen = &self.offset_seen_ut;
+        let moved2: f64 = (0..3).map(|i| (a[i] - seen[i]) * (a[i] - seen[i])).sum();
+        if moved2 > OFFSET_RELEARN_UT * OFFSET_RELEARN_UT {
+            self.offset_seen_ut = *a;
+            self.mag.restart(&self.mag_limits);
         }
     }
 
@@ -449,6 +533,7 @@ impl Decoupled {
             bias_motion,
             mag_disturbed: mag.disturbed,
             heading_held: mag.held,
+            mag_calibrating: (self.mag_offset_max_ut > 0.0) & self.hard_iron.calibrating(),
         };
         self.flags = PackedFlags::pack(flags);
         flags

@@ -3,6 +3,7 @@
 use std::f64::consts::PI;
 
 use crate::ahrs::error::AhrsError;
+use crate::input::limits::MAX_MAG_UT;
 
 const DEG: f64 = PI / 180.0;
 
@@ -61,6 +62,11 @@ pub const DEFAULT_MAG_MIN_UNDISTURBED_S: f64 = 0.5;
 /// A disturbance lasting longer than this is taken to be the new local field (the
 /// user moved): the reference is reset to it and the heading recovers, s.
 pub const DEFAULT_MAG_MAX_REJECTION_S: f64 = 60.0;
+/// Largest magnetometer offset (hard iron) learned, per body axis, µT; also its prior
+/// standard deviation. Uncalibrated phone magnetometers carry offsets of tens to a few
+/// hundred µT; 0 switches the online estimate off (for readings the app or the OS has
+/// calibrated itself).
+pub const DEFAULT_MAG_OFFSET_MAX_UT: f64 = 200.0;
 
 /// Settings of the decoupled filter ([`AhrsAlgorithm::Decoupled`](crate::ahrs::AhrsAlgorithm)).
 /// Time constants in seconds; a time constant of `f64::INFINITY` switches that
@@ -97,6 +103,8 @@ pub struct DecoupledSettings {
     pub mag_min_undisturbed_s: f64,
     /// See [`DEFAULT_MAG_MAX_REJECTION_S`].
     pub mag_max_rejection_s: f64,
+    /// See [`DEFAULT_MAG_OFFSET_MAX_UT`] (0: no online offset estimate).
+    pub mag_offset_max_ut: f64,
 }
 
 impl Default for DecoupledSettings {
@@ -117,13 +125,14 @@ impl Default for DecoupledSettings {
             mag_dip_threshold_rad: DEFAULT_MAG_DIP_THRESHOLD_RAD,
             mag_min_undisturbed_s: DEFAULT_MAG_MIN_UNDISTURBED_S,
             mag_max_rejection_s: DEFAULT_MAG_MAX_REJECTION_S,
+            mag_offset_max_ut: DEFAULT_MAG_OFFSET_MAX_UT,
         }
     }
 }
 
 impl DecoupledSettings {
     /// The values in snapshot order.
-    pub(crate) fn to_array(self) -> [f64; 15] {
+    pub(crate) fn to_array(self) -> [f64; 16] {
         // Exhaustive on purpose: a new setting must be added here (and so to the
         // snapshot).
         let Self {
@@ -142,6 +151,7 @@ impl DecoupledSettings {
             mag_dip_threshold_rad,
             mag_min_undisturbed_s,
             mag_max_rejection_s,
+            mag_offset_max_ut,
         } = self;
         [
             accel_time_constant_s,
@@ -159,10 +169,11 @@ impl DecoupledSettings {
             mag_dip_threshold_rad,
             mag_min_undisturbed_s,
             mag_max_rejection_s,
+            mag_offset_max_ut,
         ]
     }
 
-    pub(crate) fn from_array(v: [f64; 15]) -> Self {
+    pub(crate) fn from_array(v: [f64; 16]) -> Self {
         Self {
             accel_time_constant_s: v[0],
             mag_time_constant_s: v[1],
@@ -179,6 +190,7 @@ impl DecoupledSettings {
             mag_dip_threshold_rad: v[12],
             mag_min_undisturbed_s: v[13],
             mag_max_rejection_s: v[14],
+            mag_offset_max_ut: v[15],
         }
     }
 
@@ -239,6 +251,12 @@ impl DecoupledSettings {
         }
         if !finite_in(self.mag_min_undisturbed_s, 0.0, 60.0) {
             return Err(bad("mag_min_undisturbed_s", "must be in 0..=60 s"));
+        }
+        if !finite_in(self.mag_offset_max_ut, 0.0, MAX_MAG_UT) {
+            return Err(bad(
+                "mag_offset_max_ut",
+                "must be in 0..=5000 µT (the input limit)",
+            ));
         }
         if self.mag_max_rejection_s.is_nan() || self.mag_max_rejection_s <= 0.0 {
             return Err(bad(

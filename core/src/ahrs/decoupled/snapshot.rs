@@ -3,6 +3,7 @@
 //! order and checked against the ranges a running filter can reach.
 
 use super::bias::Bias;
+use super::hard_iron::{self, HardIron};
 use super::heading::{Heading, UNKNOWN_VAR_RAD2};
 use super::magnetic::MagDisturbance;
 use super::rest::Rest;
@@ -26,6 +27,9 @@ impl Decoupled {
             rest,
             heading,
             mag,
+            hard_iron,
+            offset_applied_ut,
+            offset_seen_ut,
             accel_elapsed_s,
             bias_corr,
             bias_elapsed_s,
@@ -50,6 +54,7 @@ impl Decoupled {
             bias_estimation: _,
             rest_limits: _,
             mag_limits: _,
+            mag_offset_max_ut: _,
             flags: _,
         } = self;
         write_tilt(w, tilt);
@@ -74,6 +79,9 @@ impl Decoupled {
         w.f64(*dt_typ_s);
         w.f64s(gyro_prev);
         w.u8(*plateau_run);
+        write_hard_iron(w, hard_iron);
+        w.f64s(offset_applied_ut);
+        w.f64s(offset_seen_ut);
     }
 
     /// Reads what [`write_state`](Self::write_state) wrote and checks it.
@@ -123,6 +131,19 @@ impl Decoupled {
         self.dt_typ_s = r.f64()?;
         r.f64s(&mut self.gyro_prev)?;
         self.plateau_run = r.u8()?;
+        let h = &mut self.hard_iron;
+        r.f64s(&mut h.b)?;
+        for row in h.p.iter_mut() {
+            r.f64s(row)?;
+        }
+        r.f64s(&mut h.anchor_ut)?;
+        r.f64s(&mut h.anchor_q)?;
+        h.anchored = r.bool()?;
+        h.anchor_age_s = r.f64()?;
+        h.unpredicted_s = r.f64()?;
+        h.refused_share = r.f64()?;
+        r.f64s(&mut self.offset_applied_ut)?;
+        r.f64s(&mut self.offset_seen_ut)?;
         Ok(())
     }
 
@@ -147,10 +168,36 @@ impl Decoupled {
         {
             return Err(SnapshotError::Invalid("state out of range"));
         }
+        if !self.offset_in_range() {
+            return Err(SnapshotError::Invalid("magnetometer offset out of range"));
+        }
         if !self.physical() {
             return Err(SnapshotError::Invalid("state out of physical range"));
         }
         Ok(())
+    }
+
+    /// The offset and the field it was seen through within `mag_offset_max_ut`, its
+    /// covariance symmetric with a diagonal within (0, max²], the anchor a reading
+    /// within the input limit with a unit strapdown, non-negative timers.
+    fn offset_in_range(&self) -> bool {
+        let h = &self.hard_iron;
+        let max = self.mag_offset_max_ut;
+        let max_var = (max * max).max(hard_iron::MIN_VAR_UT2);
+        let within = |v: &[f64], max: f64| v.iter().all(|x| x.is_finite() && x.abs() <= max);
+        let q2 = h.anchor_q.iter().map(|c| c * c).sum::<f64>();
+        within(&h.b, max)
+            && within(&self.offset_applied_ut, max)
+            && within(&self.offset_seen_ut, max)
+            && within(&h.anchor_ut, MAX_MAG_UT)
+            && (0..3).all(|i| {
+                (hard_iron::MIN_VAR_UT2..=max_var).contains(&h.p[i][i])
+                    && (0..3).all(|j| h.p[i][j].is_finite() && h.p[i][j] == h.p[j][i])
+            })
+            && (q2 - 1.0).abs() < UNIT_NORM_TOLERANCE
+            && (0.0..=f64::MAX).contains(&h.anchor_age_s)
+            && (0.0..=f64::MAX).contains(&h.unpredicted_s)
+            && (0.0..=1.0).contains(&h.refused_share)
     }
 
     fn all_finite(&self) -> bool {
@@ -273,4 +320,27 @@ fn write_mag(w: &mut Writer, m: &MagDisturbance) {
     w.bool(*ref_valid);
     w.bool(*dip_trusted);
     w.f64s(&[*norm_ut, *dip_rad, *undisturbed_s, *rejected_s]);
+}
+
+fn write_hard_iron(w: &mut Writer, h: &HardIron) {
+    let HardIron {
+        b,
+        p,
+        anchor_ut,
+        anchor_q,
+        anchored,
+        anchor_age_s,
+        unpredicted_s,
+        refused_share,
+    } = h;
+    w.f64s(b);
+    for row in p {
+        w.f64s(row);
+    }
+    w.f64s(anchor_ut);
+    w.f64s(anchor_q);
+    w.bool(*anchored);
+    w.f64(*anchor_age_s);
+    w.f64(*unpredicted_s);
+    w.f64(*refused_share);
 }
