@@ -204,14 +204,18 @@ fn pace_tracker_snapshots_are_pinned() {
 // all re-recorded on main at 3b5df39, before the refactor was merged (the input
 // guard's byte now packs the stream's unit, issue 36; navigator format 9; the
 // decoupled filter's heading variance and gap handling, AHRS format 4, issue 39).
+// AHRS format 5 (issue 39, gyroscope failure modes): the decoupled filter's mean
+// heading correction rate joins its snapshot (the navigator embeds it).
 const PINNED_NAVIGATOR: [(u64, usize); 3] = [
-    (851144434025936761, 300242),
-    (937502087682504489, 300242),
-    (13811768539328959075, 325300),
+    (3542187075525028729, 300368),
+    (16850306545144879267, 300368),
+    (3014082457681010957, 325426),
 ];
 // The default filter's pin re-recorded for the fast atan2 of its magnetometer update
 // (issue 39 speed; within 4e-9 rad of libm's, eval outputs unchanged).
-const PINNED_AHRS: [(u64, usize); 2] = [(3135113793863170862, 10206), (15874992898461028221, 5474)];
+// AHRS format 5 (issue 39, gyroscope failure modes): running-mean average and heading
+// floor after a lost integration, heading-drift bias state.
+const PINNED_AHRS: [(u64, usize); 2] = [(12253574536798191117, 10332), (8120309910566325663, 5474)];
 const PINNED_STEPS: (u64, usize) = (16031065809972957158, 46580);
 // Foot format 7 (issue 39): the detector's stillness floor joins the snapshot, and the
 // adaptive SHOE's threshold follows it (the default detector's estimates may move).

@@ -7,7 +7,7 @@ use super::heading::{Heading, UNKNOWN_VAR_RAD2};
 use super::magnetic::MagDisturbance;
 use super::rest::Rest;
 use super::tilt::{self, Tilt};
-use super::Decoupled;
+use super::{Decoupled, SLOW_PERIOD_S};
 use crate::input::limits::{MAX_ACCEL_NORM_MPS2, MAX_GYRO_RADS, MAX_MAG_UT};
 use crate::snapshot::{Reader, SnapshotError, Writer};
 use std::f64::consts::PI;
@@ -15,6 +15,10 @@ use std::f64::consts::PI;
 /// Largest |component| of the summed inclination corrections and largest bias
 /// variance a restored state may hold (a backstop: real values are far smaller).
 const MAX_STORED_CORRECTION: f64 = 1e6;
+/// Largest |mean heading correction rate| a restored state may hold, rad/s: a
+/// converged heading is corrected by at most π per update, and its updates are at
+/// least [`SLOW_PERIOD_S`] apart.
+const MAX_HEADING_DRIFT_RADS: f64 = PI / SLOW_PERIOD_S;
 /// How far a restored quaternion's squared norm may be from 1.
 const UNIT_NORM_TOLERANCE: f64 = 1e-6;
 
@@ -31,6 +35,8 @@ impl Decoupled {
             bias_elapsed_s,
             mag_elapsed_s,
             heading_init,
+            heading_drift_rads,
+            drift_learning,
             dt_typ_s,
             gyro_prev,
             plateau_run,
@@ -74,6 +80,8 @@ impl Decoupled {
         w.f64(*dt_typ_s);
         w.f64s(gyro_prev);
         w.u8(*plateau_run);
+        w.f64(*heading_drift_rads);
+        w.bool(*drift_learning);
     }
 
     /// Reads what [`write_state`](Self::write_state) wrote and checks it.
@@ -123,6 +131,8 @@ impl Decoupled {
         self.dt_typ_s = r.f64()?;
         r.f64s(&mut self.gyro_prev)?;
         self.plateau_run = r.u8()?;
+        self.heading_drift_rads = r.f64()?;
+        self.drift_learning = r.bool()?;
         Ok(())
     }
 
@@ -144,6 +154,7 @@ impl Decoupled {
             || self.accel_elapsed_s < 0.0
             || self.bias.var < 0.0
             || !(0.0..=UNKNOWN_VAR_RAD2).contains(&self.heading.var_rad2)
+            || self.heading_drift_rads.abs() > MAX_HEADING_DRIFT_RADS
         {
             return Err(SnapshotError::Invalid("state out of range"));
         }
@@ -182,6 +193,7 @@ impl Decoupled {
             self.accel_elapsed_s,
             self.bias.var,
             self.dt_typ_s,
+            self.heading_drift_rads,
         ])
         .all(|x| x.is_finite())
     }
