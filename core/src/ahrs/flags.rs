@@ -133,6 +133,12 @@ impl PackedFlags {
     pub(crate) fn unpack(self) -> AhrsFlags {
         AhrsFlags::from_bits(self.0)
     }
+
+    /// `angular_rate_recovery` (bit 2) without unpacking the rest.
+    #[inline(always)]
+    pub(crate) fn angular_rate_recovery(self) -> bool {
+        self.0 & (1 << 2) != 0
+    }
 }
 
 #[cfg(test)]

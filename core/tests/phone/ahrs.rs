@@ -1238,7 +1238,7 @@ fn snapshots_of_another_format_are_a_typed_version_error() {
         .collect();
     for (bytes, found) in [
         (bytes, 1),
-        (stridekit_core::snapshot::Writer::new(2, 6).finish(), 6),
+        (stridekit_core::snapshot::Writer::new(2, 7).finish(), 7),
     ] {
         match Ahrs::restore(&bytes) {
             Err(AhrsError::Snapshot(
@@ -1458,4 +1458,89 @@ fn decoupled_follows_a_drifting_magnetometer_offset() {
         worst[1] / DEG
     );
     assert!(worst[0] < 0.6 * worst[1]);
+}
+
+/// A walk (as [`walk`]) whose device rolls by 40° and back between 20 and 21 s, at up to
+/// 2.5 rad/s.
+fn walk_with_roll(t: f64) -> (Uq, V3) {
+    let (q, lin) = walk(t);
+    let s = (t - 20.0).clamp(0.0, 1.0);
+    let roll = 40.0 * DEG * (PI * s).sin().powi(2);
+    (q * euler_q(roll, 0.0, 0.0), lin)
+}
+
+#[test]
+fn the_inclination_forgets_a_missed_rotation_as_fast_as_its_average_grows() {
+    // The samples of 20.2–20.5 s are lost in the middle of the roll: the gyroscope
+    // cannot bridge ~25° of rotation, and the accelerometer average that held the
+    // inclination before the gap is now that far off.
+    let samples: Vec<ImuSample> = stream(&walk_with_roll, 100.0, 30.0, &PHONE, false)
+        .into_iter()
+        .filter(|s| !(20.2..20.5).contains(&s.t_s))
+        .collect();
+    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let out = run(&mut a, &samples);
+    let tilt_at = |t: f64| {
+        let o = out.iter().find(|o| o.t_s >= t).unwrap();
+        tilt_err(o, &walk_with_roll(t).0) / DEG
+    };
+    let (e1, e2) = (tilt_at(21.5), tilt_at(22.5));
+    println!("tilt error 1 s and 2 s after the gap: {e1:.2}°, {e2:.2}°");
+    // A running mean over the grown span: the stale average weighs T0/t (T0 ≈ 0.1 s
+    // for a 25° miss); the second-order low-pass left √(T0/t) of it (8° and 5°).
+    assert!(e1 < 4.0, "{e1:.2}°");
+    assert!(e2 < 3.0, "{e2:.2}°");
+}
+
+#[test]
+fn after_a_gap_the_heading_follows_the_magnetometer_while_the_inclination_converges() {
+    // As `a_gap_the_gyroscope_cannot_bridge_reconverges_from_the_magnetometer`, but
+    // measured 1.5 s after the gap: the measurements' shared tilt error must not make
+    // the heading freeze on the first, worst of them.
+    let samples: Vec<ImuSample> = stream(&turn_burst, 100.0, 30.0, &PHONE, true)
+        .into_iter()
+        .filter(|s| !(10.2..10.8).contains(&s.t_s))
+        .collect();
+    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let out = run(&mut a, &samples);
+    let at = |t: f64| out.iter().find(|o| o.t_s >= t).unwrap();
+    let err = |t: f64| total_err(at(t), &turn_burst(t).0) / DEG;
+    println!(
+        "error 0.7 / 1.2 / 2.2 s after the gap: {:.2}° / {:.2}° / {:.2}°",
+        err(11.5),
+        err(12.0),
+        err(13.0)
+    );
+    assert!(err(12.0) < 5.0, "1.2 s after: {:.1}°", err(12.0));
+}
+
+#[test]
+fn a_gyroscope_bias_step_in_motion_is_followed_from_the_heading_corrections() {
+    // The walk with the magnetometer; at 20 s the gyroscope's bias jumps by 2°/s about
+    // the device's z axis (no rest afterwards to learn it from).
+    let step = 2.0 * DEG;
+    let mut samples = stream(&walk, 100.0, 120.0, &PHONE, true);
+    for s in samples.iter_mut().filter(|s| s.t_s >= 20.0) {
+        s.gyro_rads[2] += step;
+    }
+    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let out = run(&mut a, &samples);
+    let late: Vec<f64> = out
+        .iter()
+        .filter(|o| o.t_s >= 90.0)
+        .map(|o| wrap(o.heading_rad - true_heading_enu(&walk(o.t_s).0)).abs())
+        .collect();
+    let worst = late.iter().fold(0.0f64, |m, &e| m.max(e)) / DEG;
+    let b = out.last().unwrap().gyro_bias_rads;
+    println!(
+        "bias step 2°/s: heading error after 90 s at most {worst:.2}°, bias {:?}°/s",
+        b.map(|c| c / DEG)
+    );
+    // Only the bias about the vertical is seen by the heading: its error there.
+    let up = walk(120.0).0.inverse() * V3::z();
+    let vertical_err = (V3::from(b) - V3::new(0.0, 0.0, step)).dot(&up) / DEG;
+    // Without following the step, the heading lags by the vertical part of the step
+    // times τ_mag (≈ 2°/s · 0.8 · 10 s ≈ 16°).
+    assert!(worst < 10.0, "{worst:.2}°");
+    assert!(vertical_err.abs() < 0.5, "{vertical_err:.2}°/s");
 }

@@ -55,13 +55,17 @@ impl Heading {
     }
 
     /// One measurement: `innovation` = measured − δ (wrapped), `q` the variance δ
-    /// gained since the last one, `r` the measurement's. Returns the change of δ and
-    /// the gain.
+    /// gained since the last one, `r` the measurement's, of which `common` is shared
+    /// with the next measurements (what the inclination's error turns them by: it
+    /// changes slowly, so averaging more of them does not remove it). The variance
+    /// after the update stays at least `common` (and never grows by it), so while the
+    /// inclination converges the heading follows its measurements instead of
+    /// freezing on the first, worst ones. Returns the change of δ and the gain.
     #[inline(always)]
-    pub(crate) fn correct(&mut self, innovation: f64, q: f64, r: f64) -> (f64, f64) {
+    pub(crate) fn correct(&mut self, innovation: f64, q: f64, r: f64, common: f64) -> (f64, f64) {
         let p = self.var_rad2 + q;
         let k = p / (p + r);
-        self.var_rad2 = (1.0 - k) * p;
+        self.var_rad2 = ((1.0 - k) * p).max(common.min(p));
         let d = k * innovation;
         self.delta_rad = wrap(self.delta_rad + d);
         (d, k)
@@ -81,23 +85,23 @@ mod tests {
         let r = MAG_HEADING_NOISE_RAD2_S / dt;
         let q = MAG_HEADING_NOISE_RAD2_S / (tau * tau) * dt;
         // The first measurements are averaged: 0.1 then 0.3 → 0.2.
-        h.correct(0.1 - h.delta_rad, q, r);
-        h.correct(0.3 - h.delta_rad, q, r);
+        h.correct(0.1 - h.delta_rad, q, r, 0.0);
+        h.correct(0.3 - h.delta_rad, q, r, 0.0);
         assert!((h.delta_rad - 0.2).abs() < 1e-3, "{}", h.delta_rad);
         // Steady state: the gain of a first-order low-pass with τ.
         let mut k = 0.0;
         for _ in 0..20_000 {
-            k = h.correct(0.2 - h.delta_rad, q, r).1;
+            k = h.correct(0.2 - h.delta_rad, q, r, 0.0).1;
         }
         assert!((k / (dt / tau) - 1.0).abs() < 0.01, "{k}");
         // A gap that may have hidden 20°: the next measurement counts for much more.
         h.widen(20f64.to_radians().powi(2));
-        let k_gap = h.correct(0.0, q, r).1;
+        let k_gap = h.correct(0.0, q, r, 0.0).1;
         assert!(k_gap > 0.5, "{k_gap}");
         // Wraps at ±π.
         h.delta_rad = 3.1;
         h.forget();
-        h.correct(0.2, q, r);
+        h.correct(0.2, q, r, 0.0);
         assert!((h.delta_rad - (3.3 - TAU)).abs() < 1e-3, "{}", h.delta_rad);
     }
 }

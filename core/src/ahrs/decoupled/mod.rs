@@ -56,7 +56,7 @@ use self::heading::{Heading, MAG_HEADING_NOISE_RAD2_S};
 use self::magnetic::{gain, MagDisturbance, MagLimits};
 use self::measure::{measure, Field};
 use self::rest::{Rest, RestLimits};
-use self::tilt::Tilt;
+use self::tilt::{Averaging, Tilt};
 use super::flags::{AhrsFlags, PackedFlags};
 use super::frame::EarthFrame;
 use super::madgwick::GYRO_CLIP_SHARE;
@@ -99,6 +99,23 @@ pub const TILT_KNOWN_S: f64 = 1.0;
 /// A bound on a measurement's variance, rad² (a tilt nothing is known about, through a
 /// field near the vertical).
 const MAX_MEASUREMENT_VAR_RAD2: f64 = 1e12;
+/// A heading the magnetometer keeps turning one way faster than this, rad/s
+/// (1°/s, averaged over the heading's time constant), is turned by a gyroscope bias
+/// about the vertical that the rest estimate no longer knows (a bias step: a
+/// temperature jump, a knock), which leaves a steady lag of rate × τ_mag (20° at
+/// 2°/s). Field noise averages out; what stays below is the field itself: a magnet
+/// carried with the device (BROAD's attached-magnet trials) turns the heading
+/// measurements with the device's attitude, up to ≈0.6°/s in this average.
+pub const HEADING_DRIFT_ON_RADS: f64 = 1.0 * std::f64::consts::PI / 180.0;
+/// Once learning, the bias about the vertical follows the heading corrections until
+/// their mean rate falls below this, rad/s (0.25°/s: a lag of 2.5°).
+pub const HEADING_DRIFT_OFF_RADS: f64 = 0.25 * std::f64::consts::PI / 180.0;
+/// While it learns from a drift, the bias about the vertical is the integral term of
+/// the heading loop (the magnetometer correction, gain 1/τ_mag, its proportional
+/// term) with time constant this × τ_mag: the loop s² + s/τ + 1/(τ·τ_I) then has the
+/// damping ½√(τ_I/τ) = 1/√2 (no ringing, the fastest such).
+pub const HEADING_DRIFT_INTEGRAL_TAUS: f64 = 2.0;
+
 /// The heading counts as converged (flag `initialising` off) once its gain is within
 /// this factor of the steady-state dt/τ.
 const HEADING_CONVERGED_GAINS: f64 = 2.0;
@@ -160,6 +177,11 @@ pub(crate) struct Decoupled {
     mag_elapsed_s: f64,
     /// The heading is still a running mean (initialising).
     heading_init: bool,
+    /// Mean rate of the magnetometer's heading corrections, rad/s (low-pass over
+    /// τ_mag, while the heading is converged), and whether the bias about the
+    /// vertical is learning from it.
+    heading_drift_rads: f64,
+    drift_learning: bool,
     /// Typical interval between samples, s (0 before the second sample).
     dt_typ_s: f64,
     /// The previous raw gyroscope reading, rad/s, and how many samples in a row
@@ -221,6 +243,8 @@ impl Decoupled {
             bias_elapsed_s: 0.0,
             mag_elapsed_s: 0.0,
             heading_init: false,
+            heading_drift_rads: 0.0,
+            drift_learning: false,
             dt_typ_s: 0.0,
             gyro_prev: [0.0; 3],
             plateau_run: 0,
@@ -271,6 +295,8 @@ impl Decoupled {
         self.mag_elapsed_s = 0.0;
         self.hard_iron.drop_anchor();
         self.offset_seen_ut = self.offset_applied_ut;
+        self.heading_drift_rads = 0.0;
+        self.drift_learning = false;
         let m_c = mag.map(|m| self.remove_offset(m));
         let measured = m_c.and_then(|m| measure(&quat::rotate(&self.tilt.q_body_to_e(), &m)));
         self.heading_init = measured.is_some();
@@ -318,7 +344,8 @@ impl Decoupled {
         }
         let span = self.accel_span(dt);
         let learn_motion = self.bias_estimation & !at_rest & !span.init & !rate.lost;
-        let (accel_rejected, bias_motion) = self.incline(a, dt, span.omega, learn_motion);
+        let recovering = rate.lost | self.flags.angular_rate_recovery();
+        let (accel_rejected, bias_motion) = self.incline(a, dt, &span, recovering, learn_motion);
         let verdict = self.slow_loops(dt, mag, span.t_s);
         self.flags_after(&rate, at_rest, &span, accel_rejected, bias_motion, verdict)
     }
@@ -368,13 +395,28 @@ impl Decoupled {
         Span { init, t_s, omega }
     }
 
-    /// Inclination from the accelerometer averaged in the almost-inertial frame with
-    /// cut-off `omega`; the correction is summed for the motion bias when
-    /// `learn_motion`. Returns whether the accelerometer was rejected (no direction)
-    /// and whether the motion bias learns.
+    /// Inclination from the accelerometer averaged in the almost-inertial frame over
+    /// `span` (a running mean while it still grows after a lost integration,
+    /// `recovering`, see [`Averaging`]); the correction
+    /// is summed for the motion bias when `learn_motion`. Returns whether the
+    /// accelerometer was rejected (no direction) and whether the motion bias learns.
     #[inline(always)]
-    fn incline(&mut self, a: &[f64; 3], dt: f64, omega: f64, learn_motion: bool) -> (bool, bool) {
-        match self.tilt.correct(a, dt, omega) {
+    fn incline(
+        &mut self,
+        a: &[f64; 3],
+        dt: f64,
+        span: &Span,
+        recovering: bool,
+        learn_motion: bool,
+    ) -> (bool, bool) {
+        // After a lost integration (not after a start: the average then starts from
+        // the sample itself, nothing stale to forget).
+        let averaging = if span.init & recovering {
+            Averaging::Growing { span_s: span.t_s }
+        } else {
+            Averaging::LowPass { omega: span.omega }
+        };
+        match self.tilt.correct(a, dt, averaging) {
             Some(c) => {
                 if learn_motion {
                     for (s, c) in self.bias_corr.iter_mut().zip(c) {
@@ -588,18 +630,53 @@ impl Decoupled {
         let inv_t = 1.0 / t_avg;
         let extra =
             TILT_NOISE_RAD_S * TILT_NOISE_RAD_S * (inv_t * inv_t - self.inv_accel_tau2).max(0.0);
-        let r = MAG_HEADING_NOISE_RAD2_S / dt + f.tan2_dip * extra;
+        let tilt_var = f.tan2_dip * extra;
+        let r = MAG_HEADING_NOISE_RAD2_S / dt + tilt_var;
+        // After a lost integration that error is the missed rotation's, shared by
+        // the measurements until the inclination has converged (see
+        // [`Heading::correct`]). After a start the heading has no prior to hold on
+        // to: its running mean stays as it was.
+        let common = if self.flags.angular_rate_recovery() {
+            tilt_var
+        } else {
+            0.0
+        };
         let q = self.heading_q * dt;
         let innovation = wrap(f.heading_rad - self.heading.delta_rad);
         let (d, k) = self
             .heading
-            .correct(innovation, q, r.min(MAX_MEASUREMENT_VAR_RAD2));
+            .correct(innovation, q, r.min(MAX_MEASUREMENT_VAR_RAD2), common);
         self.heading_init = k > HEADING_CONVERGED_GAINS * dt * self.inv_mag_tau;
-        if self.bias_estimation & !self.heading_init & (self.heading_bias_gain > 0.0) {
+        if self.bias_estimation & !self.heading_init {
+            self.heading_bias(q_be, d, dt);
+        }
+    }
+
+    /// The bias about the vertical from a converged heading's correction `d` (rad,
+    /// `dt` since the previous one): with the configured gain, and from when the
+    /// corrections' mean rate exceeds [`HEADING_DRIFT_ON_RADS`] until it is back below
+    /// [`HEADING_DRIFT_OFF_RADS`] with at least the integral gain of
+    /// [`HEADING_DRIFT_INTEGRAL_TAUS`].
+    #[inline(always)]
+    fn heading_bias(&mut self, q_be: &Quat, d: f64, dt: f64) {
+        let k = gain(dt, self.inv_mag_tau);
+        self.heading_drift_rads += k * (d / dt - self.heading_drift_rads);
+        let rate = self.heading_drift_rads.abs();
+        self.drift_learning = if self.drift_learning {
+            rate > HEADING_DRIFT_OFF_RADS
+        } else {
+            rate > HEADING_DRIFT_ON_RADS
+        };
+        let g = if self.drift_learning {
+            self.heading_bias_gain
+                .max(self.inv_mag_tau / HEADING_DRIFT_INTEGRAL_TAUS)
+        } else {
+            self.heading_bias_gain
+        };
+        if g > 0.0 {
             // A turn of d about the vertical, in the body frame.
             let up = quat::rotate(&quat::conj(q_be), &[0.0, 0.0, d]);
-            self.bias
-                .heading(&up, self.heading_bias_gain, self.max_bias_rads);
+            self.bias.heading(&up, g, self.max_bias_rads);
         }
     }
 

@@ -8,7 +8,7 @@ use super::heading::{Heading, UNKNOWN_VAR_RAD2};
 use super::magnetic::MagDisturbance;
 use super::rest::Rest;
 use super::tilt::{self, Tilt};
-use super::Decoupled;
+use super::{Decoupled, SLOW_PERIOD_S};
 use crate::input::limits::{MAX_ACCEL_NORM_MPS2, MAX_GYRO_RADS, MAX_MAG_UT};
 use crate::snapshot::{Reader, SnapshotError, Writer};
 use std::f64::consts::PI;
@@ -16,6 +16,10 @@ use std::f64::consts::PI;
 /// Largest |component| of the summed inclination corrections and largest bias
 /// variance a restored state may hold (a backstop: real values are far smaller).
 const MAX_STORED_CORRECTION: f64 = 1e6;
+/// Largest |mean heading correction rate| a restored state may hold, rad/s: a
+/// converged heading is corrected by at most π per update, and its updates are at
+/// least [`SLOW_PERIOD_S`] apart.
+const MAX_HEADING_DRIFT_RADS: f64 = PI / SLOW_PERIOD_S;
 /// How far a restored quaternion's squared norm may be from 1.
 const UNIT_NORM_TOLERANCE: f64 = 1e-6;
 
@@ -35,6 +39,8 @@ impl Decoupled {
             bias_elapsed_s,
             mag_elapsed_s,
             heading_init,
+            heading_drift_rads,
+            drift_learning,
             dt_typ_s,
             gyro_prev,
             plateau_run,
@@ -82,6 +88,8 @@ impl Decoupled {
         write_hard_iron(w, hard_iron);
         w.f64s(offset_applied_ut);
         w.f64s(offset_seen_ut);
+        w.f64(*heading_drift_rads);
+        w.bool(*drift_learning);
     }
 
     /// Reads what [`write_state`](Self::write_state) wrote and checks it.
@@ -144,6 +152,8 @@ impl Decoupled {
         h.refused_share = r.f64()?;
         r.f64s(&mut self.offset_applied_ut)?;
         r.f64s(&mut self.offset_seen_ut)?;
+        self.heading_drift_rads = r.f64()?;
+        self.drift_learning = r.bool()?;
         Ok(())
     }
 
@@ -165,6 +175,7 @@ impl Decoupled {
             || self.accel_elapsed_s < 0.0
             || self.bias.var < 0.0
             || !(0.0..=UNKNOWN_VAR_RAD2).contains(&self.heading.var_rad2)
+            || self.heading_drift_rads.abs() > MAX_HEADING_DRIFT_RADS
         {
             return Err(SnapshotError::Invalid("state out of range"));
         }
@@ -229,6 +240,7 @@ impl Decoupled {
             self.accel_elapsed_s,
             self.bias.var,
             self.dt_typ_s,
+            self.heading_drift_rads,
         ])
         .all(|x| x.is_finite())
     }
