@@ -58,14 +58,15 @@ impl Heading {
     /// gained since the last one, `r` the measurement's, of which `common` is shared
     /// with the next measurements (what the inclination's error turns them by: it
     /// changes slowly, so averaging more of them does not remove it). The variance
-    /// after the update stays at least `common` (and never grows by it), so while the
+    /// after the update stays at least `common` (and never grows by it, nor beyond
+    /// [`UNKNOWN_VAR_RAD2`], what a restored snapshot may hold), so while the
     /// inclination converges the heading follows its measurements instead of
     /// freezing on the first, worst ones. Returns the change of δ and the gain.
     #[inline(always)]
     pub(crate) fn correct(&mut self, innovation: f64, q: f64, r: f64, common: f64) -> (f64, f64) {
         let p = self.var_rad2 + q;
         let k = p / (p + r);
-        self.var_rad2 = ((1.0 - k) * p).max(common.min(p));
+        self.var_rad2 = ((1.0 - k) * p).max(common.min(p)).min(UNKNOWN_VAR_RAD2);
         let d = k * innovation;
         self.delta_rad = wrap(self.delta_rad + d);
         (d, k)

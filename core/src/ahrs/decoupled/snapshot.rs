@@ -170,13 +170,18 @@ impl Decoupled {
                 return Err(SnapshotError::Invalid("quaternion not unit"));
             }
         }
-        if self.bias.b.iter().any(|b| b.abs() > self.max_bias_rads)
-            || self.heading.delta_rad.abs() > PI
-            || self.accel_elapsed_s < 0.0
-            || self.bias.var < 0.0
+        if self.bias.b.iter().any(|b| b.abs() > self.max_bias_rads) || self.bias.var < 0.0 {
+            return Err(SnapshotError::Invalid("gyroscope bias out of range"));
+        }
+        if self.heading.delta_rad.abs() > PI
             || !(0.0..=UNKNOWN_VAR_RAD2).contains(&self.heading.var_rad2)
-            || self.heading_drift_rads.abs() > MAX_HEADING_DRIFT_RADS
         {
+            return Err(SnapshotError::Invalid("heading out of range"));
+        }
+        if self.heading_drift_rads.abs() > MAX_HEADING_DRIFT_RADS {
+            return Err(SnapshotError::Invalid("heading drift rate out of range"));
+        }
+        if self.accel_elapsed_s < 0.0 {
             return Err(SnapshotError::Invalid("state out of range"));
         }
         if !self.offset_in_range() {
