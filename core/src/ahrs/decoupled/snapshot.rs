@@ -139,17 +139,7 @@ impl Decoupled {
         self.dt_typ_s = r.f64()?;
         r.f64s(&mut self.gyro_prev)?;
         self.plateau_run = r.u8()?;
-        let h = &mut self.hard_iron;
-        r.f64s(&mut h.b)?;
-        for row in h.p.iter_mut() {
-            r.f64s(row)?;
-        }
-        r.f64s(&mut h.anchor_ut)?;
-        r.f64s(&mut h.anchor_q)?;
-        h.anchored = r.bool()?;
-        h.anchor_age_s = r.f64()?;
-        h.unpredicted_s = r.f64()?;
-        h.refused_share = r.f64()?;
+        read_hard_iron(r, &mut self.hard_iron)?;
         r.f64s(&mut self.offset_applied_ut)?;
         r.f64s(&mut self.offset_seen_ut)?;
         self.heading_drift_rads = r.f64()?;
@@ -360,4 +350,20 @@ fn write_hard_iron(w: &mut Writer, h: &HardIron) {
     w.f64(*anchor_age_s);
     w.f64(*unpredicted_s);
     w.f64(*refused_share);
+}
+
+/// Reads what [`write_hard_iron`] wrote, in the same order (checked with the rest in
+/// `offset_in_range`).
+fn read_hard_iron(r: &mut Reader, h: &mut HardIron) -> Result<(), SnapshotError> {
+    r.f64s(&mut h.b)?;
+    for row in h.p.iter_mut() {
+        r.f64s(row)?;
+    }
+    r.f64s(&mut h.anchor_ut)?;
+    r.f64s(&mut h.anchor_q)?;
+    h.anchored = r.bool()?;
+    h.anchor_age_s = r.f64()?;
+    h.unpredicted_s = r.f64()?;
+    h.refused_share = r.f64()?;
+    Ok(())
 }
