@@ -84,7 +84,7 @@ pub enum Eval {
     ///
     /// Foot-mounted navigation on the pyshoe VICON trials: position RMSE, loop closure
     /// and zero-velocity agreement per trial, gait and session for every detector.
-    #[command(group(ArgGroup::new("mode").args(["tune", "tune_adaptive_shoe", "diagnose"])))]
+    #[command(group(ArgGroup::new("mode").args(["tune", "tune_adaptive_shoe", "diagnose", "detector_gap"])))]
     Foot {
         /// The trials (default: the shared foot/pyshoe-vicon folder).
         #[arg(long, value_name = "DIR")]
@@ -98,6 +98,10 @@ pub enum Eval {
         /// Stride-length and height-per-stride errors against the truth.
         #[arg(long)]
         diagnose: bool,
+        /// Where the default zero-velocity detector departs from the oracle labels,
+        /// per trial, and what it costs (also on time-stretched copies).
+        #[arg(long)]
+        detector_gap: bool,
     },
     /// Phone-placement classifier, leave one user out.
     ///
@@ -264,9 +268,12 @@ pub fn run(e: Eval) -> Result<(), Failure> {
             tune,
             tune_adaptive_shoe,
             diagnose,
+            detector_gap,
         } => {
             let d = data_dir(data, "foot/pyshoe-vicon", "foot trials")?;
-            if diagnose {
+            if detector_gap {
+                stridekit_lab::foot::detector_gap::run(&d)?
+            } else if diagnose {
                 stridekit_lab::foot::diagnose::run(&d)?
             } else if tune_adaptive_shoe {
                 stridekit_lab::foot::tune_shoe::run(&d)?

@@ -234,6 +234,7 @@ mod tests {
             &["foot", "f.csv", "--lables", "vicon_opt"],
             &["eval", "pdr", "--sim", "--data", "d"],
             &["eval", "foot", "--tune", "--diagnose"],
+            &["eval", "foot", "--diagnose", "--detector-gap"],
             &["eval", "bogus"],
             // Values checked by clap (exit 2), not later by the command (exit 1).
             &["foot", "f.csv", "--axes", "xyz"],

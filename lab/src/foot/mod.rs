@@ -3,6 +3,7 @@
 //! trainer (`train zupt`) that produced the shipped model.
 
 pub mod alignment;
+pub mod detector_gap;
 pub mod device;
 pub mod diagnose;
 pub mod eval;

@@ -15,7 +15,7 @@ use super::{measure, Engine, Perturbation, Scored};
 use crate::foot::eval::{base_config, load, replay as eval_replay, score, Method, Trial};
 
 /// The trial's streams (sensor axes) with gravity per sample.
-fn imu_of(trial: &Trial) -> Result<Imu, String> {
+pub(crate) fn imu_of(trial: &Trial) -> Result<Imu, String> {
     let rec = &trial.rec;
     let mut imu = Imu::new(
         rec.t_s.clone(),
@@ -118,6 +118,28 @@ fn replay(imu: &Imu) -> Result<(Vec<(usize, FootEstimate)>, u64), String> {
     Ok((est, refused))
 }
 
+/// A time-stretched copy as the device would record it: its gyroscope stops at the
+/// range the navigator is given (`base_config`, the UofT MicroStrain's 9.2 rad/s) or
+/// at the largest rate the recording itself holds, whichever is larger. A faster
+/// copy (`× 1.2` turns a 9 rad/s swing into 11 rad/s) would otherwise hold samples
+/// the device cannot report, which the navigator takes for clipped peaks and
+/// "repairs" (docs/lab/2026-12-06-foot-detector.md).
+pub(crate) fn within_range(mut copy: Imu, recorded: &Imu) -> Imu {
+    let Some(range) = base_config().gyro_range_rads else {
+        return copy;
+    };
+    let seen = recorded
+        .gyro
+        .iter()
+        .flat_map(|w| w.iter().map(|x| x.abs()))
+        .fold(0.0, f64::max);
+    let limit = range.max(seen);
+    for w in copy.gyro.iter_mut() {
+        *w = w.map(|x| x.clamp(-limit, limit));
+    }
+    copy
+}
+
 /// The sweep over the trials of `dir`.
 pub fn sweep(dir: &Path, cases: &[Perturbation]) -> Result<Report, String> {
     let trials = load(dir)?;
@@ -127,7 +149,14 @@ pub fn sweep(dir: &Path, cases: &[Perturbation]) -> Result<Report, String> {
         .collect::<Result<Vec<Imu>, String>>()?;
     let scorer = |r: usize, p: Option<&Perturbation>, rng: &mut Rng| -> Result<Scored, String> {
         let imu = match p {
-            Some(p) => perturb(&imus[r], p, rng).unwrap_or_else(|| imus[r].clone()),
+            Some(p) => {
+                let copy = perturb(&imus[r], p, rng).unwrap_or_else(|| imus[r].clone());
+                if matches!(p, Perturbation::Speed { .. }) {
+                    within_range(copy, &imus[r])
+                } else {
+                    copy
+                }
+            }
             None => imus[r].clone(),
         };
         let (est, refused) = replay(&imu)?;
@@ -150,8 +179,47 @@ pub fn sweep(dir: &Path, cases: &[Perturbation]) -> Result<Report, String> {
         baseline,
         cases,
         notes: vec![format!(
-            "Data: {} (UofT VICON trials). The navigator of `eval foot` (device profile, default detector); walking speed: the recording time-stretched with its gravity kept (gravity per sample from the navigator's attitude on the oracle labels), resampled to 200 Hz.",
-            dir.display()
+            "Data: {} (UofT VICON trials). The navigator of `eval foot` (device profile, default detector); walking speed: the recording time-stretched with its gravity kept (gravity per sample from the navigator's attitude on the oracle labels), resampled to 200 Hz. A time-stretched copy's gyroscope stops where the device's does (its range, {} rad/s, or the recording's largest rate if that is larger).",
+            dir.display(),
+            base_config().gyro_range_rads.unwrap_or(f64::INFINITY)
         )],
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_faster_copy_stops_at_the_device_range() {
+        let range = base_config().gyro_range_rads.unwrap();
+        let n = 400;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 * 0.005).collect();
+        // A swing at 0.95 × the range on y, and one recorded sample above it on x.
+        let mut gyro: Vec<[f64; 3]> = t
+            .iter()
+            .map(|&t| [0.0, 0.95 * range * (std::f64::consts::TAU * t).sin(), 0.0])
+            .collect();
+        gyro[10][0] = -1.03 * range;
+        let mut imu = Imu::new(t, gyro, vec![[0.0, 0.0, 9.81]; n], Vec::new());
+        imu.gravity = Some(vec![[0.0, 0.0, 9.81]; n]);
+        let fast = perturb(&imu, &Perturbation::Speed { factor: 1.4 }, &mut Rng::new(1)).unwrap();
+        let peak = |m: &Imu| {
+            m.gyro
+                .iter()
+                .flat_map(|w| w.iter().map(|x| x.abs()))
+                .fold(0.0, f64::max)
+        };
+        assert!(
+            peak(&fast) > 1.3 * range,
+            "the stretch itself exceeds the range"
+        );
+        let kept = within_range(fast, &imu);
+        // The recording's own largest rate (1.03 × range) is the limit here.
+        assert!((peak(&kept) - 1.03 * range).abs() < 1e-9, "{}", peak(&kept));
+        // Without a sample above the range, the range is the limit.
+        imu.gyro[10][0] = 0.0;
+        let fast = perturb(&imu, &Perturbation::Speed { factor: 1.4 }, &mut Rng::new(1)).unwrap();
+        assert!((peak(&within_range(fast, &imu)) - range).abs() < 1e-9);
+    }
 }
