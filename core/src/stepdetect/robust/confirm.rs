@@ -4,7 +4,7 @@
 //! candidates join only while they chain back like steps held the same way.
 
 use super::bout::MISSED_STEP_MAX_PERIODS;
-use super::gaps::{fill_missed, walks_across_gap};
+use super::gaps::{fill_missed, walks_across_gap, WEAK_STEPS_BEFORE_BOUT};
 use super::pending::{merge, Pending};
 use super::{RobustDetector, Sink, PENDING};
 use crate::signal::Ring;
@@ -61,7 +61,9 @@ impl RobustDetector {
             let interval = c.event.t_s - prev_t_s; // NaN for the first
             prev_t_s = c.event.t_s;
             let n = (interval / period).round();
-            if n >= 2.0 && walks_across_gap(interval, c.missing_before_s, period) {
+            if n >= 2.0
+                && walks_across_gap(interval, c.missing_before_s, period, WEAK_STEPS_BEFORE_BOUT)
+            {
                 fill_missed(c.event, c.event.t_s, interval, n, &mut |e| out.push(e));
             } else {
                 out.push(c.event);
@@ -167,7 +169,9 @@ impl RobustDetector {
             let iv = newer.event.t_s - older.event.t_s;
             let step_like =
                 ((1.0 - ASYMMETRY) * period..MISSED_STEP_MAX_PERIODS * period).contains(&iv);
-            if !(step_like || walks_across_gap(iv, newer.missing_before_s, period)) {
+            if !(step_like
+                || walks_across_gap(iv, newer.missing_before_s, period, WEAK_STEPS_BEFORE_BOUT))
+            {
                 break;
             }
             let cos = dot(older.carry, bout_carry);
