@@ -86,7 +86,9 @@ impl Tilt {
             exact_half_angle(h2)
         };
         let dq = [c, s * h[0], s * h[1], s * h[2]];
-        self.q_gyr = renormalise(quat::mul(&self.q_gyr, &dq));
+        // |q ⊗ dq|² = |q|²·|dq|²: neither waits for the product.
+        let n2 = norm2_q(&self.q_gyr) * (c * c + s * s * h2);
+        self.q_gyr = renormalise(quat::mul(&self.q_gyr, &dq), n2);
     }
 
     /// Average the specific force `a` (body frame) in I over `dt` as `averaging`
@@ -142,7 +144,11 @@ impl Tilt {
     fn make_vertical(&mut self) -> Option<[f64; 3]> {
         let v = quat::rotate(&self.q_inc, &self.avg);
         let c = vertical_correction(&v, norm2(&self.avg))?;
-        self.q_inc = renormalise(quat::mul(&c, &self.q_inc));
+        // |c|² = c_w (see [`vertical_correction`]), but for the turn of an average
+        // pointing straight down (c_w = 0, |c| = 1).
+        let c2 = if c[0] > 0.0 { c[0] } else { 1.0 };
+        let n2 = c2 * norm2_q(&self.q_inc);
+        self.q_inc = renormalise(quat::mul(&c, &self.q_inc), n2);
         // Rotation vector of c: (v_y, −v_x, 0)/n · θ/sin θ ≈ 2·(c_x, c_y, 0) for the
         // small angles of one sample.
         Some([2.0 * c[1], 2.0 * c[2], 0.0])
@@ -186,6 +192,12 @@ pub(crate) fn norm2(v: &[f64; 3]) -> f64 {
     v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
 }
 
+/// |q|².
+#[inline(always)]
+fn norm2_q(q: &Quat) -> f64 {
+    q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]
+}
+
 /// [`vertical_correction`] of an average pointing down (cold: upside down).
 #[cold]
 #[inline(never)]
@@ -204,10 +216,12 @@ fn vertical_correction_exact(v: &[f64; 3], n2: f64) -> Option<Quat> {
     })
 }
 
-/// q / |q| for |q| ≈ 1 (products of unit quaternions): 1/√(1+ε) ≈ 1 − ε/2 + 3ε²/8.
+/// q / |q| for |q| ≈ 1 (products of unit quaternions), `n2` = |q|² as the caller
+/// knows it from the factors (so it is not computed after the product, on the chain
+/// from one sample to the next): 1/√(1+ε) ≈ 1 − ε/2 + 3ε²/8.
 #[inline(always)]
-pub(crate) fn renormalise(q: Quat) -> Quat {
-    let eps = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] - 1.0;
+pub(crate) fn renormalise(q: Quat, n2: f64) -> Quat {
+    let eps = n2 - 1.0;
     let inv = if eps.abs() < 1e-3 {
         1.0 - 0.5 * eps + 0.375 * eps * eps
     } else {
