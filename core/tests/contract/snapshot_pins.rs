@@ -207,17 +207,21 @@ fn pace_tracker_snapshots_are_pinned() {
 // Step detector format 11 (issue 39, i39-steps2): the steps held one step when sooner
 // than the cadence join the snapshot; AHRS format 5 (i39-omag): the decoupled filter's
 // magnetometer offset estimate and its setting; AHRS format 6 (i39-ogyro): its mean
-// heading correction rate. The navigator carries them.
+// heading correction rate. The navigator carries them (and the default filter's
+// inclination correction and renormalisations off the sample-to-sample chain, i39-speed2).
 const PINNED_NAVIGATOR: [(u64, usize); 3] = [
-    (9505753795535256663, 303742),
-    (11398793109995565011, 303742),
-    (5580716663357913850, 328800),
+    (7430043541744873924, 303742),
+    (3098922649781524076, 303742),
+    (15253818598140086358, 328800),
 ];
 // The default filter's pin re-recorded for the fast atan2 of its magnetometer update
 // (issue 39 speed; within 4e-9 rad of libm's, eval outputs unchanged), then for AHRS
 // format 5 (i39-omag), then AHRS format 6 (i39-ogyro: running-mean average and
-// heading floor after a lost integration, heading-drift bias state).
-const PINNED_AHRS: [(u64, usize); 2] = [(6795092379490341387, 13594), (1414324058707394463, 5586)];
+// heading floor after a lost integration, heading-drift bias state), then for the
+// inclination correction's 1/|average| taken off the sample-to-sample chain (i39-speed2:
+// the exact formula instead of a series to O(ε³), values move by ≈1e-12), then for the
+// renormalisations' |q|² taken from the factors (i39-speed2; eval outputs byte-identical).
+const PINNED_AHRS: [(u64, usize); 2] = [(10719263284016029074, 13594), (1414324058707394463, 5586)];
 const PINNED_STEPS: (u64, usize) = (12544845488881009756, 46692);
 // Foot format 8 (issue 39, i39-foot2): the hole state (turn rate, pending stance check)
 // joins the snapshot (estimates unchanged on this walk). Format 7: the stillness floor, and the

@@ -66,7 +66,7 @@ impl Tilt {
         self.avg = *a;
         self.avg_rate = [0.0; 3];
         self.q_inc = [1.0, 0.0, 0.0, 0.0];
-        if let Some(c) = vertical_correction(a) {
+        if let Some(c) = vertical_correction(a, norm2(a)) {
             self.q_inc = quat::normalised(c);
         }
     }
@@ -86,7 +86,9 @@ impl Tilt {
             exact_half_angle(h2)
         };
         let dq = [c, s * h[0], s * h[1], s * h[2]];
-        self.q_gyr = renormalise(quat::mul(&self.q_gyr, &dq));
+        // |q ⊗ dq|² = |q|²·|dq|²: neither waits for the product.
+        let n2 = norm2_q(&self.q_gyr) * (c * c + s * s * h2);
+        self.q_gyr = renormalise(quat::mul(&self.q_gyr, &dq), n2);
     }
 
     /// Average the specific force `a` (body frame) in I over `dt` as `averaging`
@@ -141,8 +143,12 @@ impl Tilt {
     #[inline(always)]
     fn make_vertical(&mut self) -> Option<[f64; 3]> {
         let v = quat::rotate(&self.q_inc, &self.avg);
-        let c = vertical_correction(&v)?;
-        self.q_inc = renormalise(quat::mul(&c, &self.q_inc));
+        let c = vertical_correction(&v, norm2(&self.avg))?;
+        // |c|² = c_w (see [`vertical_correction`]), but for the turn of an average
+        // pointing straight down (c_w = 0, |c| = 1).
+        let c2 = if c[0] > 0.0 { c[0] } else { 1.0 };
+        let n2 = c2 * norm2_q(&self.q_inc);
+        self.q_inc = renormalise(quat::mul(&c, &self.q_inc), n2);
         // Rotation vector of c: (v_y, −v_x, 0)/n · θ/sin θ ≈ 2·(c_x, c_y, 0) for the
         // small angles of one sample.
         Some([2.0 * c[1], 2.0 * c[2], 0.0])
@@ -155,38 +161,44 @@ impl Tilt {
     }
 }
 
-/// Smallest rotation taking `v` to the vertical (+z), or `None` for a zero vector.
-/// With n = |v|, cos θ = v_z/n and axis v × ẑ = (v_y, −v_x, 0): the half-angle
-/// quaternion is ∝ (1 + cos θ, sin θ · axis) = (n + v_z, v_y, −v_x, 0)/n. Scaled by
-/// 1/(2n) its norm is cos(θ/2): unit to second order in θ, which the renormalisation
-/// after the product absorbs. One square root, one division.
+/// Smallest rotation taking `v` to the vertical (+z), or `None` for a zero vector;
+/// `n2` = |v|², which the caller knows without `v` (a rotated vector keeps its
+/// length). With n = |v|, cos θ = v_z/n and axis v × ẑ = (v_y, −v_x, 0): the
+/// half-angle quaternion is ∝ (1 + cos θ, sin θ · axis) = (n + v_z, v_y, −v_x, 0)/n.
+/// Scaled by 1/(2n) its norm is cos(θ/2): unit to second order in θ, which the
+/// renormalisation after the product absorbs.
 ///
-/// Fast path: after every sample's correction the average is vertical, so the next
-/// one is off by at most milliradians. For r² = v_x² + v_y² < 10⁻⁴ v_z² (0.57°), with
-/// ε = r²/v_z²: 1/n = (1 − ε/2 + 3ε²/8)/v_z + O(ε³), so the same quaternion is
-/// (1 − ε/4 + 3ε²/16, v_y·f, −v_x·f, 0) with f = (1 − ε/2 + 3ε²/8)/(2v_z), to
-/// O(ε³) ≤ 10⁻¹² — one division and no square root on the chain from sample to
-/// sample.
+/// The square root and the division depend on `n2` alone: for the average, which
+/// the gyroscope's frame carries, they are off the chain from one sample's
+/// inclination correction to the next (rotate, these products, quaternion product,
+/// renormalisation), which is what bounds the update's speed.
 #[inline(always)]
-pub(crate) fn vertical_correction(v: &[f64; 3]) -> Option<Quat> {
-    let r2 = v[0] * v[0] + v[1] * v[1];
-    let vz2 = v[2] * v[2];
+pub(crate) fn vertical_correction(v: &[f64; 3], n2: f64) -> Option<Quat> {
     // Below 1 µm/s² (free fall) the average has no direction; near 1e-160 its squares
     // underflow and the correction would be NaN.
-    let n2 = r2 + vz2;
     if n2.is_nan() || n2 < MIN_DIRECTION_NORM2 {
         return None;
     }
-    if (v[2] > 0.0) & (r2 < 1e-4 * vz2) {
-        let inv = 1.0 / v[2];
-        let eps = r2 * (inv * inv);
-        let f = 0.5 * inv * (1.0 - eps * (0.5 - 0.375 * eps));
-        return Some([1.0 - eps * (0.25 - 0.1875 * eps), v[1] * f, -v[0] * f, 0.0]);
+    if v[2] > 0.0 {
+        let f = 0.5 / n2.sqrt();
+        return Some([0.5 + v[2] * f, v[1] * f, -v[0] * f, 0.0]);
     }
-    vertical_correction_exact(v, r2 + vz2)
+    vertical_correction_exact(v, v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
 }
 
-/// [`vertical_correction`] for any tilt (cold: start, recovery, fast turns).
+/// |v|².
+#[inline(always)]
+pub(crate) fn norm2(v: &[f64; 3]) -> f64 {
+    v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
+}
+
+/// |q|².
+#[inline(always)]
+fn norm2_q(q: &Quat) -> f64 {
+    q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]
+}
+
+/// [`vertical_correction`] of an average pointing down (cold: upside down).
 #[cold]
 #[inline(never)]
 fn vertical_correction_exact(v: &[f64; 3], n2: f64) -> Option<Quat> {
@@ -204,10 +216,12 @@ fn vertical_correction_exact(v: &[f64; 3], n2: f64) -> Option<Quat> {
     })
 }
 
-/// q / |q| for |q| ≈ 1 (products of unit quaternions): 1/√(1+ε) ≈ 1 − ε/2 + 3ε²/8.
+/// q / |q| for |q| ≈ 1 (products of unit quaternions), `n2` = |q|² as the caller
+/// knows it from the factors (so it is not computed after the product, on the chain
+/// from one sample to the next): 1/√(1+ε) ≈ 1 − ε/2 + 3ε²/8.
 #[inline(always)]
-pub(crate) fn renormalise(q: Quat) -> Quat {
-    let eps = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] - 1.0;
+pub(crate) fn renormalise(q: Quat, n2: f64) -> Quat {
+    let eps = n2 - 1.0;
     let inv = if eps.abs() < 1e-3 {
         1.0 - 0.5 * eps + 0.375 * eps * eps
     } else {
@@ -247,15 +261,15 @@ mod tests {
             [0.0, 0.0, 1.0],
             [1.0, 0.0, 0.0],
         ] {
-            let q = quat::normalised(vertical_correction(&v).unwrap());
+            let q = quat::normalised(vertical_correction(&v, norm2(&v)).unwrap());
             let r = quat::rotate(&q, &v);
             let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
             assert!(r[0].abs() < 1e-12 && r[1].abs() < 1e-12, "{r:?}");
             assert!((r[2] - n).abs() < 1e-12);
             assert_eq!(q[3], 0.0, "no rotation about the vertical");
         }
-        assert!(vertical_correction(&[0.0; 3]).is_none());
-        let q = quat::normalised(vertical_correction(&[0.0, 0.0, -1.0]).unwrap());
+        assert!(vertical_correction(&[0.0; 3], 0.0).is_none());
+        let q = quat::normalised(vertical_correction(&[0.0, 0.0, -1.0], 1.0).unwrap());
         assert!((quat::rotate(&q, &[0.0, 0.0, -1.0])[2] - 1.0).abs() < 1e-12);
     }
 
