@@ -207,18 +207,20 @@ fn pace_tracker_snapshots_are_pinned() {
 // Step detector format 11 (issue 39, i39-steps2): the steps held one step when sooner
 // than the cadence join the snapshot; AHRS format 5 (i39-omag): the decoupled filter's
 // magnetometer offset estimate and its setting; AHRS format 6 (i39-ogyro): its mean
-// heading correction rate. The navigator carries them.
+// heading correction rate. The navigator carries them. Step detector format 12 and
+// navigator format 10 (issue 39, i39-stepflag): each stored step's origin (seen or
+// filled).
 const PINNED_NAVIGATOR: [(u64, usize); 3] = [
-    (9505753795535256663, 303742),
-    (11398793109995565011, 303742),
-    (5580716663357913850, 328800),
+    (5853438253014282863, 304115),
+    (17407155524948659231, 304115),
+    (5733762898134492354, 329173),
 ];
 // The default filter's pin re-recorded for the fast atan2 of its magnetometer update
 // (issue 39 speed; within 4e-9 rad of libm's, eval outputs unchanged), then for AHRS
 // format 5 (i39-omag), then AHRS format 6 (i39-ogyro: running-mean average and
 // heading floor after a lost integration, heading-drift bias state).
 const PINNED_AHRS: [(u64, usize); 2] = [(6795092379490341387, 13594), (1414324058707394463, 5586)];
-const PINNED_STEPS: (u64, usize) = (12544845488881009756, 46692);
+const PINNED_STEPS: (u64, usize) = (15844955469905237905, 46692);
 // Foot format 8 (issue 39, i39-foot2): the hole state (turn rate, pending stance check)
 // joins the snapshot (estimates unchanged on this walk). Format 7: the stillness floor, and the
 // adaptive SHOE's threshold follows it (the default detector's estimates may move).
