@@ -43,5 +43,7 @@ pub use pace::{
 };
 pub use pdr::{NavError, NavEstimate, NavigatorConfig, PdrCalibration, PhoneNavigator};
 pub use placement::{PlacementClassifier, PlacementError, PlacementEstimate};
-pub use stepdetect::{AccelSample, StepDetectError, StepDetector, StepDetectorConfig, StepEvent};
+pub use stepdetect::{
+    AccelSample, StepDetectError, StepDetector, StepDetectorConfig, StepEvent, StepOrigin,
+};
 pub use steplength::{StepLengthConfig, StepLengthError, StepLengthEstimator, StepLengthModel};

@@ -15,7 +15,7 @@ use stridekit_core::pace::{GnssFix, PaceConfig, PaceEstimate, PaceTracker, StepS
 use stridekit_core::pdr::{NavEstimate, NavigatorConfig, PhoneNavigator};
 use stridekit_core::placement::{AccelSample, PlacementClassifier};
 use stridekit_core::snapshot::crc32;
-use stridekit_core::stepdetect::{StepDetector, StepEvent};
+use stridekit_core::stepdetect::{StepDetector, StepEvent, StepOrigin};
 use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
 
 use crate::bytes::Bytes;
@@ -357,6 +357,7 @@ impl Engine for StepLength {
                 accel_max_mps2: b.value(14.0, 3.0),
                 accel_min_mps2: b.value(6.0, 2.0),
                 vertical_displacement_m: b.value(0.07, 0.03),
+                origin: StepOrigin::Detected,
             };
             if let Ok(l) = self.e.push_step(&ev) {
                 assert!(l.is_finite() && l >= 0.0, "step length {l}");

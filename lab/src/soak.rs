@@ -281,6 +281,7 @@ fn cmp_step(c: &mut Cmp, a: &StepEvent, b: &StepEvent) {
         &[a.accel_variance_m2ps4, a.accel_max_mps2, a.accel_min_mps2],
         &[b.accel_variance_m2ps4, b.accel_max_mps2, b.accel_min_mps2],
     );
+    c.eq(&a.origin, &b.origin);
 }
 
 fn cmp_nav(c: &mut Cmp, a: &NavEstimate, b: &NavEstimate) {

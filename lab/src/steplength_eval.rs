@@ -10,7 +10,7 @@ use crate::steplength::{
 };
 use crate::table::Table;
 use stridekit_core::geo::LocalFrame;
-use stridekit_core::stepdetect::StepEvent;
+use stridekit_core::stepdetect::{StepEvent, StepOrigin};
 use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
 use stridekit_sim::phone::{simulate_phone, PhonePlacement};
 
@@ -268,6 +268,7 @@ fn synth_steps(cadence: &[(f64, f64)]) -> Vec<StepEvent> {
                 accel_max_mps2: 9.81,
                 accel_min_mps2: 9.81,
                 vertical_displacement_m: f64::NAN,
+                origin: StepOrigin::Detected,
             });
             bout_new = false;
             next += 1.0;

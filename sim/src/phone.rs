@@ -45,7 +45,7 @@ use nalgebra::{Quaternion, Rotation3, UnitQuaternion, Vector3};
 use super::rng::Rng;
 use stridekit_core::pdr::NavigatorConfig;
 use stridekit_core::placement::Placement;
-use stridekit_core::stepdetect::StepEvent;
+use stridekit_core::stepdetect::{StepEvent, StepOrigin};
 
 /// Standard gravity, m/s².
 pub const GRAVITY_MPS2: f64 = 9.80665;
@@ -381,6 +381,7 @@ impl SimulatedPhone {
                 accel_max_mps2: hi,
                 accel_min_mps2: lo,
                 vertical_displacement_m: vertical.displacement_range_m(t0, s.t_s),
+                origin: StepOrigin::Detected,
             });
             prev_t = s.t_s;
         }

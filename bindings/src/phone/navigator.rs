@@ -234,6 +234,35 @@ pub struct NavStep {
     /// the `PENDULUM` step length uses); null when it could not be measured (no
     /// attitude yet, or the step's span not covered by samples).
     pub vertical_displacement_m: Option<f64>,
+    /// Whether the step detector saw the step or credited it without seeing it (filled
+    /// at the walk's cadence); a count or a distance may rest on filled steps.
+    pub origin: StepOrigin,
+}
+
+/// Where a step comes from (see the core `StepOrigin`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, uniffi::Enum)]
+pub enum StepOrigin {
+    /// A heel strike seen in the acceleration.
+    Detected,
+    /// Filled at the walk's cadence into an interval across dropped samples.
+    FilledAcrossGap,
+    /// Filled at the walk's cadence where a step inside a walk was too weak to see.
+    FilledMissed,
+    /// Filled at the walk's cadence between two bouts of one walk (a pause in its
+    /// rhythm of up to 10 s: a turn, a message read on the way).
+    FilledBetweenBouts,
+}
+
+impl From<stridekit_core::StepOrigin> for StepOrigin {
+    fn from(o: stridekit_core::StepOrigin) -> Self {
+        use stridekit_core::StepOrigin as O;
+        match o {
+            O::Detected => StepOrigin::Detected,
+            O::FilledAcrossGap => StepOrigin::FilledAcrossGap,
+            O::FilledMissed => StepOrigin::FilledMissed,
+            O::FilledBetweenBouts => StepOrigin::FilledBetweenBouts,
+        }
+    }
 }
 
 impl From<core::NavStep> for NavStep {
@@ -245,6 +274,7 @@ impl From<core::NavStep> for NavStep {
             length_m: s.length_m,
             azimuth_rad: s.azimuth_rad,
             vertical_displacement_m: Some(s.vertical_displacement_m).filter(|h| h.is_finite()),
+            origin: s.origin.into(),
         }
     }
 }

@@ -38,7 +38,7 @@ use crate::pace::GnssFix;
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 use crate::stats::{CHI2_99_2DOF, RADIUS68_TO_SIGMA};
-use crate::stepdetect::{StepDetectError, StepDetector, StepDetectorConfig, StepEvent};
+use crate::stepdetect::{StepDetectError, StepDetector, StepDetectorConfig, StepEvent, StepOrigin};
 use crate::steplength::{StepLengthConfig, StepLengthError, StepLengthEstimator, StepLengthModel};
 
 use super::calibration::{CalibrationError, PdrCalibration};
@@ -47,12 +47,13 @@ use super::scale::StepScale;
 use super::vertical::VerticalHistory;
 
 const SNAPSHOT_KIND: u8 = 5;
-/// Version 9: the step lengths' scale from GNSS stretches (8: the event merger; 7: the
+/// Version 10: each deferred and recent step's origin (seen or filled by the detector);
+/// version 9: the step lengths' scale from GNSS stretches (8: the event merger; 7: the
 /// walking direction's `gyro_calibrated` flag; 6: the vertical history
 /// and each step's vertical displacement; 5: gait initiation in the step-length state;
 /// 4: the input layer's time state per stream; 3 added the attitude history, deferred
 /// and recent steps).
-const SNAPSHOT_VERSION: u16 = 9;
+const SNAPSHOT_VERSION: u16 = 10;
 /// Steps waiting for the carrying to be known, and recent placed steps kept.
 const DEFERRED_STEPS: usize = 32;
 pub const RECENT_STEPS: usize = 32;
@@ -229,6 +230,9 @@ pub struct NavStep {
     /// Peak-to-peak vertical displacement of the phone over the step, m (what the
     /// pendulum step length uses; NaN when it could not be measured).
     pub vertical_displacement_m: f64,
+    /// Whether the detector saw the step or filled it in at the walk's cadence
+    /// (across dropped samples, a weak step, a pause between bouts of one walk).
+    pub origin: StepOrigin,
 }
 
 /// A detected step waiting for the walking direction to be known.
@@ -238,6 +242,7 @@ struct PendingStep {
     t1_s: f64,
     length_m: f64,
     vertical_displacement_m: f64,
+    origin: StepOrigin,
 }
 
 /// Pedestrian dead reckoning with a phone.
@@ -559,6 +564,7 @@ impl PhoneNavigator {
             t1_s: step.t_s,
             length_m: length,
             vertical_displacement_m: step.vertical_displacement_m,
+            origin: step.origin,
         };
         if self.direction.forward_body().is_none() {
             // The carrying is not known yet (a walk's first stride): place the step
@@ -594,6 +600,7 @@ impl PhoneNavigator {
             length_m: length,
             azimuth_rad: az,
             vertical_displacement_m: p.vertical_displacement_m,
+            origin: p.origin,
         });
     }
 

@@ -21,6 +21,58 @@ pub struct StepEvent {
     /// `NaN` and the phone navigator fills it in from its own attitude; an app with an
     /// attitude of its own may fill it in (see [`crate::pdr::VerticalHistory`]).
     pub vertical_displacement_m: f64,
+    /// Whether the step was seen in the signal or credited without being seen (a
+    /// filled step: its time is spaced evenly at the walk's cadence and its features
+    /// are those of the detected step after it).
+    pub origin: StepOrigin,
+}
+
+/// Where a step event comes from. The robust detector credits steps it did not see
+/// where the walk evidently went on; a count may rest on them, and an app may tell
+/// them apart (`StepEvent::origin`). The published detector emits only `Detected`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum StepOrigin {
+    /// A heel strike seen in the acceleration.
+    #[default]
+    Detected,
+    /// Filled at the walk's cadence into an interval across dropped samples (a gap in
+    /// the input's timestamps that hid the step).
+    FilledAcrossGap,
+    /// Filled at the walk's cadence into an interval of about two steps inside a bout
+    /// with no data gap: a step too weak to be seen.
+    FilledMissed,
+    /// Filled at the walk's cadence between two bouts of one walk (the first lost its
+    /// periodicity, not by silence, and the next came within 10 s at the same cadence:
+    /// a turn, a message read on the way).
+    FilledBetweenBouts,
+}
+
+impl StepOrigin {
+    /// Whether the step was credited without being seen.
+    pub fn is_filled(self) -> bool {
+        self != StepOrigin::Detected
+    }
+
+    /// Snapshot code (stable: stored in detector snapshots).
+    pub(crate) fn code(self) -> u8 {
+        match self {
+            StepOrigin::Detected => 0,
+            StepOrigin::FilledAcrossGap => 1,
+            StepOrigin::FilledMissed => 2,
+            StepOrigin::FilledBetweenBouts => 3,
+        }
+    }
+
+    /// The origin of a snapshot code (`None`: not a code).
+    pub(crate) fn from_code(code: u8) -> Option<Self> {
+        Some(match code {
+            0 => StepOrigin::Detected,
+            1 => StepOrigin::FilledAcrossGap,
+            2 => StepOrigin::FilledMissed,
+            3 => StepOrigin::FilledBetweenBouts,
+            _ => return None,
+        })
+    }
 }
 
 impl StepEvent {

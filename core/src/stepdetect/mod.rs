@@ -34,7 +34,7 @@ mod published;
 mod robust;
 
 pub use error::StepDetectError;
-pub use event::StepEvent;
+pub use event::{StepEvent, StepOrigin};
 pub use published::PublishedStepParams;
 pub use robust::RobustStepParams;
 
@@ -46,6 +46,7 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 /// Snapshot engine kind byte for the step detector.
 const SNAPSHOT_KIND: u8 = 3;
 /// Snapshot format version written by this build.
+/// Version 12: each stored step event keeps its origin (detected or filled, [`StepOrigin`]).
 /// Version 11: the default detector's steps held off the cadence. Version 10: each buffered candidate keeps the input time gaps hid before it, and
 /// the autocorrelation's samples may be NaN (bridged across a gap). Version 9: the default detector's held last step of a bout. Version 8: the input
 /// time the gaps hid since the last candidate, and the length of the latest gap. Version 7: the default detector's previous in-bout interval
@@ -54,7 +55,7 @@ const SNAPSHOT_KIND: u8 = 3;
 /// short walk before a stop. Version 4: the time
 /// state of the input layer ([`TimeGuard`]) replaces the last time (version 3 added
 /// the autocorrelation state of the default detector).
-const SNAPSHOT_VERSION: u16 = 11;
+const SNAPSHOT_VERSION: u16 = 12;
 /// Steps waiting to be popped.
 const QUEUE: usize = 32;
 
@@ -173,6 +174,7 @@ impl Moments {
             accel_max_mps2: max,
             accel_min_mps2: min,
             vertical_displacement_m: f64::NAN,
+            origin: StepOrigin::Detected,
         }
     }
 
@@ -227,6 +229,7 @@ pub(crate) fn write_event(w: &mut Writer, e: &StepEvent) {
         accel_min_mps2,
         // The detector's own events never know it (NaN): not kept.
         vertical_displacement_m: _,
+        origin,
     } = *e;
     w.f64s(&[
         t_s,
@@ -235,6 +238,7 @@ pub(crate) fn write_event(w: &mut Writer, e: &StepEvent) {
         accel_max_mps2,
         accel_min_mps2,
     ]);
+    w.u8(origin.code());
 }
 
 pub(crate) fn read_event(r: &mut Reader) -> Result<StepEvent, SnapshotError> {
@@ -248,6 +252,7 @@ pub(crate) fn read_event(r: &mut Reader) -> Result<StepEvent, SnapshotError> {
     let accel_variance_m2ps4 = r.f64_or_nan()?;
     let accel_max_mps2 = r.f64_or_nan()?;
     let accel_min_mps2 = r.f64_or_nan()?;
+    let origin = StepOrigin::from_code(r.u8()?).ok_or(SnapshotError::Invalid("step origin"))?;
     let ok = |x: f64, hi: f64| x.is_nan() || (0.0..=hi).contains(&x);
     if !(ok(duration_s, MAX_DURATION_S)
         && ok(accel_variance_m2ps4, A * A)
@@ -263,6 +268,7 @@ pub(crate) fn read_event(r: &mut Reader) -> Result<StepEvent, SnapshotError> {
         accel_max_mps2,
         accel_min_mps2,
         vertical_displacement_m: f64::NAN,
+        origin,
     })
 }
 

@@ -2,7 +2,7 @@
 
 use stridekit_core::input::InputError;
 use stridekit_core::snapshot::SnapshotError;
-use stridekit_core::stepdetect::StepEvent;
+use stridekit_core::stepdetect::{StepEvent, StepOrigin};
 use stridekit_core::steplength::{
     StepLengthConfig, StepLengthError, StepLengthEstimator, StepLengthModel, GAIT_INITIATION,
 };
@@ -17,6 +17,7 @@ fn event(t_s: f64, duration_s: f64, sv: f64) -> StepEvent {
         accel_max_mps2: 9.81 + sv.sqrt() * 1.5,
         accel_min_mps2: 9.81 - sv.sqrt(),
         vertical_displacement_m: f64::NAN,
+        origin: StepOrigin::Detected,
     }
 }
 

@@ -5,7 +5,7 @@
 use stridekit_core::ahrs::{Ahrs, AhrsSettings, ImuSample};
 use stridekit_core::pace::GnssFix;
 use stridekit_core::pdr::{NavigatorConfig, PhoneNavigator};
-use stridekit_core::stepdetect::{StepDetector, StepDetectorConfig, StepEvent};
+use stridekit_core::stepdetect::{StepDetector, StepDetectorConfig, StepEvent, StepOrigin};
 use stridekit_core::steplength::{StepLengthConfig, StepLengthEstimator, StepLengthModel};
 use stridekit_sim::Rng;
 
@@ -114,6 +114,7 @@ fn step_length_estimator_survives_garbage() {
                     accel_max_mps2: pick(&mut rng, 14.0),
                     accel_min_mps2: pick(&mut rng, 6.0),
                     vertical_displacement_m: pick(&mut rng, 0.07),
+                    origin: StepOrigin::Detected,
                 };
                 if let Ok(l) = est.push_step(&e) {
                     assert!(l.is_finite() && l >= 0.0, "{model:?}: {l}");

@@ -7,6 +7,7 @@ use stridekit_core::input::InputError;
 use stridekit_core::snapshot::SnapshotError;
 use stridekit_core::stepdetect::{
     AccelSample, DetectorMode, StepDetectError, StepDetector, StepDetectorConfig, StepEvent,
+    StepOrigin,
 };
 
 const G: f64 = 9.80665;
@@ -525,7 +526,10 @@ fn same(a: &[StepEvent], b: &[StepEvent]) -> bool {
         ]
         .map(f64::to_bits)
     };
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| bits(x) == bits(y))
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(x, y)| bits(x) == bits(y) && x.origin == y.origin)
 }
 
 #[test]
@@ -1070,6 +1074,50 @@ fn the_first_steps_are_counted_across_dropped_samples() {
             "seed {seed}: {got} steps, truth {truth} (gap {gap:?} in the first steps)"
         );
     }
+}
+
+/// Steps credited across dropped samples say so: the steps filled into a gap, before
+/// the bout is confirmed and inside it, carry `FilledAcrossGap` and lie in the gap
+/// (within a step of its edges); every step outside the gaps was seen (`Detected`).
+/// The published detector fills nothing.
+#[test]
+fn steps_filled_across_dropped_samples_are_flagged() {
+    let gaps = [(4.2, 5.1), (15.0, 16.2)];
+    let (s, truth) = gait_trace(WALK, 200.0, 0.0, 30.0, 0x61);
+    let s = drop_gaps(s, &gaps);
+    let period = 1.0 / WALK.step_hz;
+    let near_gap = |t: f64| gaps.iter().any(|&(a, b)| t > a - period && t < b + period);
+    let inside_gap = |t: f64| gaps.iter().any(|&(a, b)| t > a + 0.05 && t < b - 0.05);
+    let mut d = StepDetector::new(StepDetectorConfig::default()).unwrap();
+    let steps = d.push_batch(&s).estimates;
+    assert!(
+        steps.len().abs_diff(truth) <= 1,
+        "{} steps, truth {truth}",
+        steps.len()
+    );
+    for e in &steps {
+        match e.origin {
+            StepOrigin::Detected => assert!(!inside_gap(e.t_s), "a step seen in a gap: {e:?}"),
+            StepOrigin::FilledAcrossGap => assert!(near_gap(e.t_s), "filled off a gap: {e:?}"),
+            other => panic!("{other:?} in a walk without weak steps or pauses: {e:?}"),
+        }
+    }
+    for &(a, b) in &gaps {
+        let filled = steps
+            .iter()
+            .filter(|e| e.origin == StepOrigin::FilledAcrossGap && e.t_s > a - period)
+            .filter(|e| e.t_s < b + period)
+            .count();
+        assert!(filled >= 1, "no step filled into the gap {a}–{b} s");
+    }
+    let config = StepDetectorConfig {
+        mode: DetectorMode::AsPublished,
+        ..Default::default()
+    };
+    let mut d = StepDetector::new(config).unwrap();
+    let steps = d.push_batch(&s).estimates;
+    assert!(!steps.is_empty());
+    assert!(steps.iter().all(|e| e.origin == StepOrigin::Detected));
 }
 
 /// A gap after the walk has ended is not filled with steps: what was seen of the

@@ -8,7 +8,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use stridekit_core::stepdetect::{StepDetector, StepDetectorConfig, StepEvent};
+use stridekit_core::stepdetect::{StepDetector, StepDetectorConfig, StepEvent, StepOrigin};
 use stridekit_formats::{Content, FormatError};
 
 use super::basis::STEPS_DETECTOR;
@@ -148,9 +148,10 @@ impl StepsReplay {
         self.steps.iter().map(|e| e.t_s).collect()
     }
 
-    /// The CSV: `t_s,step,cadence_spm,interval_s`, one row per step.
+    /// The CSV: `t_s,step,cadence_spm,interval_s,origin`, one row per step (`origin`:
+    /// [`origin_name`]).
     pub fn write_csv(&self, w: &mut dyn Write) -> std::io::Result<()> {
-        writeln!(w, "t_s,step,cadence_spm,interval_s")?;
+        writeln!(w, "t_s,step,cadence_spm,interval_s,origin")?;
         let times = self.times();
         for (i, e) in self.steps.iter().enumerate() {
             let cad = cadence_spm(&times, i)
@@ -161,7 +162,8 @@ impl StepsReplay {
             } else {
                 String::new()
             };
-            writeln!(w, "{:.3},{},{cad},{iv}", e.t_s, i + 1)?;
+            let origin = origin_name(e.origin);
+            writeln!(w, "{:.3},{},{cad},{iv},{origin}", e.t_s, i + 1)?;
         }
         Ok(())
     }
@@ -184,6 +186,9 @@ impl StepsReplay {
             written_to
         )];
         lines.extend(self.rejected.report().lines().map(str::to_string));
+        if let Some(filled) = self.filled_line() {
+            lines.push(filled);
+        }
         for (why, n) in &rec.reader_skipped {
             lines.push(format!("  skipped by the reader {n}: {why}"));
         }
@@ -199,6 +204,27 @@ impl StepsReplay {
             lines.push(format!("  rests on: {STEPS_DETECTOR}; no distance (a distance needs a step length: `stridekit pdr`, or `stridekit pace` with GNSS or a calibration)"));
         }
         lines.join("\n")
+    }
+
+    /// How many of the steps were credited without being seen, by cause (`None`
+    /// without steps).
+    fn filled_line(&self) -> Option<String> {
+        if self.steps.is_empty() {
+            return None;
+        }
+        let count = |o: StepOrigin| self.steps.iter().filter(|e| e.origin == o).count();
+        let (gap, missed, between) = (
+            count(StepOrigin::FilledAcrossGap),
+            count(StepOrigin::FilledMissed),
+            count(StepOrigin::FilledBetweenBouts),
+        );
+        Some(format!(
+            "  filled in at the walk's cadence, not seen: {} of the {} steps ({gap} across \
+             dropped samples, {missed} too weak inside a walk, {between} between two bouts of \
+             one walk; column `origin`)",
+            gap + missed + between,
+            self.steps.len()
+        ))
     }
 
     /// Whether a step was detected, and the stream pushed.
@@ -255,6 +281,16 @@ impl StepsReplay {
             },
         )
         .map_err(|e| format!("cannot write {}: {e}", svg.display()))
+    }
+}
+
+/// The CSV name of a step's origin.
+pub fn origin_name(origin: StepOrigin) -> &'static str {
+    match origin {
+        StepOrigin::Detected => "detected",
+        StepOrigin::FilledAcrossGap => "filled_across_gap",
+        StepOrigin::FilledMissed => "filled_missed",
+        StepOrigin::FilledBetweenBouts => "filled_between_bouts",
     }
 }
 
@@ -319,7 +355,7 @@ mod tests {
         let n = rows.lines().count() - 1;
         // 37 s of walking at 1.8 steps/s ≈ 66 steps.
         assert!((60..=70).contains(&n), "{n} steps");
-        assert!(rows.starts_with("t_s,step,cadence_spm,interval_s\n"));
+        assert!(rows.starts_with("t_s,step,cadence_spm,interval_s,origin\n"));
         let svg = dir.join("steps.svg");
         r.chart(&svg).unwrap();
         let svg = std::fs::read_to_string(svg).unwrap();

@@ -7,6 +7,7 @@ use super::candidate::AMPLITUDE_GAIN;
 use super::gaps::fill_missed;
 use super::{Moments, RobustDetector, Sink};
 use crate::stepdetect::gait::ACF_TAU_S;
+use crate::stepdetect::StepOrigin;
 
 /// "±30 % of the period": intervals within this share of the step period are on
 /// cadence (they move the period; a walk on after a pause keeps within it).
@@ -132,7 +133,13 @@ impl RobustDetector {
         let missed = interval > MISSED_STEP_MIN_PERIODS * period
             && interval < MISSED_STEP_MAX_PERIODS * period;
         if missed || (across_gap && n >= 2.0) {
-            let step = fill_missed(ev, t_s, interval, n, &mut |e| out.push(e));
+            // Dropped samples explain the unseen steps before a weak step does.
+            let origin = if across_gap {
+                StepOrigin::FilledAcrossGap
+            } else {
+                StepOrigin::FilledMissed
+            };
+            let step = fill_missed(ev, t_s, interval, n, origin, &mut |e| out.push(e));
             self.follow_period(step, false);
         } else {
             out.push(ev);

@@ -9,6 +9,7 @@ use super::pending::{merge, Pending};
 use super::{RobustDetector, Sink, PENDING};
 use crate::signal::Ring;
 use crate::stepdetect::gait::HALF_LAG_ANTI;
+use crate::stepdetect::StepOrigin;
 use crate::vec3::dot;
 
 /// Largest deviation of one step interval from the period when confirming (left/right
@@ -64,7 +65,10 @@ impl RobustDetector {
             if n >= 2.0
                 && walks_across_gap(interval, c.missing_before_s, period, WEAK_STEPS_BEFORE_BOUT)
             {
-                fill_missed(c.event, c.event.t_s, interval, n, &mut |e| out.push(e));
+                let origin = StepOrigin::FilledAcrossGap;
+                fill_missed(c.event, c.event.t_s, interval, n, origin, &mut |e| {
+                    out.push(e)
+                });
             } else {
                 out.push(c.event);
             }

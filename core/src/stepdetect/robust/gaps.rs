@@ -6,6 +6,7 @@
 use super::bout::{CADENCE_TOLERANCE, GAP_END_PERIODS};
 use super::{RobustDetector, Sink, StepEvent, DATA_GAP_S};
 use crate::signal::Ring;
+use crate::stepdetect::StepOrigin;
 
 /// Longest gap filled between two bouts of one walk, s (a purse walk at 50 Hz with
 /// jittered timestamps has 6.3 s gaps); also the longest interval across dropped
@@ -51,12 +52,14 @@ fn hidden_steps(missing_s: f64, period: f64) -> f64 {
 }
 
 /// Emit the step `ev` at `t_s` after the `n` − 1 (at least 1, capped) steps missed
-/// in its `interval` before it, evenly; the filled step length, s.
+/// in its `interval` before it, evenly, flagged with `origin` (why they were not
+/// seen; `ev` keeps its own); the filled step length, s.
 pub(super) fn fill_missed(
     ev: StepEvent,
     t_s: f64,
     interval: f64,
     n: f64,
+    origin: StepOrigin,
     emit: &mut impl FnMut(StepEvent),
 ) -> f64 {
     let n = n.clamp(2.0, FILL_MAX_STEPS as f64 + 1.0) as usize;
@@ -66,6 +69,7 @@ pub(super) fn fill_missed(
         emit(StepEvent {
             t_s: t0 + i as f64 * step,
             duration_s: step,
+            origin,
             ..ev
         });
     }
@@ -135,6 +139,7 @@ impl RobustDetector {
                     out.push(StepEvent {
                         t_s: self.bout_end_t_s + i as f64 * step,
                         duration_s: step,
+                        origin: StepOrigin::FilledBetweenBouts,
                         ..first.event
                     });
                 }
@@ -161,6 +166,24 @@ mod tests {
         assert!(walks_across_gap(1.36, 0.47, 0.53, WEAK_STEPS_BEFORE_BOUT));
         // What was seen is longer than a step-less stretch: no walk across the gap.
         assert!(!walks_across_gap(2.0, 0.2, 0.53, WEAK_STEPS_IN_BOUT));
+    }
+
+    #[test]
+    fn filled_steps_carry_their_origin_and_the_seen_step_keeps_its_own() {
+        let ev = StepEvent {
+            t_s: 12.0,
+            duration_s: 1.5,
+            ..StepEvent::default()
+        };
+        let mut out = Vec::new();
+        let step = fill_missed(ev, 12.0, 1.5, 3.0, StepOrigin::FilledMissed, &mut |e| {
+            out.push(e)
+        });
+        assert!((step - 0.5).abs() < 1e-12);
+        let origins: Vec<StepOrigin> = out.iter().map(|e| e.origin).collect();
+        let filled = StepOrigin::FilledMissed;
+        assert_eq!(origins, [filled, filled, StepOrigin::Detected]);
+        assert!((out[0].t_s - 11.0).abs() < 1e-12 && out[2].t_s == 12.0);
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! A step candidate waiting for its bout to be confirmed, and the merge of two
 //! candidates closer than the refractory time (one step: the larger peak).
 
-use crate::stepdetect::event::StepEvent;
+use crate::stepdetect::event::{StepEvent, StepOrigin};
 
 /// A candidate waiting for its bout to be confirmed.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -27,6 +27,7 @@ impl Default for StepEvent {
             accel_max_mps2: 0.0,
             accel_min_mps2: 0.0,
             vertical_displacement_m: f64::NAN,
+            origin: StepOrigin::Detected,
         }
     }
 }
@@ -52,6 +53,7 @@ pub(super) fn merge(a: &Pending, b: &Pending) -> Pending {
             accel_max_mps2: big.event.accel_max_mps2.max(small.event.accel_max_mps2),
             accel_min_mps2: big.event.accel_min_mps2.min(small.event.accel_min_mps2),
             vertical_displacement_m: f64::NAN,
+            origin: big.event.origin,
         },
         impact: big.impact.max(small.impact),
         amplitude_mps2: big.amplitude_mps2,

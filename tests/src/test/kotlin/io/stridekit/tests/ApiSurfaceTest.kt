@@ -20,6 +20,7 @@ import io.stridekit.PaceTracker
 import io.stridekit.PhoneNavigator
 import io.stridekit.StepDetectorMode
 import io.stridekit.StepLengthModel
+import io.stridekit.StepOrigin
 import io.stridekit.StepSample
 import io.stridekit.navigatorConfigDefault
 import io.stridekit.packAccelSamples
@@ -111,6 +112,24 @@ class ApiSurfaceTest {
             val r = e.pushFixesPacked(packFixes(fixes))
             check("PaceTracker", r.accepted, r.produced, r.rejected.map { it.index })
             assertEquals(r.produced, r.estimates.size, "one estimate per accepted fix, all returned")
+        }
+    }
+
+    @Test
+    fun `steps filled across dropped samples say so`() {
+        // 30 s of walking with 1.2 s of samples dropped (a busy phone): the steps the
+        // gap hid are counted at the cadence and flagged; every other step was seen.
+        val gap = 15.0..16.2
+        val samples = walk(30.0).filter { it.tS !in gap }
+        PhoneNavigator.withDefaults().use { nav ->
+            val steps = nav.pushImuPacked(packImuSamples(samples)).steps
+            assertTrue(steps.size > 20, "steps ${steps.size}")
+            val filled = steps.filter { it.origin != StepOrigin.DETECTED }
+            assertTrue(filled.isNotEmpty(), "no step filled into the gap")
+            for (s in filled) {
+                assertEquals(StepOrigin.FILLED_ACROSS_GAP, s.origin)
+                assertTrue(s.tS in 14.4..16.8, "filled at ${s.tS} s, off the gap")
+            }
         }
     }
 
