@@ -1574,22 +1574,31 @@ fn heading_err_at(out: &[AhrsOutput], t: f64) -> f64 {
     wrap(o.heading_rad - true_heading_enu(&turn_burst(t).0)).abs()
 }
 
+/// The default filter's outputs on the turn with a magnet near during `magnet` (s),
+/// with the samples inside `lost` (s) dropped.
+fn turn_near_magnet_with_gap(
+    magnet: std::ops::Range<f64>,
+    lost: std::ops::Range<f64>,
+) -> Vec<AhrsOutput> {
+    let truth = TurnNearMagnet {
+        from: magnet.start,
+        to: magnet.end,
+    };
+    let samples: Vec<ImuSample> = stream(&truth, 100.0, 25.0, &PHONE, true)
+        .into_iter()
+        .filter(|s| !lost.contains(&s.t_s))
+        .collect();
+    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    run(&mut a, &samples)
+}
+
 #[test]
 fn a_heading_lost_over_a_gap_takes_a_disturbed_field() {
     // The magnet is near from 5 s to 20 s, so the field is rejected throughout the
     // turn; the samples of 10.2–10.8 s are lost (~60° of the turn). Before, the
     // heading then stayed 60° off until the magnet left (it held on the gyroscope);
     // now the disturbed field, at most 4° off, beats a lost heading.
-    let truth = TurnNearMagnet {
-        from: 5.0,
-        to: 20.0,
-    };
-    let samples: Vec<ImuSample> = stream(&truth, 100.0, 25.0, &PHONE, true)
-        .into_iter()
-        .filter(|s| !(10.2..10.8).contains(&s.t_s))
-        .collect();
-    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
-    let out = run(&mut a, &samples);
+    let out = turn_near_magnet_with_gap(5.0..20.0, 10.2..10.8);
     let at = |t: f64| out.iter().find(|o| o.t_s >= t).unwrap();
     assert!(at(9.0).flags.mag_rejected && at(15.0).flags.mag_rejected);
     let (e_gap, e_near, e_gone) = (
@@ -1613,16 +1622,7 @@ fn a_restart_near_a_magnet_keeps_the_learned_field() {
     // magnet is near (9–15 s). Before, the restart learned the field anew from its
     // first, disturbed sample and then rejected the Earth's field once the magnet had
     // gone, holding the heading the disturbed sample gave for a minute.
-    let truth = TurnNearMagnet {
-        from: 9.0,
-        to: 15.0,
-    };
-    let samples: Vec<ImuSample> = stream(&truth, 100.0, 25.0, &PHONE, true)
-        .into_iter()
-        .filter(|s| !(10.0..11.5).contains(&s.t_s))
-        .collect();
-    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
-    let out = run(&mut a, &samples);
+    let out = turn_near_magnet_with_gap(9.0..15.0, 10.0..11.5);
     let restart = out.iter().find(|o| o.t_s >= 11.5).unwrap();
     assert!(restart.flags.reinitialised);
     let at = |t: f64| out.iter().find(|o| o.t_s >= t).unwrap();

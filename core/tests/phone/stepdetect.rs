@@ -1147,6 +1147,17 @@ fn a_gap_after_the_walk_is_not_filled() {
     }
 }
 
+/// Heel strikes from `t0_s` to `end_s` at `period_s`, each interval jittered by ±3 %.
+fn jittered_strikes(rng: &mut Rng, t0_s: f64, end_s: f64, period_s: f64) -> Vec<f64> {
+    let mut strikes = Vec::new();
+    let mut t = t0_s;
+    while t < end_s {
+        strikes.push(t);
+        t += period_s * (1.0 + 0.03 * rng.sym());
+    }
+    strikes
+}
+
 /// Putting the phone away just before a walk is not counted: two jolts at a step-like
 /// rhythm while the phone is still held 40° from its carrying pose, each with several
 /// times the walk's impact ratio, chained back into the bout (the 45° carrying bound
@@ -1160,12 +1171,7 @@ fn putting_the_phone_away_before_a_walk_is_not_counted() {
     let walk_end = walk_t0 + 20.0;
     for (seed, jolts) in [(0x51u64, true), (0x52, true), (0x53, false)] {
         let mut rng = Rng(seed);
-        let mut strikes = Vec::new();
-        let mut t = walk_t0;
-        while t < walk_end {
-            strikes.push(t);
-            t += period * (1.0 + 0.03 * rng.sym());
-        }
+        let strikes = jittered_strikes(&mut rng, walk_t0, walk_end, period);
         let jolt_t = [walk_t0 - 1.6, walk_t0 - 1.05];
         let mut samples = Vec::new();
         for t in times(200.0, 0.0, walk_end + 3.0, &mut rng) {
@@ -1219,12 +1225,7 @@ fn bumps_before_a_walk_do_not_chain_back_across_a_short_gap() {
     let walk_end = walk_t0 + 20.0;
     for (seed, bumps) in [(0x61u64, true), (0x62, true), (0x63, false)] {
         let mut rng = Rng(seed);
-        let mut strikes = Vec::new();
-        let mut t = walk_t0;
-        while t < walk_end {
-            strikes.push(t);
-            t += period * (1.0 + 0.03 * rng.sym());
-        }
+        let strikes = jittered_strikes(&mut rng, walk_t0, walk_end, period);
         // Two bumps a step-like 0.45 s apart, the last 1.40 s (2.5 periods) before
         // the walk; the phone is held as it is carried.
         let bump_t = [walk_t0 - 1.85, walk_t0 - 1.40];
