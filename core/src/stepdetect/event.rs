@@ -1,5 +1,7 @@
 //! A detected step and the features step-length models use.
 
+use crate::snapshot::{Reader, SnapshotError, Writer};
+
 /// One detected step. Features are computed over the step (from the previous step
 /// to this one) on the acceleration magnitude, gravity included, m/s².
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,7 +56,7 @@ impl StepOrigin {
     }
 
     /// Snapshot code (stable: stored in detector snapshots).
-    pub(crate) fn code(self) -> u8 {
+    fn code(self) -> u8 {
         match self {
             StepOrigin::Detected => 0,
             StepOrigin::FilledAcrossGap => 1,
@@ -64,7 +66,7 @@ impl StepOrigin {
     }
 
     /// The origin of a snapshot code (`None`: not a code).
-    pub(crate) fn from_code(code: u8) -> Option<Self> {
+    fn from_code(code: u8) -> Option<Self> {
         Some(match code {
             0 => StepOrigin::Detected,
             1 => StepOrigin::FilledAcrossGap,
@@ -72,6 +74,16 @@ impl StepOrigin {
             3 => StepOrigin::FilledBetweenBouts,
             _ => return None,
         })
+    }
+
+    /// Write the origin into a snapshot (one byte, [`Self::code`]).
+    pub(crate) fn write(self, w: &mut Writer) {
+        w.u8(self.code());
+    }
+
+    /// Read an origin written by [`Self::write`]; an unknown code is refused.
+    pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
+        Self::from_code(r.u8()?).ok_or(SnapshotError::Invalid("step origin"))
     }
 }
 

@@ -238,7 +238,7 @@ pub(crate) fn write_event(w: &mut Writer, e: &StepEvent) {
         accel_max_mps2,
         accel_min_mps2,
     ]);
-    w.u8(origin.code());
+    origin.write(w);
 }
 
 pub(crate) fn read_event(r: &mut Reader) -> Result<StepEvent, SnapshotError> {
@@ -252,7 +252,7 @@ pub(crate) fn read_event(r: &mut Reader) -> Result<StepEvent, SnapshotError> {
     let accel_variance_m2ps4 = r.f64_or_nan()?;
     let accel_max_mps2 = r.f64_or_nan()?;
     let accel_min_mps2 = r.f64_or_nan()?;
-    let origin = StepOrigin::from_code(r.u8()?).ok_or(SnapshotError::Invalid("step origin"))?;
+    let origin = StepOrigin::read(r)?;
     let ok = |x: f64, hi: f64| x.is_nan() || (0.0..=hi).contains(&x);
     if !(ok(duration_s, MAX_DURATION_S)
         && ok(accel_variance_m2ps4, A * A)

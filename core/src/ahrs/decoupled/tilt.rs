@@ -183,7 +183,7 @@ pub(crate) fn vertical_correction(v: &[f64; 3], n2: f64) -> Option<Quat> {
         let f = 0.5 / n2.sqrt();
         return Some([0.5 + v[2] * f, v[1] * f, -v[0] * f, 0.0]);
     }
-    vertical_correction_exact(v, v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    vertical_correction_exact(v, norm2(v))
 }
 
 /// |v|².

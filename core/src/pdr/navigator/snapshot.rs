@@ -76,7 +76,7 @@ impl PhoneNavigator {
                 origin,
             } = p;
             w.f64s(&[t0_s, t1_s, length_m, vertical_displacement_m]);
-            w.u8(origin.code());
+            origin.write(&mut w);
         }
         w.u64(recent.len() as u64);
         for p in recent.iter() {
@@ -97,7 +97,7 @@ impl PhoneNavigator {
                 azimuth_rad,
                 vertical_displacement_m,
             ]);
-            w.u8(origin.code());
+            origin.write(&mut w);
         }
         w.u64(*placed);
         match calibration {
@@ -247,7 +247,7 @@ fn read_deferred(r: &mut Reader) -> Result<Ring<PendingStep, DEFERRED_STEPS>, Sn
             t1_s,
             length_m,
             vertical_displacement_m: read_vertical(r)?,
-            origin: read_origin(r)?,
+            origin: StepOrigin::read(r)?,
         });
     }
     Ok(deferred)
@@ -267,13 +267,8 @@ fn read_recent(r: &mut Reader) -> Result<Ring<NavStep, RECENT_STEPS>, SnapshotEr
             length_m,
             azimuth_rad,
             vertical_displacement_m: read_vertical(r)?,
-            origin: read_origin(r)?,
+            origin: StepOrigin::read(r)?,
         });
     }
     Ok(recent)
-}
-
-/// A step's origin (a code of [`StepOrigin`]).
-fn read_origin(r: &mut Reader) -> Result<StepOrigin, SnapshotError> {
-    StepOrigin::from_code(r.u8()?).ok_or(SnapshotError::Invalid("step origin"))
 }
