@@ -264,6 +264,9 @@ fn best_scale(r: &[Errors]) -> Errors {
 
 pub fn run(dir: &Path) -> Result<String, String> {
     let trials = load_with_info(dir)?;
+    if trials.is_empty() {
+        return Err(format!("{}: no foot trials to compare", dir.display()));
+    }
     let mut rows = Vec::new();
     let mut errors = Vec::new();
     for (t, info) in &trials {
@@ -350,6 +353,15 @@ pub fn run(dir: &Path) -> Result<String, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_folder_without_trials_is_refused() {
+        let dir = std::env::temp_dir().join(format!("stridekit-gap-empty-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let r = run(&dir);
+        std::fs::remove_dir_all(&dir).ok();
+        assert!(r.unwrap_err().contains("no foot trials"));
+    }
 
     #[test]
     fn segments_are_the_runs_of_true() {
