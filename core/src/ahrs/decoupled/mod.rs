@@ -348,7 +348,7 @@ impl Decoupled {
     ) -> AhrsFlags {
         let rate = self.check_rate(dt, &gyro);
         let at_rest = self.bias_at_rest(dt, &gyro, a);
-        self.tilt.integrate(&rate.rate(&gyro, &self.bias.b), dt);
+        let a_i = self.tilt.integrate(&rate.rate(&gyro, &self.bias.b), dt, a);
         if rate.lost {
             self.recover(rate.missed_rad(&gyro, dt));
             self.hard_iron.drop_anchor();
@@ -366,7 +366,7 @@ impl Decoupled {
         let learn_motion = self.bias_estimation & !at_rest & !span.init & !rate.lost;
         let recovering = rate.lost | self.flags.angular_rate_recovery();
         let (accel_rejected, bias_motion) =
-            self.incline(a, dt_avg, &span, recovering, learn_motion);
+            self.incline(&a_i, dt_avg, &span, recovering, learn_motion);
         let verdict = self.slow_loops(dt, mag, span.t_s);
         self.flags_after(&rate, at_rest, &span, accel_rejected, bias_motion, verdict)
     }
@@ -424,7 +424,7 @@ impl Decoupled {
     #[inline(always)]
     fn incline(
         &mut self,
-        a: &[f64; 3],
+        a_i: &[f64; 3],
         dt: f64,
         span: &Span,
         recovering: bool,
@@ -437,7 +437,7 @@ impl Decoupled {
         } else {
             Averaging::LowPass { omega: span.omega }
         };
-        match self.tilt.correct(a, dt, averaging) {
+        match self.tilt.correct(a_i, dt, averaging) {
             Some(c) => {
                 if learn_motion {
                     for (s, c) in self.bias_corr.iter_mut().zip(c) {
@@ -477,17 +477,18 @@ impl Decoupled {
                 },
             };
         }
-        let q_be = self.tilt.q_body_to_e();
         if bias_due {
-            self.motion_bias(&q_be);
+            self.motion_bias();
         }
         match (mag_due, mag) {
             (true, Some(m)) => {
                 let dt_m = self.mag_elapsed_s;
                 self.mag_elapsed_s = 0.0;
                 let m = self.learn_offset(m, dt_m);
-                let e = quat::rotate(&q_be, &m);
-                let v = self.correct_heading(&q_be, &e, dt_m, t_avg);
+                // Into I first (the gyroscope's frame, known early in the sample), then
+                // E': only the last rotation waits for this sample's inclination.
+                let e = quat::rotate(&self.tilt.q_inc, &quat::rotate(&self.tilt.q_gyr, &m));
+                let v = self.correct_heading(&e, dt_m, t_avg);
                 MagFlags {
                     disturbed: v.disturbed,
                     rejected: v.rejected,
@@ -548,16 +549,21 @@ impl Decoupled {
     }
 
     /// The motion bias from the inclination corrections summed since the last
-    /// update (`q_be`: body → E').
+    /// update.
     #[inline(always)]
-    fn motion_bias(&mut self, q_be: &Quat) {
+    fn motion_bias(&mut self) {
         let dt_b = self.bias_elapsed_s;
         self.bias_elapsed_s = 0.0;
         let c = self.bias_corr;
-        if (c[0] != 0.0) | (c[1] != 0.0) {
-            self.bias_corr = [0.0; 3];
-            let c_body = quat::rotate(&quat::conj(q_be), &c);
-            let g = self.motion_bias_gain;
+        if (c[0] == 0.0) & (c[1] == 0.0) {
+            return;
+        }
+        self.bias_corr = [0.0; 3];
+        // With the gain 0 (the default: motion-bias learning off) the update leaves
+        // the bias and its variance as they are.
+        let g = self.motion_bias_gain;
+        if g > 0.0 {
+            let c_body = quat::rotate(&quat::conj(&self.tilt.q_body_to_e()), &c);
             self.bias.motion(
                 &c_body,
                 g,
@@ -616,7 +622,7 @@ impl Decoupled {
     /// field `e` seen in E' (µT), with the accelerometer averaged over
     /// `t_avg` s.
     #[inline(always)]
-    fn correct_heading(&mut self, q_be: &Quat, e: &[f64; 3], dt: f64, t_avg: f64) -> HeadingUpdate {
+    fn correct_heading(&mut self, e: &[f64; 3], dt: f64, t_avg: f64) -> HeadingUpdate {
         let Some(f) = measure(e) else {
             return HeadingUpdate::default();
         };
@@ -632,7 +638,7 @@ impl Decoupled {
             self.heading.forget();
         }
         if v.use_it {
-            self.fuse_heading(q_be, &f, dt, t_avg);
+            self.fuse_heading(&f, dt, t_avg);
         } else if self.heading.var_rad2 * dt > MAG_HEADING_NOISE_RAD2_S {
             // The heading is known worse than one undisturbed sample would tell (lost
             // over a gap or a clipped gyroscope): a disturbed field may still beat it.
@@ -673,7 +679,7 @@ impl Decoupled {
     /// The Kalman update of the heading with the measured field `f` (`dt` since the
     /// previous one, the accelerometer averaged over `t_avg` s), and the heading bias.
     #[inline(always)]
-    fn fuse_heading(&mut self, q_be: &Quat, f: &Field, dt: f64, t_avg: f64) {
+    fn fuse_heading(&mut self, f: &Field, dt: f64, t_avg: f64) {
         let (r, common) = self.heading_noise(f, dt, t_avg);
         let q = self.heading_q * dt;
         let innovation = wrap(f.heading_rad - self.heading.delta_rad);
@@ -682,7 +688,7 @@ impl Decoupled {
             .correct(innovation, q, r.min(MAX_MEASUREMENT_VAR_RAD2), common);
         self.heading_init = k > HEADING_CONVERGED_GAINS * dt * self.inv_mag_tau;
         if self.bias_estimation & !self.heading_init {
-            self.heading_bias(q_be, d, dt);
+            self.heading_bias(d, dt);
         }
     }
 
@@ -714,7 +720,7 @@ impl Decoupled {
     /// [`HEADING_DRIFT_OFF_RADS`] with at least the integral gain of
     /// [`HEADING_DRIFT_INTEGRAL_TAUS`].
     #[inline(always)]
-    fn heading_bias(&mut self, q_be: &Quat, d: f64, dt: f64) {
+    fn heading_bias(&mut self, d: f64, dt: f64) {
         let k = gain(dt, self.inv_mag_tau);
         self.heading_drift_rads += k * (d / dt - self.heading_drift_rads);
         let rate = self.heading_drift_rads.abs();
@@ -731,7 +737,7 @@ impl Decoupled {
         };
         if g > 0.0 {
             // A turn of d about the vertical, in the body frame.
-            let up = quat::rotate(&quat::conj(q_be), &[0.0, 0.0, d]);
+            let up = quat::rotate(&quat::conj(&self.tilt.q_body_to_e()), &[0.0, 0.0, d]);
             self.bias.heading(&up, g, self.max_bias_rads);
         }
     }

@@ -71,9 +71,10 @@ impl Tilt {
         }
     }
 
-    /// Integrate the gyroscope over `dt`.
+    /// Integrate the gyroscope over `dt`; returns the specific force `a` (body frame)
+    /// seen in the new I.
     #[inline(always)]
-    pub(crate) fn integrate(&mut self, w: &[f64; 3], dt: f64) {
+    pub(crate) fn integrate(&mut self, w: &[f64; 3], dt: f64, a: &[f64; 3]) -> [f64; 3] {
         let h = [0.5 * w[0] * dt, 0.5 * w[1] * dt, 0.5 * w[2] * dt];
         let h2 = h[0] * h[0] + h[1] * h[1] + h[2] * h[2];
         let (c, s) = if h2 < SERIES_HALF_ANGLE2 {
@@ -88,20 +89,27 @@ impl Tilt {
         let dq = [c, s * h[0], s * h[1], s * h[2]];
         // |q ⊗ dq|² = |q|²·|dq|²: neither waits for the product.
         let n2 = norm2_q(&self.q_gyr) * (c * c + s * s * h2);
-        self.q_gyr = renormalise(quat::mul(&self.q_gyr, &dq), n2);
+        let p = quat::mul(&self.q_gyr, &dq);
+        let inv = inverse_norm(n2);
+        self.q_gyr = [p[0] * inv, p[1] * inv, p[2] * inv, p[3] * inv];
+        // R(p/|p|)·a = R_h(p)·a/|p|² (R_h: the rotation's homogeneous quadratic form):
+        // starts from the product, without waiting for its renormalisation.
+        let s2 = inv * inv;
+        let a_i = rotate_h(&p, a);
+        [a_i[0] * s2, a_i[1] * s2, a_i[2] * s2]
     }
 
-    /// Average the specific force `a` (body frame) in I over `dt` as `averaging`
-    /// says, then make the average vertical. Returns the correction as a rotation
-    /// vector in E' (rad, horizontal), or `None` when the average is zero.
+    /// Average the specific force `a_i` (in I, from [`Tilt::integrate`]) over `dt` as
+    /// `averaging` says, then make the average vertical. Returns the correction as a
+    /// rotation vector in E' (rad, horizontal), or `None` when the average is zero.
     #[inline(always)]
     pub(crate) fn correct(
         &mut self,
-        a: &[f64; 3],
+        a_i: &[f64; 3],
         dt: f64,
         averaging: Averaging,
     ) -> Option<[f64; 3]> {
-        let a_i = quat::rotate(&self.q_gyr, a);
+        let a_i = *a_i;
         let w = match averaging {
             Averaging::LowPass { omega } => omega,
             Averaging::Growing { span_s } => {
@@ -221,13 +229,32 @@ fn vertical_correction_exact(v: &[f64; 3], n2: f64) -> Option<Quat> {
 /// from one sample to the next): 1/√(1+ε) ≈ 1 − ε/2 + 3ε²/8.
 #[inline(always)]
 pub(crate) fn renormalise(q: Quat, n2: f64) -> Quat {
+    let inv = inverse_norm(n2);
+    [q[0] * inv, q[1] * inv, q[2] * inv, q[3] * inv]
+}
+
+/// 1/√`n2` for `n2` ≈ 1 (see [`renormalise`]).
+#[inline(always)]
+fn inverse_norm(n2: f64) -> f64 {
     let eps = n2 - 1.0;
-    let inv = if eps.abs() < 1e-3 {
+    if eps.abs() < 1e-3 {
         1.0 - 0.5 * eps + 0.375 * eps * eps
     } else {
         exact_inverse_norm(eps)
-    };
-    [q[0] * inv, q[1] * inv, q[2] * inv, q[3] * inv]
+    }
+}
+
+/// R(q/|q|)·v·|q|², the rotation by a quaternion of any length as the homogeneous
+/// quadratic form of its components.
+#[inline(always)]
+fn rotate_h(q: &Quat, v: &[f64; 3]) -> [f64; 3] {
+    let [w, x, y, z] = *q;
+    let (ww, xx, yy, zz) = (w * w, x * x, y * y, z * z);
+    [
+        (ww + xx - yy - zz) * v[0] + 2.0 * (x * y - w * z) * v[1] + 2.0 * (x * z + w * y) * v[2],
+        2.0 * (x * y + w * z) * v[0] + (ww - xx + yy - zz) * v[1] + 2.0 * (y * z - w * x) * v[2],
+        2.0 * (x * z - w * y) * v[0] + 2.0 * (y * z + w * x) * v[1] + (ww - xx - yy + zz) * v[2],
+    ]
 }
 
 #[cold]
@@ -274,6 +301,36 @@ mod tests {
     }
 
     #[test]
+    fn homogeneous_rotation_is_the_rotation_scaled_by_the_norm_squared() {
+        let q = quat::normalised([0.9, -0.2, 0.3, 0.25]);
+        let v = [0.4, -9.7, 1.3];
+        for s in [1.0, 1.0 + 1e-9, 0.5, 3.0] {
+            let r = rotate_h(&q.map(|c| c * s), &v);
+            let want = quat::rotate(&q, &v);
+            for i in 0..3 {
+                assert!(
+                    (r[i] - s * s * want[i]).abs() < 1e-12 * s * s * 10.0,
+                    "{r:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn integrate_returns_the_specific_force_in_the_new_frame() {
+        let mut t = Tilt::default();
+        t.start(&[0.0, 0.0, 9.81]);
+        let a = [0.3, -0.4, 9.7];
+        for _ in 0..50 {
+            let a_i = t.integrate(&[0.8, -0.3, 1.1], 0.01, &a);
+            let want = quat::rotate(&t.q_gyr, &a);
+            for i in 0..3 {
+                assert!((a_i[i] - want[i]).abs() < 1e-12, "{a_i:?} vs {want:?}");
+            }
+        }
+    }
+
+    #[test]
     fn strapdown_matches_the_exact_rotation() {
         let mut t = Tilt::default();
         t.start(&[0.0, 0.0, 9.81]);
@@ -283,7 +340,7 @@ mod tests {
             let axis = [1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0];
             let w = axis.map(|c| c * rate);
             for _ in 0..n {
-                t.integrate(&w, dt);
+                t.integrate(&w, dt, &[0.0, 0.0, 9.81]);
             }
             let half = 0.5 * rate * dt * n as f64;
             let want = [
