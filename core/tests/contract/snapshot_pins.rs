@@ -210,11 +210,12 @@ fn pace_tracker_snapshots_are_pinned() {
 // heading correction rate. The navigator carries them (and the default filter's
 // inclination correction and renormalisations off the sample-to-sample chain, i39-speed2).
 // Step detector format 12 and navigator format 10 (issue 39, i39-stepflag): each stored
-// step's origin (seen or filled).
+// step's origin (seen or filled). Navigator format 11 (issue 39, i39-pdrgap): the
+// walking direction's bridge of the heading across dropped samples.
 const PINNED_NAVIGATOR: [(u64, usize); 3] = [
-    (14914968463816280001, 304115),
-    (3538483842240640892, 304115),
-    (2842577457646635338, 329173),
+    (12788611356835368145, 305907),
+    (7044360692468392949, 305907),
+    (13640535440561384478, 330965),
 ];
 // The default filter's pin re-recorded for the fast atan2 of its magnetometer update
 // (issue 39 speed; within 4e-9 rad of libm's, eval outputs unchanged), then for AHRS
