@@ -47,13 +47,14 @@ use super::scale::StepScale;
 use super::vertical::VerticalHistory;
 
 const SNAPSHOT_KIND: u8 = 5;
-/// Version 10: each deferred and recent step's origin (seen or filled by the detector);
+/// Version 11: the walking direction's bridge of the heading across dropped samples;
+/// version 10: each deferred and recent step's origin (seen or filled by the detector);
 /// version 9: the step lengths' scale from GNSS stretches (8: the event merger; 7: the
 /// walking direction's `gyro_calibrated` flag; 6: the vertical history
 /// and each step's vertical displacement; 5: gait initiation in the step-length state;
 /// 4: the input layer's time state per stream; 3 added the attitude history, deferred
 /// and recent steps).
-const SNAPSHOT_VERSION: u16 = 10;
+const SNAPSHOT_VERSION: u16 = 11;
 /// Steps waiting for the carrying to be known, and recent placed steps kept.
 const DEFERRED_STEPS: usize = 32;
 pub const RECENT_STEPS: usize = 32;
@@ -308,6 +309,15 @@ impl CourseAnchor {
     };
 }
 
+/// Where a sample's orientation comes from: the navigator's AHRS integrating the
+/// gyroscope (whose heading the walking direction bridges across dropped samples), or
+/// the caller ([`PhoneNavigator::push_imu_with_attitude`], taken as it is).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Attitude {
+    Gyroscope,
+    Outside,
+}
+
 /// NED → ENU rotation (swaps north and east, flips the vertical).
 /// (A half turn about the horizontal axis between north and east.)
 fn ned_to_enu() -> UnitQuaternion<f64> {
@@ -414,7 +424,7 @@ impl PhoneNavigator {
                 EarthFrame::Ned => ned_to_enu() * q,
             }
         });
-        self.advance(s, q_enu)
+        self.advance(s, q_enu, Attitude::Gyroscope)
     }
 
     /// One IMU sample (the engine contract's form of [`push_imu`](Self::push_imu)):
@@ -448,7 +458,7 @@ impl PhoneNavigator {
             return Err(NavError::Attitude { norm: n });
         }
         let q = UnitQuaternion::new_normalize(Quaternion::new(w, x, y, z));
-        self.advance(s, Some(q))
+        self.advance(s, Some(q), Attitude::Outside)
     }
 
     /// One sensor event (accelerometer, gyroscope or magnetometer, each with its own
@@ -503,11 +513,12 @@ impl PhoneNavigator {
     }
 
     /// Detector, walking direction and steps for an accepted sample with its
-    /// orientation (body → ENU), if known yet.
+    /// orientation (body → ENU), if known yet, and where that came from.
     fn advance(
         &mut self,
         s: &ImuSample,
         q_enu: Option<UnitQuaternion<f64>>,
+        source: Attitude,
     ) -> Result<(), NavError> {
         let first = self.detector.push_accel(s.t_s, s.accel_mps2)?;
         self.imu_time.accept(s.t_s);
@@ -521,7 +532,9 @@ impl PhoneNavigator {
             let force = q_enu * Vector3::from(remap.apply(s.accel_mps2));
             self.vertical.push(s.t_s, force.z);
             let mag = s.mag_ut.map(|m| remap.apply(m));
-            self.direction.push_sample(s.t_s, &q_enu, force.into(), mag);
+            let gyro = (source == Attitude::Gyroscope).then(|| remap.apply(s.gyro_rads));
+            self.direction
+                .push_sample(s.t_s, &q_enu, force.into(), mag, gyro);
         }
         if let Some(step) = first {
             self.on_step(&step)?;

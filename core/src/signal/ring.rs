@@ -71,6 +71,14 @@ impl<T: Copy + Default, const N: usize> Ring<T, N> {
     pub fn get(&self, i: usize) -> Option<T> {
         (i < self.len).then(|| self.buf[(self.head + i) % N])
     }
+    /// Mutable access to element `i` counted back from the newest (0 = newest).
+    pub fn back_mut(&mut self, i: usize) -> Option<&mut T> {
+        if i < self.len {
+            Some(&mut self.buf[(self.head + self.len - 1 - i) % N])
+        } else {
+            None
+        }
+    }
     /// Element `i` counted back from the newest (0 = newest).
     pub fn back(&self, i: usize) -> Option<T> {
         (i < self.len).then(|| self.buf[(self.head + self.len - 1 - i) % N])

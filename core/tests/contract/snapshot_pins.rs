@@ -210,11 +210,13 @@ fn pace_tracker_snapshots_are_pinned() {
 // heading correction rate. The navigator carries them (and the default filter's
 // inclination correction and renormalisations off the sample-to-sample chain, i39-speed2).
 // Step detector format 12 and navigator format 10 (issue 39, i39-stepflag): each stored
-// step's origin (seen or filled).
+// step's origin (seen or filled). Navigator format 11 (issue 39, i39-pdrgap): the
+// walking direction's bridge of the heading across dropped samples.
+// Re-recorded after merging i39-speed3 (AHRS rounding) with it.
 const PINNED_NAVIGATOR: [(u64, usize); 3] = [
-    (15802626968168577195, 304115),
-    (9699521594255645684, 304115),
-    (6252446007161728459, 329173),
+    (16725050834063213027, 305907),
+    (5394930311796474922, 305907),
+    (12646670927133177702, 330965),
 ];
 // The default filter's pin re-recorded for the fast atan2 of its magnetometer update
 // (issue 39 speed; within 4e-9 rad of libm's, eval outputs unchanged), then for AHRS

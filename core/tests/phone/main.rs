@@ -13,6 +13,7 @@ mod pdr;
 mod pdr_accuracy;
 mod pdr_crosscheck;
 mod pdr_diag;
+mod pdr_gaps;
 mod pdr_heading;
 mod placement;
 mod sim_phone;

@@ -57,7 +57,7 @@ fn walk(
         let a_ahrs = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), -drift * t) * a_true;
         let turned = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), field_turn(t)) * field;
         let m = mag.then(|| (q_true.inverse() * turned).into());
-        wd.push_sample(t, &q_ahrs, a_ahrs.into(), m);
+        wd.push_sample(t, &q_ahrs, a_ahrs.into(), m, None);
         if t >= next_step {
             wd.push_step(step_hz);
             next_step += 1.0 / step_hz;

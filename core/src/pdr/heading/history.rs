@@ -90,6 +90,19 @@ impl AttitudeHistory {
         }
     }
 
+    /// Move μ by `step_rad` in the slots holding samples from `t_s` on (a correction
+    /// found after them: the heading across a gap, see `super::gap`).
+    pub(super) fn shift_mu_since(&mut self, t_s: f64, step_rad: f64) {
+        let mut i = 0;
+        while let Some(slot) = self.slots.back_mut(i) {
+            if slot.t1_s < t_s {
+                break;
+            }
+            slot.mu_rad = crate::angle::wrap(slot.mu_rad + step_rad);
+            i += 1;
+        }
+    }
+
     /// The azimuth of body vector `f` averaged over `t0_s..=t1_s`. Spans older than
     /// the history use its oldest slot, spans in a gap the nearest slot; `None` with
     /// no history or a vector near the vertical.

@@ -85,34 +85,38 @@ impl YawCorrection {
 
     /// One sample `dt` after the previous: the corrected orientation (body → ENU),
     /// the body-frame up and the magnetometer reading, body frame, µT, if any.
+    /// Returns the field's horizontal unit vector (east, north) in the AHRS frame
+    /// when its strength passes the gate (for the bridge across gaps, `super::gap`).
     pub(super) fn push(
         &mut self,
         dt: f64,
         q_enu: &UnitQuaternion<f64>,
         up_body: &Vector3<f64>,
         mag_body_ut: Option<[f64; 3]>,
-    ) {
-        match mag_body_ut {
+    ) -> Option<[f64; 2]> {
+        let field = match mag_body_ut {
             Some(m) => self.measure(dt, q_enu, up_body, m),
             None => {
                 if !self.mu_known {
                     self.mu_rad = 0.0;
                     self.mu_known = true;
                 }
+                None
             }
-        }
+        };
         self.mu_rad = wrap(self.mu_rad + self.mu_rate_rads * dt);
+        field
     }
 
     /// A field sample: the azimuth of magnetic north in the AHRS frame, if the
-    /// sample passes the gate.
+    /// sample passes the gate; its horizontal unit vector if its strength does.
     fn measure(
         &mut self,
         dt: f64,
         q_enu: &UnitQuaternion<f64>,
         up_body: &Vector3<f64>,
         m: [f64; 3],
-    ) {
+    ) -> Option<[f64; 2]> {
         let h = self.hard_iron.h_ut;
         let mc = Vector3::new(m[0] - h[0], m[1] - h[1], m[2] - h[2]);
         let n = mc.norm();
@@ -123,10 +127,18 @@ impl YawCorrection {
             if ok {
                 self.hard_iron.add(&m);
             }
-            if ok && me.x.hypot(me.y) > MIN_HORIZONTAL_FIELD_UT {
-                self.follow(me.x.atan2(me.y), dt);
+            let horizontal = me.x.hypot(me.y);
+            if horizontal > MIN_HORIZONTAL_FIELD_UT {
+                if ok {
+                    self.follow(me.x.atan2(me.y), dt);
+                }
+                // The bridge across gaps takes every sample: what it needs is the same
+                // field on both sides of a gap (disturbed or not), and the dip departs
+                // while the tilt re-converges after a lost gap, just when it is needed.
+                return Some([me.x / horizontal, me.y / horizontal]);
             }
         }
+        None
     }
 
     /// The loop: μ set by the first accepted measurement, then pulled towards each.

@@ -6,6 +6,7 @@
 
 mod calibration;
 mod carrying;
+mod gap;
 mod hard_iron;
 mod history;
 mod magnetic;
@@ -17,6 +18,7 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use self::calibration::CalibrationFilter;
 use self::carrying::{Carrying, MIN_AZIMUTH_NORM};
+use self::gap::{Bridged, GapBridge};
 use self::hard_iron::HARD_IRON_TAU_S;
 use self::history::{AttitudeHistory, MIN_HORIZONTAL_SHARE};
 use self::magnetic::YawCorrection;
@@ -45,6 +47,8 @@ pub struct WalkingDirection {
     calibration: CalibrationFilter,
     stride: Stride,
     history: AttitudeHistory,
+    /// The heading across dropped samples.
+    gaps: GapBridge,
     /// Time of the latest sample and of the latest stride's end, s (NaN before).
     last_t_s: f64,
     last_stride_t_s: f64,
@@ -78,6 +82,7 @@ impl WalkingDirection {
             calibration: CalibrationFilter::default(),
             stride: Stride::default(),
             history: AttitudeHistory::default(),
+            gaps: GapBridge::default(),
             last_t_s: f64::NAN,
             last_stride_t_s: f64::NAN,
         }
@@ -147,23 +152,40 @@ impl WalkingDirection {
     }
 
     /// One IMU sample: the orientation body → ENU from the AHRS, the measured
-    /// specific force (accelerometer, gravity included) in that ENU frame, and the
-    /// magnetometer reading in the body frame if any.
+    /// specific force (accelerometer, gravity included) in that ENU frame, the
+    /// magnetometer reading in the body frame if any, and the gyroscope's rates in the
+    /// body frame, rad/s, when the orientation is the gyroscope's own (an AHRS run
+    /// here): the yaw correction then bridges the heading across dropped samples
+    /// (`gap`); an orientation from outside is taken as it is across them.
     pub fn push_sample(
         &mut self,
         t_s: f64,
         q_enu: &UnitQuaternion<f64>,
         force_enu_mps2: [f64; 3],
         mag_body_ut: Option<[f64; 3]>,
+        gyro_body_rads: Option<[f64; 3]>,
     ) {
+        let interval_s = t_s - self.last_t_s;
         let dt = self.advance_clock(t_s);
+        let q_before = self.quat();
         let (q_enu, lin_acc_enu_mps2) = self.tilt.correct(dt, q_enu, force_enu_mps2);
         self.q = [q_enu.w, q_enu.i, q_enu.j, q_enu.k];
         let up_body = q_enu.inverse_transform_vector(&Vector3::z());
         if self.carrying.follow_up(dt, up_body) {
             self.calibration.forget_offset();
         }
-        self.yaw.push(dt, &q_enu, &up_body, mag_body_ut);
+        if let Some(w) = gyro_body_rads {
+            let rate_up = up_body.dot(&Vector3::from(w));
+            if self.gaps.is_gap(interval_s) {
+                self.bridge_gap(t_s, interval_s, rate_up, &q_before, &q_enu);
+            } else {
+                self.gaps.push_rate(rate_up);
+            }
+        }
+        let field = self.yaw.push(dt, &q_enu, &up_body, mag_body_ut);
+        if let Some(b) = field.and_then(|u| self.gaps.push_field(t_s, dt, u)) {
+            self.apply_bridge(b);
+        }
         self.stride.push(dt, lin_acc_enu_mps2);
         let rows = history::enu_rows(&q_enu);
         self.history.push(t_s, rows, self.yaw.mu_rad);
@@ -192,6 +214,46 @@ impl WalkingDirection {
         };
         self.resolve_hard_iron();
         self.learn_carrying(&stats, step_hz);
+    }
+
+    /// A gap of `interval_s` ended with this sample (`rate_up` about the vertical,
+    /// rad/s; the tilt-corrected orientation before and after it): μ takes the AHRS's
+    /// yaw error over the gap against the trapezoid of the rates now, the field's view
+    /// of it once the field after the gap is seen (`gap`).
+    fn bridge_gap(
+        &mut self,
+        t_s: f64,
+        interval_s: f64,
+        rate_up: f64,
+        q_before: &UnitQuaternion<f64>,
+        q_after: &UnitQuaternion<f64>,
+    ) {
+        let (rows0, rows1) = (history::enu_rows(q_before), history::enu_rows(q_after));
+        // The walking direction's turn if known, else that of the body axis nearest
+        // the horizontal.
+        let f = if self.carrying.forward_known {
+            self.carrying.forward_body
+        } else {
+            let up = q_before.inverse_transform_vector(&Vector3::z());
+            let i = (0..3)
+                .min_by(|&a, &b| up[a].abs().total_cmp(&up[b].abs()))
+                .unwrap_or(0);
+            std::array::from_fn(|k| if k == i { 1.0 } else { 0.0 })
+        };
+        let ((e0, n0), (e1, n1)) = (history::project(&rows0, f), history::project(&rows1, f));
+        let ahrs_turn = wrap(e1.atan2(n1) - e0.atan2(n0));
+        let (earlier, mu_step) = self.gaps.on_gap(t_s, interval_s, rate_up, ahrs_turn);
+        if let Some(b) = earlier {
+            self.apply_bridge(b);
+        }
+        self.yaw.mu_rad = wrap(self.yaw.mu_rad + mu_step);
+    }
+
+    /// A field correction of μ found after the gap it belongs to: μ now and in the
+    /// attitude history from the gap on.
+    fn apply_bridge(&mut self, b: Bridged) {
+        self.yaw.mu_rad = wrap(self.yaw.mu_rad + b.mu_step_rad);
+        self.history.shift_mu_since(b.t_s, b.mu_step_rad);
     }
 
     /// The time step since the previous sample, capped (0 for the first).

@@ -4,13 +4,16 @@
 
 use super::calibration::CalibrationFilter;
 use super::carrying::Carrying;
+use super::gap::GapBridge;
 use super::hard_iron::HardIron;
 use super::history::{AttitudeHistory, Slot, HISTORY_SLOTS};
 use super::magnetic::{FieldReference, YawCorrection};
 use super::stride::{Stride, StrideStats};
 use super::tilt::TiltCorrection;
 use super::WalkingDirection;
-use crate::input::limits::{MAX_ABS_T_S, MAX_ACCEL_NORM_MPS2, MAX_MAG_UT};
+use crate::input::limits::{
+    MAX_ABS_T_S, MAX_ACCEL_NORM_MPS2, MAX_GYRO_RADS, MAX_MAG_UT, MAX_TIME_JUMP_S,
+};
 use crate::signal::Ring;
 use crate::snapshot::{Reader, SnapshotError, Writer};
 
@@ -100,6 +103,7 @@ impl WalkingDirection {
                     vz_mps,
                 },
             history: AttitudeHistory { slots },
+            gaps,
             last_t_s,
             last_stride_t_s,
         } = self;
@@ -148,6 +152,7 @@ impl WalkingDirection {
             w.f64s(&[t0_s, t1_s, n, mu_rad]);
             w.f64s(&rows);
         }
+        write_gaps(w, gaps);
     }
 
     pub(crate) fn read(r: &mut Reader) -> Result<Self, SnapshotError> {
@@ -171,6 +176,7 @@ impl WalkingDirection {
         let steps = r.len(2)? as u32;
         let axis_strides = r.f64()?;
         let slots = read_history(r)?;
+        let gaps = read_gaps(r)?;
         let qn = q.iter().map(|x| x * x).sum::<f64>();
         if (qn - 1.0).abs() >= MAX_QUATERNION_NORM_ERROR {
             return Err(SnapshotError::Invalid("walking direction orientation"));
@@ -237,10 +243,68 @@ impl WalkingDirection {
                 vz_mps,
             },
             history: AttitudeHistory { slots },
+            gaps,
             last_t_s,
             last_stride_t_s,
         })
     }
+}
+
+fn write_gaps(w: &mut Writer, g: &GapBridge) {
+    let GapBridge {
+        dt_typ_s,
+        rate_up_rads,
+        field,
+        field_slow,
+        pending_t_s,
+        before,
+        after,
+        gyro_err_rad,
+        gyro_var_rad2,
+    } = *g;
+    w.f64s(&[dt_typ_s, rate_up_rads, gyro_err_rad, gyro_var_rad2]);
+    w.f64s(&field);
+    w.f64s(&field_slow);
+    w.f64s(&before);
+    w.f64s(&after);
+    w.f64(pending_t_s);
+}
+
+/// The gap bridge: an interval, a rate, an angle and its variance, means of unit
+/// vectors (the field's weight 0 or 1), sums of `count` unit vectors, a time or NaN.
+fn read_gaps(r: &mut Reader) -> Result<GapBridge, SnapshotError> {
+    let [dt_typ_s, rate_up_rads, gyro_err_rad, gyro_var_rad2] = f64s(r)?;
+    let field: [f64; 3] = f64s(r)?;
+    let field_slow: [f64; 2] = f64s(r)?;
+    let before: [f64; 3] = f64s(r)?;
+    let after: [f64; 3] = f64s(r)?;
+    let pending_t_s = r.f64_or_nan()?;
+    let ok = (0.0..=MAX_TIME_JUMP_S).contains(&dt_typ_s)
+        && rate_up_rads.abs() <= MAX_GYRO_RADS * 3f64.sqrt()
+        && gyro_err_rad.abs() <= MAX_ANGLE_RAD
+        && (0.0..=MAX_COVARIANCE).contains(&gyro_var_rad2)
+        && within(&field[..2], MAX_UNIT)
+        && (0.0..=1.0).contains(&field[2])
+        && within(&field_slow, MAX_UNIT)
+        && within(&before[..2], MAX_UNIT)
+        && (0.0..=MAX_COVARIANCE).contains(&before[2])
+        && (0.0..=MAX_COUNT).contains(&after[2])
+        && within(&after[..2], after[2] * SLOT_ROWS_MARGIN)
+        && (pending_t_s.is_nan() || time_ok(pending_t_s));
+    if !ok {
+        return Err(SnapshotError::Invalid("walking direction gap bridge"));
+    }
+    Ok(GapBridge {
+        dt_typ_s,
+        rate_up_rads,
+        field,
+        field_slow,
+        pending_t_s,
+        before,
+        after,
+        gyro_err_rad,
+        gyro_var_rad2,
+    })
 }
 
 fn write_stride(w: &mut Writer, s: &StrideStats) {
