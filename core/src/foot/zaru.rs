@@ -79,16 +79,19 @@ impl Zaru {
     ) {
         self.stance_n = self.stance_n.saturating_add(1);
         let n = window_len(rate_hz);
+        // Neither still nor stiller than the best so far, by the lower bound alone.
         let bound = STILL_NOISE_FACTOR * noise_var;
-        if det.len() < n
-            || self.stance_n < n as u64
-            || (detector_n <= n && detector_var * detector_n as f64 > bound * n as f64)
-        {
+        let best = self.window.map_or(f64::INFINITY, |w| w.var_rads2);
+        let at_least = if detector_n <= n {
+            detector_var * detector_n as f64 / n as f64
+        } else {
+            0.0
+        };
+        if det.len() < n || self.stance_n < n as u64 || at_least > bound || at_least >= best {
             return;
         }
         let (mean, var) = rate_stats(det, n);
-        let stiller = self.window.is_none_or(|w| var < w.var_rads2);
-        if var <= bound && stiller {
+        if var <= bound && var < best {
             self.window = Some(StillWindow {
                 var_rads2: var,
                 mean_rads: mean,
