@@ -363,6 +363,54 @@ impl Strapdown {
         true
     }
 
+    /// Normalised innovation squared of a zero-angular-rate update (see
+    /// [`zaru`](Self::zaru)); `None` if its covariance cannot be inverted.
+    pub fn zaru_nis(&self, w_mean: &Vector3<f64>, r: f64) -> Option<f64> {
+        let y = self.bg - w_mean;
+        let s = self.cov.fixed_view::<3, 3>(IBG, IBG) + Matrix3::from_diagonal_element(r);
+        let s_inv = s.try_inverse()?;
+        Some(y.dot(&(s_inv * y)))
+    }
+
+    /// Zero-angular-rate update after a bias jump: the foot stood still while the
+    /// gyroscope read `w_mean` (body axes, raw), so the bias error is `b̂_g − w_mean`
+    /// with variance `r` per axis, and the bias moved by more than its random walk
+    /// allows: each axis' bias variance first grows by its excess (its innovation
+    /// squared over its innovation variance), then the update is taken. Returns false
+    /// (and changes nothing) if the innovation covariance cannot be inverted. The
+    /// covariance is left for [`condition`](Self::condition).
+    #[cold]
+    pub fn bias_jump(&mut self, w_mean: &Vector3<f64>, r: f64) -> bool {
+        let y = self.bg - w_mean;
+        let before = self.cov;
+        for i in 0..3 {
+            let excess = y[i] * y[i] - self.cov[(IBG + i, IBG + i)] - r;
+            if excess > 0.0 {
+                self.cov[(IBG + i, IBG + i)] += excess;
+            }
+        }
+        let s = self.cov.fixed_view::<3, 3>(IBG, IBG) + Matrix3::from_diagonal_element(r);
+        let Some(s_inv) = s.try_inverse() else {
+            self.cov = before;
+            return false;
+        };
+        let k = self.cov.fixed_columns::<3>(IBG) * s_inv; // 15 × 3
+        let dx = k * y;
+        if !dx.iter().all(|x| x.is_finite()) {
+            self.cov = before;
+            return false;
+        }
+        let ks = k * s;
+        self.cov -= ks * k.transpose();
+        self.p -= Vector3::new(dx[IP], dx[IP + 1], dx[IP + 2]);
+        self.v -= Vector3::new(dx[IV], dx[IV + 1], dx[IV + 2]);
+        let phi = Vector3::new(dx[IA], dx[IA + 1], dx[IA + 2]);
+        self.q = UnitQuaternion::from_scaled_axis(-phi) * self.q;
+        self.ba -= Vector3::new(dx[IBA], dx[IBA + 1], dx[IBA + 2]);
+        self.bg -= Vector3::new(dx[IBG], dx[IBG + 1], dx[IBG + 2]);
+        true
+    }
+
     /// Whether everything but the covariance is finite.
     pub fn state_is_finite(&self) -> bool {
         finite(self.q.coords.as_slice())

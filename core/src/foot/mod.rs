@@ -17,6 +17,7 @@ mod navigator;
 mod still;
 mod svm;
 mod types;
+mod zaru;
 
 pub use ceiling::{
     GyroCeiling, GyroCeilingDetector, ABOVE_SHARE, FLAT_SHARE, LEVEL_SHARE, MIN_CEILING_RADS,

@@ -46,6 +46,7 @@ use super::median::{MedianFilter, MAX_MEDIAN_WINDOW};
 use super::still::StillFloor;
 use super::svm::SvmModel;
 use super::types::{BodySample, FootEstimate, FootSample, Stride};
+use super::zaru::Zaru;
 use crate::ahrs::AxisRemap;
 use crate::batch::{self, Batch, Counts};
 use crate::input::{self, AccelUnits, Stream, TimeGuard};
@@ -143,6 +144,11 @@ pub struct FootNavigator {
     hole: Hole,
     /// Stances re-levelled from gravity after a hole left the foot upside down.
     relevels: u64,
+    /// Gyroscope bias jumps: the stillest still window of the current stance and
+    /// the last unexplained still rate.
+    zaru: Zaru,
+    /// Bias jumps confirmed and taken (zero-angular-rate updates).
+    bias_jumps: u64,
     strides: u64,
     distance_m: f64,
     resets: u64,
@@ -179,6 +185,8 @@ impl FootNavigator {
             last_onset: None,
             hole: Hole::default(),
             relevels: 0,
+            zaru: Zaru::default(),
+            bias_jumps: 0,
             strides: 0,
             distance_m: 0.0,
             resets: 0,
@@ -214,6 +222,13 @@ impl FootNavigator {
     /// attitude more than 90° from it.
     pub fn relevels(&self) -> u64 {
         self.relevels
+    }
+
+    /// Gyroscope bias jumps taken: two consecutive still stances whose rates agreed
+    /// and that the bias estimate could not explain set it anew (zero-angular-rate
+    /// updates; `zaru.rs`).
+    pub fn bias_jumps(&self) -> u64 {
+        self.bias_jumps
     }
 
     /// Times the divergence guard reset the velocity.
@@ -513,8 +528,20 @@ impl FootNavigator {
             ins.turn(self.hole.turn_over(c.t_s, dt - dt_int));
             self.hole.pending = true;
         }
+        // Gyroscope bias jumps (the biases are fed back only with `Full`), checked
+        // when a stance ends against its stillest window.
+        let zaru = correction == Correction::Full;
+        let gyro_var = noise.gyro_var_per_s * self.rate_hz;
+        if zaru && !stance && self.stance && self.zaru.stance_ended(ins, gyro_var) {
+            self.bias_jumps = self.bias_jumps.saturating_add(1);
+        }
         if stance {
             ins.zupt(zupt_sigma, gate, correction);
+            if zaru && !stats.saturated {
+                let detector_var = vec3::dot(stats.gyro_std_rads, stats.gyro_std_rads) / 3.0;
+                self.zaru
+                    .observe(&self.det, self.rate_hz, gyro_var, (detector_var, stats.n));
+            }
             if std::mem::take(&mut self.hole.pending) {
                 let f = window_mean_f(&self.det, self.window);
                 if ins.relevel_if_upside_down(&f, RELEVEL_TILT_RAD * RELEVEL_TILT_RAD) {

@@ -3,6 +3,7 @@
 use super::*;
 use crate::foot::hole::Hole;
 use crate::foot::still::{StillFloor, STILL_CAP};
+use crate::foot::zaru::{StillWindow, Zaru};
 
 mod config;
 
@@ -10,10 +11,10 @@ use self::config::{read_config, write_config};
 
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
-/// Version 8: the hole state (`Hole`: the last stance onset's heading, the turn rate, a hole waiting for its stance) and the count of re-levelled stances. Version 7: the detector's stillness floor (`StillFloor`). Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
+/// Version 9: the gyroscope bias jumps' state (`Zaru`: the stance's stillest still window, the last unexplained still rate) and their count. Version 8: the hole state (`Hole`: the last stance onset's heading, the turn rate, a hole waiting for its stance) and the count of re-levelled stances. Version 7: the detector's stillness floor (`StillFloor`). Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
 /// ([`TimeGuard`]) replaces the last time (version 2 added `FootConfig::gyro_timing`
 /// and the adaptive SHOE detector).
-const SNAPSHOT_VERSION: u16 = 8;
+const SNAPSHOT_VERSION: u16 = 9;
 
 fn write_body(w: &mut Writer, s: &BodySample) {
     w.f64(s.t_s);
@@ -208,6 +209,8 @@ impl FootNavigator {
             last_onset,
             hole,
             relevels,
+            zaru,
+            bias_jumps,
             strides,
             distance_m,
             resets,
@@ -294,6 +297,24 @@ impl FootNavigator {
         w.f64s(&[t, yaw, *turn_rads]);
         w.bool(*pending);
         w.u64(*relevels);
+        let Zaru {
+            window: still_window,
+            unexplained,
+            stance_n,
+        } = zaru;
+        w.bool(still_window.is_some());
+        let StillWindow {
+            var_rads2,
+            mean_rads,
+            n: still_n,
+        } = still_window.unwrap_or_default();
+        w.f64(var_rads2);
+        w.f64s(&mean_rads);
+        w.u64(still_n as u64);
+        w.bool(unexplained.is_some());
+        w.f64s(&unexplained.unwrap_or_default());
+        w.u64(*stance_n);
+        w.u64(*bias_jumps);
         w.u64(*strides);
         w.f64(*distance_m);
         w.u64(*resets);
@@ -386,6 +407,18 @@ impl FootNavigator {
         {
             return Err("hole state");
         }
+        // A still window's variance and rates, and an unexplained rate, the gyroscope
+        // could report.
+        let z = &self.zaru;
+        let rates_ok = |w: &[f64; 3]| w.iter().all(|v| v.is_finite() && v.abs() <= w_max);
+        if z.window.is_some_and(|s| {
+            !((0.0..=4.0 * w_max * w_max).contains(&s.var_rads2)
+                && rates_ok(&s.mean_rads)
+                && s.n >= 1)
+        }) || z.unexplained.is_some_and(|w| !rates_ok(&w))
+        {
+            return Err("zero-angular-rate state");
+        }
         Ok(())
     }
 
@@ -465,6 +498,22 @@ impl FootNavigator {
             pending: r.bool()?,
         };
         n.relevels = r.u64()?;
+        let has_window = r.bool()?;
+        let mut still = StillWindow {
+            var_rads2: r.f64()?,
+            ..Default::default()
+        };
+        r.f64s(&mut still.mean_rads)?;
+        still.n = r.len(MAX_DETECTOR_WINDOW)?;
+        let has_unexplained = r.bool()?;
+        let mut unexplained = [0.0; 3];
+        r.f64s(&mut unexplained)?;
+        n.zaru = Zaru {
+            window: has_window.then_some(still),
+            unexplained: has_unexplained.then_some(unexplained),
+            stance_n: r.u64()?,
+        };
+        n.bias_jumps = r.u64()?;
         n.strides = r.u64()?;
         n.distance_m = r.f64()?;
         n.resets = r.u64()?;
