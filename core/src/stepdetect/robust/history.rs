@@ -75,6 +75,16 @@ impl RobustDetector {
         cov / (va * vb).sqrt()
     }
 
+    /// The autocorrelation at `lag_s` over its whole window ([`ACF_MIN_WINDOW_S`] at
+    /// least); NaN while less signal has been seen.
+    pub(super) fn acf_full_window(&self, lag_s: f64) -> f64 {
+        let span_s = ACF_MIN_WINDOW_S.max(ACF_WINDOW_LAGS * lag_s) + lag_s;
+        if (self.xs.len as f64) * GRID_DT_S < span_s {
+            return f64::NAN;
+        }
+        self.acf(lag_s)
+    }
+
     /// Whether the autocorrelation at the step or at the stride period reaches `min`
     /// (the stride lag is only computed when the step lag fails; NaN never passes).
     pub(super) fn periodic(&self, period_s: f64, min: f64) -> bool {

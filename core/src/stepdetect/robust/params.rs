@@ -38,7 +38,9 @@ pub struct RobustStepParams {
     pub running_interval_s: f64,
     /// ... which need at least this median amplitude to start a bout, m/s² (running
     /// shakes the body by well over 1 g; at such a cadence small peaks are the
-    /// secondary bumps of a slow walk).
+    /// secondary bumps of a slow walk), unless the cadence is a walk's (2.86 steps/s
+    /// at most) and the signal repeats at every step (a fast walk: consecutive steps
+    /// look alike, a bump does not look like a heel strike).
     pub running_min_amplitude_mps2: f64,
     /// Candidates smaller than this fraction of the typical recent step amplitude are
     /// secondary bumps, not steps.
