@@ -18,6 +18,13 @@ pub const BROADBAND_COMPONENTS: usize = 16;
 pub const BROADBAND_HZ: (f64, f64) = (10.0, 200.0);
 /// The gyroscope bias step happens this far into the recording.
 pub const BIAS_STEP_AT: f64 = 1.0 / 3.0;
+/// A passed magnet: one pass per this much of the recording (at least one), s.
+pub const MAG_PASS_EVERY_S: f64 = 120.0;
+/// A pass lasts this long, s (uniform), ramps included.
+pub const MAG_PASS_S: (f64, f64) = (5.0, 60.0);
+/// The passed magnet's field rises and falls as a raised cosine over this long, s
+/// (a walker approaching and leaving a magnet, a door, a machine).
+pub const MAG_PASS_RAMP_S: f64 = 3.0;
 
 /// A recording's IMU streams (sensor axes, SI units).
 #[derive(Clone, Debug, Default)]
@@ -35,6 +42,9 @@ pub struct Imu {
     /// Specific force of gravity in sensor axes per sample, m/s², when known (a time
     /// stretch keeps it and scales the rest).
     pub gravity: Option<Vec<[f64; 3]>>,
+    /// Orientation sensor → earth (`[w, x, y, z]`) per sample, when known (a field fixed
+    /// in the earth frame is seen through it).
+    pub attitude: Option<Vec<[f64; 4]>>,
 }
 
 impl Imu {
@@ -55,6 +65,7 @@ impl Imu {
             mag,
             wobble: None,
             gravity: None,
+            attitude: None,
         }
     }
 
@@ -96,6 +107,10 @@ impl Imu {
             src: idx.iter().map(|&i| self.src[i]).collect(),
             wobble: self.wobble.as_ref().map(|w| pick(w)),
             gravity: self.gravity.as_ref().map(|g| pick(g)),
+            attitude: self
+                .attitude
+                .as_ref()
+                .map(|a| idx.iter().map(|&i| a[i]).collect()),
         }
     }
 
@@ -104,6 +119,7 @@ impl Imu {
         let mut out = Imu {
             wobble: self.wobble.as_ref().map(|_| Vec::new()),
             gravity: self.gravity.as_ref().map(|_| Vec::new()),
+            attitude: self.attitude.as_ref().map(|_| Vec::new()),
             ..Imu::default()
         };
         let mut j = 0;
@@ -140,6 +156,9 @@ impl Imu {
             }
             if let (Some(o), Some(g)) = (out.gravity.as_mut(), self.gravity.as_ref()) {
                 o.push(lerp3(g));
+            }
+            if let (Some(o), Some(a)) = (out.attitude.as_mut(), self.attitude.as_ref()) {
+                o.push(if f < 0.5 { a[j] } else { a[k] });
             }
         }
         out
@@ -278,8 +297,45 @@ pub fn jittered(t: &[f64], sigma_s: f64, rng: &mut Rng) -> Vec<f64> {
     t.iter().map(|&t| t + sigma_s * rng.normal()).collect()
 }
 
+/// The passes of a magnet over a recording from `t0` spanning `span` s: (start, end)
+/// of each, s, placed uniformly.
+fn mag_passes(t0: f64, span: f64, rng: &mut Rng) -> Vec<(f64, f64)> {
+    let n = ((span / MAG_PASS_EVERY_S).floor() as usize).max(1);
+    (0..n)
+        .map(|_| {
+            let len = rng.range(MAG_PASS_S.0, MAG_PASS_S.1).min(span);
+            let start = t0 + rng.uniform() * (span - len);
+            (start, start + len)
+        })
+        .collect()
+}
+
+/// How much of a pass's field is on at `t`: 0 outside, raised-cosine ramps of
+/// [`MAG_PASS_RAMP_S`] at both ends, 1 between.
+fn pass_share(t: f64, (a, b): (f64, f64)) -> f64 {
+    let ramp = MAG_PASS_RAMP_S.min(0.5 * (b - a)).max(1e-9);
+    let edge = (t - a).min(b - t);
+    if edge <= 0.0 {
+        0.0
+    } else if edge >= ramp {
+        1.0
+    } else {
+        0.5 - 0.5 * (std::f64::consts::PI * edge / ramp).cos()
+    }
+}
+
+/// v seen in the sensor frame of the orientation `q` (sensor → earth): q⁻¹ v q.
+fn to_sensor(q: &[f64; 4], v: &[f64; 3]) -> [f64; 3] {
+    let u = [q[1], q[2], q[3]];
+    // v' = v − 2w (u × v) + 2 u × (u × v) for the conjugate rotation.
+    let t = cross(&u, v).map(|c| 2.0 * c);
+    let ut = cross(&u, &t);
+    std::array::from_fn(|c| v[c] - q[0] * t[c] + ut[c])
+}
+
 /// The recording with `p` applied (seeded by `rng`). `Speed` needs
-/// [`Imu::gravity`]; without it the copy is returned unchanged and `None` says so.
+/// [`Imu::gravity`] and `MagPass` [`Imu::attitude`]; without it the copy is returned
+/// unchanged and `None` says so.
 pub fn perturb(imu: &Imu, p: &Perturbation, rng: &mut Rng) -> Option<Imu> {
     if imu.len() < 2 {
         return Some(imu.clone());
@@ -305,6 +361,25 @@ pub fn perturb(imu: &Imu, p: &Perturbation, rng: &mut Rng) -> Option<Imu> {
                     for c in 0..3 {
                         m[c] += s * u[c];
                     }
+                }
+            }
+        }
+        Perturbation::MagPass { ut } => {
+            let attitude = imu.attitude.as_ref()?;
+            let passes = mag_passes(t0, span, rng);
+            let dirs: Vec<[f64; 3]> = passes.iter().map(|_| unit(rng)).collect();
+            for (i, m) in out.mag.iter_mut().enumerate() {
+                let Some(m) = m else { continue };
+                let mut w = [0.0; 3];
+                for (pass, u) in passes.iter().zip(&dirs) {
+                    let s = ut * pass_share(imu.t_s[i], *pass);
+                    for c in 0..3 {
+                        w[c] += s * u[c];
+                    }
+                }
+                let d = to_sensor(&attitude[i], &w);
+                for c in 0..3 {
+                    m[c] += d[c];
                 }
             }
         }
@@ -470,5 +545,55 @@ mod tests {
         let mut no_g = imu.clone();
         no_g.gravity = None;
         assert!(perturb(&no_g, &Perturbation::Speed { factor: 2.0 }, &mut rng).is_none());
+    }
+
+    #[test]
+    fn a_passed_magnet_is_fixed_in_the_earth_frame_and_ramps_on_and_off() {
+        // Turning about the vertical at 10°/s: the earth-fixed field turns the other
+        // way in the sensor frame, its size kept.
+        let n = 20_000;
+        let hz = 100.0;
+        let mut imu = still(n, hz);
+        let yaw = |i: usize| (10.0f64 * i as f64 / hz).to_radians();
+        imu.attitude = Some(
+            (0..n)
+                .map(|i| [(0.5 * yaw(i)).cos(), 0.0, 0.0, (0.5 * yaw(i)).sin()])
+                .collect(),
+        );
+        let mut rng = Rng::new(3);
+        let p = perturb(&imu, &Perturbation::MagPass { ut: 10.0 }, &mut rng).unwrap();
+        let extra: Vec<[f64; 3]> = (0..n)
+            .map(|i| {
+                let (a, b) = (imu.mag[i].unwrap(), p.mag[i].unwrap());
+                std::array::from_fn(|c| b[c] - a[c])
+            })
+            .collect();
+        let size = |v: &[f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        let on: Vec<usize> = (0..n).filter(|&i| size(&extra[i]) > 1e-9).collect();
+        let (first, last) = (on[0], *on.last().unwrap());
+        let len_s = (last - first) as f64 / hz;
+        assert!((5.0..=60.0).contains(&len_s), "{len_s}");
+        assert!((size(&extra[(first + last) / 2]) - 10.0).abs() < 1e-9);
+        // Half on in the middle of the ramp.
+        let mid_ramp = first + (MAG_PASS_RAMP_S * hz / 2.0) as usize;
+        assert!((size(&extra[mid_ramp]) - 5.0).abs() < 0.1);
+        // Back in the earth frame (q v q⁻¹) the field's direction stands still.
+        let earth = |i: usize| {
+            let (s, c) = yaw(i).sin_cos();
+            let v = extra[i].map(|x| x / size(&extra[i]));
+            [c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]]
+        };
+        let a = earth(first + 10);
+        let b = earth(last - 10);
+        for c in 0..3 {
+            assert!((a[c] - b[c]).abs() < 1e-9, "{a:?} {b:?}");
+        }
+        // Without an attitude there is no such copy.
+        assert!(perturb(
+            &still(100, hz),
+            &Perturbation::MagPass { ut: 10.0 },
+            &mut rng
+        )
+        .is_none());
     }
 }

@@ -19,6 +19,9 @@ pub enum Perturbation {
     MagOffset { ut: f64 },
     /// A magnetometer offset growing linearly from 0 to `ut` over the recording.
     MagDrift { ut: f64 },
+    /// A magnet the device passes: an extra field of `ut` fixed in the earth frame (it
+    /// does not turn with the device), switched on and off smoothly, 5–60 s per pass.
+    MagPass { ut: f64 },
     /// The gyroscope bias jumps by `dps` (°/s, random direction) a third of the way in.
     GyroBiasStep { dps: f64 },
     /// Gyroscope scale error of ±`pct` % per axis (random signs).
@@ -49,6 +52,7 @@ impl Perturbation {
             Perturbation::Vibration { hz: None, .. } => "vibration, broadband 10–200 Hz",
             Perturbation::MagOffset { .. } => "magnetometer offset",
             Perturbation::MagDrift { .. } => "magnetometer drift",
+            Perturbation::MagPass { .. } => "magnet passed (earth-fixed field)",
             Perturbation::GyroBiasStep { .. } => "gyroscope bias step",
             Perturbation::GyroScale { .. } => "gyroscope scale error",
             Perturbation::Rate { .. } => "sample rate",
@@ -65,7 +69,9 @@ impl Perturbation {
         match *self {
             Perturbation::Vibration { hz: Some(f), mps2 } => format!("{f:.0} Hz, {mps2} m/s²"),
             Perturbation::Vibration { hz: None, mps2 } => format!("{mps2} m/s² RMS"),
-            Perturbation::MagOffset { ut } | Perturbation::MagDrift { ut } => format!("{ut} µT"),
+            Perturbation::MagOffset { ut }
+            | Perturbation::MagDrift { ut }
+            | Perturbation::MagPass { ut } => format!("{ut} µT"),
             Perturbation::GyroBiasStep { dps } => format!("{dps} °/s"),
             Perturbation::GyroScale { pct } => format!("±{pct} %"),
             Perturbation::Rate { hz } => format!("{hz} Hz"),
@@ -170,6 +176,10 @@ pub fn sweep(engine: Engine, quick: bool) -> Vec<Perturbation> {
                 .map(|dps| P::ClipGyro { dps })
                 .to_vec(),
         );
+    }
+    if engine == Engine::Orientation {
+        // Last, so the seeds of the kinds before it do not move.
+        kinds.push([5.0, 10.0, 30.0].map(|ut| P::MagPass { ut }).to_vec());
     }
     if matches!(engine, Engine::Foot | Engine::Steps) {
         kinds.push(

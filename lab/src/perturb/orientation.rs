@@ -24,6 +24,32 @@ pub fn imu_of(samples: &[InertialSample]) -> Imu {
     )
 }
 
+/// The recording's streams with its optical truth as the attitude (unit length; an
+/// occluded sample takes the nearest truth before it, the first ones the first truth);
+/// without any truth, none.
+pub fn imu_with_attitude(rec: &OrientationRecording) -> Imu {
+    let mut imu = imu_of(&rec.samples);
+    let Some(first) = rec.truth.iter().flatten().next() else {
+        return imu;
+    };
+    let mut last = *first;
+    imu.attitude = Some(
+        rec.truth
+            .iter()
+            .map(|t| {
+                if let Some(q) = t {
+                    let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
+                    if n > 0.0 {
+                        last = q.map(|c| c / n);
+                    }
+                }
+                last
+            })
+            .collect(),
+    );
+    imu
+}
+
 /// q ⊗ exp(θ/2): the truth of a body rocked by θ (rotation vector, body frame).
 fn rocked(q: &[f64; 4], th: &[f64; 3]) -> [f64; 4] {
     let a = (th[0] * th[0] + th[1] * th[1] + th[2] * th[2]).sqrt();
@@ -73,7 +99,7 @@ pub fn replay(
 /// The sweep over the trials of `dir`.
 pub fn sweep(dir: &Path, cases: &[Perturbation]) -> Result<Report, String> {
     let trials = load(dir)?;
-    let imus: Vec<Imu> = trials.iter().map(|t| imu_of(&t.samples)).collect();
+    let imus: Vec<Imu> = trials.iter().map(imu_with_attitude).collect();
     let settings = AhrsSettings::default();
     let score = |r: usize, p: Option<&Perturbation>, rng: &mut Rng| -> Result<Scored, String> {
         let imu = match p {
