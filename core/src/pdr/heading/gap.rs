@@ -20,6 +20,9 @@ const UNSEEN_RATE_RADS: f64 = 0.5;
 /// How far the field's direction may turn over the metre walked in a gap indoors,
 /// rad (5°; on the development walks 0–10° over 2 s, docs/lab/2026-12-06-pdr-gaps.md).
 const FIELD_TURN_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
+/// The largest variance of the trapezoid's error, rad²: an angle uniform on the circle
+/// (π²/3), a heading the rates say nothing about (a long gap, a fast turn).
+const LOST_VAR_RAD2: f64 = std::f64::consts::PI * std::f64::consts::PI / 3.0;
 /// A field mean whose resultant is shorter than this (unit vectors averaged) has no
 /// direction to compare.
 const MIN_FIELD_RESULTANT: f64 = 0.5;
@@ -108,7 +111,7 @@ impl GapBridge {
         let err = crate::angle::wrap(ahrs_turn_rad - trapezoid);
         let hidden = 0.5 * self.rate_up_rads.abs().max(rate_up.abs()) * dt;
         self.gyro_err_rad = err;
-        self.gyro_var_rad2 = hidden * hidden + (UNSEEN_RATE_RADS * dt).powi(2);
+        self.gyro_var_rad2 = (hidden * hidden + (UNSEEN_RATE_RADS * dt).powi(2)).min(LOST_VAR_RAD2);
         self.rate_up_rads = rate_up;
         if self.field[2] > 0.0 {
             // The AHRS frame moved by its error over the gap: where the field should
@@ -239,5 +242,18 @@ mod tests {
         let (_, g) = b.on_gap(5.0, 1.5, 0.0, 2.0);
         assert!((g - 2.0).abs() < 1e-12);
         assert!(b.pending_t_s.is_nan());
+    }
+
+    #[test]
+    fn a_long_gap_leaves_a_bounded_variance() {
+        // A gap of days at the largest rate: the heading is lost, not infinitely so
+        // (the snapshot's range check refused the engine's own state before).
+        let mut b = GapBridge::default();
+        for _ in 0..10 {
+            b.is_gap(0.01);
+        }
+        assert!(b.is_gap(1e6));
+        b.on_gap(1e6, 1e6, 30.0, 1.0);
+        assert!(b.gyro_var_rad2 <= LOST_VAR_RAD2 && b.gyro_var_rad2 > 3.0);
     }
 }
