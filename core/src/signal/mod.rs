@@ -1,7 +1,9 @@
 //! Small signal-processing building blocks shared by the engines. None allocates
 //! after construction.
 
+mod gap;
 mod ring;
+pub(crate) use gap::is_gap;
 pub use ring::Ring;
 
 /// Gain of a first-order low-pass over a step of `x` time constants: 1 − e^(−x), exact

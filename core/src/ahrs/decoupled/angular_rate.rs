@@ -4,9 +4,6 @@
 
 use super::Decoupled;
 
-/// An interval longer than this many typical intervals is a gap: samples were lost
-/// (a Bluetooth burst, a busy phone) and the rotation meanwhile is unknown.
-pub const GAP_INTERVALS: f64 = 3.0;
 /// A gap is bridged by the gyroscope (the mean of the rates before and after it,
 /// integrated over the gap) when the rotation that could hide in it, the larger rate
 /// times the gap, is below this, rad (2°); beyond, the averages restart as after a
@@ -14,9 +11,6 @@ pub const GAP_INTERVALS: f64 = 3.0;
 pub const GAP_BRIDGE_RAD: f64 = 2.0 * std::f64::consts::PI / 180.0;
 /// What one clipped gyroscope sample may have missed, rad (5°).
 pub const CLIP_MISSED_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
-/// Gain per sample of the typical interval (a running mean over ~100 samples of the
-/// intervals that are not gaps).
-const TYPICAL_INTERVAL_GAIN: f64 = 0.01;
 /// A gyroscope axis that reads exactly the same value on many consecutive samples at
 /// a rate of at least this, rad/s (115°/s), is clipped: a sensor's output code
 /// saturates, while a real rate that fast rarely holds one code. Catches the clipping
@@ -90,15 +84,7 @@ impl Decoupled {
     /// intervals that are not gaps.
     #[inline(always)]
     fn gap(&mut self, dt: f64) -> bool {
-        if self.dt_typ_s <= 0.0 {
-            self.dt_typ_s = dt;
-            return false;
-        }
-        if dt <= GAP_INTERVALS * self.dt_typ_s {
-            self.dt_typ_s += TYPICAL_INTERVAL_GAIN * (dt - self.dt_typ_s);
-            return false;
-        }
-        true
+        crate::signal::is_gap(&mut self.dt_typ_s, dt)
     }
 }
 

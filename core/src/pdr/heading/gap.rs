@@ -2,11 +2,6 @@
 //! takes the AHRS's yaw error over the gap from both sides of it: the gyroscope's rates
 //! about the vertical (a trapezoid) and the magnetic field's direction in the AHRS frame.
 
-/// An interval longer than this many typical intervals is a gap (as the AHRS's rule).
-const GAP_INTERVALS: f64 = 3.0;
-/// Gain per sample of the typical interval (a running mean over ~100 samples of the
-/// intervals that are not gaps).
-const TYPICAL_INTERVAL_GAIN: f64 = 0.01;
 /// Time constant of the field direction's mean before a gap, and the span averaged
 /// after one before the bridge is decided, s.
 const FIELD_WINDOW_S: f64 = 0.5;
@@ -78,18 +73,7 @@ pub(super) struct Bridged {
 impl GapBridge {
     /// Whether `dt` (s, > 0) is a gap; learns the typical interval from the others.
     pub(super) fn is_gap(&mut self, dt: f64) -> bool {
-        if dt.is_nan() || dt <= 0.0 {
-            return false;
-        }
-        if self.dt_typ_s <= 0.0 {
-            self.dt_typ_s = dt;
-            return false;
-        }
-        if dt <= GAP_INTERVALS * self.dt_typ_s {
-            self.dt_typ_s += TYPICAL_INTERVAL_GAIN * (dt - self.dt_typ_s);
-            return false;
-        }
-        true
+        !(dt.is_nan() || dt <= 0.0) && crate::signal::is_gap(&mut self.dt_typ_s, dt)
     }
 
     /// A gap of `dt` s ended at `t_s`: `rate_up` is this sample's rate about the
