@@ -177,6 +177,13 @@ impl FootNavigator {
         i64::try_from(self.lock().divergence_resets()).unwrap_or(i64::MAX)
     }
 
+    /// Gyroscope bias jumps taken: two consecutive still stances that agreed and that
+    /// the bias estimate could not explain set the bias anew (docs/foot.md, "Gyroscope
+    /// bias jumps"; 0 while the bias holds).
+    pub fn bias_jumps(&self) -> i64 {
+        i64::try_from(self.lock().bias_jumps()).unwrap_or(i64::MAX)
+    }
+
     /// The whole state as bytes (configuration included; versioned, checksummed), to
     /// survive the app being killed; give them to `FootNavigator.restore`. With the
     /// SVM detector the model travels as text (a few hundred kB).

@@ -125,6 +125,8 @@ class FootTest {
             val end = assertNotNull(nav.estimate())
             assertTrue(produced.toInt() in (samples.size - 200)..samples.size, "produced $produced of ${samples.size}")
             assertEquals(end.strides.toInt(), strides.size, "one stride-end estimate per stride")
+            // A bias jump needs two still stances: never more jumps than strides.
+            assertTrue(nav.biasJumps() in 0L..end.strides.toLong(), "bias jumps ${nav.biasJumps()}")
             assertTrue(end.strides >= 20, "strides counted: ${end.strides}")
             // Every trial here is on a level floor: most strides are taken as level, and those report no climb.
             val levelled = strides.count { it.stride!!.levelledM != 0.0 }
