@@ -334,37 +334,12 @@ impl Strapdown {
             Some(g) if nis > g => (s * (nis / g), s_inv * (g / nis)),
             _ => (s, s_inv),
         };
-        let k = self.cov.fixed_columns::<3>(IV) * s_inv; // 15 × 3
-        let dx = k * self.v;
-        if !dx.iter().all(|x| x.is_finite()) {
-            return false;
-        }
-        let ks = k * s;
-        self.cov -= ks * k.transpose();
-
-        let dp = Vector3::new(dx[IP], dx[IP + 1], dx[IP + 2]);
-        let dv = Vector3::new(dx[IV], dx[IV + 1], dx[IV + 2]);
-        let mut phi = Vector3::new(dx[IA], dx[IA + 1], dx[IA + 2]);
-        let dba = Vector3::new(dx[IBA], dx[IBA + 1], dx[IBA + 2]);
-        let dbg = Vector3::new(dx[IBG], dx[IBG + 1], dx[IBG + 2]);
-        self.v -= dv;
-        match correction {
-            Correction::Full => {
-                self.p -= dp;
-                self.ba -= dba;
-                self.bg -= dbg;
-            }
-            Correction::AsPublished => {
-                // Pitch and roll only: drop the vertical (heading) component.
-                phi.z = 0.0;
-            }
-        }
-        self.q = UnitQuaternion::from_scaled_axis(-phi) * self.q;
-        true
+        let v = self.v;
+        self.update3(IV, &v, &s, &s_inv, correction)
     }
 
     /// Normalised innovation squared of a zero-angular-rate update (see
-    /// [`zaru`](Self::zaru)); `None` if its covariance cannot be inverted.
+    /// [`bias_jump`](Self::bias_jump)); `None` if its covariance cannot be inverted.
     pub fn zaru_nis(&self, w_mean: &Vector3<f64>, r: f64) -> Option<f64> {
         let y = self.bg - w_mean;
         let s = self.cov.fixed_view::<3, 3>(IBG, IBG) + Matrix3::from_diagonal_element(r);
@@ -394,20 +369,51 @@ impl Strapdown {
             self.cov = before;
             return false;
         };
-        let k = self.cov.fixed_columns::<3>(IBG) * s_inv; // 15 × 3
+        if !self.update3(IBG, &y, &s, &s_inv, Correction::Full) {
+            self.cov = before;
+            return false;
+        }
+        true
+    }
+
+    /// The Kalman update of a measurement of the three states from index `i`
+    /// (H = [0 … I₃ … 0]) with innovation `y`, its covariance `s` and `s⁻¹`; feeds back
+    /// what `correction` says. Returns false (and changes nothing) if the correction is
+    /// not finite.
+    fn update3(
+        &mut self,
+        i: usize,
+        y: &Vector3<f64>,
+        s: &Matrix3<f64>,
+        s_inv: &Matrix3<f64>,
+        correction: Correction,
+    ) -> bool {
+        let k = self.cov.fixed_columns::<3>(i) * s_inv; // 15 × 3
         let dx = k * y;
         if !dx.iter().all(|x| x.is_finite()) {
-            self.cov = before;
             return false;
         }
         let ks = k * s;
         self.cov -= ks * k.transpose();
-        self.p -= Vector3::new(dx[IP], dx[IP + 1], dx[IP + 2]);
-        self.v -= Vector3::new(dx[IV], dx[IV + 1], dx[IV + 2]);
-        let phi = Vector3::new(dx[IA], dx[IA + 1], dx[IA + 2]);
+
+        let dp = Vector3::new(dx[IP], dx[IP + 1], dx[IP + 2]);
+        let dv = Vector3::new(dx[IV], dx[IV + 1], dx[IV + 2]);
+        let mut phi = Vector3::new(dx[IA], dx[IA + 1], dx[IA + 2]);
+        let dba = Vector3::new(dx[IBA], dx[IBA + 1], dx[IBA + 2]);
+        let dbg = Vector3::new(dx[IBG], dx[IBG + 1], dx[IBG + 2]);
+        self.v -= dv;
+        match correction {
+            Correction::Full => {
+                self.p -= dp;
+                self.ba -= dba;
+                self.bg -= dbg;
+            }
+            Correction::AsPublished => {
+                // Pitch and roll only: drop the vertical (heading) component.
+                phi.z = 0.0;
+            }
+        }
         self.q = UnitQuaternion::from_scaled_axis(-phi) * self.q;
-        self.ba -= Vector3::new(dx[IBA], dx[IBA + 1], dx[IBA + 2]);
-        self.bg -= Vector3::new(dx[IBG], dx[IBG + 1], dx[IBG + 2]);
         true
     }
 
