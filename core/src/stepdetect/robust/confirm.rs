@@ -181,13 +181,7 @@ impl RobustDetector {
             );
             lo / hi
         };
-        let mut ratios = [0.0f64; PENDING];
-        for (j, r) in ratios.iter_mut().enumerate().take(k - 1) {
-            *r = alike(j);
-        }
-        let ratios = &mut ratios[..k - 1];
-        ratios.sort_by(f64::total_cmp);
-        ratios[(k - 1) / 2] >= STEPS_ALIKE_AMPLITUDE
+        median_of(k - 1, alike) >= STEPS_ALIKE_AMPLITUDE
             && self.acf_full_window(period_s) >= self.p.min_periodicity
     }
 
@@ -265,13 +259,18 @@ fn newest_intervals(kept: &Ring<Pending, PENDING>, k: usize) -> [f64; PENDING] {
 
 /// The median (upper, for an even `k`) of `f` over the newest `k` of `kept`.
 fn newest_median(kept: &Ring<Pending, PENDING>, k: usize, f: impl Fn(Pending) -> f64) -> f64 {
+    median_of(k, |j| kept.back(j).map(&f).unwrap_or(0.0))
+}
+
+/// The (upper) median of `f(0) … f(n − 1)`, n ≤ [`PENDING`], without allocating.
+fn median_of(n: usize, f: impl Fn(usize) -> f64) -> f64 {
     let mut v = [0.0f64; PENDING];
-    for (j, slot) in v.iter_mut().enumerate().take(k) {
-        *slot = kept.back(j).map(&f).unwrap_or(0.0);
+    for (j, slot) in v.iter_mut().enumerate().take(n) {
+        *slot = f(j);
     }
-    let v = &mut v[..k];
+    let v = &mut v[..n];
     v.sort_by(f64::total_cmp);
-    v[k / 2]
+    v[n / 2]
 }
 
 #[cfg(test)]
