@@ -7,11 +7,13 @@
 //! Error dynamics: `δṗ = δv`, `δv̇ = −[f_n×] φ − Ĉ δb_a`, `φ̇ = −Ĉ δb_g`, biases random
 //! walks. The covariance is propagated by blocks (F is sparse), then symmetrised with
 //! a floor on the diagonal; the zero-velocity update uses `P ← P − K S Kᵀ`, which
-//! keeps it symmetric.
+//! keeps it symmetric. The attitude variance also grows by the rotation the samples did
+//! not resolve (`unresolved.rs`).
 
 use nalgebra::{Matrix3, SMatrix, UnitQuaternion, Vector3};
 
 use super::config::Correction;
+use super::types::BodySample;
 
 pub(crate) type Cov = SMatrix<f64, 15, 15>;
 pub(crate) const IP: usize = 0;
@@ -108,10 +110,12 @@ impl Strapdown {
         }
     }
 
-    /// Advance by one sample: integrate the bias-corrected rates (average of this
-    /// sample and the previous one) over `dt_int` and propagate the covariance over
-    /// it; across a gap (`dt_cov > dt_int`) the rest of the gap only widens the
-    /// diagonal (white noise on velocity, attitude and biases, [`GAP_SPEED_MPS`] on
+    /// Advance by one sample `s` (body axes): integrate the bias-corrected rates
+    /// (average of this sample and the previous one) over `dt_int` and propagate the
+    /// covariance over it, the attitude variance grown by the rotation the samples did
+    /// not resolve (`s.unresolved_rad`, about each body axis, turned into the
+    /// navigation frame); across a gap (`dt_cov > dt_int`) the rest of the gap only
+    /// widens the diagonal (white noise on velocity, attitude and biases, [`GAP_SPEED_MPS`] on
     /// position): the linearised cross-terms over hours would be meaningless and,
     /// fed back by the next zero-velocity update, throw the state kilometres away.
     /// The covariance is left for [`condition`](Self::condition), once per sample
@@ -119,15 +123,14 @@ impl Strapdown {
     #[inline]
     pub fn propagate(
         &mut self,
-        f_b: &[f64; 3],
-        w_b: &[f64; 3],
+        s: &BodySample,
         dt_int: f64,
         dt_cov: f64,
         n: &Noise,
         gyro_interval_mean: bool,
     ) {
-        let w_raw = Vector3::new(w_b[0], w_b[1], w_b[2]);
-        let f_raw = Vector3::new(f_b[0], f_b[1], f_b[2]);
+        let w_raw = Vector3::from(s.w);
+        let f_raw = Vector3::from(s.f);
         // Trapezoidal: the average of this sample and the previous one over the
         // interval (second order; a zero-order hold of the newest sample lags half a
         // step, which matters across dropped samples and at low rates). A gyroscope
@@ -152,6 +155,11 @@ impl Strapdown {
 
         let c = *self.q.to_rotation_matrix().matrix();
         self.propagate_cov(&c, &f_n, dt_int, n);
+        if s.unresolved_rad != [0.0; 3] {
+            let d = Matrix3::from_diagonal(&Vector3::from(s.unresolved_rad.map(|r| r * r)));
+            let add = c * d * c.transpose();
+            self.cov.fixed_view_mut::<3, 3>(IA, IA).add_assign(&add);
+        }
         if dt_cov > dt_int {
             self.widen(dt_cov - dt_int, n);
         }

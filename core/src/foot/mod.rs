@@ -17,6 +17,7 @@ mod navigator;
 mod still;
 mod svm;
 mod types;
+mod unresolved;
 mod zaru;
 
 pub use ceiling::{

@@ -46,6 +46,7 @@ use super::median::{MedianFilter, MAX_MEDIAN_WINDOW};
 use super::still::StillFloor;
 use super::svm::SvmModel;
 use super::types::{BodySample, FootEstimate, FootSample, Stride};
+use super::unresolved::Unresolved;
 use super::zaru::Zaru;
 use crate::ahrs::AxisRemap;
 use crate::batch::{self, Batch, Counts};
@@ -124,6 +125,8 @@ pub struct FootNavigator {
     median: MedianFilter,
     /// Gyroscope clipping repair per sensor axis (with a configured range).
     clip: [AxisClip; 3],
+    /// The rotation the raw rates do not resolve (before the clipping repair).
+    unresolved: Unresolved,
     /// Filtered samples, newest last (detector window source).
     det: Ring<BodySample, MAX_DETECTOR_WINDOW>,
     /// Monotonic queue `(t, ‖f‖)` for the gait-window peak.
@@ -168,6 +171,7 @@ impl FootNavigator {
             accel_rotation: accel_rotation(&config.accel_alignment_rad),
             median: MedianFilter::new(config.median_window),
             clip: [AxisClip::new(); 3],
+            unresolved: Unresolved::default(),
             config,
             noise,
             time: TimeGuard::new(Stream::Imu),
@@ -284,6 +288,10 @@ impl FootNavigator {
         if let Some(r) = &self.accel_rotation {
             f = (r * Vector3::from(f)).into();
         }
+        let dt_int = dt.unwrap_or(0.0).min(self.config.max_gap_s);
+        let unresolved_rad = self
+            .unresolved
+            .push(self.config.axis_remap.apply(s.gyro_rads), dt_int);
         let mut gyro = s.gyro_rads;
         if let Some(range) = self.config.gyro_range_rads {
             // The rotation a clipped swing peak did not report (`clip`).
@@ -301,6 +309,7 @@ impl FootNavigator {
             w,
             saturated,
             external,
+            unresolved_rad,
         };
         let Some(filtered) = self.median.push(body) else {
             return Ok(None);
@@ -521,7 +530,7 @@ impl FootNavigator {
         } else {
             0.0
         };
-        ins.propagate(&c.f, &c.w, dt_int, dt, &noise, interval_mean);
+        ins.propagate(c, dt_int, dt, &noise, interval_mean);
         if missed > LOST_BRIDGE_RAD {
             ins.lost(missed);
             // The heading keeps turning as the walker did over the time not integrated.

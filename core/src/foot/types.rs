@@ -20,6 +20,9 @@ pub(crate) struct BodySample {
     pub saturated: bool,
     /// Stance given from outside (labels, a pressure insole) instead of the detector.
     pub external: Option<bool>,
+    /// Rotation over the interval ending here that the gyroscope's samples do not
+    /// resolve, about each body axis, rad (`unresolved.rs`).
+    pub unresolved_rad: [f64; 3],
 }
 
 /// One stride: from one stance onset of the instrumented foot to the next.

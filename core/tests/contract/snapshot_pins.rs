@@ -227,17 +227,20 @@ const PINNED_NAVIGATOR: [(u64, usize); 3] = [
 // renormalisations' |q|² taken from the factors (i39-speed2; eval outputs byte-identical).
 const PINNED_AHRS: [(u64, usize); 2] = [(3222619867644194477, 13594), (1414324058707394463, 5586)];
 const PINNED_STEPS: (u64, usize) = (15844955469905237905, 46692);
-// Foot format 9 (issue 39, i39-footbias): the gyroscope bias jumps' state (the stance's
+// Foot format 10 (issue 39, i39-footguard): the rotation the samples do not resolve (the
+// last raw rate and its change, and each buffered sample's unresolved rotation per body
+// axis) joins the
+// snapshot, and the attitude variance grows by it (estimates move). Foot format 9 (issue 39, i39-footbias): the gyroscope bias jumps' state (the stance's
 // stillest window, the last unexplained still rate, the stance's length) and their count
 // join the snapshot. Format 8 (i39-foot2): the hole state (turn rate, pending
 // stance check) (estimates unchanged on this walk). Format 7: the stillness floor, and the
 // adaptive SHOE's threshold follows it (the default detector's estimates may move).
 const PINNED_FOOT: [(u64, usize); 5] = [
-    (6760607254460441877, 125084),
-    (12393804883592475826, 125964),
-    (15435183512442965239, 124732),
-    (15653085987218481172, 124908),
-    (2241754743370311180, 126668),
+    (17501885324412613883, 141810),
+    (8927730451844144075, 142690),
+    (4376308401483104729, 141458),
+    (9331692556571747828, 141634),
+    (452541466884463146, 143394),
 ];
 // Recorded on h37-pace at 06a5b1c, before core/src/pace/adaptive.rs was split.
 const PINNED_PACE: [(u64, usize); 3] = [

@@ -101,7 +101,11 @@ fn an_under_sampled_heel_strike_is_removed_within_the_stance_at_50_hz() {
         sim.distance_m
     );
     assert!(mean < 0.085, "mean speed in stance {mean} m/s");
-    assert!(end < 0.005 * sim.distance_m, "end error {end} m");
+    // The simulated swing is smooth and its 50 Hz samples integrate almost exactly;
+    // the attitude variance the unresolved rotation adds (issue 39, `unresolved.rs`)
+    // lets these kicks turn the tilt a little: 0.23 → 0.82 m over 60 m (the real
+    // trials at 50 Hz, point-sampled or averaged, gain: docs/foot.md).
+    assert!(end < 0.02 * sim.distance_m, "end error {end} m");
 }
 
 /// A hole in the swing whose rates at both edges are those of a foot pitching over
@@ -181,4 +185,52 @@ fn a_steady_gyroscope_takes_no_bias_jump() {
     let mut nav = FootNavigator::new(FootConfig::default()).unwrap();
     nav.push_batch(&sim.samples);
     assert_eq!(nav.bias_jumps(), 0);
+}
+
+/// A heel strike rings: the foot's pitch rate swings up and back down within 20 ms
+/// (here ±10 rad/s, no net rotation). Sampled at 200 Hz the trapezoid integrates
+/// both halves; point-sampled at 50 Hz one sample catches one half and stands for
+/// 20 ms of it, and the mechanisation turns the foot by about 10° it never turned.
+/// The filter took its attitude for exact (tilt σ ≈ 0.1°), so the next stance's
+/// zero-velocity updates explained the velocity the tilt error had leaked into by an
+/// accelerometer bias, which then drove the next swings off: the bench's 50 Hz copies
+/// of the running trials ran away to 4–6.5 m. The attitude variance now grows by the
+/// rotation the samples do not resolve (the trapezoid rule's error, from the rates'
+/// second difference), and the updates put the error back into the tilt.
+#[test]
+fn a_ringing_heel_strike_point_sampled_at_50_hz_does_not_run_the_filter_away() {
+    let mut sim = simulate_foot(&FootScenario::walk(7, 1));
+    let ring = [10.0, 10.0, -10.0, -10.0];
+    let onsets: Vec<usize> = (1..sim.truth.len())
+        .filter(|&i| sim.truth[i].stance && !sim.truth[i - 1].stance)
+        .collect();
+    for (k, &i) in onsets.iter().enumerate() {
+        // The ringing starts at a different phase of the 50 Hz grid each stride.
+        for (j, w) in ring.iter().enumerate() {
+            if let Some(s) = sim.samples.get_mut(i + j + k % 4) {
+                s.gyro_rads[1] += w;
+            }
+        }
+    }
+    let mut nav = FootNavigator::new(FootConfig::default()).unwrap();
+    let mut est: Vec<FootEstimate> = Vec::new();
+    for (s, t) in sim.samples.iter().zip(&sim.truth).step_by(4) {
+        if let Some(e) = nav.push_with_stance(s, t.stance).unwrap() {
+            est.push(e);
+        }
+    }
+    let worst_bias = est
+        .iter()
+        .map(|e| {
+            let b = e.accel_bias_mps2;
+            (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt()
+        })
+        .fold(0.0, f64::max);
+    let end = end_error(&est);
+    eprintln!(
+        "50 Hz ringing heel strikes: largest accelerometer bias {worst_bias:.3} m/s²; end error {end:.3} m over {:.0} m",
+        sim.distance_m
+    );
+    assert!(worst_bias < 0.2, "accelerometer bias {worst_bias} m/s²");
+    assert!(end < 0.02 * sim.distance_m, "end error {end} m");
 }

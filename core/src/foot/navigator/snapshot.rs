@@ -3,6 +3,7 @@
 use super::*;
 use crate::foot::hole::Hole;
 use crate::foot::still::{StillFloor, STILL_CAP};
+use crate::foot::unresolved::{Unresolved, TRAPEZOID_ERROR};
 use crate::foot::zaru::{StillWindow, Zaru};
 
 mod config;
@@ -11,21 +12,30 @@ use self::config::{read_config, write_config};
 
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
-/// Version 9: the gyroscope bias jumps' state (`Zaru`: the stance's stillest still window, the last unexplained still rate) and their count. Version 8: the hole state (`Hole`: the last stance onset's heading, the turn rate, a hole waiting for its stance) and the count of re-levelled stances. Version 7: the detector's stillness floor (`StillFloor`). Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
+/// Version 10: the rotation the samples do not resolve (`Unresolved`: the last raw rate and its change; `BodySample::unresolved_rad`). Version 9: the gyroscope bias jumps' state (`Zaru`: the stance's stillest still window, the last unexplained still rate) and their count. Version 8: the hole state (`Hole`: the last stance onset's heading, the turn rate, a hole waiting for its stance) and the count of re-levelled stances. Version 7: the detector's stillness floor (`StillFloor`). Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
 /// ([`TimeGuard`]) replaces the last time (version 2 added `FootConfig::gyro_timing`
 /// and the adaptive SHOE detector).
-const SNAPSHOT_VERSION: u16 = 9;
+const SNAPSHOT_VERSION: u16 = 10;
 
 fn write_body(w: &mut Writer, s: &BodySample) {
-    w.f64(s.t_s);
-    w.f64s(&s.f);
-    w.f64s(&s.w);
-    w.bool(s.saturated);
-    w.u8(match s.external {
+    let BodySample {
+        t_s,
+        f,
+        w: rate,
+        saturated,
+        external,
+        unresolved_rad,
+    } = s;
+    w.f64(*t_s);
+    w.f64s(f);
+    w.f64s(rate);
+    w.bool(*saturated);
+    w.u8(match external {
         None => 0,
         Some(false) => 1,
         Some(true) => 2,
     });
+    w.f64s(unresolved_rad);
 }
 
 fn read_body(r: &mut Reader) -> Result<BodySample, SnapshotError> {
@@ -42,7 +52,9 @@ fn read_body(r: &mut Reader) -> Result<BodySample, SnapshotError> {
         2 => Some(true),
         _ => return Err(SnapshotError::Invalid("external stance")),
     };
+    r.f64s(&mut s.unresolved_rad)?;
     if !(s.t_s.is_finite()
+        && s.unresolved_rad.iter().all(|v| v.is_finite())
         && s.f.iter().all(|v| v.is_finite())
         && s.w.iter().all(|v| v.is_finite()))
     {
@@ -196,6 +208,7 @@ impl FootNavigator {
             units,
             median,
             clip,
+            unresolved,
             det,
             gait,
             still,
@@ -227,6 +240,14 @@ impl FootNavigator {
         for c in clip {
             write_clip(&mut w, c);
         }
+        let Unresolved {
+            seen,
+            prev_w,
+            prev_dw,
+        } = unresolved;
+        w.u8(*seen);
+        w.f64s(prev_w);
+        w.f64s(prev_dw);
         w.u64(det.len() as u64);
         for s in det.iter() {
             write_body(&mut w, &s);
@@ -330,9 +351,24 @@ impl FootNavigator {
         use crate::input::limits::{MAX_ABS_T_S, MAX_ACCEL_NORM_MPS2 as A};
         let w_max = crate::input::limits::MAX_GYRO_RADS * 3f64.sqrt();
         let t_ok = |t: f64| t.abs() <= MAX_ABS_T_S + 1.0;
+        // The second difference of rates within the door's limits, over the longest
+        // interval integrated.
+        let unresolved_max = 4.0 * w_max * self.config.max_gap_s * TRAPEZOID_ERROR;
         let sample_ok = |s: &BodySample| {
-            t_ok(s.t_s) && s.f.iter().all(|v| v.abs() <= A) && s.w.iter().all(|v| v.abs() <= w_max)
+            t_ok(s.t_s)
+                && s.f.iter().all(|v| v.abs() <= A)
+                && s.w.iter().all(|v| v.abs() <= w_max)
+                && s.unresolved_rad
+                    .iter()
+                    .all(|v| (0.0..=unresolved_max).contains(v))
         };
+        let u = &self.unresolved;
+        if !(u.seen <= 2
+            && u.prev_w.iter().all(|v| v.abs() <= w_max)
+            && u.prev_dw.iter().all(|v| v.abs() <= 2.0 * w_max))
+        {
+            return Err("unresolved rotation");
+        }
         if !self.median.samples().all(|s| sample_ok(&s)) || !self.det.iter().all(|s| sample_ok(&s))
         {
             return Err("buffered sample");
@@ -440,6 +476,9 @@ impl FootNavigator {
         for c in n.clip.iter_mut() {
             *c = read_clip(&mut r)?;
         }
+        n.unresolved.seen = r.u8()?;
+        r.f64s(&mut n.unresolved.prev_w)?;
+        r.f64s(&mut n.unresolved.prev_dw)?;
         let len = r.len(MAX_DETECTOR_WINDOW)?;
         for _ in 0..len {
             n.det.push(read_body(&mut r)?);
