@@ -31,11 +31,12 @@ use crate::snapshot::{Reader, SnapshotError, Writer};
 
 /// Snapshot engine kind byte for the AHRS.
 const SNAPSHOT_KIND: u8 = 2;
-/// Snapshot format version written by this build (6: the decoupled filter's mean
+/// Snapshot format version written by this build (7: the decoupled filter's clip-run
+/// miss; 6: the decoupled filter's mean
 /// heading correction rate; 5: its magnetometer offset estimate and its setting; 4: the decoupled filter's gap,
 /// plateau, trusted-dip and heading-variance state; 3: the input layer's time state and g-units
 /// check; 2: both filters; 1: Madgwick only).
-const SNAPSHOT_VERSION: u16 = 6;
+const SNAPSHOT_VERSION: u16 = 7;
 
 // Not boxed: the state is a few hundred bytes, created once, and an indirection
 // would sit on every update.

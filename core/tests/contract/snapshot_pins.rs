@@ -212,11 +212,12 @@ fn pace_tracker_snapshots_are_pinned() {
 // Step detector format 12 and navigator format 10 (issue 39, i39-stepflag): each stored
 // step's origin (seen or filled). Navigator format 11 (issue 39, i39-pdrgap): the
 // walking direction's bridge of the heading across dropped samples.
-// Re-recorded after merging i39-speed3 (AHRS rounding) with it.
+// Re-recorded after merging i39-speed3 (AHRS rounding) with it; then for AHRS format 7
+// (issue 39, i39-omag3: the decoupled filter's clip-run miss).
 const PINNED_NAVIGATOR: [(u64, usize); 3] = [
-    (16725050834063213027, 305907),
-    (5394930311796474922, 305907),
-    (12646670927133177702, 330965),
+    (17979186675723448126, 306019),
+    (9399414079617839787, 306019),
+    (14447083679486977587, 331077),
 ];
 // The default filter's pin re-recorded for the fast atan2 of its magnetometer update
 // (issue 39 speed; within 4e-9 rad of libm's, eval outputs unchanged), then for AHRS
@@ -224,8 +225,10 @@ const PINNED_NAVIGATOR: [(u64, usize); 3] = [
 // heading floor after a lost integration, heading-drift bias state), then for the
 // inclination correction's 1/|average| taken off the sample-to-sample chain (i39-speed2:
 // the exact formula instead of a series to O(ε³), values move by ≈1e-12), then for the
-// renormalisations' |q|² taken from the factors (i39-speed2; eval outputs byte-identical).
-const PINNED_AHRS: [(u64, usize); 2] = [(3222619867644194477, 13594), (1414324058707394463, 5586)];
+// renormalisations' |q|² taken from the factors (i39-speed2; eval outputs byte-identical),
+// then for AHRS format 7 (i39-omag3: the decoupled filter's clip-run miss; the Madgwick
+// pin moves with the version byte only).
+const PINNED_AHRS: [(u64, usize); 2] = [(1073981256677527784, 13706), (9994140219181868925, 5586)];
 const PINNED_STEPS: (u64, usize) = (15844955469905237905, 46692);
 // Foot format 10 (issue 39, i39-footguard): the rotation the samples do not resolve (the
 // last raw rate and its change, and each buffered sample's unresolved rotation per body

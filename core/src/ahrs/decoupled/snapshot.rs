@@ -44,6 +44,7 @@ impl Decoupled {
             dt_typ_s,
             gyro_prev,
             plateau_run,
+            clip_miss_rad,
             // Derived from the settings, or carried by the engine's own flags.
             accel_tau_s: _,
             accel_omega: _,
@@ -90,6 +91,7 @@ impl Decoupled {
         w.f64s(offset_seen_ut);
         w.f64(*heading_drift_rads);
         w.bool(*drift_learning);
+        w.f64(*clip_miss_rad);
     }
 
     /// Reads what [`write_state`](Self::write_state) wrote and checks it.
@@ -144,6 +146,7 @@ impl Decoupled {
         r.f64s(&mut self.offset_seen_ut)?;
         self.heading_drift_rads = r.f64()?;
         self.drift_learning = r.bool()?;
+        self.clip_miss_rad = r.f64()?;
         Ok(())
     }
 
@@ -269,6 +272,7 @@ impl Decoupled {
             && m.dip_rad.abs() <= PI
             && m.undisturbed_s >= 0.0
             && m.rejected_s >= 0.0
+            && (0.0..=f64::MAX).contains(&self.clip_miss_rad)
             && self.bias_elapsed_s >= 0.0
             && self.mag_elapsed_s >= 0.0
     }
