@@ -17,10 +17,13 @@ impl RobustDetector {
     pub(super) fn candidate(&mut self, t_s: f64, amplitude: f64, out: &mut Sink<'_>) {
         let p = self.p;
         let impact = self.impact_ratio(t_s, amplitude);
-        if !(p.min_amplitude_mps2..=p.max_amplitude_mps2).contains(&amplitude) {
+        if amplitude > p.max_amplitude_mps2 || amplitude.is_nan() {
             return;
         }
         let reference = self.amplitude_reference(t_s);
+        if amplitude < p.min_amplitude_mps2 && !self.weak_step_admitted(t_s, amplitude, reference) {
+            return;
+        }
         let interval = t_s - self.last_t_s; // NaN without a previous candidate
         if amplitude < p.relative_amplitude * reference {
             // A secondary bump of the previous step (or of the swing), or, on cadence
@@ -74,7 +77,11 @@ impl RobustDetector {
             f64::NAN
         };
         let ev = self.moments.event(t_s, duration);
-        self.moments = Moments::EMPTY;
+        // A weak one may be left out of a bout of strong steps (`slow_walk::over_floor`):
+        // the next candidate's features then span its samples too, as without it.
+        if amplitude >= self.p.min_amplitude_mps2 {
+            self.moments = Moments::EMPTY;
+        }
         self.pending.push(Pending {
             event: ev,
             impact,

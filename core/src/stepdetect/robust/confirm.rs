@@ -6,6 +6,7 @@
 use super::bout::MISSED_STEP_MAX_PERIODS;
 use super::gaps::{fill_missed, walks_across_gap, WEAK_STEPS_BEFORE_BOUT};
 use super::pending::{merge, Pending};
+use super::slow_walk::SLOW_WALK_MAX_PERIOD_S;
 use super::{RobustDetector, Sink, PENDING};
 use crate::signal::Ring;
 use crate::stepdetect::gait::HALF_LAG_ANTI;
@@ -49,7 +50,12 @@ impl RobustDetector {
         if kept.len() < k || !self.looks_like_gait(&kept, k, period) {
             return;
         }
-        self.pending = kept;
+        // A bout of steps over the floor: the weak candidates among them are bumps.
+        self.pending = if self.has_weak_steps(&kept, k) {
+            kept
+        } else {
+            self.over_floor(&kept)
+        };
         self.in_bout = true;
         self.period_s = period;
         self.prev_interval_s = f64::NAN;
@@ -150,6 +156,13 @@ impl RobustDetector {
         {
             return false;
         }
+        // Steps under the absolute floor: a slow walk, at a walking cadence, whose steps
+        // all look alike.
+        if self.has_weak_steps(kept, k)
+            && !(period <= SLOW_WALK_MAX_PERIOD_S && self.steps_alike(kept, k, period))
+        {
+            return false;
+        }
         if newest_median(kept, k, |c| c.impact) < p.min_impact_ratio {
             return false;
         }
@@ -183,6 +196,15 @@ impl RobustDetector {
         };
         median_of(k - 1, alike) >= STEPS_ALIKE_AMPLITUDE
             && self.acf_full_window(period_s) >= self.p.min_periodicity
+    }
+
+    /// Whether any of the newest `k` of `kept` is under the absolute amplitude floor (a
+    /// slow walk's weak step, see `slow_walk`).
+    fn has_weak_steps(&self, kept: &Ring<Pending, PENDING>, k: usize) -> bool {
+        (0..k).any(|j| {
+            kept.back(j)
+                .is_some_and(|c| c.amplitude_mps2 < self.p.min_amplitude_mps2)
+        })
     }
 
     /// Only the newest k candidates were checked. Older ones waiting in the buffer

@@ -14,6 +14,7 @@ mod params;
 mod peaks;
 mod pending;
 mod short_walk;
+mod slow_walk;
 mod snapshot;
 mod tail;
 

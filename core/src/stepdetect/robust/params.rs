@@ -14,7 +14,8 @@ pub struct RobustStepParams {
     pub min_hysteresis_mps2: f64,
     /// Hysteresis relative to the RMS of the de-meaned magnitude.
     pub hysteresis_rel: f64,
-    /// Smallest peak-to-valley amplitude of a step, m/s².
+    /// Smallest peak-to-valley amplitude of a step, m/s², except for the steps of a
+    /// slow walk whose steps are all about as weak (see docs/phone.md).
     pub min_amplitude_mps2: f64,
     /// Largest peak-to-valley amplitude of a step, m/s² (beyond: violent shaking).
     pub max_amplitude_mps2: f64,

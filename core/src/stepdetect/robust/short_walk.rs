@@ -24,8 +24,9 @@ impl RobustDetector {
     /// steps: every interval within ±[`ASYMMETRY`] of their median, inside the bout
     /// interval range).
     pub(super) fn keep_short_walk(&mut self) {
-        if self.is_short_walk(&self.pending) {
-            self.short_walk = self.pending;
+        let strong = self.over_floor(&self.pending);
+        if self.is_short_walk(&strong) {
+            self.short_walk = strong;
         }
     }
 
