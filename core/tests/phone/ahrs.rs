@@ -1396,6 +1396,32 @@ fn a_clip_run_misses_one_way_and_the_heading_distrusts_the_tilt_it_left() {
     assert!(rms < 20.0, "heading error {rms:.1}° rms");
 }
 
+#[test]
+fn after_a_gap_that_may_hide_a_quarter_turn_the_inclination_starts_afresh() {
+    // The samples of 19.9–20.3 s are lost while the phone swings at up to 530 °/s:
+    // the gyroscope's bound on what it missed (rate × gap) is 154°, so the
+    // accelerometer average from before the gap, carried through the mean of the
+    // rates on either side, may point anywhere; no linear acceleration here, so the
+    // samples after the gap tell the inclination at once.
+    let samples: Vec<ImuSample> = stream(&pitch_swings, 200.0, 25.0, &PHONE, true)
+        .into_iter()
+        .filter(|s| !(19.9..20.3).contains(&s.t_s))
+        .collect();
+    let mut a = Ahrs::new(AhrsSettings::default()).unwrap();
+    let out = run(&mut a, &samples);
+    let tilt_at = |t: f64| {
+        let o = out.iter().find(|o| o.t_s >= t).unwrap();
+        assert!(o.flags.angular_rate_recovery, "the gap is flagged");
+        tilt_err(o, &pitch_swings(t).0) / DEG
+    };
+    let (e1, e2) = (tilt_at(20.35), tilt_at(20.5));
+    println!("tilt error 0.05 s and 0.2 s after the gap: {e1:.2}°, {e2:.2}°");
+    // Before (the old average kept 0.05 / 2.7 rad ≈ 19 ms of weight): 19.8° and 5.3°;
+    // restarted from the first sample after the gap: 0.2° and 0.1°.
+    assert!(e1 < 3.0, "{e1:.2}°");
+    assert!(e2 < 1.5, "{e2:.2}°");
+}
+
 /// A hand turning the phone about two axes (heading swings of ±60°, pitch and roll
 /// swings of ±30°), with a constant offset in the body frame (hard iron).
 struct TurningWithOffset {
