@@ -160,6 +160,14 @@ impl Strapdown {
             let add = c * d * c.transpose();
             self.cov.fixed_view_mut::<3, 3>(IA, IA).add_assign(&add);
         }
+        if s.clip_unknown_mps2 != [0.0; 3] {
+            // The velocity change clipped axes did not report (`accel_clip.rs`).
+            let d = Matrix3::from_diagonal(&Vector3::from(
+                s.clip_unknown_mps2.map(|u| (u * dt_int) * (u * dt_int)),
+            ));
+            let add = c * d * c.transpose();
+            self.cov.fixed_view_mut::<3, 3>(IV, IV).add_assign(&add);
+        }
         if dt_cov > dt_int {
             self.widen(dt_cov - dt_int, n);
         }

@@ -5,6 +5,7 @@
 //! strapdown mechanisation in a local level ENU frame and a 15-state error-state
 //! Kalman filter with zero-velocity updates. See `docs/foot.md`.
 
+mod accel_clip;
 mod ceiling;
 mod clip;
 mod config;
@@ -20,6 +21,10 @@ mod types;
 mod unresolved;
 mod zaru;
 
+pub use accel_clip::{
+    LEVEL_SHARE as ACCEL_LEVEL_SHARE, MAX_PEAK_SHARE, MIN_ACCEL_CEILING_MPS2, MIN_CLIP_HITS,
+    UNKNOWN_SHARE,
+};
 pub use ceiling::{
     GyroCeiling, GyroCeilingDetector, ABOVE_SHARE, FLAT_SHARE, LEVEL_SHARE, MIN_CEILING_RADS,
     MIN_FLAT_SAMPLES, MIN_FLAT_TOPS, SHARPNESS,

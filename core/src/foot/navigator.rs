@@ -33,6 +33,7 @@ use std::sync::Arc;
 
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
+use super::accel_clip::{AccelCeiling, ClipRun, UNKNOWN_SHARE};
 use super::clip::{AxisClip, AT_RANGE};
 use super::config::{Correction, FootConfig, GyroTiming, MAX_DETECTOR_WINDOW};
 use super::detect::{
@@ -127,6 +128,10 @@ pub struct FootNavigator {
     clip: [AxisClip; 3],
     /// The rotation the raw rates do not resolve (before the clipping repair).
     unresolved: Unresolved,
+    /// The accelerometer's ceiling per sensor axis and sign (`accel_clip`).
+    accel_ceiling: AccelCeiling,
+    /// Clipped runs per sensor axis, for the impact's peak (`accel_clip`).
+    accel_runs: [ClipRun; 3],
     /// Filtered samples, newest last (detector window source).
     det: Ring<BodySample, MAX_DETECTOR_WINDOW>,
     /// Monotonic queue `(t, ‖f‖)` for the gait-window peak.
@@ -172,6 +177,8 @@ impl FootNavigator {
             median: MedianFilter::new(config.median_window),
             clip: [AxisClip::new(); 3],
             unresolved: Unresolved::default(),
+            accel_ceiling: AccelCeiling::default(),
+            accel_runs: [ClipRun::default(); 3],
             config,
             noise,
             time: TimeGuard::new(Stream::Imu),
@@ -226,6 +233,19 @@ impl FootNavigator {
     /// attitude more than 90° from it.
     pub fn relevels(&self) -> u64 {
         self.relevels
+    }
+
+    /// The accelerometer's ceiling in use, m/s²: 99 % of
+    /// [`FootConfig::accel_range_mps2`] when configured, else the lowest ceiling found
+    /// in the data so far on any sensor axis and sign (`accel_clip.rs`), or `None`:
+    /// no clipping seen. Samples at it count as clipped: their velocity variance grows
+    /// by what they may hide, and the detector's gait intensity takes their impact's
+    /// peak from its flanks.
+    pub fn accel_ceiling_mps2(&self) -> Option<f64> {
+        match self.config.accel_range_mps2 {
+            Some(r) => Some(AT_RANGE * r),
+            None => self.accel_ceiling.lowest_mps2(),
+        }
     }
 
     /// Gyroscope bias jumps taken: two consecutive still stances whose rates agreed
@@ -301,6 +321,29 @@ impl FootNavigator {
             }
         }
         let w = self.config.axis_remap.apply(gyro);
+        // What clipped accelerometer axes did not report, and a clipped impact's peak
+        // (`accel_clip`).
+        let clipped = self
+            .accel_ceiling
+            .push(&s.accel_mps2, self.config.accel_range_mps2);
+        let norm2 = vec3::dot(s.accel_mps2, s.accel_mps2);
+        let mut impact_mps2 = 0.0_f64;
+        let mut unknown = [0.0; 3];
+        for (((run, &x), &c), u) in self
+            .accel_runs
+            .iter_mut()
+            .zip(&s.accel_mps2)
+            .zip(&clipped)
+            .zip(unknown.iter_mut())
+        {
+            if let Some(peak) = run.push(x, c, norm2) {
+                impact_mps2 = impact_mps2.max(peak);
+            }
+            if c {
+                *u = UNKNOWN_SHARE * x.abs();
+            }
+        }
+        let clip_unknown_mps2 = self.config.axis_remap.apply(unknown).map(f64::abs);
         let saturated = saturated(&s.accel_mps2, self.config.accel_range_mps2)
             || saturated(&s.gyro_rads, self.config.gyro_range_rads);
         let body = BodySample {
@@ -310,6 +353,8 @@ impl FootNavigator {
             saturated,
             external,
             unresolved_rad,
+            clip_unknown_mps2,
+            impact_mps2,
         };
         let Some(filtered) = self.median.push(body) else {
             return Ok(None);
@@ -336,7 +381,7 @@ impl FootNavigator {
 
     fn after_median(&mut self, s: BodySample) -> Option<FootEstimate> {
         self.det.push(s);
-        let fnorm = vec3::norm(s.f);
+        let fnorm = vec3::norm(s.f).max(s.impact_mps2);
         while let Some(&(_, v)) = self.gait.newest().as_ref() {
             if v <= fnorm {
                 self.gait.pop_back();

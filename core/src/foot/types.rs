@@ -23,6 +23,12 @@ pub(crate) struct BodySample {
     /// Rotation over the interval ending here that the gyroscope's samples do not
     /// resolve, about each body axis, rad (`unresolved.rs`).
     pub unresolved_rad: [f64; 3],
+    /// 1-σ of the specific force the accelerometer did not report (clipped axes),
+    /// per body axis, m/s² (`accel_clip.rs`).
+    pub clip_unknown_mps2: [f64; 3],
+    /// A clipped impact's ‖f‖ as its flanks put it, given once its run is over (0:
+    /// none), m/s² (`accel_clip.rs`): the gait intensity takes it for the sample's.
+    pub impact_mps2: f64,
 }
 
 /// One stride: from one stance onset of the instrumented foot to the next.

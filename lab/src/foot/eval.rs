@@ -462,6 +462,9 @@ pub struct Replayed {
     pub window: usize,
     /// Divergence-guard resets.
     pub resets: u64,
+    /// The accelerometer ceiling the navigator worked with at the end, m/s²
+    /// (`FootNavigator::accel_ceiling_mps2`; `None`: no clipping seen).
+    pub accel_ceiling_mps2: Option<f64>,
 }
 
 /// Row `i` of a recording as the navigator's sample.
@@ -533,6 +536,7 @@ pub fn replay_counted(trial: &Trial, m: &Method) -> Result<Replayed, String> {
     out.rate_hz = nav.sample_rate_hz();
     out.window = nav.detector_window();
     out.resets = nav.divergence_resets();
+    out.accel_ceiling_mps2 = nav.accel_ceiling_mps2();
     Ok(out)
 }
 

@@ -345,6 +345,12 @@ impl FootReplay {
         if r.resets > 0 {
             lines.push(format!("  divergence-guard resets: {}", r.resets));
         }
+        if let Some(c) = r.accel_ceiling_mps2 {
+            lines.push(format!(
+                "  accelerometer clipped at {c:.1} m/s² ({:.1} g): the velocity over clipped samples is not trusted and the detector takes each clipped impact's peak from its flanks; expect larger errors than from an unclipped IMU (docs/foot.md, \"Accelerometer clipping\")",
+                c / crate::perturb::kinds::G0_MPS2
+            ));
+        }
         lines.extend(self.truth_rmse());
         lines.push(format!(
             "  rests on: the IMU alone (zero-velocity updates at each stance; no GNSS, no step-length model); accelerometer alignment: {}",
@@ -709,6 +715,35 @@ mod tests {
             return None;
         };
         Some(read_foot_csv(&path).unwrap())
+    }
+
+    /// Issue 39, real data: a running trial (2017-11-27-11-18-11) with its
+    /// accelerometer clipped at ±4 g, written as the data set's CSV: the replay finds
+    /// the ceiling and says what the result rests on; the recording as it is does not
+    /// clip.
+    #[test]
+    fn a_clipped_accelerometer_is_reported() {
+        let Some(rec) = uoft_trial("2017-11-27-11-18-11") else {
+            return;
+        };
+        let o = FootOptions::default();
+        let path = Path::new("2017-11-27-11-18-11.csv");
+        let plain = replay(path, rec.clone(), &o).unwrap();
+        assert_eq!(plain.replayed.accel_ceiling_mps2, None);
+        assert!(!plain.summary(None).contains("accelerometer clipped"));
+        let lim = 4.0 * crate::perturb::kinds::G0_MPS2;
+        let mut clipped = rec;
+        for a in clipped.accel_mps2.iter_mut() {
+            *a = a.map(|x| x.clamp(-lim, lim));
+        }
+        let r = replay(path, clipped, &o).unwrap();
+        let c = r.replayed.accel_ceiling_mps2.expect("the ceiling is found");
+        assert!((c - lim).abs() < 1e-9, "{c}");
+        let text = r.summary(None);
+        assert!(
+            text.contains("accelerometer clipped at 39.2 m/s² (4.0 g)"),
+            "{text}"
+        );
     }
 
     /// Issue 36 item 6, real data: the MicroStrain's pitch rate on 2017-11-22-11-44-47

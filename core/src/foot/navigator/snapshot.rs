@@ -1,6 +1,9 @@
 //! Snapshot and restore of the [`FootNavigator`]: the configuration, the whole filter state and the latest estimate, versioned and checksummed. Exhaustive destructuring of the navigator and of its configuration makes a field that is not written a compile error.
 
 use super::*;
+use crate::foot::accel_clip::{
+    AccelCeiling, ClipRun, Side as AccelSide, MAX_PEAK_SHARE, UNKNOWN_SHARE,
+};
 use crate::foot::hole::Hole;
 use crate::foot::still::{StillFloor, STILL_CAP};
 use crate::foot::unresolved::{Unresolved, TRAPEZOID_ERROR};
@@ -12,10 +15,10 @@ use self::config::{read_config, write_config};
 
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
-/// Version 10: the rotation the samples do not resolve (`Unresolved`: the last raw rate and its change; `BodySample::unresolved_rad`). Version 9: the gyroscope bias jumps' state (`Zaru`: the stance's stillest still window, the last unexplained still rate) and their count. Version 8: the hole state (`Hole`: the last stance onset's heading, the turn rate, a hole waiting for its stance) and the count of re-levelled stances. Version 7: the detector's stillness floor (`StillFloor`). Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
+/// Version 11: the accelerometer's ceiling per axis and sign (`AccelCeiling`), its clipped runs (`ClipRun`), the specific force clipped samples did not report and a clipped impact's peak (`BodySample::clip_unknown_mps2`, `impact_mps2`). Version 10: the rotation the samples do not resolve (`Unresolved`: the last raw rate and its change; `BodySample::unresolved_rad`). Version 9: the gyroscope bias jumps' state (`Zaru`: the stance's stillest still window, the last unexplained still rate) and their count. Version 8: the hole state (`Hole`: the last stance onset's heading, the turn rate, a hole waiting for its stance) and the count of re-levelled stances. Version 7: the detector's stillness floor (`StillFloor`). Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
 /// ([`TimeGuard`]) replaces the last time (version 2 added `FootConfig::gyro_timing`
 /// and the adaptive SHOE detector).
-const SNAPSHOT_VERSION: u16 = 10;
+const SNAPSHOT_VERSION: u16 = 11;
 
 fn write_body(w: &mut Writer, s: &BodySample) {
     let BodySample {
@@ -25,6 +28,8 @@ fn write_body(w: &mut Writer, s: &BodySample) {
         saturated,
         external,
         unresolved_rad,
+        clip_unknown_mps2,
+        impact_mps2,
     } = s;
     w.f64(*t_s);
     w.f64s(f);
@@ -36,6 +41,8 @@ fn write_body(w: &mut Writer, s: &BodySample) {
         Some(true) => 2,
     });
     w.f64s(unresolved_rad);
+    w.f64s(clip_unknown_mps2);
+    w.f64(*impact_mps2);
 }
 
 fn read_body(r: &mut Reader) -> Result<BodySample, SnapshotError> {
@@ -53,8 +60,12 @@ fn read_body(r: &mut Reader) -> Result<BodySample, SnapshotError> {
         _ => return Err(SnapshotError::Invalid("external stance")),
     };
     r.f64s(&mut s.unresolved_rad)?;
+    r.f64s(&mut s.clip_unknown_mps2)?;
+    s.impact_mps2 = r.f64()?;
     if !(s.t_s.is_finite()
         && s.unresolved_rad.iter().all(|v| v.is_finite())
+        && s.clip_unknown_mps2.iter().all(|v| v.is_finite())
+        && s.impact_mps2.is_finite()
         && s.f.iter().all(|v| v.is_finite())
         && s.w.iter().all(|v| v.is_finite()))
     {
@@ -101,6 +112,41 @@ fn read_clip(r: &mut Reader) -> Result<AxisClip, SnapshotError> {
     if c.pending_rad.abs() > super::super::clip::MAX_RESTORED_RAD * 2.0 {
         return Err(SnapshotError::Invalid("clip repair"));
     }
+    Ok(c)
+}
+
+fn write_run(w: &mut Writer, c: &ClipRun) {
+    let ClipRun {
+        prev,
+        active,
+        sign,
+        ceiling,
+        entry,
+        rise,
+        len,
+        norm2,
+        exit,
+    } = c;
+    w.f64s(prev);
+    w.bool(*active);
+    w.f64s(&[*sign, *ceiling, *entry, *rise]);
+    w.u64(u64::from(*len));
+    w.f64s(&[*norm2, *exit]);
+}
+
+fn read_run(r: &mut Reader) -> Result<ClipRun, SnapshotError> {
+    let mut c = ClipRun::default();
+    for p in c.prev.iter_mut() {
+        *p = r.f64_or_nan()?;
+    }
+    c.active = r.bool()?;
+    c.sign = r.f64()?;
+    c.ceiling = r.f64()?;
+    c.entry = r.f64_or_nan()?;
+    c.rise = r.f64_or_nan()?;
+    c.len = u32::try_from(r.u64()?).map_err(|_| SnapshotError::Invalid("clipped run"))?;
+    c.norm2 = r.f64()?;
+    c.exit = r.f64_or_nan()?;
     Ok(c)
 }
 
@@ -209,6 +255,8 @@ impl FootNavigator {
             median,
             clip,
             unresolved,
+            accel_ceiling,
+            accel_runs,
             det,
             gait,
             still,
@@ -248,6 +296,20 @@ impl FootNavigator {
         w.u8(*seen);
         w.f64s(prev_w);
         w.f64s(prev_dw);
+        let AccelCeiling { sides } = accel_ceiling;
+        for side in sides.iter().flatten() {
+            let AccelSide {
+                peak,
+                hits,
+                at_level,
+            } = side;
+            w.f64(*peak);
+            w.u64(u64::from(*hits));
+            w.bool(*at_level);
+        }
+        for run in accel_runs {
+            write_run(&mut w, run);
+        }
         w.u64(det.len() as u64);
         for s in det.iter() {
             write_body(&mut w, &s);
@@ -361,7 +423,34 @@ impl FootNavigator {
                 && s.unresolved_rad
                     .iter()
                     .all(|v| (0.0..=unresolved_max).contains(v))
+                && s.clip_unknown_mps2
+                    .iter()
+                    .all(|v| (0.0..=UNKNOWN_SHARE * A).contains(v))
+                && (0.0..=MAX_PEAK_SHARE * A * 3f64.sqrt()).contains(&s.impact_mps2)
         };
+        // Clipped runs of values the door lets through.
+        let within = |v: f64| v.is_nan() || v.abs() <= A;
+        if !self.accel_runs.iter().all(|c| {
+            c.prev.iter().all(|&v| within(v))
+                && [-1.0, 0.0, 1.0].contains(&c.sign)
+                && (0.0..=A).contains(&c.ceiling)
+                && within(c.entry)
+                && (c.rise.is_nan() || c.rise.abs() <= 2.0 * A)
+                && (0.0..=3.0 * A * A).contains(&c.norm2)
+                && within(c.exit)
+        }) {
+            return Err("clipped run");
+        }
+        // A largest magnitude the door lets through (0 before any sample).
+        if !self
+            .accel_ceiling
+            .sides
+            .iter()
+            .flatten()
+            .all(|s| (0.0..=A).contains(&s.peak))
+        {
+            return Err("accelerometer ceiling");
+        }
         let u = &self.unresolved;
         if !(u.seen <= 2
             && u.prev_w.iter().all(|v| v.abs() <= w_max)
@@ -479,6 +568,14 @@ impl FootNavigator {
         n.unresolved.seen = r.u8()?;
         r.f64s(&mut n.unresolved.prev_w)?;
         r.f64s(&mut n.unresolved.prev_dw)?;
+        for side in n.accel_ceiling.sides.iter_mut().flatten() {
+            side.peak = r.f64()?;
+            side.hits = u32::try_from(r.u64()?).map_err(|_| invalid("accelerometer ceiling"))?;
+            side.at_level = r.bool()?;
+        }
+        for run in n.accel_runs.iter_mut() {
+            *run = read_run(&mut r)?;
+        }
         let len = r.len(MAX_DETECTOR_WINDOW)?;
         for _ in 0..len {
             n.det.push(read_body(&mut r)?);
