@@ -106,14 +106,33 @@ impl RobustDetector {
         let acf = self.gait.step_period(p.min_periodicity).filter(|_| clean);
         if let Some((acf_period, _, _)) = acf {
             let ratio = acf_period / self.period_s;
-            // A shorter period must itself be a correlated lag: half a slow step is
-            // anti-correlated (peak against valley) and is not taken.
-            let shorter_ok = self.gait.rho_at(acf_period) > 0.0;
-            let longer_ok = ratio < PERIOD_LOCK_MAX_MULTIPLE;
-            if (ratio > PERIOD_LOCK_MAX && longer_ok) || (ratio < PERIOD_LOCK_MIN && shorter_ok) {
+            let longer = ratio > PERIOD_LOCK_MAX && ratio < PERIOD_LOCK_MAX_MULTIPLE;
+            let shorter = ratio < PERIOD_LOCK_MIN && self.shorter_period_is_a_step(acf_period);
+            if longer || shorter {
                 self.period_s = acf_period;
             }
         }
+    }
+
+    /// Whether the autocorrelation's `acf_period`, shorter than the bout's, is the walk's
+    /// step: a correlated lag (half a slow step is anti-correlated, peak against
+    /// valley), and either one at which the signal repeats as a bout's must (half
+    /// `min_periodicity`), or at least as well as at the bout's own period (a bout that
+    /// lost its cadence), or the steps have running strength (a walk turning into a
+    /// run: the correlation window still holds the walk, whose steps repeat at the
+    /// run's stride). A slow walk whose secondary bumps are as strong as its steps
+    /// offers a half-step period that correlates at 0.0–0.13 while its step correlates
+    /// at 0.22–0.65 (Pixel_Jamie_Carpet_InHand_1 time-stretched × 0.7–0.85, steps of
+    /// 1.3–1.5 m/s²): taken, every bump was counted as a step.
+    fn shorter_period_is_a_step(&self, acf_period: f64) -> bool {
+        let p = self.p;
+        let rho = self.gait.rho_at(acf_period);
+        let rho_own = self.gait.rho_at(self.period_s);
+        rho > 0.0
+            && (rho >= p.min_periodicity * BOUT_PERIODICITY_SHARE
+                || rho_own.is_nan()
+                || rho >= rho_own
+                || self.amplitude_ref_mps2 >= p.running_min_amplitude_mps2)
     }
 
     /// Release the step at `t_s`, and the steps missed before it (a weak one, or
