@@ -194,6 +194,12 @@ impl Strapdown {
         x.y.atan2(x.x)
     }
 
+    /// Add `var` rad² to the heading variance.
+    #[cold]
+    pub fn widen_heading(&mut self, var: f64) {
+        self.cov[(IA + 2, IA + 2)] += var;
+    }
+
     /// Turn the attitude by `angle` rad about the vertical.
     #[cold]
     pub fn turn(&mut self, angle: f64) {
@@ -361,6 +367,20 @@ impl Strapdown {
         let s = self.cov.fixed_view::<3, 3>(IBG, IBG) + Matrix3::from_diagonal_element(r);
         let s_inv = s.try_inverse()?;
         Some(y.dot(&(s_inv * y)))
+    }
+
+    /// Zero-angular-rate update: the foot stood still while the gyroscope read
+    /// `w_mean` (body axes, raw) with variance `r` per axis. Returns false (and changes
+    /// nothing) if the innovation covariance cannot be inverted or the correction is
+    /// not finite.
+    #[cold]
+    pub fn zaru(&mut self, w_mean: &Vector3<f64>, r: f64) -> bool {
+        let y = self.bg - w_mean;
+        let s = self.cov.fixed_view::<3, 3>(IBG, IBG) + Matrix3::from_diagonal_element(r);
+        let Some(s_inv) = s.try_inverse() else {
+            return false;
+        };
+        self.update3(IBG, &y, &s, &s_inv, Correction::Full)
     }
 
     /// Zero-angular-rate update after a bias jump: the foot stood still while the

@@ -586,7 +586,11 @@ impl FootNavigator {
         // when a stance ends against its stillest window.
         let zaru = correction == Correction::Full;
         let gyro_var = noise.gyro_var_per_s * self.rate_hz;
-        if zaru && !stance && self.stance && self.zaru.stance_ended(ins, gyro_var) {
+        if zaru
+            && !stance
+            && self.stance
+            && self.zaru.stance_ended(ins, gyro_var, (self.rate_hz, c.t_s))
+        {
             self.bias_jumps = self.bias_jumps.saturating_add(1);
         }
         if stance {

@@ -1,6 +1,6 @@
 //! Gyroscope bias jumps: the stillest window of each stance, if its rate scatters
 //! less than the gyroscope's own noise, reads the bias; two consecutive such stances
-//! that agree and the estimate cannot explain are a jump, and update the bias (zero rate).
+//! that agree, or one still for long, and the estimate cannot explain are a jump (zero rate).
 
 use nalgebra::Vector3;
 
@@ -33,8 +33,25 @@ pub(crate) const ZARU_SIGMA_RADS: f64 = 0.005;
 /// than its random walk allows, and the bias variance is widened so that the update
 /// follows. One alone is taken as the foot's motion.
 pub(crate) const BIAS_JUMP_NIS: f64 = 16.27;
+/// A still run this long, s, reads the bias on its own: a foot that stands still (its
+/// rate scatter at the sensor's noise throughout) for 0.25 s is standing, not rolling
+/// through a stride (the flat part of a walking stance is shorter; none of the 42
+/// UofT trials' walks or runs holds one, the stairs session's pauses do:
+/// docs/lab/2026-12-06-foot-bias.md, round 2), so one unexplained such run is a jump
+/// without waiting for a second stance.
+pub(crate) const LONG_STILL_S: f64 = 0.25;
+/// A still run goes on while the per-axis variance of all its rates is at most this
+/// share of the configured white-noise variance per sample: the whole of it, as a
+/// run's variance settles at the sensor's own (0.6 of the configured on the UofT
+/// MicroStrain at rest) plus the foot's sway, and the stricter start bound
+/// ([`STILL_NOISE_FACTOR`]) would end a standing foot's run at a random sample.
+pub(crate) const RUN_NOISE_FACTOR: f64 = 1.0;
+/// The heading a jump turned is given back over at most this long before the run
+/// that read it, s: without an explained run before (a recording that starts with
+/// the jump) or after a long walk, the jump's time is not known beyond it.
+pub(crate) const MAX_GIVE_BACK_S: f64 = 10.0;
 
-/// The bias-jump check's state (snapshot format 9).
+/// The bias-jump check's state (snapshot format 9; the still runs since format 12).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Zaru {
     /// The stillest still window of the current stance.
@@ -46,6 +63,62 @@ pub(crate) struct Zaru {
     /// lies in the stance (with external labels a stance can be one sample long, and
     /// the window would hold the swing before it).
     pub stance_n: u64,
+    /// The still run under way: consecutive stance samples from a still window on
+    /// whose rates, together, still scatter within the bound.
+    pub run: StillRun,
+    /// The longest still run of the current stance.
+    pub longest: StillRun,
+    /// End of the last still run the bias estimate explained (or of a jump), s.
+    pub explained_t_s: Option<f64>,
+}
+
+/// Consecutive still samples: their count, the times of the first and the last, s,
+/// and the sums of their rates (body axes, raw, rad/s) and of their squared norms,
+/// (rad/s)².
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct StillRun {
+    pub n: u64,
+    pub t0_s: f64,
+    pub t1_s: f64,
+    pub sum_rads: [f64; 3],
+    pub sum_sq_rads2: f64,
+}
+
+impl StillRun {
+    /// The run of a still window (mean `m`, mean per-axis variance `var` over `n`).
+    fn of_window(m: [f64; 3], var: f64, n: usize, (t0_s, t1_s): (f64, f64)) -> Self {
+        let nf = n as f64;
+        StillRun {
+            n: n as u64,
+            t0_s,
+            t1_s,
+            sum_rads: m.map(|x| x * nf),
+            sum_sq_rads2: var * 3.0 * nf + nf * Vector3::from(m).norm_squared(),
+        }
+    }
+
+    /// The run with one more sample of rate `w`.
+    fn with(&self, w: [f64; 3], t_s: f64) -> Self {
+        StillRun {
+            n: self.n + 1,
+            t0_s: self.t0_s,
+            t1_s: t_s,
+            sum_rads: std::array::from_fn(|i| self.sum_rads[i] + w[i]),
+            sum_sq_rads2: self.sum_sq_rads2 + Vector3::from(w).norm_squared(),
+        }
+    }
+
+    pub fn mean_rads(&self) -> [f64; 3] {
+        let n = self.n.max(1) as f64;
+        self.sum_rads.map(|x| x / n)
+    }
+
+    /// Mean per-axis variance of the run's rates, (rad/s)².
+    pub fn var_rads2(&self) -> f64 {
+        let n = self.n.max(1) as f64;
+        let m = Vector3::from(self.mean_rads());
+        ((self.sum_sq_rads2 / n - m.norm_squared()) / 3.0).max(0.0)
+    }
 }
 
 /// A still window: its mean per-axis rate variance, (rad/s)², its mean rate (body
@@ -87,24 +160,88 @@ impl Zaru {
         } else {
             0.0
         };
-        if det.len() < n || self.stance_n < n as u64 || at_least > bound || at_least >= best {
+        self.extend_run(det, RUN_NOISE_FACTOR * noise_var);
+        if det.len() < n || self.stance_n < n as u64 || at_least > bound {
+            return;
+        }
+        if at_least >= best && self.run.n > 0 {
             return;
         }
         let (mean, var) = rate_stats(det, n);
-        if var <= bound && var < best {
+        if var > bound {
+            return;
+        }
+        if var < best {
             self.window = Some(StillWindow {
                 var_rads2: var,
                 mean_rads: mean,
                 n,
             });
         }
+        if self.run.n == 0 {
+            let t = |k: usize| det.back(k).map_or(0.0, |s| s.t_s);
+            self.run = StillRun::of_window(mean, var, n, (t(n - 1), t(0)));
+        }
     }
 
-    /// The stance ended: its stillest window (if any) is checked against the bias
-    /// estimate, and updates it if it confirms a jump. Returns whether it did.
-    pub fn stance_ended(&mut self, ins: &mut Strapdown, noise_var: f64) -> bool {
+    /// The run under way takes the newest sample while the run stays within `bound`;
+    /// otherwise it ends (kept if the stance's longest).
+    fn extend_run(&mut self, det: &Ring<BodySample, MAX_DETECTOR_WINDOW>, bound: f64) {
+        if self.run.n == 0 {
+            return;
+        }
+        let Some(s) = det.back(0) else { return };
+        let run = self.run.with(s.w, s.t_s);
+        if run.var_rads2() <= bound {
+            self.run = run;
+        } else {
+            self.close_run();
+        }
+    }
+
+    fn close_run(&mut self) {
+        if self.run.n > self.longest.n {
+            self.longest = self.run;
+        }
+        self.run = StillRun::default();
+    }
+
+    /// The stance ended (at `t_s`). If the foot stood (its longest still run lasted
+    /// [`LONG_STILL_S`]), the run reads the bias: a zero-angular-rate update when the
+    /// estimate explains it, a jump when not. Otherwise its stillest window (if any)
+    /// is checked against the estimate, and updates it if it confirms a jump (two
+    /// stances). Returns whether a jump was taken.
+    pub fn stance_ended(
+        &mut self,
+        ins: &mut Strapdown,
+        noise_var: f64,
+        (rate_hz, t_s): (f64, f64),
+    ) -> bool {
         self.stance_n = 0;
-        let Some(w) = self.window.take() else {
+        self.close_run();
+        let long = std::mem::take(&mut self.longest);
+        let window = self.window.take();
+        if long.n > 0 {
+            let standing = long.n as f64 >= LONG_STILL_S * rate_hz;
+            let r = ZARU_SIGMA_RADS * ZARU_SIGMA_RADS + noise_var / long.n as f64;
+            let m = Vector3::from(long.mean_rads());
+            match ins.zaru_nis(&m, r) {
+                Some(nis) if nis <= BIAS_JUMP_NIS => {
+                    self.explained_t_s = Some(long.t1_s);
+                    if standing {
+                        // The bias is read whether it moved or not (a failed update
+                        // changes nothing).
+                        ins.zaru(&m, r);
+                    }
+                }
+                Some(_) if standing => {
+                    self.unexplained = None;
+                    return self.long_jump(ins, &m, r, &long);
+                }
+                _ => {}
+            }
+        }
+        let Some(w) = window else {
             return false;
         };
         let r = ZARU_SIGMA_RADS * ZARU_SIGMA_RADS + noise_var / w.n.max(1) as f64;
@@ -112,7 +249,37 @@ impl Zaru {
         let Some(nis) = ins.zaru_nis(&m, r) else {
             return false;
         };
-        self.jumped(nis, w.mean_rads, r) && ins.bias_jump(&m, r)
+        if nis <= BIAS_JUMP_NIS {
+            self.explained_t_s = Some(t_s);
+        }
+        let jump = self.jumped(nis, w.mean_rads, r) && ins.bias_jump(&m, r);
+        if jump {
+            self.explained_t_s = Some(t_s);
+        }
+        jump
+    }
+
+    /// A bias jump read by a long still run: the update, then the heading the jump
+    /// turned from when it happened to the run's end given back. It happened after the
+    /// last explained still run (at most [`MAX_GIVE_BACK_S`] before) and before this
+    /// one began: taken at the middle, the rest of the interval added to the heading
+    /// variance. The rate it added about the vertical is the bias change seen through
+    /// the attitude now (the foot stands as it stood).
+    #[cold]
+    fn long_jump(&mut self, ins: &mut Strapdown, m: &Vector3<f64>, r: f64, run: &StillRun) -> bool {
+        let before = ins.bg;
+        if !ins.bias_jump(m, r) {
+            return false;
+        }
+        let turned_rads = (ins.q * (ins.bg - before)).z;
+        let earliest = self.explained_t_s.map_or(run.t0_s - MAX_GIVE_BACK_S, |t| {
+            t.max(run.t0_s - MAX_GIVE_BACK_S)
+        });
+        let (mid, spread) = (0.5 * (earliest + run.t0_s), run.t0_s - earliest);
+        ins.turn(-turned_rads * (run.t1_s - mid));
+        ins.widen_heading((turned_rads * spread).powi(2) / 12.0);
+        self.explained_t_s = Some(run.t1_s);
+        true
     }
 
     /// Whether a still stance reading `w` (innovation `nis`, variance `r` per axis)

@@ -230,6 +230,9 @@ const PINNED_NAVIGATOR: [(u64, usize); 3] = [
 // pin moves with the version byte only).
 const PINNED_AHRS: [(u64, usize); 2] = [(1073981256677527784, 13706), (9994140219181868925, 5586)];
 const PINNED_STEPS: (u64, usize) = (15844955469905237905, 46692);
+// Foot format 12 (issue 39, i39-footzaru): the bias-jump check's still runs (the run under
+// way, the stance's longest, the end of the last explained one) join the snapshot, and a
+// foot still for 0.25 s reads the bias (estimates move).
 // Foot format 11 (issue 39, i39-footclip): the accelerometer's ceiling per axis and sign,
 // its clipped runs, and each buffered sample's unreported specific force and impact peak
 // join the snapshot (estimates unchanged on this walk: nothing clips). Foot format 10 (issue 39, i39-footguard): the rotation the samples do not resolve (the
@@ -241,11 +244,11 @@ const PINNED_STEPS: (u64, usize) = (15844955469905237905, 46692);
 // stance check) (estimates unchanged on this walk). Format 7: the stillness floor, and the
 // adaptive SHOE's threshold follows it (the default detector's estimates may move).
 const PINNED_FOOT: [(u64, usize); 5] = [
-    (6153279909692530247, 169736),
-    (3976910772606219774, 170616),
-    (16845395501146313718, 169384),
-    (9794193141442843316, 169560),
-    (7822852350411405649, 171320),
+    (5260763639901526236, 172398),
+    (14548013626716452593, 173278),
+    (9759985638644072477, 172046),
+    (16202986450265612941, 172222),
+    (14552639400852085970, 173982),
 ];
 // Recorded on h37-pace at 06a5b1c, before core/src/pace/adaptive.rs was split.
 const PINNED_PACE: [(u64, usize); 3] = [

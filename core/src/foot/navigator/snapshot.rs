@@ -7,7 +7,7 @@ use crate::foot::accel_clip::{
 use crate::foot::hole::Hole;
 use crate::foot::still::{StillFloor, STILL_CAP};
 use crate::foot::unresolved::{Unresolved, TRAPEZOID_ERROR};
-use crate::foot::zaru::{StillWindow, Zaru};
+use crate::foot::zaru::{StillRun, StillWindow, Zaru};
 
 mod config;
 
@@ -15,10 +15,10 @@ use self::config::{read_config, write_config};
 
 /// Snapshot engine kind byte of the foot navigator.
 const SNAPSHOT_KIND: u8 = 6;
-/// Version 11: the accelerometer's ceiling per axis and sign (`AccelCeiling`), its clipped runs (`ClipRun`), the specific force clipped samples did not report and a clipped impact's peak (`BodySample::clip_unknown_mps2`, `impact_mps2`). Version 10: the rotation the samples do not resolve (`Unresolved`: the last raw rate and its change; `BodySample::unresolved_rad`). Version 9: the gyroscope bias jumps' state (`Zaru`: the stance's stillest still window, the last unexplained still rate) and their count. Version 8: the hole state (`Hole`: the last stance onset's heading, the turn rate, a hole waiting for its stance) and the count of re-levelled stances. Version 7: the detector's stillness floor (`StillFloor`). Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
+/// Version 12: the still runs of the bias-jump check (`Zaru::run`, `Zaru::longest`: count, first and last time, rate sums, squared-norm sums) and the end of the last explained one (`Zaru::explained_t_s`). Version 11: the accelerometer's ceiling per axis and sign (`AccelCeiling`), its clipped runs (`ClipRun`), the specific force clipped samples did not report and a clipped impact's peak (`BodySample::clip_unknown_mps2`, `impact_mps2`). Version 10: the rotation the samples do not resolve (`Unresolved`: the last raw rate and its change; `BodySample::unresolved_rad`). Version 9: the gyroscope bias jumps' state (`Zaru`: the stance's stillest still window, the last unexplained still rate) and their count. Version 8: the hole state (`Hole`: the last stance onset's heading, the turn rate, a hole waiting for its stance) and the count of re-levelled stances. Version 7: the detector's stillness floor (`StillFloor`). Version 6: `FootConfig::level_stride_max_grade`, `Stride::levelled_m` and the gyroscope clipping repair. Version 5: `FootConfig::accel_alignment_rad`. Version 4: `FootConfig::zupt_gate_nis`. Version 3: the input layer's time state
 /// ([`TimeGuard`]) replaces the last time (version 2 added `FootConfig::gyro_timing`
 /// and the adaptive SHOE detector).
-const SNAPSHOT_VERSION: u16 = 11;
+const SNAPSHOT_VERSION: u16 = 12;
 
 fn write_body(w: &mut Writer, s: &BodySample) {
     let BodySample {
@@ -115,7 +115,7 @@ fn read_clip(r: &mut Reader) -> Result<AxisClip, SnapshotError> {
     Ok(c)
 }
 
-fn write_run(w: &mut Writer, c: &ClipRun) {
+fn write_clip_run(w: &mut Writer, c: &ClipRun) {
     let ClipRun {
         prev,
         active,
@@ -134,7 +134,7 @@ fn write_run(w: &mut Writer, c: &ClipRun) {
     w.f64s(&[*norm2, *exit]);
 }
 
-fn read_run(r: &mut Reader) -> Result<ClipRun, SnapshotError> {
+fn read_clip_run(r: &mut Reader) -> Result<ClipRun, SnapshotError> {
     let mut c = ClipRun::default();
     for p in c.prev.iter_mut() {
         *p = r.f64_or_nan()?;
@@ -308,7 +308,7 @@ impl FootNavigator {
             w.bool(*at_level);
         }
         for run in accel_runs {
-            write_run(&mut w, run);
+            write_clip_run(&mut w, run);
         }
         w.u64(det.len() as u64);
         for s in det.iter() {
@@ -384,6 +384,9 @@ impl FootNavigator {
             window: still_window,
             unexplained,
             stance_n,
+            run,
+            longest,
+            explained_t_s,
         } = zaru;
         w.bool(still_window.is_some());
         let StillWindow {
@@ -397,6 +400,21 @@ impl FootNavigator {
         w.bool(unexplained.is_some());
         w.f64s(&unexplained.unwrap_or_default());
         w.u64(*stance_n);
+        for r in [run, longest] {
+            let StillRun {
+                n: run_n,
+                t0_s,
+                t1_s,
+                sum_rads,
+                sum_sq_rads2,
+            } = r;
+            w.u64(*run_n);
+            w.f64s(&[*t0_s, *t1_s]);
+            w.f64s(sum_rads);
+            w.f64(*sum_sq_rads2);
+        }
+        w.bool(explained_t_s.is_some());
+        w.f64(explained_t_s.unwrap_or_default());
         w.u64(*bias_jumps);
         w.u64(*strides);
         w.f64(*distance_m);
@@ -541,6 +559,14 @@ impl FootNavigator {
                 && rates_ok(&s.mean_rads)
                 && s.n >= 1)
         }) || z.unexplained.is_some_and(|w| !rates_ok(&w))
+            || z.explained_t_s.is_some_and(|t| !t_ok(t))
+            || [z.run, z.longest].iter().any(|r| {
+                let n = r.n.max(1) as f64;
+                !(rates_ok(&r.mean_rads())
+                    && t_ok(r.t0_s)
+                    && t_ok(r.t1_s)
+                    && (0.0..=3.0 * w_max * w_max * n).contains(&r.sum_sq_rads2))
+            })
         {
             return Err("zero-angular-rate state");
         }
@@ -574,7 +600,7 @@ impl FootNavigator {
             side.at_level = r.bool()?;
         }
         for run in n.accel_runs.iter_mut() {
-            *run = read_run(&mut r)?;
+            *run = read_clip_run(&mut r)?;
         }
         let len = r.len(MAX_DETECTOR_WINDOW)?;
         for _ in 0..len {
@@ -648,6 +674,13 @@ impl FootNavigator {
             window: has_window.then_some(still),
             unexplained: has_unexplained.then_some(unexplained),
             stance_n: r.u64()?,
+            run: read_run(&mut r)?,
+            longest: read_run(&mut r)?,
+            explained_t_s: {
+                let has = r.bool()?;
+                let t = r.f64()?;
+                has.then_some(t)
+            },
         };
         n.bias_jumps = r.u64()?;
         n.strides = r.u64()?;
@@ -732,4 +765,20 @@ fn estimate_ok(e: &FootEstimate) -> bool {
         .chain(&e.tilt_std_rad)
         .chain(std::iter::once(&e.heading_std_rad));
     !((qn - 1.0).abs() > 1e-6 || stds.copied().any(|v| v < 0.0) || e.distance_m < 0.0)
+}
+
+/// A still run of the bias-jump check (`Zaru`).
+fn read_run(r: &mut Reader) -> Result<StillRun, SnapshotError> {
+    let n = r.u64()?;
+    let mut t = [0.0; 2];
+    r.f64s(&mut t)?;
+    let mut sum_rads = [0.0; 3];
+    r.f64s(&mut sum_rads)?;
+    Ok(StillRun {
+        n,
+        t0_s: t[0],
+        t1_s: t[1],
+        sum_rads,
+        sum_sq_rads2: r.f64()?,
+    })
 }
