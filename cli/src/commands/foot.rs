@@ -64,9 +64,9 @@ pub struct FootArgs {
     #[arg(long = "gyro-range", value_name = "RAD_S", value_parser = positive_rads)]
     pub gyro_range_rads: Option<f64>,
     /// The accelerometer's range, m/s² (e.g. 39.23 for ±4 g): samples at 99 % of it
-    /// are clipped, their velocity not trusted. Default: the ceiling the data show (the
-    /// same value reached again and again, nothing above), else none until the
-    /// navigator meets one. The output says which.
+    /// are clipped, their velocity not trusted, from the first sample. Default: none
+    /// until the navigator meets a ceiling while streaming (the ceiling the whole file
+    /// shows is reported, not configured). The output says which.
     #[arg(long = "accel-range", value_name = "M_S2", value_parser = positive_mps2)]
     pub accel_range_mps2: Option<f64>,
 }

@@ -47,9 +47,6 @@ pub enum AccelCeilingFrom {
     /// The range given (`--accel-range`, the app's config), m/s², and the largest
     /// magnitude the file holds, m/s².
     Given { range_mps2: f64, peak_mps2: f64 },
-    /// The pre-scan of the whole file ([`crate::foot::device::evidence`]): the ceiling
-    /// found, m/s², configured as the range before the replay.
-    PreScan { ceiling_mps2: f64 },
     /// Neither: the navigator's streaming rule, if it met one.
     Streaming,
 }
@@ -99,8 +96,7 @@ pub fn replay(
             range_mps2,
             peak_mps2: device.accel.peak_mps2(),
         },
-        (None, Some(ceiling_mps2)) => AccelCeilingFrom::PreScan { ceiling_mps2 },
-        (None, None) => AccelCeilingFrom::Streaming,
+        (None, _) => AccelCeilingFrom::Streaming,
     };
     let trial = Trial {
         best: "shoe_opt".into(),
@@ -390,7 +386,7 @@ impl FootReplay {
     }
 
     /// When the accelerometer clipped: where, what the ceiling rests on (the app's
-    /// range, the pre-scan of the file, or the streaming rule) and what follows.
+    /// range or the streaming rule) and what follows.
     fn accel_clipped(&self) -> Option<String> {
         let (c, from) = match self.accel_ceiling_from {
             AccelCeilingFrom::Given {
@@ -400,10 +396,6 @@ impl FootReplay {
                 let c = AT_RANGE * range_mps2;
                 (peak_mps2 >= c).then_some((c, "99 % of the range given (--accel-range), the samples at it taken for clipped".to_string()))?
             }
-            AccelCeilingFrom::PreScan { ceiling_mps2 } => (
-                ceiling_mps2,
-                "the ceiling the pre-scan of the whole file found, its clipped samples not trusted from the first".to_string(),
-            ),
             AccelCeilingFrom::Streaming => (
                 self.replayed.accel_ceiling_mps2?,
                 format!("found while streaming: the impacts before its {MIN_CLIP_HITS}th clipped run were trusted"),
@@ -782,25 +774,20 @@ mod tests {
             *a = a.map(|x| x.clamp(-lim, lim));
         }
         let r = replay(path, clipped.clone(), &o).unwrap();
-        // The pre-scan of the file found the ceiling and configured it, so the
-        // navigator takes the ceiling's level for clipped from the first impact.
-        assert_eq!(
-            r.accel_ceiling_from,
-            AccelCeilingFrom::PreScan { ceiling_mps2: lim }
-        );
-        let c = r.replayed.accel_ceiling_mps2.expect("the ceiling is used");
+        // The pre-scan of the file finds the ceiling and says so; the navigator takes
+        // it for clipped once it has met it while streaming.
+        assert_eq!(r.accel_ceiling_from, AccelCeilingFrom::Streaming);
+        let c = r.replayed.accel_ceiling_mps2.expect("the ceiling is found");
         let level = lim * (1.0 - stridekit_core::foot::ACCEL_LEVEL_SHARE);
-        assert!((c - level).abs() < 1e-9, "{c}");
+        assert!(c >= level - 1e-9 && c <= lim + 1e-9, "{c}");
         assert!(
-            r.described.contains("clipping detected by the pre-scan"),
+            r.described
+                .contains("the pre-scan of the file finds a ceiling of 39.23"),
             "{}",
             r.described
         );
         let text = r.summary(None);
-        assert!(
-            text.contains("accelerometer clipped at 39.2 m/s² (4.0 g), the ceiling the pre-scan of the whole file found"),
-            "{text}"
-        );
+        assert!(text.contains("(4.0 g), found while streaming"), "{text}");
         // The app's range instead: the summary says so, and a range the file never
         // reaches is no clipping.
         for (range, clips) in [(lim / AT_RANGE, true), (8.0 * lim, false)] {

@@ -77,10 +77,10 @@ impl FootOptions {
 /// - gyroscope range: `--gyro-range`, else the ceiling the data show (flat tops at a
 ///   constant rate, [`stridekit_core::foot::GyroCeilingDetector`]); without that
 ///   evidence, no range and nothing "repaired";
-/// - accelerometer range: `--accel-range`, else the ceiling the data show (the
-///   navigator's own rule over every sample, [`stridekit_core::foot::AccelCeilingDetector`]),
-///   so that the first clipped impacts are not trusted either; without that evidence,
-///   none (the navigator still finds a ceiling it meets while streaming).
+/// - accelerometer range: `--accel-range`, else none: the navigator finds a ceiling it
+///   meets while streaming; the pre-scan of the data (the navigator's own rule over every
+///   sample, [`stridekit_core::foot::AccelCeilingDetector`]) is reported, not configured
+///   (configured from the first sample it made clipped copies worse on balance).
 pub fn config_for(
     o: &FootOptions,
     format: FootFormat,
@@ -176,7 +176,7 @@ fn gyro_range(given: Option<f64>, device: &Evidence) -> (Option<f64>, String) {
 }
 
 /// The accelerometer range to configure and what it rests on: the range given, else
-/// the ceiling the pre-scan of the data found, else none.
+/// none (what the pre-scan of the data found is said, not configured).
 fn accel_range(given: Option<f64>, device: &Evidence) -> (Option<f64>, String) {
     let a = &device.accel;
     let g = |x: f64| x / crate::perturb::kinds::G0_MPS2;
@@ -190,12 +190,11 @@ fn accel_range(given: Option<f64>, device: &Evidence) -> (Option<f64>, String) {
             }
             (Some(r), t)
         }
-        (None, Some(c), Some(r)) => (
-            Some(r),
+        (None, Some(c), Some(_)) => (
+            None,
             format!(
-                "clipping detected by the pre-scan of the file: a ceiling of {c:.2} m/s² ({:.1} g) reached {MIN_CLIP_HITS} times or more with nothing above it; samples from {:.2} m/s² on are not trusted, from the first (--accel-range M_S2 to set the device's range instead)",
+                "the pre-scan of the file finds a ceiling of {c:.2} m/s² ({:.1} g) reached {MIN_CLIP_HITS} times or more with nothing above it; not configured from the first sample (on ±4 g copies of the UofT trials that made the clipping ones worse on balance, docs/lab/2026-12-06-foot-accel-clip.md round 2): the navigator takes it for clipped from its {MIN_CLIP_HITS}th clipped run (--accel-range M_S2 to set the device's range from the first sample)",
                 g(c),
-                AT_RANGE * r
             ),
         ),
         _ => (
