@@ -184,6 +184,16 @@ impl FootNavigator {
         i64::try_from(self.lock().bias_jumps()).unwrap_or(i64::MAX)
     }
 
+    /// The accelerometer's ceiling in use, m/s²: samples at it count as clipped (their
+    /// velocity is not trusted; the detector takes a clipped impact's peak from its
+    /// flanks). 99 % of `config.accelRangeMps2` when the app set the range, else the
+    /// lowest ceiling found in the data so far (the same value on one axis and sign
+    /// reached again and again, nothing above it); null while no clipping has been
+    /// seen and no range is set (docs/foot.md, "Accelerometer clipping").
+    pub fn accel_ceiling_mps2(&self) -> Option<f64> {
+        self.lock().accel_ceiling_mps2()
+    }
+
     /// The whole state as bytes (configuration included; versioned, checksummed), to
     /// survive the app being killed; give them to `FootNavigator.restore`. With the
     /// SVM detector the model travels as text (a few hundred kB).
@@ -382,6 +392,22 @@ mod tests {
             Err(FootError::InvalidSnapshot { .. })
         ));
         assert!(simulate_foot_walk(1, 0).is_err());
+    }
+
+    #[cfg(feature = "testing")]
+    #[test]
+    fn a_clipped_run_reports_its_ceiling_through_the_ffi() {
+        use crate::testing::simulate_clipped_foot_run;
+        let run = simulate_clipped_foot_run(3, 1, 0.7).unwrap();
+        let nav = FootNavigator::with_defaults();
+        assert_eq!(nav.accel_ceiling_mps2(), None);
+        nav.push_packed(run.samples_packed, FootOutput::LatestOnly)
+            .unwrap();
+        let c = nav.accel_ceiling_mps2().expect("the ceiling is found");
+        assert_eq!(Some(c), run.reference_ceiling_mps2);
+        assert!((c - run.clip_mps2).abs() <= 0.01 * run.clip_mps2, "{c}");
+        assert!(simulate_clipped_foot_run(3, 1, 0.0).is_err());
+        assert!(simulate_clipped_foot_run(3, 1, f64::NAN).is_err());
     }
 
     #[test]

@@ -8,7 +8,10 @@ mod map;
 mod pace;
 mod phone;
 
-pub use foot::{simulate_foot_walk, SimulatedFootWalk, MAX_SIM_FOOT_LAPS};
+pub use foot::{
+    simulate_clipped_foot_run, simulate_foot_walk, ClippedFootRun, SimulatedFootWalk,
+    MAX_SIM_FOOT_LAPS,
+};
 pub use map::{map_reference_replay, MapReplay};
 pub use pace::{simulate_run, SimulatedRun, MAX_SIM_DURATION_S};
 pub use phone::{pdr_reference_replay, simulate_phone_walk, PdrReplay, SimulatedPhoneWalk};

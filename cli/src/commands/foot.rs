@@ -63,6 +63,12 @@ pub struct FootArgs {
     /// nothing repaired. The output says which.
     #[arg(long = "gyro-range", value_name = "RAD_S", value_parser = positive_rads)]
     pub gyro_range_rads: Option<f64>,
+    /// The accelerometer's range, m/s² (e.g. 39.23 for ±4 g): samples at 99 % of it
+    /// are clipped, their velocity not trusted, from the first sample. Default: none
+    /// until the navigator meets a ceiling while streaming (the ceiling the whole file
+    /// shows is reported, not configured). The output says which.
+    #[arg(long = "accel-range", value_name = "M_S2", value_parser = positive_mps2)]
+    pub accel_range_mps2: Option<f64>,
 }
 
 impl FootArgs {
@@ -74,6 +80,7 @@ impl FootArgs {
             calibration: self.calibration.clone(),
             no_level_floor: self.no_level_floor,
             gyro_range_rads: self.gyro_range_rads,
+            accel_range_mps2: self.accel_range_mps2,
             labels: self.labels.clone(),
         }
     }
@@ -91,6 +98,14 @@ fn positive_rads(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
         _ => Err(format!("{s} is not a rate above 0 rad/s")),
+    }
+}
+
+/// `--accel-range`: a finite acceleration above 0 (checked by clap: exit 2).
+fn positive_mps2(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("{s} is not an acceleration above 0 m/s²")),
     }
 }
 

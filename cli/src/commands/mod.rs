@@ -239,6 +239,7 @@ mod tests {
             // Values checked by clap (exit 2), not later by the command (exit 1).
             &["foot", "f.csv", "--axes", "xyz"],
             &["foot", "f.csv", "--gyro-range", "-3"],
+            &["foot", "f.csv", "--accel-range", "0"],
             &["calibrate", "foot", "f.csv", "--out", "x", "--axes", "xyz"],
             &["eval", "pace", "--set", "no_such_param=1"],
             &["eval", "orientation", "--set", "no_such_setting=1"],

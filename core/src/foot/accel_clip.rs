@@ -134,6 +134,55 @@ impl AccelCeiling {
     }
 }
 
+/// The accelerometer's ceiling over a whole recording, by the navigator's own rule
+/// ([`AccelCeiling`]): a device's range is a constant, so a file replay runs it over
+/// every sample first and configures the range it gives
+/// ([`FootConfig::accel_range_mps2`](super::FootConfig::accel_range_mps2)), and the
+/// first impacts, before the streaming rule has seen [`MIN_CLIP_HITS`] clipped runs,
+/// are not trusted either. Allocation-free, fixed state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AccelCeilingDetector {
+    ceiling: AccelCeiling,
+}
+
+impl AccelCeilingDetector {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// One sample's specific force, sensor axes, m/s² (a non-finite one, which the
+    /// navigator refuses, is skipped).
+    pub fn push(&mut self, accel_mps2: [f64; 3]) {
+        if accel_mps2.iter().all(|x| x.is_finite()) {
+            self.ceiling.push(&accel_mps2, None);
+        }
+    }
+
+    /// The lowest ceiling found on any axis and sign, m/s² (the level's largest
+    /// sample), or `None`: no sign of clipping.
+    pub fn ceiling_mps2(&self) -> Option<f64> {
+        self.ceiling.lowest_mps2()
+    }
+
+    /// The range to configure so that the navigator's clip threshold (99 % of the
+    /// range) is where this rule takes a sample for clipped: the ceiling's level,
+    /// [`LEVEL_SHARE`] below it.
+    pub fn range_mps2(&self) -> Option<f64> {
+        self.ceiling_mps2()
+            .map(|c| c * (1.0 - LEVEL_SHARE) / AT_RANGE)
+    }
+
+    /// The largest magnitude on any axis, m/s² (0 when none reached
+    /// [`MIN_ACCEL_CEILING_MPS2`]).
+    pub fn peak_mps2(&self) -> f64 {
+        self.ceiling
+            .sides
+            .iter()
+            .flatten()
+            .fold(0.0, |m, s| m.max(s.peak))
+    }
+}
+
 /// One sensor axis's clipped run in progress, for the impact's peak (module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct ClipRun {
@@ -289,6 +338,30 @@ mod tests {
         assert!((found[0].2 - lim).abs() <= LEVEL_SHARE * lim);
         // Gravity on z, for a minute, is no ceiling.
         assert!(found.iter().all(|f| f.0 != 2));
+    }
+
+    /// The pre-scan's range makes the navigator's range rule take the same samples for
+    /// clipped as the streaming rule once it is sure: the level, from the first impact.
+    #[test]
+    fn the_pre_scan_range_takes_the_level_for_clipped() {
+        let lim = 4.0 * 9.80665;
+        let samples: Vec<[f64; 3]> = strides(60.0, 200 * 60)
+            .into_iter()
+            .map(|f| f.map(|x| x.clamp(-lim, lim)))
+            .collect();
+        let mut d = AccelCeilingDetector::new();
+        d.push([f64::NAN, 0.0, 0.0]);
+        samples.iter().for_each(|f| d.push(*f));
+        assert_eq!(d.ceiling_mps2(), Some(lim));
+        assert_eq!(d.peak_mps2(), lim);
+        let range = d.range_mps2().unwrap();
+        assert!((AT_RANGE * range - lim * (1.0 - LEVEL_SHARE)).abs() < 1e-9);
+        let (_, clipped) = run(&samples, Some(range));
+        assert_eq!(clipped, 60, "every impact, the first nine too");
+        let mut plain = AccelCeilingDetector::new();
+        strides(60.0, 200 * 60).iter().for_each(|f| plain.push(*f));
+        assert_eq!((plain.ceiling_mps2(), plain.range_mps2()), (None, None));
+        assert!(plain.peak_mps2() > lim);
     }
 
     #[test]

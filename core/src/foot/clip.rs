@@ -23,7 +23,7 @@ use crate::input::limits::MAX_GYRO_RADS;
 
 /// A sample at this share of a configured sensor range or more is at the range
 /// (saturated; on a gyroscope axis, clipped).
-pub(crate) const AT_RANGE: f64 = 0.99;
+pub const AT_RANGE: f64 = 0.99;
 
 /// Longest clipped run repaired, s: a parabolic swing peak above the ceiling lasts a
 /// few tens of milliseconds; longer saturation (the sensor spun) is left as it is.

@@ -22,13 +22,14 @@ mod unresolved;
 mod zaru;
 
 pub use accel_clip::{
-    LEVEL_SHARE as ACCEL_LEVEL_SHARE, MAX_PEAK_SHARE, MIN_ACCEL_CEILING_MPS2, MIN_CLIP_HITS,
-    UNKNOWN_SHARE,
+    AccelCeilingDetector, LEVEL_SHARE as ACCEL_LEVEL_SHARE, MAX_PEAK_SHARE, MIN_ACCEL_CEILING_MPS2,
+    MIN_CLIP_HITS, UNKNOWN_SHARE,
 };
 pub use ceiling::{
     GyroCeiling, GyroCeilingDetector, ABOVE_SHARE, FLAT_SHARE, LEVEL_SHARE, MIN_CEILING_RADS,
     MIN_FLAT_SAMPLES, MIN_FLAT_TOPS, SHARPNESS,
 };
+pub use clip::AT_RANGE;
 pub use config::{
     Correction, FootConfig, GyroTiming, LEVEL_STRIDE_MAX_GRADE, MAX_ACCEL_ALIGNMENT_RAD,
     MAX_LEVEL_STRIDE_GRADE, ZUPT_GATE_NIS,

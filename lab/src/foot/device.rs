@@ -1,10 +1,11 @@
-//! What foot recordings say about their device: whether the gyroscope clipped and at
-//! what rate (`stridekit_core::foot::GyroCeilingDetector` over every sample: a
-//! device's range is a constant, so evidence anywhere in a recording holds for all of
-//! it, the first strides included), and whether a file is a trial of the UofT VICON
+//! What foot recordings say about their device: whether the gyroscope and the
+//! accelerometer clipped and where (`stridekit_core::foot::GyroCeilingDetector` and
+//! `AccelCeilingDetector` over every sample: a device's range is a constant, so
+//! evidence anywhere in a recording holds for all of it, the first strides included),
+//! and whether a file is a trial of the UofT VICON
 //! set (its factory-calibrated MicroStrain), the one device the replays know by name.
 
-use stridekit_core::foot::{GyroCeiling, GyroCeilingDetector};
+use stridekit_core::foot::{AccelCeilingDetector, GyroCeiling, GyroCeilingDetector};
 use stridekit_formats::FootRecording;
 
 /// The stance label columns pyshoe's VICON release adds to each UofT trial (per-trial
@@ -22,6 +23,8 @@ pub struct Evidence {
     pub ceilings: Vec<GyroCeiling>,
     /// The largest gyroscope magnitude in the data, rad/s.
     pub peak_rads: f64,
+    /// The accelerometer's pre-scan over every sample (the navigator's rule).
+    pub accel: AccelCeilingDetector,
     /// Every recording is a trial of the UofT VICON set ([`UOFT_VICON_LABELS`]).
     pub uoft_vicon_set: bool,
 }
@@ -29,15 +32,20 @@ pub struct Evidence {
 /// The evidence of recordings of one device (one detector over all of them in turn).
 pub fn evidence(recs: &[&FootRecording]) -> Evidence {
     let mut d = GyroCeilingDetector::new();
+    let mut accel = AccelCeilingDetector::new();
     for rec in recs {
         for w in &rec.gyro_rads {
             d.push(*w);
+        }
+        for f in &rec.accel_mps2 {
+            accel.push(*f);
         }
     }
     Evidence {
         ceiling: d.ceiling(),
         ceilings: d.ceilings().collect(),
         peak_rads: d.peak_rads(),
+        accel,
         uoft_vicon_set: !recs.is_empty() && recs.iter().all(|r| is_uoft_vicon_trial(r)),
     }
 }

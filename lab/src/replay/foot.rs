@@ -10,7 +10,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use stridekit_core::foot::{FootConfig, FootEstimate};
+use stridekit_core::foot::{FootConfig, FootEstimate, AT_RANGE, MIN_CLIP_HITS};
 use stridekit_formats::{read_foot_csv, Content, FootRecording};
 
 use super::foot_config::{config_for, FootOptions};
@@ -41,6 +41,16 @@ pub fn read(path: &Path) -> Result<FootRecording, ReplayError> {
     Ok(read_foot_csv(path).map_err(what)?)
 }
 
+/// Where the accelerometer's ceiling the navigator used came from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AccelCeilingFrom {
+    /// The range given (`--accel-range`, the app's config), m/s², and the largest
+    /// magnitude the file holds, m/s².
+    Given { range_mps2: f64, peak_mps2: f64 },
+    /// Neither: the navigator's streaming rule, if it met one.
+    Streaming,
+}
+
 /// A replayed recording.
 pub struct FootReplay {
     pub trial: Trial,
@@ -55,6 +65,7 @@ pub struct FootReplay {
     /// Truth per estimate, in the estimate's frame (files with truth columns).
     pub truth: Option<Vec<[f64; 3]>>,
     pub calibration: Option<PathBuf>,
+    pub accel_ceiling_from: AccelCeilingFrom,
     alignment_s: f64,
 }
 
@@ -66,8 +77,9 @@ pub fn replay(
     o: &FootOptions,
 ) -> Result<FootReplay, ReplayError> {
     // (--axes is checked by clap: what can fail here is the calibration file.)
+    let device = evidence(&[&rec]);
     let (config, described) =
-        config_for(o, rec.format, &evidence(&[&rec])).map_err(|why| match o.calibration {
+        config_for(o, rec.format, &device).map_err(|why| match o.calibration {
             Some(_) => ReplayError::Usage {
                 flag: "--calibration",
                 why,
@@ -79,6 +91,13 @@ pub fn replay(
     }
     check_labels(path, &rec, o)?;
     let unreadable = (rec.unreadable_rows, rec.first_unreadable_line);
+    let accel_ceiling_from = match (o.accel_range_mps2, device.accel.ceiling_mps2()) {
+        (Some(range_mps2), _) => AccelCeilingFrom::Given {
+            range_mps2,
+            peak_mps2: device.accel.peak_mps2(),
+        },
+        (None, _) => AccelCeilingFrom::Streaming,
+    };
     let trial = Trial {
         best: "shoe_opt".into(),
         runner_up: None,
@@ -103,6 +122,7 @@ pub fn replay(
         unlevelled,
         truth,
         calibration: o.calibration.clone(),
+        accel_ceiling_from,
         alignment_s: m.config.alignment_s,
     })
 }
@@ -345,12 +365,7 @@ impl FootReplay {
         if r.resets > 0 {
             lines.push(format!("  divergence-guard resets: {}", r.resets));
         }
-        if let Some(c) = r.accel_ceiling_mps2 {
-            lines.push(format!(
-                "  accelerometer clipped at {c:.1} m/s² ({:.1} g): the velocity over clipped samples is not trusted and the detector takes each clipped impact's peak from its flanks; expect larger errors than from an unclipped IMU (docs/foot.md, \"Accelerometer clipping\")",
-                c / crate::perturb::kinds::G0_MPS2
-            ));
-        }
+        lines.extend(self.accel_clipped());
         lines.extend(self.truth_rmse());
         lines.push(format!(
             "  rests on: the IMU alone (zero-velocity updates at each stance; no GNSS, no step-length model); accelerometer alignment: {}",
@@ -368,6 +383,28 @@ impl FootReplay {
             None => "  trajectory on stdout (no plots)".into(),
         });
         lines.join("\n")
+    }
+
+    /// When the accelerometer clipped: where, what the ceiling rests on (the app's
+    /// range or the streaming rule) and what follows.
+    fn accel_clipped(&self) -> Option<String> {
+        let (c, from) = match self.accel_ceiling_from {
+            AccelCeilingFrom::Given {
+                range_mps2,
+                peak_mps2,
+            } => {
+                let c = AT_RANGE * range_mps2;
+                (peak_mps2 >= c).then_some((c, "99 % of the range given (--accel-range), the samples at it taken for clipped".to_string()))?
+            }
+            AccelCeilingFrom::Streaming => (
+                self.replayed.accel_ceiling_mps2?,
+                format!("found while streaming: the impacts before its {MIN_CLIP_HITS}th clipped run were trusted"),
+            ),
+        };
+        Some(format!(
+            "  accelerometer clipped at {c:.1} m/s² ({:.1} g), {from}: the velocity over clipped samples is not trusted and the detector takes each clipped impact's peak from its flanks; expect larger errors than from an unclipped IMU (docs/foot.md, \"Accelerometer clipping\")",
+            c / crate::perturb::kinds::G0_MPS2
+        ))
     }
 
     /// With the level floor on: the strides taken as level, and the filter's own height.
@@ -736,14 +773,38 @@ mod tests {
         for a in clipped.accel_mps2.iter_mut() {
             *a = a.map(|x| x.clamp(-lim, lim));
         }
-        let r = replay(path, clipped, &o).unwrap();
+        let r = replay(path, clipped.clone(), &o).unwrap();
+        // The pre-scan of the file finds the ceiling and says so; the navigator takes
+        // it for clipped once it has met it while streaming.
+        assert_eq!(r.accel_ceiling_from, AccelCeilingFrom::Streaming);
         let c = r.replayed.accel_ceiling_mps2.expect("the ceiling is found");
-        assert!((c - lim).abs() < 1e-9, "{c}");
-        let text = r.summary(None);
+        let level = lim * (1.0 - stridekit_core::foot::ACCEL_LEVEL_SHARE);
+        assert!(c >= level - 1e-9 && c <= lim + 1e-9, "{c}");
         assert!(
-            text.contains("accelerometer clipped at 39.2 m/s² (4.0 g)"),
-            "{text}"
+            r.described
+                .contains("the pre-scan of the file finds a ceiling of 39.23"),
+            "{}",
+            r.described
         );
+        let text = r.summary(None);
+        assert!(text.contains("(4.0 g), found while streaming"), "{text}");
+        // The app's range instead: the summary says so, and a range the file never
+        // reaches is no clipping.
+        for (range, clips) in [(lim / AT_RANGE, true), (8.0 * lim, false)] {
+            let given = FootOptions {
+                accel_range_mps2: Some(range),
+                ..o.clone()
+            };
+            let r = replay(path, clipped.clone(), &given).unwrap();
+            assert!(r.described.contains("given"), "{}", r.described);
+            let text = r.summary(None);
+            assert_eq!(
+                text.contains("of the range given (--accel-range)"),
+                clips,
+                "{text}"
+            );
+            assert_eq!(text.contains("accelerometer clipped"), clips, "{text}");
+        }
     }
 
     /// Issue 36 item 6, real data: the MicroStrain's pitch rate on 2017-11-22-11-44-47

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use stridekit_core::foot::{FootConfig, GyroCeiling};
+use stridekit_core::foot::{FootConfig, GyroCeiling, AT_RANGE, MIN_CLIP_HITS};
 use stridekit_formats::FootFormat;
 
 use crate::foot::device::Evidence;
@@ -48,6 +48,8 @@ pub struct FootOptions {
     pub no_level_floor: bool,
     /// The gyroscope's range, rad/s; default: the ceiling the data show.
     pub gyro_range_rads: Option<f64>,
+    /// The accelerometer's range, m/s²; default: the ceiling the data show.
+    pub accel_range_mps2: Option<f64>,
     /// Drive the zero-velocity updates with this stance label column.
     pub labels: Option<String>,
 }
@@ -74,7 +76,11 @@ impl FootOptions {
 ///   SDK default, gyro bias measured at the start rest) for everything else;
 /// - gyroscope range: `--gyro-range`, else the ceiling the data show (flat tops at a
 ///   constant rate, [`stridekit_core::foot::GyroCeilingDetector`]); without that
-///   evidence, no range and nothing "repaired".
+///   evidence, no range and nothing "repaired";
+/// - accelerometer range: `--accel-range`, else none: the navigator finds a ceiling it
+///   meets while streaming; the pre-scan of the data (the navigator's own rule over every
+///   sample, [`stridekit_core::foot::AccelCeilingDetector`]) is reported, not configured
+///   (configured from the first sample it made clipped copies worse on balance).
 pub fn config_for(
     o: &FootOptions,
     format: FootFormat,
@@ -108,6 +114,9 @@ pub fn config_for(
     let (range, gyro_text) = gyro_range(o.gyro_range_rads, device);
     config.gyro_range_rads = range;
     text += &format!("\n  gyroscope: {gyro_text}");
+    let (range, accel_text) = accel_range(o.accel_range_mps2, device);
+    config.accel_range_mps2 = range;
+    text += &format!("\n  accelerometer: {accel_text}");
     if o.no_level_floor {
         config.level_stride_max_grade = None;
         text += "\n  level-floor constraint off";
@@ -161,6 +170,38 @@ fn gyro_range(given: Option<f64>, device: &Evidence) -> (Option<f64>, String) {
             format!(
                 "no clipping detected (peak {:.2} rad/s, no flat tops at a constant ceiling): nothing repaired (--gyro-range RAD_S if the device's range is known)",
                 device.peak_rads
+            ),
+        ),
+    }
+}
+
+/// The accelerometer range to configure and what it rests on: the range given, else
+/// none (what the pre-scan of the data found is said, not configured).
+fn accel_range(given: Option<f64>, device: &Evidence) -> (Option<f64>, String) {
+    let a = &device.accel;
+    let g = |x: f64| x / crate::perturb::kinds::G0_MPS2;
+    match (given, a.ceiling_mps2(), a.range_mps2()) {
+        (Some(r), found, _) => {
+            let mut t = format!("range {r} m/s² ({:.1} g, given)", g(r));
+            if let Some(c) = found.filter(|&c| c < 0.995 * AT_RANGE * r) {
+                t += &format!(
+                    "; warning: the data clip at {c:.2} m/s² — below 99 % of the given range: is --accel-range right?"
+                );
+            }
+            (Some(r), t)
+        }
+        (None, Some(c), Some(_)) => (
+            None,
+            format!(
+                "the pre-scan of the file finds a ceiling of {c:.2} m/s² ({:.1} g) reached {MIN_CLIP_HITS} times or more with nothing above it; not configured from the first sample (on ±4 g copies of the UofT trials that made the clipping ones worse on balance, docs/lab/2026-12-06-foot-accel-clip.md round 2): the navigator takes it for clipped from its {MIN_CLIP_HITS}th clipped run (--accel-range M_S2 to set the device's range from the first sample)",
+                g(c),
+            ),
+        ),
+        _ => (
+            None,
+            format!(
+                "no clipping detected (peak {:.2} m/s², no ceiling reached {MIN_CLIP_HITS} times): nothing taken for clipped (--accel-range M_S2 if the device's range is known)",
+                a.peak_mps2()
             ),
         ),
     }

@@ -18,6 +18,7 @@ import io.stridekit.footConfigDefault
 import io.stridekit.footDetectorDefault
 import io.stridekit.footShippedSvmModel
 import io.stridekit.packFootSamples
+import io.stridekit.simulateClippedFootRun
 import io.stridekit.simulateFootWalk
 import org.junit.jupiter.api.Test
 import java.io.File
@@ -317,6 +318,35 @@ class FootTest {
         }
         assertFailsWith<FootException.InvalidModel> {
             FootNavigator(footConfigDefault().copy(detector = FootDetector.Svm("stridekit-zupt-svm 1\nsvm acc_x")))
+        }
+    }
+
+    @Test
+    fun `a clipped accelerometer's ceiling is read after packed batches`() {
+        // A two-lap simulated run, every accelerometer axis clipped at 70 % of its largest magnitude.
+        val run = simulateClippedFootRun(SIM_SEED, 2u, 0.7)
+        assertTrue(run.clippedValues > 1000, "clipped values ${run.clippedValues}")
+        val bytes = run.samplesPacked
+        FootNavigator(footConfigDefault()).use { nav ->
+            assertNull(nav.accelCeilingMps2(), "no ceiling before any sample")
+            var rejected = 0
+            for (start in bytes.indices step 56 * 1000) {
+                val batch = bytes.copyOfRange(start, minOf(bytes.size, start + 56 * 1000))
+                rejected += nav.pushPacked(batch, FootOutput.STRIDE_ENDS).rejected.size
+            }
+            assertEquals(0, rejected)
+            val ceiling = assertNotNull(nav.accelCeilingMps2(), "the ceiling is found")
+            assertEquals(run.clipMps2, ceiling, 0.01 * run.clipMps2)
+            assertEquals(run.referenceCeilingMps2, ceiling, "the FFI path gives Rust's ceiling")
+        }
+        // The same run unclipped never reaches a ceiling; an app that knows its range gets 99 % of it at once.
+        val clean = simulateClippedFootRun(SIM_SEED, 2u, 1.0)
+        FootNavigator(footConfigDefault()).use { nav ->
+            nav.pushPacked(clean.samplesPacked, FootOutput.LATEST_ONLY)
+            assertNull(nav.accelCeilingMps2(), "a run within range does not clip")
+        }
+        FootNavigator(footConfigDefault().copy(accelRangeMps2 = 156.9)).use { nav ->
+            assertEquals(0.99 * 156.9, assertNotNull(nav.accelCeilingMps2()), 1e-9)
         }
     }
 }
