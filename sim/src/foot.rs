@@ -224,6 +224,30 @@ impl SimulatedFoot {
             })
             .collect()
     }
+
+    /// Clip every accelerometer axis at `share` × the largest magnitude of the walk, as
+    /// an IMU of a narrower range records it. Returns the ceiling, m/s², and how many
+    /// axis values were clipped.
+    pub fn clip_accel(&mut self, share: f64) -> (f64, usize) {
+        let peak = self
+            .samples
+            .iter()
+            .flat_map(|s| s.accel_mps2)
+            .fold(0.0_f64, |m, a| m.max(a.abs()));
+        let ceiling = share * peak;
+        let mut clipped = 0;
+        for a in self
+            .samples
+            .iter_mut()
+            .flat_map(|s| s.accel_mps2.iter_mut())
+        {
+            if a.abs() > ceiling {
+                *a = a.signum() * ceiling;
+                clipped += 1;
+            }
+        }
+        (ceiling, clipped)
+    }
 }
 
 fn stream(seed: u64, k: u64) -> Rng {

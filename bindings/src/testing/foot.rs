@@ -101,19 +101,7 @@ pub fn simulate_clipped_foot_run(
     }
     guard(|| {
         let mut sim = stridekit_sim::simulate_foot(&stridekit_sim::FootScenario::run(seed, laps));
-        let peak = sim
-            .samples
-            .iter()
-            .flat_map(|s| s.accel_mps2)
-            .fold(0.0_f64, |m, a| m.max(a.abs()));
-        let clip = clip_share * peak;
-        let mut clipped = 0_usize;
-        for a in sim.samples.iter_mut().flat_map(|s| s.accel_mps2.iter_mut()) {
-            if a.abs() > clip {
-                *a = a.signum() * clip;
-                clipped += 1;
-            }
-        }
+        let (clip, clipped) = sim.clip_accel(clip_share);
         let mut nav = core::FootNavigator::new(core::FootConfig::default())?;
         nav.push_batch_with(&sim.samples, |_| {});
         let count = |n: usize| i32::try_from(n).unwrap_or(i32::MAX);

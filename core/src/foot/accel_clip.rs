@@ -136,10 +136,11 @@ impl AccelCeiling {
 
 /// The accelerometer's ceiling over a whole recording, by the navigator's own rule
 /// ([`AccelCeiling`]): a device's range is a constant, so a file replay runs it over
-/// every sample first and configures the range it gives
-/// ([`FootConfig::accel_range_mps2`](super::FootConfig::accel_range_mps2)), and the
-/// first impacts, before the streaming rule has seen [`MIN_CLIP_HITS`] clipped runs,
-/// are not trusted either. Allocation-free, fixed state.
+/// every sample first and reports what it finds. `range_mps2()` is the range that,
+/// configured ([`FootConfig::accel_range_mps2`](super::FootConfig::accel_range_mps2)),
+/// would not trust the first impacts either (measured worse on balance on clipped
+/// copies, docs/lab/2026-12-06-foot-accel-clip.md round 2, so replays do not
+/// configure it). Allocation-free, fixed state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct AccelCeilingDetector {
     ceiling: AccelCeiling,
@@ -309,6 +310,16 @@ mod tests {
             .collect()
     }
 
+    /// A minute of strides clipped at ±4 g, and the clip, m/s².
+    fn clipped_strides() -> (f64, Vec<[f64; 3]>) {
+        let lim = 4.0 * 9.80665;
+        let samples = strides(60.0, 200 * 60)
+            .into_iter()
+            .map(|f| f.map(|x| x.clamp(-lim, lim)))
+            .collect();
+        (lim, samples)
+    }
+
     fn run(samples: &[[f64; 3]], range: Option<f64>) -> (AccelCeiling, usize) {
         let mut c = AccelCeiling::default();
         let clipped = samples.iter().filter(|f| c.push(f, range)[0]).count();
@@ -324,11 +335,7 @@ mod tests {
 
     #[test]
     fn a_clipped_axis_is_found_at_its_ceiling() {
-        let lim = 4.0 * 9.80665;
-        let samples: Vec<[f64; 3]> = strides(60.0, 200 * 60)
-            .into_iter()
-            .map(|f| f.map(|x| x.clamp(-lim, lim)))
-            .collect();
+        let (lim, samples) = clipped_strides();
         let (c, clipped) = run(&samples, None);
         // Every impact from the tenth on is clipped.
         assert_eq!(clipped, 60 - (MIN_CLIP_HITS as usize - 1));
@@ -344,11 +351,7 @@ mod tests {
     /// clipped as the streaming rule once it is sure: the level, from the first impact.
     #[test]
     fn the_pre_scan_range_takes_the_level_for_clipped() {
-        let lim = 4.0 * 9.80665;
-        let samples: Vec<[f64; 3]> = strides(60.0, 200 * 60)
-            .into_iter()
-            .map(|f| f.map(|x| x.clamp(-lim, lim)))
-            .collect();
+        let (lim, samples) = clipped_strides();
         let mut d = AccelCeilingDetector::new();
         d.push([f64::NAN, 0.0, 0.0]);
         samples.iter().for_each(|f| d.push(*f));

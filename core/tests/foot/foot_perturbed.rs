@@ -240,22 +240,8 @@ fn a_ringing_heel_strike_point_sampled_at_50_hz_does_not_run_the_filter_away() {
 /// ceiling.
 fn clipped_run(seed: u64, share: f64) -> (SimulatedFoot, SimulatedFoot, f64, usize) {
     let clean = simulate_foot(&FootScenario::run(seed, 2));
-    let peak = clean
-        .samples
-        .iter()
-        .flat_map(|s| s.accel_mps2)
-        .fold(0.0_f64, |m, a| m.max(a.abs()));
-    let ceiling = share * peak;
     let mut clipped = clean.clone();
-    let mut n = 0;
-    for s in clipped.samples.iter_mut() {
-        for a in s.accel_mps2.iter_mut() {
-            if a.abs() > ceiling {
-                *a = a.signum() * ceiling;
-                n += 1;
-            }
-        }
-    }
+    let (ceiling, n) = clipped.clip_accel(share);
     (clean, clipped, ceiling, n)
 }
 

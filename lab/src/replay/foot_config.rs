@@ -114,8 +114,8 @@ pub fn config_for(
     let (range, gyro_text) = gyro_range(o.gyro_range_rads, device);
     config.gyro_range_rads = range;
     text += &format!("\n  gyroscope: {gyro_text}");
-    let (range, accel_text) = accel_range(o.accel_range_mps2, device);
-    config.accel_range_mps2 = range;
+    let accel_text = accel_range_text(o.accel_range_mps2, device);
+    config.accel_range_mps2 = o.accel_range_mps2;
     text += &format!("\n  accelerometer: {accel_text}");
     if o.no_level_floor {
         config.level_stride_max_grade = None;
@@ -175,34 +175,29 @@ fn gyro_range(given: Option<f64>, device: &Evidence) -> (Option<f64>, String) {
     }
 }
 
-/// The accelerometer range to configure and what it rests on: the range given, else
-/// none (what the pre-scan of the data found is said, not configured).
-fn accel_range(given: Option<f64>, device: &Evidence) -> (Option<f64>, String) {
+/// What the accelerometer range rests on: the range given (questioned when the data
+/// clip well below it), else none; what the pre-scan of the data found is said, not
+/// configured.
+fn accel_range_text(given: Option<f64>, device: &Evidence) -> String {
     let a = &device.accel;
     let g = |x: f64| x / crate::perturb::kinds::G0_MPS2;
-    match (given, a.ceiling_mps2(), a.range_mps2()) {
-        (Some(r), found, _) => {
+    match (given, a.ceiling_mps2()) {
+        (Some(r), found) => {
             let mut t = format!("range {r} m/s² ({:.1} g, given)", g(r));
             if let Some(c) = found.filter(|&c| c < 0.995 * AT_RANGE * r) {
                 t += &format!(
                     "; warning: the data clip at {c:.2} m/s² — below 99 % of the given range: is --accel-range right?"
                 );
             }
-            (Some(r), t)
+            t
         }
-        (None, Some(c), Some(_)) => (
-            None,
-            format!(
-                "the pre-scan of the file finds a ceiling of {c:.2} m/s² ({:.1} g) reached {MIN_CLIP_HITS} times or more with nothing above it; not configured from the first sample (on ±4 g copies of the UofT trials that made the clipping ones worse on balance, docs/lab/2026-12-06-foot-accel-clip.md round 2): the navigator takes it for clipped from its {MIN_CLIP_HITS}th clipped run (--accel-range M_S2 to set the device's range from the first sample)",
-                g(c),
-            ),
+        (None, Some(c)) => format!(
+            "the pre-scan of the file finds a ceiling of {c:.2} m/s² ({:.1} g) reached {MIN_CLIP_HITS} times or more with nothing above it; not configured from the first sample (on ±4 g copies of the UofT trials that made the clipping ones worse on balance, docs/lab/2026-12-06-foot-accel-clip.md round 2): the navigator takes it for clipped from its {MIN_CLIP_HITS}th clipped run (--accel-range M_S2 to set the device's range from the first sample)",
+            g(c),
         ),
-        _ => (
-            None,
-            format!(
-                "no clipping detected (peak {:.2} m/s², no ceiling reached {MIN_CLIP_HITS} times): nothing taken for clipped (--accel-range M_S2 if the device's range is known)",
-                a.peak_mps2()
-            ),
+        (None, None) => format!(
+            "no clipping detected (peak {:.2} m/s², no ceiling reached {MIN_CLIP_HITS} times): nothing taken for clipped (--accel-range M_S2 if the device's range is known)",
+            a.peak_mps2()
         ),
     }
 }
