@@ -443,7 +443,9 @@ pub struct FootConfig {
     /// Initial 1-σ of the gyroscope bias, rad/s.
     #[uniffi(default = 0.005)]
     pub initial_gyro_bias_std_rads: f64,
-    /// Accelerometer range, m/s²: a sample at ≥ 99 % of it is saturated (null: unknown).
+    /// Accelerometer range, m/s² (at least 1.5 g, e.g. 39.23 for ±4 g; a range in g is
+    /// refused with `InvalidConfig`): a sample at ≥ 99 % of it is saturated (null:
+    /// unknown, the navigator finds a ceiling in the data).
     #[uniffi(default = None)]
     pub accel_range_mps2: Option<f64>,
     /// Gyroscope range, rad/s (null: unknown). A run of samples at ≥ 99 % of it on an

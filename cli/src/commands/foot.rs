@@ -101,10 +101,15 @@ fn positive_rads(s: &str) -> Result<f64, String> {
     }
 }
 
-/// `--accel-range`: a finite acceleration above 0 (checked by clap: exit 2).
+/// `--accel-range`: a finite acceleration of at least 1.5 g, in m/s² (checked by clap:
+/// exit 2; a range in g is refused with the reason).
 fn positive_mps2(s: &str) -> Result<f64, String> {
+    let min = stridekit_core::foot::MIN_ACCEL_CEILING_MPS2;
     match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        Ok(v) if v.is_finite() && v >= min => Ok(v),
+        Ok(v) if v.is_finite() && v > 0.0 => Err(format!(
+            "{s} m/s² is below 1.5 g ({min:.1} m/s²): gravity and a step exceed it; the range is in m/s² (±4 g = 39.23), not in g"
+        )),
         _ => Err(format!("{s} is not an acceleration above 0 m/s²")),
     }
 }

@@ -240,6 +240,7 @@ mod tests {
             &["foot", "f.csv", "--axes", "xyz"],
             &["foot", "f.csv", "--gyro-range", "-3"],
             &["foot", "f.csv", "--accel-range", "0"],
+            &["foot", "f.csv", "--accel-range", "4"],
             &["calibrate", "foot", "f.csv", "--out", "x", "--axes", "xyz"],
             &["eval", "pace", "--set", "no_such_param=1"],
             &["eval", "orientation", "--set", "no_such_setting=1"],

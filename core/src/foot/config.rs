@@ -97,8 +97,9 @@ pub struct FootConfig {
     /// Initial 1-σ of the accelerometer and gyroscope biases.
     pub initial_accel_bias_std_mps2: f64,
     pub initial_gyro_bias_std_rads: f64,
-    /// Sensor range; a sample with any axis at ≥ 99 % of it is flagged saturated and
-    /// no zero-velocity update uses its window. `None`: unknown (no check).
+    /// Sensor range, m/s² (≥ 1.5 g; e.g. 39.23 for ±4 g); a sample with any axis at
+    /// ≥ 99 % of it is flagged saturated and no zero-velocity update uses its window.
+    /// `None`: unknown (the navigator finds a ceiling in the data).
     pub accel_range_mps2: Option<f64>,
     /// With a gyroscope range, a run of samples at ≥ 99 % of it on an axis is also
     /// taken as clipped, and the rotation above the ceiling is restored after the run
@@ -340,6 +341,12 @@ impl FootConfig {
         )?;
         if let Some(r) = self.accel_range_mps2 {
             positive("accel_range_mps2", r)?;
+            if r < super::accel_clip::MIN_ACCEL_CEILING_MPS2 {
+                return Err(FootError::InvalidConfig {
+                    field: "accel_range_mps2",
+                    reason: "must be at least 1.5 g (14.7 m/s²): gravity and a step exceed a smaller range (given in g instead of m/s²?)",
+                });
+            }
         }
         if let Some(r) = self.gyro_range_rads {
             positive("gyro_range_rads", r)?;

@@ -691,6 +691,36 @@ fn the_accelerometer_alignment_undoes_a_misaligned_accelerometer() {
     assert_eq!(restored.config(), &config);
 }
 
+/// An accelerometer range given in g instead of m/s² (4 for ±4 g) would take every
+/// sample for clipped: refused with the field named; ±2 g and up are ranges.
+#[test]
+fn an_accelerometer_range_in_g_is_a_typed_error() {
+    for r in [4.0, 9.0, 0.0, f64::NAN] {
+        let e = FootNavigator::new(FootConfig {
+            accel_range_mps2: Some(r),
+            ..FootConfig::default()
+        })
+        .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                FootError::InvalidConfig {
+                    field: "accel_range_mps2",
+                    ..
+                }
+            ),
+            "{r}: {e:?}"
+        );
+    }
+    for r in [2.0 * 9.80665, 4.0 * 9.80665, 16.0 * 9.80665] {
+        let config = FootConfig {
+            accel_range_mps2: Some(r),
+            ..FootConfig::default()
+        };
+        assert!(FootNavigator::new(config).is_ok(), "{r}");
+    }
+}
+
 #[test]
 fn an_accelerometer_alignment_out_of_range_is_a_typed_error() {
     for a in [

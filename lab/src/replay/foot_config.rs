@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use stridekit_core::foot::{FootConfig, GyroCeiling, AT_RANGE, MIN_CLIP_HITS};
+use stridekit_core::foot::{FootConfig, GyroCeiling, ACCEL_LEVEL_SHARE, AT_RANGE, MIN_CLIP_HITS};
 use stridekit_formats::FootFormat;
 
 use crate::foot::device::Evidence;
@@ -187,6 +187,12 @@ fn accel_range_text(given: Option<f64>, device: &Evidence) -> String {
             if let Some(c) = found.filter(|&c| c < 0.995 * AT_RANGE * r) {
                 t += &format!(
                     "; warning: the data clip at {c:.2} m/s² — below 99 % of the given range: is --accel-range right?"
+                );
+            }
+            if a.peak_mps2() > r * (1.0 + ACCEL_LEVEL_SHARE) {
+                t += &format!(
+                    "; warning: the data reach {:.2} m/s², above the given range: is --accel-range right?",
+                    a.peak_mps2()
                 );
             }
             t
